@@ -1,0 +1,197 @@
+//! The validated frame representation and its encoding to bits.
+
+use crate::{Bits, Crc15, Field, Id, RECESSIVE, stuff};
+use embedded_can::{ExtendedId, StandardId};
+
+/// A CAN 2.0A/B data or remote frame.
+///
+/// The DLC is kept as sent (0..=15): values 9..=15 are legal on the wire and
+/// carry 8 data bytes (CAN 2.0B §3.1.1.4); remote frames carry none.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+pub struct CanFrame {
+    id: Id,
+    rtr: bool,
+    dlc: u8,
+    data: [u8; 8],
+}
+
+impl CanFrame {
+    /// Builds a frame with an explicit DLC. For data frames `data.len()` must
+    /// be `min(dlc, 8)`; for remote frames `data` must be empty.
+    pub fn with_dlc(id: impl Into<Id>, rtr: bool, dlc: u8, data: &[u8]) -> Option<Self> {
+        if dlc > 15 {
+            return None;
+        }
+        let want = if rtr { 0 } else { dlc.min(8) as usize };
+        if data.len() != want {
+            return None;
+        }
+        let mut buf = [0u8; 8];
+        buf[..want].copy_from_slice(data);
+        Some(CanFrame { id: id.into(), rtr, dlc, data: buf })
+    }
+
+    /// Standard (11-bit) identifier from a raw value, if in range.
+    pub fn std_id(raw: u16) -> Option<Id> {
+        StandardId::new(raw).map(Id::Standard)
+    }
+
+    /// Extended (29-bit) identifier from a raw value, if in range.
+    pub fn ext_id(raw: u32) -> Option<Id> {
+        ExtendedId::new(raw).map(Id::Extended)
+    }
+
+    /// The raw identifier value (11 or 29 bits).
+    pub fn raw_id(&self) -> u32 {
+        match self.id {
+            Id::Standard(s) => s.as_raw() as u32,
+            Id::Extended(e) => e.as_raw(),
+        }
+    }
+
+    /// The DLC as sent on the wire (0..=15).
+    pub fn dlc_raw(&self) -> u8 {
+        self.dlc
+    }
+
+    /// Number of data bytes on the wire (0 for remote frames).
+    pub fn data_len(&self) -> usize {
+        if self.rtr { 0 } else { self.dlc.min(8) as usize }
+    }
+
+    /// Calls `f(field, level)` for each destuffed bit from SOF to the last
+    /// CRC bit, in transmission order; returns the CRC.
+    pub fn for_each_unstuffed_bit(&self, mut f: impl FnMut(Field, bool)) -> u16 {
+        let mut crc = Crc15::new();
+        let mut put = |field: Field, value: u32, width: u32, crc: &mut Crc15| {
+            for i in (0..width).rev() {
+                let b = (value >> i) & 1 != 0;
+                crc.push(b);
+                f(field, b);
+            }
+        };
+        put(Field::Sof, 0, 1, &mut crc);
+        match self.id {
+            Id::Standard(s) => {
+                put(Field::BaseId, s.as_raw() as u32, 11, &mut crc);
+                put(Field::SrrRtr, self.rtr as u32, 1, &mut crc);
+                put(Field::Ide, 0, 1, &mut crc);
+                put(Field::R0, 0, 1, &mut crc);
+            }
+            Id::Extended(e) => {
+                let raw = e.as_raw();
+                put(Field::BaseId, raw >> 18, 11, &mut crc);
+                put(Field::SrrRtr, 1, 1, &mut crc);
+                put(Field::Ide, 1, 1, &mut crc);
+                put(Field::ExtId, raw & 0x3ffff, 18, &mut crc);
+                put(Field::Rtr, self.rtr as u32, 1, &mut crc);
+                put(Field::R1, 0, 1, &mut crc);
+                put(Field::R0, 0, 1, &mut crc);
+            }
+        }
+        put(Field::Dlc, self.dlc as u32, 4, &mut crc);
+        for &byte in &self.data[..self.data_len()] {
+            put(Field::Data, byte as u32, 8, &mut crc);
+        }
+        let value = crc.value();
+        let mut sink = Crc15::new();
+        put(Field::Crc, value as u32, 15, &mut sink);
+        value
+    }
+
+    /// The CRC-15 of this frame.
+    pub fn crc(&self) -> u16 {
+        self.for_each_unstuffed_bit(|_, _| {})
+    }
+
+    /// Destuffed bits from SOF to the end of the CRC sequence.
+    pub fn unstuffed_bits(&self) -> Bits {
+        let mut bits = Bits::with_capacity(160);
+        self.for_each_unstuffed_bit(|_, b| bits.push(b));
+        bits
+    }
+
+    /// The whole frame as a transmitter sends it: stuffed SOF..CRC, then CRC
+    /// delimiter, ACK slot (sent recessive), ACK delimiter and 7 EOF bits.
+    pub fn wire_bits(&self) -> Bits {
+        let mut bits = stuff::stuff(&self.unstuffed_bits());
+        for _ in 0..10 {
+            bits.push(RECESSIVE);
+        }
+        bits
+    }
+
+    /// Total bits on the wire from SOF to the end of EOF (without intermission).
+    pub fn bit_len(&self) -> usize {
+        self.wire_bits().len()
+    }
+}
+
+impl embedded_can::Frame for CanFrame {
+    fn new(id: impl Into<Id>, data: &[u8]) -> Option<Self> {
+        if data.len() > 8 {
+            return None;
+        }
+        CanFrame::with_dlc(id, false, data.len() as u8, data)
+    }
+
+    fn new_remote(id: impl Into<Id>, dlc: usize) -> Option<Self> {
+        if dlc > 15 {
+            return None;
+        }
+        CanFrame::with_dlc(id, true, dlc as u8, &[])
+    }
+
+    fn is_extended(&self) -> bool {
+        matches!(self.id, Id::Extended(_))
+    }
+
+    fn is_remote_frame(&self) -> bool {
+        self.rtr
+    }
+
+    fn id(&self) -> Id {
+        self.id
+    }
+
+    fn dlc(&self) -> usize {
+        self.dlc as usize
+    }
+
+    fn data(&self) -> &[u8] {
+        &self.data[..self.data_len()]
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use embedded_can::Frame;
+
+    /// The frame of the DE2 thesis (seed 000): BasicCAN TX buffer 0xA5, 0x21,
+    /// 0x51 gives ID = 0xA5<<3 | 0x21>>5 = 0x529, RTR = 0, DLC = 1, data 0x51.
+    /// The thesis lists its start as SOF 0, ID 10100101001, RTR 0, r0 r1 0 0,
+    /// DLC 0 0 0 1 with one stuff bit: five dominant bits (RTR, IDE, r0, DLC3,
+    /// DLC2) are followed by a recessive stuff bit.
+    #[test]
+    fn thesis_frame_head() {
+        let f = CanFrame::new(CanFrame::std_id(0x529).unwrap(), &[0x51]).unwrap();
+        let w = f.wire_bits();
+        let head: alloc::string::String =
+            w.iter().by_vals().take(25).map(|b| if b { '1' } else { '0' }).collect();
+        // SOF | ID 10100101001 | RTR IDE r0 DLC3 DLC2 | stuff 1 | DLC1 DLC0 | data 01010001
+        assert_eq!(head, "0101001010010000010101010");
+        assert_eq!(&head[..12], "010100101001");
+    }
+
+    #[test]
+    fn dlc_over_8_carries_8_bytes() {
+        let id = CanFrame::std_id(1).unwrap();
+        assert!(CanFrame::with_dlc(id, false, 12, &[0; 8]).is_some());
+        assert!(CanFrame::with_dlc(id, false, 12, &[0; 7]).is_none());
+        assert!(CanFrame::with_dlc(id, false, 16, &[0; 8]).is_none());
+        let f = CanFrame::with_dlc(id, false, 15, &[1; 8]).unwrap();
+        assert_eq!(f.data().len(), 8);
+        assert_eq!(f.dlc(), 15);
+    }
+}

@@ -1,0 +1,37 @@
+#!/usr/bin/env bash
+# Installs what the project needs on a fresh Debian machine: Verilator (the
+# co-simulation DUT build), Icarus Verilog (RTL compile check, bench) and
+# Yosys (resource estimate). Rust comes with the machine (rustup).
+# Fails with one clear sentence when something cannot be had.
+set -euo pipefail
+
+need_pkgs=()
+command -v verilator >/dev/null 2>&1 || need_pkgs+=(verilator)
+command -v iverilog  >/dev/null 2>&1 || need_pkgs+=(iverilog)
+command -v yosys     >/dev/null 2>&1 || need_pkgs+=(yosys)
+# verilator needs a C++ compiler and make for the models it generates.
+command -v g++  >/dev/null 2>&1 || need_pkgs+=(g++)
+command -v make >/dev/null 2>&1 || need_pkgs+=(make)
+
+if [ ${#need_pkgs[@]} -gt 0 ]; then
+  if ! command -v apt-get >/dev/null 2>&1; then
+    echo "setup: missing ${need_pkgs[*]} and no apt-get here; install them (Verilator >= 5.006) and re-run." >&2
+    exit 1
+  fi
+  SUDO=""
+  if [ "$(id -u)" != 0 ]; then
+    if command -v sudo >/dev/null 2>&1; then SUDO="sudo"; else
+      echo "setup: missing ${need_pkgs[*]}; run as root or install them with apt-get." >&2; exit 1
+    fi
+  fi
+  echo "setup: installing ${need_pkgs[*]} from Debian's packages..." >&2
+  if ! { $SUDO apt-get update -qq && DEBIAN_FRONTEND=noninteractive $SUDO apt-get install -y -qq "${need_pkgs[@]}" >/dev/null; }; then
+    echo "setup: apt-get could not install ${need_pkgs[*]}; check the package mirror and re-run." >&2
+    exit 1
+  fi
+fi
+
+if ! command -v cargo >/dev/null 2>&1; then
+  echo "setup: cargo not found; install Rust (rustup) and re-run." >&2
+  exit 1
+fi
