@@ -107,12 +107,40 @@ pub struct Engine {
     timing: BusTiming,
     options: Options,
     events: Vec<Event>,
+    reset_mode: bool,
+    sleep: bool,
+    pending: Option<TxRequest>,
+    tec: u8,
+    rec: u8,
+    state: FaultState,
+    warning: bool,
+    field: Field,
+}
+
+/// A transmission request as the controller gave it.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+struct TxRequest {
+    frame: CanFrame,
+    single_shot: bool,
+    self_rx: bool,
 }
 
 impl Engine {
     /// A node in the bus-idle state waiting for 11 recessive bits (bus integration).
     pub fn new(timing: BusTiming, options: Options) -> Self {
-        Engine { timing, options, events: Vec::with_capacity(8) }
+        Engine {
+            timing,
+            options,
+            events: Vec::with_capacity(8),
+            reset_mode: false,
+            sleep: false,
+            pending: None,
+            tec: 0,
+            rec: 0,
+            state: FaultState::ErrorActive,
+            warning: false,
+            field: Field::BusIdle,
+        }
     }
 
     /// Changes the bit timing (the controller allows it in reset mode only).
@@ -138,46 +166,47 @@ impl Engine {
     /// Enters (true) or leaves (false) the controller's reset mode. In reset
     /// mode the engine sends recessive and takes part in no frame; leaving it
     /// while bus-off starts the recovery count (128 x 11 recessive bits).
-    pub fn set_reset_mode(&mut self, _on: bool) {
-        todo!()
+    pub fn set_reset_mode(&mut self, on: bool) {
+        self.reset_mode = on;
     }
 
     /// Sleep mode: stop until a dominant bit wakes the node ([`Event::WakeUp`]).
-    pub fn set_sleep(&mut self, _on: bool) {
-        todo!()
+    pub fn set_sleep(&mut self, on: bool) {
+        self.sleep = on;
     }
 
     /// One CAN clock period (clk_i) with the bus level `rx`; returns `tx`.
     pub fn clock(&mut self, _rx: bool) -> bool {
-        todo!()
+        can_proto::RECESSIVE
     }
 
     /// Level this node drives for the current bit (fast path and BTL).
     pub fn tx(&self) -> bool {
-        todo!()
+        can_proto::RECESSIVE
     }
 
     /// Fast path: process one whole bit whose sampled bus level is `rx`.
     /// Valid only when all nodes share one clock and timing (no resync).
     pub fn sample_bit(&mut self, _rx: bool) {
-        todo!()
     }
 
     /// Requests transmission of `frame` (CMR.TR / CMR.SRR). `single_shot`:
     /// no retransmission after an error or lost arbitration (TR + AT).
     /// `self_rx`: also receive the frame ourselves (self-reception request).
-    pub fn request_tx(&mut self, _frame: CanFrame, _single_shot: bool, _self_rx: bool) {
-        todo!()
+    pub fn request_tx(&mut self, frame: CanFrame, single_shot: bool, self_rx: bool) {
+        self.pending = Some(TxRequest { frame, single_shot, self_rx });
     }
 
     /// CMR.AT: drop the pending request if its transmission has not started.
     pub fn abort_tx(&mut self) {
-        todo!()
+        if self.pending.take().is_some() {
+            self.events.push(Event::TxAborted);
+        }
     }
 
     /// True while a transmission request is pending or under way.
     pub fn tx_pending(&self) -> bool {
-        todo!()
+        self.pending.is_some()
     }
 
     /// Drains the events produced since the last call.
@@ -192,46 +221,46 @@ impl Engine {
 
     /// Transmit error counter (0..=255; bus-off is reported by [`Engine::fault_state`]).
     pub fn tec(&self) -> u8 {
-        todo!()
+        self.tec
     }
 
     /// Receive error counter.
     pub fn rec(&self) -> u8 {
-        todo!()
+        self.rec
     }
 
     /// Writes TEC (the controller allows it in reset mode only); may change the fault state.
-    pub fn set_tec(&mut self, _v: u8) {
-        todo!()
+    pub fn set_tec(&mut self, v: u8) {
+        self.tec = v;
     }
 
     /// Writes REC (reset mode only).
-    pub fn set_rec(&mut self, _v: u8) {
-        todo!()
+    pub fn set_rec(&mut self, v: u8) {
+        self.rec = v;
     }
 
     /// Fault confinement state.
     pub fn fault_state(&self) -> FaultState {
-        todo!()
+        self.state
     }
 
     /// Error status: TEC or REC at or above the warning limit.
     pub fn error_warning(&self) -> bool {
-        todo!()
+        self.warning
     }
 
     /// SR.RS: a frame is being received.
     pub fn is_receiving(&self) -> bool {
-        todo!()
+        false
     }
 
     /// SR.TS: a frame is being transmitted.
     pub fn is_transmitting(&self) -> bool {
-        todo!()
+        false
     }
 
     /// The field the engine is in, for diagnostics and waveforms.
     pub fn field(&self) -> Field {
-        todo!()
+        self.field
     }
 }
