@@ -1,0 +1,218 @@
+//! Wishbone classic master and RAM target.
+
+use crate::op::{OpQueue, PendingOp, Pause, step_pause};
+use crate::{
+    BfmError, DEFAULT_TIMEOUT_CYCLES, HostBusTarget, HostMaster, OpHandle, OpKind, OpResult,
+    WbMasterOut, WbSlaveOut,
+};
+
+/// Wishbone classic (non-pipelined) single-access master.
+///
+/// Holds `cyc`/`stb` from the edge an operation starts until the edge at
+/// which it samples `ack` (or `err`); a `rty` ends the attempt, idles one
+/// cycle and retries. Back-to-back operations keep `cyc`/`stb` high, as
+/// classic cycles allow. The pause generator inserts idle cycles before an
+/// operation starts, never inside one.
+pub struct WishboneMaster {
+    q: OpQueue,
+    pause: Option<Pause>,
+    active: Option<PendingOp>,
+    retry_gap: bool,
+    prev: WbSlaveOut,
+    out: WbMasterOut,
+}
+
+impl WishboneMaster {
+    /// A master with the default timeout and no pause generator.
+    pub fn new(name: &str) -> Self {
+        log::info!(
+            "{name}: Wishbone classic master, adr 8 bits, dat 8 bits, granularity 8, \
+             cyc/stb/we/ack used, err/rty honoured, timeout {DEFAULT_TIMEOUT_CYCLES} cycles"
+        );
+        Self {
+            q: OpQueue::new(name, DEFAULT_TIMEOUT_CYCLES),
+            pause: None,
+            active: None,
+            retry_gap: false,
+            prev: WbSlaveOut::default(),
+            out: WbMasterOut::default(),
+        }
+    }
+
+    /// Set the per-operation timeout for operations queued from now on.
+    pub fn with_timeout(mut self, cycles: u64) -> Self {
+        self.set_timeout(cycles);
+        self
+    }
+
+    /// Install (or remove) the idle-inserting pause generator.
+    pub fn set_pause(&mut self, pause: Option<Pause>) {
+        log::info!(
+            "{}: idle insertion {}",
+            self.q.name(),
+            if pause.is_some() { "on" } else { "off" }
+        );
+        self.pause = pause;
+    }
+
+    fn drive(&mut self) {
+        self.out = match (&self.active, self.retry_gap) {
+            (Some(op), false) => WbMasterOut {
+                cyc: true,
+                stb: true,
+                we: op.kind == OpKind::Write,
+                adr: op.addr,
+                dat: if op.kind == OpKind::Write { op.data } else { 0 },
+            },
+            _ => WbMasterOut::default(),
+        };
+    }
+}
+
+impl HostMaster for WishboneMaster {
+    type Out = WbMasterOut;
+    type In = WbSlaveOut;
+
+    fn outputs(&self) -> WbMasterOut {
+        self.out
+    }
+
+    fn on_edge(&mut self, slave: &WbSlaveOut) {
+        // What was on the wires before this edge.
+        let sample = std::mem::replace(&mut self.prev, *slave);
+        let paused = step_pause(&mut self.pause);
+        if let Some(mut op) = self.active.take() {
+            op.cycles += 1;
+            if self.retry_gap {
+                self.retry_gap = false;
+                self.active = Some(op);
+            } else if sample.ack {
+                let data = if op.kind == OpKind::Read { sample.dat } else { op.data };
+                self.q.finish(&op, data);
+            } else if sample.err {
+                log::warn!("{}: {} {} at 0x{:02X} ended with err", self.q.name(), op.handle, op.kind, op.addr);
+                self.q.complete(op.handle, Err(BfmError::BusError { op: op.kind, addr: op.addr }));
+            } else if sample.rty {
+                log::debug!("{}: {} retry requested by slave", self.q.name(), op.handle);
+                self.retry_gap = true;
+                self.active = Some(op);
+            } else {
+                self.active = Some(op);
+            }
+            if let Some(op) = self.active {
+                if op.cycles >= op.timeout {
+                    self.active = None;
+                    self.retry_gap = false;
+                    self.q.time_out(&op);
+                }
+            }
+        }
+        if self.active.is_none() {
+            self.active = self.q.next(paused);
+        }
+        self.drive();
+    }
+
+    fn start_write(&mut self, addr: u8, data: u8) -> OpHandle {
+        self.q.push(OpKind::Write, addr, data)
+    }
+
+    fn start_read(&mut self, addr: u8) -> OpHandle {
+        self.q.push(OpKind::Read, addr, 0)
+    }
+
+    fn poll(&mut self, handle: OpHandle) -> Option<Result<OpResult, BfmError>> {
+        self.q.poll(handle)
+    }
+
+    fn reset(&mut self) {
+        log::info!("{}: reset", self.q.name());
+        let active = self.active.take();
+        self.q.flush(active);
+        self.retry_gap = false;
+        self.drive();
+    }
+
+    fn set_timeout(&mut self, cycles: u64) {
+        log::info!("{}: per-operation timeout {cycles} cycles", self.q.name());
+        self.q.timeout = cycles;
+    }
+
+    fn in_flight(&self) -> usize {
+        self.q.in_flight()
+    }
+
+    fn drain_bound(&self) -> u64 {
+        self.q.drain_bound() + self.active.map_or(0, |op| op.timeout + 2)
+    }
+}
+
+/// A 256-byte Wishbone classic RAM with a registered acknowledge
+/// (`ack <= cyc & stb & !ack & !stall`): one wait state, so a master that
+/// keeps `stb` high after `ack` starts a new transfer. The optional
+/// backpressure generator stalls `ack` while it yields true.
+pub struct WishboneRam {
+    name: String,
+    mem: [u8; 256],
+    backpressure: Option<Pause>,
+    out: WbSlaveOut,
+    accesses: u64,
+}
+
+impl WishboneRam {
+    /// A zero-filled RAM.
+    pub fn new(name: &str) -> Self {
+        log::info!("{name}: Wishbone RAM target, 256 x 8 bits, registered ack (1 wait state), no err/rty");
+        Self {
+            name: name.to_owned(),
+            mem: [0; 256],
+            backpressure: None,
+            out: WbSlaveOut::default(),
+            accesses: 0,
+        }
+    }
+
+    /// Install (or remove) the ack-stalling backpressure generator.
+    pub fn set_backpressure(&mut self, pause: Option<Pause>) {
+        log::info!(
+            "{}: ack backpressure {}",
+            self.name,
+            if pause.is_some() { "on" } else { "off" }
+        );
+        self.backpressure = pause;
+    }
+
+    /// The memory contents.
+    pub fn mem(&self) -> &[u8; 256] {
+        &self.mem
+    }
+
+    /// The memory contents, writable (to preload).
+    pub fn mem_mut(&mut self) -> &mut [u8; 256] {
+        &mut self.mem
+    }
+
+    /// Transfers acknowledged so far (a master that holds `stb` across
+    /// several acks is counted once per ack).
+    pub fn accesses(&self) -> u64 {
+        self.accesses
+    }
+}
+
+impl HostBusTarget for WishboneRam {
+    fn cycle(&mut self, m: &WbMasterOut) -> WbSlaveOut {
+        let stall = step_pause(&mut self.backpressure);
+        let mut next = WbSlaveOut { dat: self.out.dat, ..Default::default() };
+        if m.request() && !self.out.ack && !stall {
+            if m.we {
+                self.mem[m.adr as usize] = m.dat;
+            } else {
+                next.dat = self.mem[m.adr as usize];
+            }
+            next.ack = true;
+            self.accesses += 1;
+        }
+        self.out = next;
+        next
+    }
+}
