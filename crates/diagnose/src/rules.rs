@@ -1,0 +1,586 @@
+//! The rules, one small function each. A rule returns `None` when the record
+//! holds no evidence for its cause. [`all`] runs them in priority order.
+
+use crate::record::*;
+use crate::{Category, Figures, Finding};
+use can_engine::ErrorKind;
+use can_proto::Field;
+use can_proto::timing::BusTiming;
+
+/// Every finding, in priority order (the first is the diagnosis).
+pub fn all(r: &RunRecord) -> Vec<Finding> {
+    // A divergence that happens before the model itself sees any bus error
+    // cannot be explained by the wiring (the model shares it): HDL bug first.
+    let early_divergence = r.divergence.as_ref().is_some_and(|d| {
+        match (d.bit, r.first_bus_error(Side::Model)) {
+            (Some(b), Some((e, _, _))) => b < e.bit,
+            (_, None) => true,
+            (None, Some(_)) => d.kind == DivergenceKind::RegisterRead,
+        }
+    });
+    let mut rules: Vec<fn(&RunRecord) -> Option<Finding>> = vec![
+        run_error,
+        host_bus_timeout,
+        host_bus_violation,
+        address_mode_confusion,
+        config_write_outside_reset,
+        tx_buffer_write_while_locked,
+    ];
+    if early_divergence {
+        rules.push(dut_deviates);
+    }
+    rules.extend([rx_not_following_tx, no_acknowledge, bit_timing_mismatch] as [fn(&RunRecord) -> Option<Finding>; 3]);
+    if !early_divergence {
+        rules.push(dut_deviates);
+    }
+    rules.extend([expectation_failed, stuck_transfer] as [fn(&RunRecord) -> Option<Finding>; 2]);
+    rules.iter().filter_map(|f| f(r)).collect()
+}
+
+/// Figures every finding starts from: final DUT status and the TEC trace.
+pub fn base_figures(r: &RunRecord) -> Figures {
+    let dut = r.tec_of(Side::Dut);
+    let mut f = Figures::default();
+    if let Some(fr) = r.final_dut {
+        f.tec = Some(fr.tec);
+        f.rec = Some(fr.rec);
+        f.sr = Some(fr.sr);
+    } else if let Some(s) = r.stuck {
+        f.sr = Some(s.sr);
+    }
+    if let Some(first) = dut.first() {
+        f.first_attempt_tec = Some(first.tec);
+    }
+    if !dut.is_empty() {
+        f.attempts = Some(dut.len() as u32);
+        if f.tec.is_none() {
+            f.tec = dut.last().map(|t| t.tec);
+        }
+    } else if let Some(s) = r.stuck {
+        f.attempts = Some(s.attempts);
+    }
+    f.bus_off_attempt = dut.iter().find(|t| t.bus_off || t.tec > 255).map(|t| t.attempt);
+    f
+}
+
+fn level(b: bool) -> String {
+    if b { "recessive (1)".into() } else { "dominant (0)".into() }
+}
+
+fn finding(category: Category, what: String, cause: &str, fix: &str, figures: Figures) -> Finding {
+    Finding { category, what_happened: what, root_cause: cause.into(), fix: fix.into(), figures }
+}
+
+/// A sentence about attempts, TEC and bus-off from the figures.
+fn attempts_sentence(f: &Figures) -> String {
+    let mut s = String::new();
+    if let Some(t) = f.first_attempt_tec {
+        s += &format!(" TEC was {t} after the first attempt.");
+    }
+    if let Some(a) = f.attempts {
+        s += &format!(" The controller made {a} attempt(s).");
+    }
+    if let Some(b) = f.bus_off_attempt {
+        s += &format!(" It went bus-off (TEC > 255) during attempt {b}, dropped the request and now keeps tx_o recessive: a logic analyser sees only 1s.");
+    } else if let Some(t) = f.tec {
+        s += &format!(" TEC is {t}.");
+    }
+    if let Some(sr) = f.sr {
+        s += &format!(" SR = {}.", sr::describe(sr));
+    }
+    s
+}
+
+/// The run stopped on an error of its own (DUT build, simulator, timeout).
+pub fn run_error(r: &RunRecord) -> Option<Finding> {
+    let e = r.error.as_ref()?;
+    Some(finding(
+        Category::RunError,
+        format!("the run stopped: {e}"),
+        "the test bench could not complete the run; no CAN conclusion can be drawn",
+        "fix the reported error (DUT sources, ports, simulator) and run again",
+        base_figures(r),
+    ))
+}
+
+/// A host access that was never acknowledged.
+pub fn host_bus_timeout(r: &RunRecord) -> Option<Finding> {
+    let op = r.host_ops.iter().find(|o| o.error.is_some())?;
+    let mut f = base_figures(r);
+    f.addr = Some(op.addr);
+    f.register = op.reg.clone();
+    Some(finding(
+        Category::HostBusTimeout,
+        format!(
+            "the {:?} {:?} at address {} ({}) never completed: {} (after {} host cycles)",
+            op.bfm,
+            op.access,
+            op.addr,
+            op.reg.as_deref().unwrap_or("?"),
+            op.error.as_deref().unwrap_or(""),
+            op.cycles
+        ),
+        "the DUT never raised wb_ack_o for this access: it is not clocked (wb_clk_i), held in reset (wb_rst_i), or cyc/stb do not reach it together",
+        "check wb_clk_i and wb_rst_i, and that wb_cyc_i and wb_stb_i are both high for the whole access; with Avalon, use the bundled wrapper so waitrequest follows ack",
+        f,
+    ))
+}
+
+/// Host-bus protocol violations (Wishbone / Avalon / PIO monitors).
+pub fn host_bus_violation(r: &RunRecord) -> Option<Finding> {
+    let v = r.violations.first()?;
+    let rule = v.rule.to_ascii_lowercase();
+    let (cause, fix) = if rule.contains("begintransfer") || rule.contains("cyc") && rule.contains("stb") && r.host_bus == HostBus::Avalon {
+        (
+            "wb_cyc_i is driven from Avalon begintransfer, a one-cycle pulse at the start of each transfer, so the core sees stb without cyc for the rest of the access; and wb_ack_o is exported on a conduit, so the Avalon fabric never learns when the slave answered (no waitrequest): reads return whatever readdata holds, writes may be lost",
+            "map chipselect to both wb_cyc_i and wb_stb_i, and drive waitrequest = chipselect & ~wb_ack_o (the bundled Avalon wrapper does this); do not export ack on a conduit",
+        )
+    } else if rule.contains("stb") && rule.contains("cyc") {
+        (
+            "Wishbone requires cyc to be high whenever stb is: the core ignores a strobe outside a cycle",
+            "drive wb_cyc_i and wb_stb_i together for the whole access and release them after wb_ack_o",
+        )
+    } else if rule.contains("ack") {
+        (
+            "the master did not wait for the slave's acknowledge (or changed the request before it)",
+            "hold address, data and we stable until wb_ack_o is seen, then drop cyc/stb",
+        )
+    } else {
+        (
+            "the host bus does not follow its protocol, so register accesses cannot be trusted",
+            "fix the host interface so the monitor reports no violation",
+        )
+    };
+    let mut f = base_figures(r);
+    f.seen = Some(v.rule.clone());
+    Some(finding(
+        Category::HostBusViolation,
+        format!(
+            "{} host-bus violation(s); the first at host cycle {}: {} ({})",
+            r.violations.len(),
+            v.cycle,
+            v.message,
+            v.rule
+        ),
+        cause,
+        fix,
+        f,
+    ))
+}
+
+/// The PeliCAN-only register names, for telling the modes apart.
+const PELICAN_ONLY: &[&str] = &[
+    "IER", "ALC", "ECC", "EWLR", "RXERR", "TXERR", "TXFI", "RXFI", "TX_FRAME_INFO", "RX_FRAME_INFO", "ACR0", "ACR1", "ACR2",
+    "ACR3", "AMR0", "AMR1", "AMR2", "AMR3", "RMC", "RBSA",
+];
+
+/// The program used a register of the other mode (e.g. IER at address 4 in
+/// BasicCAN, where address 4 is ACR).
+pub fn address_mode_confusion(r: &RunRecord) -> Option<Finding> {
+    let op = r.host_ops.iter().find(|o| match (&o.intended, &o.reg) {
+        (Some(i), Some(g)) => !i.eq_ignore_ascii_case(g),
+        (Some(i), None) => o.mode == CanMode::BasicCan && PELICAN_ONLY.iter().any(|p| p.eq_ignore_ascii_case(i)),
+        _ => false,
+    })?;
+    let intended = op.intended.clone().unwrap_or_default();
+    let got = op.reg.clone().unwrap_or_else(|| "an unrelated register".into());
+    let mut f = base_figures(r);
+    f.addr = Some(op.addr);
+    f.register = Some(got.clone());
+    f.expected = Some(intended.clone());
+    f.seen = Some(got.clone());
+    let mode = match op.mode {
+        CanMode::BasicCan => "BasicCAN",
+        CanMode::PeliCan => "PeliCAN",
+    };
+    let ignored = match &op.outcome {
+        Some(o) if o.is_ignored() => format!(" The model ignored the access ({o:?})."),
+        _ => String::new(),
+    };
+    Some(finding(
+        Category::AddressModeConfusion,
+        format!(
+            "the program {} {intended} at address {} (0x{:02X}) in {mode} mode{}, where that address is {got}.{ignored}",
+            if op.access == Access::Write { format!("wrote 0x{:02X} to", op.data) } else { "read".into() },
+            op.addr,
+            op.addr,
+            if op.reset_mode { " (reset mode)" } else { "" },
+        ),
+        "the SJA1000 has two register maps: BasicCAN (CDR.7 = 0, the default) and PeliCAN (CDR.7 = 1); addresses from one are used in the other. In BasicCAN the interrupt enables are bits of CR (address 0) and address 4 is ACR; in PeliCAN address 4 is IER and 16 is TX frame info on write, RX frame info on read in operating mode but ACR0 in reset mode",
+        "take the address from the register map of the mode the controller is in (set CDR.7 first, in reset mode, before using PeliCAN addresses); use the generated *_regs.h names rather than hand-typed numbers",
+        f,
+    ))
+}
+
+const CONFIG_REGS: &[&str] = &[
+    "BTR0", "BTR1", "ACR", "AMR", "OCR", "ACR0", "ACR1", "ACR2", "ACR3", "AMR0", "AMR1", "AMR2", "AMR3", "EWLR", "RXERR",
+    "TXERR",
+];
+
+/// Configuration registers written in operating mode: the SJA1000 ignores them.
+pub fn config_write_outside_reset(r: &RunRecord) -> Option<Finding> {
+    let bad: Vec<&HostOp> = r
+        .host_ops
+        .iter()
+        .filter(|o| o.access == Access::Write)
+        .filter(|o| match &o.outcome {
+            Some(WriteOutcome::IgnoredNotInResetMode) => true,
+            Some(_) => false,
+            None => !o.reset_mode && o.reg.as_deref().is_some_and(|n| CONFIG_REGS.contains(&n)),
+        })
+        .collect();
+    let op = *bad.first()?;
+    let names: Vec<String> = bad
+        .iter()
+        .map(|o| format!("{}=0x{:02X}", o.reg.clone().unwrap_or_else(|| format!("@{}", o.addr)), o.data))
+        .collect();
+    let mut f = base_figures(r);
+    f.addr = Some(op.addr);
+    f.register = op.reg.clone();
+    f.expected = Some(format!("0x{:02X}", op.data));
+    Some(finding(
+        Category::ConfigWriteOutsideReset,
+        format!("{} configuration write(s) were ignored because the controller was in operating mode: {}", bad.len(), names.join(", ")),
+        "ACR/AMR, BTR0/BTR1, OCR (and in PeliCAN EWLR, RXERR, TXERR) are writable in reset mode only (MOD.RM / CR.RR = 1); in operating mode the SJA1000 silently keeps the old values",
+        "write MOD/CR = 0x01 (reset request) and read it back until bit 0 is 1, write the configuration, then leave reset mode",
+        f,
+    ))
+}
+
+/// TX buffer written while a transmission is pending.
+pub fn tx_buffer_write_while_locked(r: &RunRecord) -> Option<Finding> {
+    let bad: Vec<&HostOp> =
+        r.host_ops.iter().filter(|o| matches!(o.outcome, Some(WriteOutcome::IgnoredTxBufferLocked))).collect();
+    let op = *bad.first()?;
+    let mut f = base_figures(r);
+    f.addr = Some(op.addr);
+    f.register = op.reg.clone();
+    f.expected = Some(format!("0x{:02X}", op.data));
+    Some(finding(
+        Category::TxBufferWriteWhileLocked,
+        format!(
+            "{} write(s) to the TX buffer were ignored because it was locked (SR.TBS = 0, a transmission pending); the first at address {} (0x{:02X})",
+            bad.len(),
+            op.addr,
+            op.data
+        ),
+        "while a transmission request is pending the TX buffer is locked (SR.TBS = 0) and the SJA1000 ignores writes to it; the frame on the wire is the old one",
+        "poll SR until TBS = 1 (or wait for the transmit interrupt) before filling the TX buffer; abort with CMR.AT if the old frame must be replaced",
+        f,
+    ))
+}
+
+/// rx_i does not follow tx_o: the first dominant bit (SOF) reads back recessive.
+pub fn rx_not_following_tx(r: &RunRecord) -> Option<Finding> {
+    let bits_evidence = r.bus_bits.iter().find(|b| b.dut_tx == can_proto::DOMINANT && b.dut_rx == can_proto::RECESSIVE);
+    let wiring_says = !r.wiring.rx_follows_tx();
+    let tx_tried = r.first_bus_error(Side::Dut).is_some()
+        || r.first_bus_error(Side::Model).is_some()
+        || r.stuck.is_some()
+        || !r.tec_trace.is_empty();
+    if !(wiring_says && tx_tried || bits_evidence.is_some() && !r.wiring.rx_follows_tx()) {
+        return None;
+    }
+    if r.wiring.rx == RxWiring::TiedDominant {
+        let mut f = base_figures(r);
+        f.expected = Some(level(true));
+        f.seen = Some(level(false));
+        return Some(finding(
+            Category::RxNotFollowingTx,
+            "rx_i is tied dominant: the controller sees a permanently busy bus (or a stream of errors) and never starts its frame".into(),
+            "rx_i is tied to 0 instead of following the bus through a transceiver",
+            "connect rx_i to the transceiver's RXD (idle level recessive = 1)",
+            f,
+        ));
+    }
+    let mut f = base_figures(r);
+    let err = r.first_bus_error(Side::Dut).or_else(|| r.first_bus_error(Side::Model));
+    if let Some((e, _, field)) = err {
+        f.bit = Some(e.bit);
+        f.field = Some(field);
+    } else if let Some(b) = bits_evidence {
+        f.bit = Some(b.bit);
+        f.field = b.field;
+    } else {
+        f.field = Some(Field::Sof);
+    }
+    f.frame = Some(1);
+    f.expected = Some(level(false));
+    f.seen = Some(level(true));
+    let how = match r.wiring.rx {
+        RxWiring::TiedRecessive => "rx_i is tied to 1 (recessive)",
+        _ => "tx_o does not reach the bus that rx_i reads (no transceiver loopback)",
+    };
+    let field = f.field.unwrap_or(Field::Sof);
+    let what = format!(
+        "frame 1: the DUT sent {} in the {field} at bit {} and read {} back on rx_i: bit error (CAN 2.0B §7.1, bit monitoring). Its active error flag (six dominant bits) reads back recessive too, so every flag bit is another bit error (+8 each).{}",
+        level(false),
+        f.bit.map(|b| b.to_string()).unwrap_or_else(|| "?".into()),
+        level(true),
+        attempts_sentence(&f)
+    );
+    Some(finding(
+        Category::RxNotFollowingTx,
+        what,
+        &format!(
+            "{how}. A CAN transmitter reads back every bit it sends; on a real bus the transceiver loops tx to rx through the wire. With rx held recessive the first dominant bit (SOF) fails, the frame never gets past SOF, the controller retries until bus-off. The controller reported the request as accepted (SR.TBS = 0, SR.TS = 1 while retrying), which is why the program printed that the frame was sent. The core is not broken: the wiring is."
+        ),
+        "connect tx_o and rx_i to a CAN transceiver on a bus with at least one other powered node at the same bit rate (it acknowledges); for a bench test without a second node, loop tx_o to rx_i and use PeliCAN self-test mode (CDR = 0x80, MOD = 0x04 with STM, then CMR = 0x10 self reception request)",
+        f,
+    ))
+}
+
+/// rx follows tx but nobody acknowledges and the DUT is not in self-test mode.
+pub fn no_acknowledge(r: &RunRecord) -> Option<Finding> {
+    if !r.wiring.rx_follows_tx() || r.wiring.self_test || r.wiring.ack_nodes() > 0 {
+        return None;
+    }
+    let ack = r.events_of(Side::Dut).chain(r.events_of(Side::Model)).find(|e| {
+        matches!(e.kind, crate::EventKind::BusError { kind: ErrorKind::Ack, .. })
+    });
+    if ack.is_none() && r.stuck.is_none() {
+        return None;
+    }
+    let mut f = base_figures(r);
+    if let Some(e) = ack {
+        f.bit = Some(e.bit);
+    }
+    f.field = Some(Field::AckSlot);
+    f.frame = Some(1);
+    f.expected = Some(level(false));
+    f.seen = Some(level(true));
+    let plateau = r.tec_of(Side::Dut).iter().map(|t| t.tec).max().or(f.tec);
+    if let Some(p) = plateau {
+        f.tec = Some(p);
+    }
+    let sr_txt = f.sr.map(sr::describe).unwrap_or_else(|| "?".into());
+    Some(finding(
+        Category::NoAcknowledge,
+        format!(
+            "every attempt reached the ACK slot, which stayed {} because no other node acknowledges: ACK error (CAN 2.0B §7.1), TEC +8 per attempt up to 128 (error passive). From then on TEC stays at {} and the controller retransmits forever: SR = {sr_txt}, i.e. TBS = 0 (buffer locked, 'full') and TS = 1 (transmission in progress).{}",
+            level(true),
+            plateau.map(|p| p.to_string()).unwrap_or_else(|| "128".into()),
+            f.attempts.map(|a| format!(" {a} attempts seen.")).unwrap_or_default()
+        ),
+        "a CAN frame is only complete when another node writes a dominant bit in the ACK slot; alone on the bus (and not in self-test mode) the transmitter never succeeds. CAN 2.0B §8 rule 3, exception 1: an error-passive transmitter that sees an ACK error and no dominant bit during its passive error flag does not increment TEC, so it neither succeeds nor goes bus-off",
+        "add a second node at the same bit rate that is in operating mode and not listen-only (it acknowledges), or for a lone bench test use PeliCAN self-test mode (MOD.STM = 1, CMR = 0x10 self reception request)",
+        f,
+    ))
+}
+
+/// Finds BTR values for `clk` giving `rate` with the sample point closest to `sp`.
+pub fn suggest_btr(clk: f64, rate: f64, sp: f64) -> Option<(u8, u8)> {
+    let mut best: Option<(f64, (u8, u8))> = None;
+    for brp in 0u8..64 {
+        for tseg1 in 1u8..16 {
+            for tseg2 in 1u8..8 {
+                let t = BusTiming { brp, sjw: 0, tseg1, tseg2, sam: false };
+                if ((t.bit_rate(clk) - rate) / rate).abs() > 1e-9 {
+                    continue;
+                }
+                let d = (t.sample_point() - sp).abs();
+                if best.is_none_or(|(bd, _)| d < bd) {
+                    let sjw = tseg2.min(3);
+                    best = Some((d, BusTiming { sjw, ..t }.to_btr()));
+                }
+            }
+        }
+    }
+    best.map(|(_, b)| b)
+}
+
+/// Nodes on the bus do not share a bit rate (or sample points differ widely).
+pub fn bit_timing_mismatch(r: &RunRecord) -> Option<Finding> {
+    let me = r.timing;
+    let (rate, sp) = (me.bit_rate(), me.sample_point());
+    let node = r.wiring.nodes.iter().find(|n| {
+        let (nr, ns) = (n.timing.bit_rate(), n.timing.sample_point());
+        ((nr - rate) / rate).abs() > 0.005 || (ns - sp).abs() > 0.15
+    })?;
+    let (nr, ns) = (node.timing.bit_rate(), node.timing.sample_point());
+    let mut f = base_figures(r);
+    f.expected = Some(format!("{:.0} bit/s, sample point {:.1} %", nr, ns * 100.0));
+    f.seen = Some(format!("{:.0} bit/s, sample point {:.1} %", rate, sp * 100.0));
+    if let Some((e, _, field)) = r.first_bus_error(Side::Dut) {
+        f.bit = Some(e.bit);
+        f.field = Some(field);
+    }
+    let suggestion = suggest_btr(me.can_clock_hz, nr, ns)
+        .map(|(b0, b1)| format!(" For the DUT's {:.3} MHz clock, BTR0 = 0x{b0:02X}, BTR1 = 0x{b1:02X} gives {:.0} bit/s.", me.can_clock_hz / 1e6, nr))
+        .unwrap_or_else(|| format!(" No BTR setting of the DUT's {:.3} MHz clock gives exactly {:.0} bit/s: change the clock.", me.can_clock_hz / 1e6, nr));
+    Some(finding(
+        Category::BitTimingMismatch,
+        format!(
+            "the DUT runs at {:.0} bit/s (BTR0 = 0x{:02X}, BTR1 = 0x{:02X}, {:.3} MHz, sample point {:.1} %) but node '{}' at {:.0} bit/s (BTR0 = 0x{:02X}, BTR1 = 0x{:02X}, {:.3} MHz, sample point {:.1} %)",
+            rate, me.btr0, me.btr1, me.can_clock_hz / 1e6, sp * 100.0, node.name, nr, node.timing.btr0, node.timing.btr1,
+            node.timing.can_clock_hz / 1e6, ns * 100.0
+        ),
+        "all nodes of a CAN bus must use the same nominal bit rate (and close sample points): resynchronisation only absorbs a phase error of SJW time quanta per edge, so different rates give stuff, form and CRC errors, and no valid frame",
+        &format!("program the same bit rate on every node (bit rate = f_clk / (2 (BRP+1) (3 + TSEG1 + TSEG2))).{suggestion}"),
+        f,
+    ))
+}
+
+/// The DUT deviates from the golden model: an HDL bug, with field context.
+pub fn dut_deviates(r: &RunRecord) -> Option<Finding> {
+    let d = r.divergence.as_ref()?;
+    let mut f = base_figures(r);
+    f.bit = d.bit;
+    f.field = d.field;
+    f.frame = d.frame;
+    f.register = d.register.clone();
+    let what = match d.kind {
+        DivergenceKind::TxBit => {
+            f.expected = Some(level(d.expected != 0));
+            f.seen = Some(level(d.seen != 0));
+            format!(
+                "tx_o differs from the golden model at bit {} (frame {}, {}): the model sends {}, the DUT {}.",
+                d.bit.map(|b| b.to_string()).unwrap_or_else(|| "?".into()),
+                d.frame.map(|b| b.to_string()).unwrap_or_else(|| "?".into()),
+                d.field.map(|x| x.to_string()).unwrap_or_else(|| "unknown field".into()),
+                level(d.expected != 0),
+                level(d.seen != 0)
+            )
+        }
+        DivergenceKind::RegisterRead => {
+            f.expected = Some(format!("0x{:02X}", d.expected));
+            f.seen = Some(format!("0x{:02X}", d.seen));
+            let reg = d.register.as_deref().unwrap_or("register");
+            let extra = if reg == "SR" { format!(" (model {}, DUT {})", sr::describe(d.expected as u8), sr::describe(d.seen as u8)) } else { String::new() };
+            format!("a read of {reg} returned 0x{:02X} where the model has 0x{:02X}{extra}.", d.seen, d.expected)
+        }
+        DivergenceKind::Irq => {
+            f.expected = Some(format!("irq_on = {}", d.expected));
+            f.seen = Some(format!("irq_on = {}", d.seen));
+            format!("irq_on differs from the model: model {}, DUT {} (active low).", d.expected, d.seen)
+        }
+        DivergenceKind::BusOff => {
+            f.expected = Some(format!("bus_off_on = {}", d.expected));
+            f.seen = Some(format!("bus_off_on = {}", d.seen));
+            format!("bus_off_on differs from the model: model {}, DUT {}.", d.expected, d.seen)
+        }
+    };
+    let ctx = if d.context.is_empty() { String::new() } else { format!(" Context: {}", d.context) };
+    let where_ = match (d.kind, d.field) {
+        (DivergenceKind::TxBit, Some(field)) => format!("the RTL's handling of the {field} (the bit stream processor state for that field)"),
+        (DivergenceKind::RegisterRead, _) => format!("the RTL's {} read path or the state bits it reflects", d.register.as_deref().unwrap_or("register")),
+        (DivergenceKind::Irq, _) => "the RTL's interrupt logic (IR/IER and irq_on)".into(),
+        (DivergenceKind::BusOff, _) => "the RTL's fault confinement (TEC/REC rules, bus-off entry and recovery)".into(),
+        _ => "the RTL at that time".into(),
+    };
+    Some(finding(
+        Category::DutDeviatesFromModel,
+        format!("{what}{ctx}"),
+        &format!("the DUT does not behave as the SJA1000 / CAN 2.0B golden model does: look at {where_}"),
+        &format!(
+            "open the waveform at {} ps{}; compare the RTL with the datasheet behaviour the model implements, fix it and rerun the regression",
+            d.time_ps,
+            d.bit.map(|b| format!(" (bit {b})")).unwrap_or_default()
+        ),
+        f,
+    ))
+}
+
+/// Failed scenario expectations.
+pub fn expectation_failed(r: &RunRecord) -> Option<Finding> {
+    let failed: Vec<&Expectation> = r.expectations.iter().filter(|e| !e.passed).collect();
+    let e = *failed.first()?;
+    let mut f = base_figures(r);
+    f.expected = Some(e.expected.clone());
+    f.seen = Some(e.seen.clone());
+    Some(finding(
+        Category::ExpectationFailed,
+        format!("{} expectation(s) failed; the first, step {}: {} expected {}, seen {}", failed.len(), e.step, e.what, e.expected, e.seen),
+        "the DUT and the model agree, but not with what the scenario expects: the scenario's expectation or the program it plays is wrong",
+        "check the expected value against the datasheet; if the expectation is right, the program (register values, order) is not",
+        f,
+    ))
+}
+
+/// A transmission that never completed, with no other explanation.
+pub fn stuck_transfer(r: &RunRecord) -> Option<Finding> {
+    let s = r.stuck?;
+    let mut f = base_figures(r);
+    f.sr = Some(s.sr);
+    Some(finding(
+        Category::StuckTransfer,
+        format!(
+            "the transmission requested at bit {} did not complete within {} bit times; SR = {} (TS = {}, TBS = {})",
+            s.requested_bit,
+            s.waited_bits,
+            sr::describe(s.sr),
+            s.ts() as u8,
+            s.tbs() as u8
+        ),
+        "no rule matched: the request stayed pending without a bus error the record explains",
+        "record the bus bits and engine events (cosim --vcd) and inspect the frame around the request",
+        f,
+    ))
+}
+
+/// The strict CAN 2.0B TEC after each attempt when rx reads recessive only:
+/// +8 for the bit error in SOF (rule 3), +8 for each bit error while sending
+/// the active error flag (rule 4) until TEC >= 128 (error passive, §8); after
+/// that the passive error flag is recessive (no bit error) and each attempt
+/// adds only the +8 of its SOF bit error; bus-off when TEC > 255.
+pub fn strict_tied_recessive_trace() -> Vec<u16> {
+    let mut v = Vec::new();
+    let mut tec: u16 = 0;
+    loop {
+        tec += 8; // rule 3: bit error in SOF, error flag sent
+        while tec < 128 {
+            tec += 8; // rule 4: the active flag bit reads back recessive
+        }
+        v.push(tec);
+        if tec > 255 {
+            return v;
+        }
+    }
+}
+
+/// Where the DUT's TEC counts differ from the strict CAN 2.0B counts, which
+/// rule makes the difference. Uses the model's trace, or the analytic strict
+/// counts when rx is tied recessive and the model's trace is missing.
+pub fn counts_note(r: &RunRecord) -> Option<String> {
+    let dut: Vec<u16> = r.tec_of(Side::Dut).iter().map(|t| t.tec).collect();
+    if dut.is_empty() {
+        return None;
+    }
+    let model: Vec<u16> = {
+        let m: Vec<u16> = r.tec_of(Side::Model).iter().map(|t| t.tec).collect();
+        if m.is_empty() && r.wiring.rx == RxWiring::TiedRecessive { strict_tied_recessive_trace() } else { m }
+    };
+    if model.is_empty() {
+        return None;
+    }
+    let i = (0..dut.len().min(model.len())).find(|&i| dut[i] != model[i]);
+    let bus_off = |v: &[u16]| v.iter().position(|&t| t > 255).map(|p| p + 1);
+    let (db, mb) = (bus_off(&dut), bus_off(&model));
+    if i.is_none() && db == mb {
+        return None;
+    }
+    let mut s = String::new();
+    if let Some(i) = i {
+        s += &format!("attempt {}: DUT TEC {}, model (CAN 2.0B) TEC {}. ", i + 1, dut[i], model[i]);
+        let prev_equal = i == 0 || dut[i - 1] == model[i - 1];
+        if prev_equal && model[i] == 128 && dut[i] > 128 {
+            s += &format!(
+                "CAN 2.0B §8: a node is error passive as soon as TEC >= 128, and an error-passive node sends a passive error flag (recessive), which cannot produce a bit error while rx reads recessive; rule 4 (+8 for a bit error while sending an active error flag) therefore stops at 128. The DUT counted {} more bit error(s) after reaching 128: it kept sending the active error flag after becoming error passive. ",
+                (dut[i] - 128) / 8
+            );
+        } else if r.wiring.ack_nodes() == 0 && !r.wiring.self_test && dut[i] > 128 && model[i] == 128 {
+            s += "CAN 2.0B §8 rule 3, exception 1: an error-passive transmitter that detects an ACK error and no dominant bit while sending its passive error flag does not increment TEC; the DUT does. ";
+        } else {
+            s += "CAN 2.0B §8 rules involved: rule 3 (+8 when a transmitter sends an error flag), rule 4 (+8 for a bit error while sending an active error flag), error passive at TEC >= 128, bus-off at TEC > 255. ";
+        }
+    }
+    match (db, mb) {
+        (Some(d), Some(m)) if d != m => {
+            s += &format!("Bus-off (TEC > 255, §8) in attempt {d} on the DUT, in attempt {m} under CAN 2.0B.");
+        }
+        (Some(d), None) => s += &format!("The DUT went bus-off in attempt {d}; the model did not."),
+        (None, Some(m)) if dut.len() >= m => s += &format!("The model went bus-off in attempt {m}; the DUT did not."),
+        _ => {}
+    }
+    Some(s.trim().to_string())
+}

@@ -1,0 +1,362 @@
+//! One test per rule, from hand-built run records shaped like the runs the
+//! issue describes (seed 000 thesis wiring, upstream opencores counts).
+
+use can_engine::{ErrorKind, FaultState};
+use can_proto::Field;
+use diagnose::rules;
+use diagnose::*;
+
+/// The thesis wiring: rx tied recessive, no other node, PIO access.
+fn thesis_wiring() -> Wiring {
+    Wiring { rx: RxWiring::TiedRecessive, tx_on_bus: false, ..Default::default() }
+}
+
+/// TEC per attempt as the upstream opencores core counts it with rx tied
+/// recessive (issue 5, measured): 136 after attempt 1, +8 per attempt,
+/// bus-off during attempt 16.
+fn upstream_tied_trace(side: Side) -> Vec<TecStep> {
+    (1..=16u32)
+        .map(|a| {
+            let tec = 136 + 8 * (a as u16 - 1);
+            TecStep { node: side, attempt: a, bit: 25 * a as u64, tec, bus_off: tec > 255 }
+        })
+        .collect()
+}
+
+fn strict_trace(side: Side) -> Vec<TecStep> {
+    rules::strict_tied_recessive_trace()
+        .into_iter()
+        .enumerate()
+        .map(|(i, tec)| TecStep { node: side, attempt: i as u32 + 1, bit: 25 * (i as u64 + 1), tec, bus_off: tec > 255 })
+        .collect()
+}
+
+fn thesis_record() -> RunRecord {
+    let mut r = RunRecord::new("de2-thesis", "upstream")
+        .with_wiring(thesis_wiring())
+        .op(HostOp::write(0, 0x01).reg("CR").mode(CanMode::BasicCan, false))
+        .op(HostOp::write(1, 0x01).reg("CMR").mode(CanMode::BasicCan, false))
+        .event(
+            EngineEvent::new(412, Side::Dut, EventKind::BusError { kind: ErrorKind::Bit, ecc: 0x00, field: Field::Sof })
+                .tec(8),
+        )
+        .event(
+            EngineEvent::new(412, Side::Model, EventKind::BusError { kind: ErrorKind::Bit, ecc: 0x00, field: Field::Sof })
+                .tec(8),
+        );
+    r.tec_trace = upstream_tied_trace(Side::Dut);
+    r.tec_trace.extend(strict_trace(Side::Model));
+    r.final_dut = Some(FinalRegs { sr: 0xD4, ir: 0xE0, tec: 256, rec: 0, ecc: None, alc: None });
+    r.push_bit(BusBit { bit: 412, bus: true, dut_tx: false, model_tx: false, dut_rx: true, field: Some(Field::Sof), frame: Some(1) }, 64);
+    r
+}
+
+#[test]
+fn strict_trace_is_128_then_8_per_attempt_busoff_in_17th() {
+    let t = rules::strict_tied_recessive_trace();
+    assert_eq!(t[0], 128);
+    assert_eq!(t[1], 136);
+    assert_eq!(t.len(), 17);
+    assert!(t[16] > 255 && t[15] <= 255);
+}
+
+#[test]
+fn rx_tied_recessive_is_diagnosed_with_sof_bit_error() {
+    let d = diagnose(&thesis_record());
+    assert_eq!(d.category, Category::RxNotFollowingTx, "{}", d.to_text());
+    assert_eq!(d.figures.field, Some(Field::Sof));
+    assert_eq!(d.figures.bit, Some(412));
+    assert_eq!(d.figures.expected.as_deref(), Some("dominant (0)"));
+    assert_eq!(d.figures.seen.as_deref(), Some("recessive (1)"));
+    assert_eq!(d.figures.first_attempt_tec, Some(136));
+    assert_eq!(d.figures.bus_off_attempt, Some(16));
+    assert_eq!(d.figures.sr, Some(0xD4));
+    assert!(d.root_cause.contains("tied to 1"));
+    assert!(d.fix.contains("transceiver"));
+}
+
+#[test]
+fn counts_note_names_the_error_passive_rule_for_upstream_counts() {
+    let d = diagnose(&thesis_record());
+    let n = d.counts_note.expect("upstream counts differ from CAN 2.0B");
+    assert!(n.contains("attempt 1: DUT TEC 136, model (CAN 2.0B) TEC 128"), "{n}");
+    assert!(n.contains("TEC >= 128"), "{n}");
+    assert!(n.contains("1 more bit error"), "{n}");
+    assert!(n.contains("attempt 16 on the DUT, in attempt 17"), "{n}");
+}
+
+#[test]
+fn counts_note_uses_analytic_counts_without_model_trace() {
+    let mut r = thesis_record();
+    r.tec_trace.retain(|t| t.node == Side::Dut);
+    let n = rules::counts_note(&r).expect("analytic strict counts");
+    assert!(n.contains("model (CAN 2.0B) TEC 128"));
+}
+
+#[test]
+fn no_counts_note_when_dut_matches_model() {
+    let mut r = thesis_record();
+    r.tec_trace = strict_trace(Side::Dut);
+    r.tec_trace.extend(strict_trace(Side::Model));
+    assert_eq!(rules::counts_note(&r), None);
+}
+
+fn loopback_no_ack() -> RunRecord {
+    let mut r = RunRecord::new("de2-loopback-no-ack", "upstream").event(EngineEvent::new(
+        440,
+        Side::Dut,
+        EventKind::BusError { kind: ErrorKind::Ack, ecc: 0xD9, field: Field::AckSlot },
+    ));
+    r.tec_trace = (1..=40)
+        .map(|a| TecStep { node: Side::Dut, attempt: a, bit: 0, tec: (8 * a as u16).min(128), bus_off: false })
+        .collect();
+    r.stuck = Some(StuckTransfer { requested_ps: 0, requested_bit: 400, waited_bits: 5000, sr: 0x60, attempts: 40 });
+    r.final_dut = Some(FinalRegs { sr: 0x60, tec: 128, ..Default::default() });
+    r
+}
+
+#[test]
+fn loopback_without_ack_node_is_no_acknowledge_with_sr_0x60() {
+    let d = diagnose(&loopback_no_ack());
+    assert_eq!(d.category, Category::NoAcknowledge, "{}", d.to_text());
+    assert_eq!(d.figures.tec, Some(128));
+    assert_eq!(d.figures.sr, Some(0x60));
+    assert_eq!(d.figures.field, Some(Field::AckSlot));
+    assert!(d.what_happened.contains("TBS = 0"));
+    assert!(d.what_happened.contains("TS = 1"));
+    assert!(d.root_cause.contains("exception 1"));
+    // StuckTransfer is explained by the ACK rule, listed as secondary.
+    assert!(d.also.iter().any(|f| f.category == Category::StuckTransfer));
+}
+
+#[test]
+fn self_test_or_ack_node_silences_no_acknowledge() {
+    let mut r = loopback_no_ack();
+    r.wiring.self_test = true;
+    assert!(rules::no_acknowledge(&r).is_none());
+    let mut r = loopback_no_ack();
+    r.wiring.nodes.push(BusNode { name: "ack".into(), timing: Timing::default(), acknowledges: true });
+    assert!(rules::no_acknowledge(&r).is_none());
+}
+
+#[test]
+fn bit_rate_mismatch_names_both_rates_and_a_fix() {
+    let mut r = RunRecord::new("mismatch", "rtl");
+    r.wiring.nodes.push(BusNode {
+        name: "node2".into(),
+        timing: Timing { can_clock_hz: 16e6, host_clock_hz: 0.0, btr0: 0x03, btr1: 0xBB },
+        acknowledges: true,
+    });
+    let d = diagnose(&r);
+    assert_eq!(d.category, Category::BitTimingMismatch, "{}", d.to_text());
+    assert!(d.what_happened.contains("600000 bit/s"), "{}", d.what_happened);
+    assert!(d.what_happened.contains("117647 bit/s"), "{}", d.what_happened);
+    // 117647 bit/s is not reachable exactly from 24 MHz (24e6/117647 is not an integer)
+    assert!(d.fix.contains("No BTR setting") || d.fix.contains("BTR0 = 0x"));
+}
+
+#[test]
+fn suggest_btr_hits_the_rate() {
+    let (b0, b1) = rules::suggest_btr(24e6, 500_000.0, 0.75).expect("500k from 24 MHz");
+    let t = can_proto::timing::BusTiming::from_btr(b0, b1);
+    assert_eq!(t.bit_rate(24e6), 500_000.0);
+    assert!((t.sample_point() - 0.75).abs() < 0.05);
+}
+
+#[test]
+fn same_rate_nodes_are_not_a_mismatch() {
+    let mut r = RunRecord::new("ok", "rtl");
+    r.wiring.nodes.push(BusNode { name: "n".into(), timing: Timing::default(), acknowledges: true });
+    assert!(rules::bit_timing_mismatch(&r).is_none());
+    assert_eq!(diagnose(&r).category, Category::Pass);
+}
+
+#[test]
+fn config_write_in_operating_mode_is_reported() {
+    let r = RunRecord::new("cfg", "model")
+        .op(HostOp::write(6, 0x41).reg("BTR0").mode(CanMode::BasicCan, false).outcome(WriteOutcome::IgnoredNotInResetMode))
+        .op(HostOp::write(7, 0x25).reg("BTR1").mode(CanMode::BasicCan, false).outcome(WriteOutcome::IgnoredNotInResetMode));
+    let d = diagnose(&r);
+    assert_eq!(d.category, Category::ConfigWriteOutsideReset);
+    assert!(d.what_happened.starts_with("2 configuration write(s)"));
+    assert!(d.what_happened.contains("BTR0=0x41"));
+    assert_eq!(d.figures.register.as_deref(), Some("BTR0"));
+}
+
+#[test]
+fn config_write_without_model_verdict_uses_reset_flag() {
+    let r = RunRecord::new("cfg", "rtl").op(HostOp::write(4, 0xFF).reg("ACR").mode(CanMode::BasicCan, false));
+    assert_eq!(diagnose(&r).category, Category::ConfigWriteOutsideReset);
+    let r = RunRecord::new("cfg", "rtl").op(HostOp::write(4, 0xFF).reg("ACR").mode(CanMode::BasicCan, true));
+    assert!(rules::config_write_outside_reset(&r).is_none());
+}
+
+#[test]
+fn tx_buffer_locked_write_is_reported() {
+    let r = RunRecord::new("lock", "model")
+        .op(HostOp::write(10, 0xA5).reg("TXB1").outcome(WriteOutcome::IgnoredTxBufferLocked));
+    let d = diagnose(&r);
+    assert_eq!(d.category, Category::TxBufferWriteWhileLocked);
+    assert_eq!(d.figures.addr, Some(10));
+    assert!(d.fix.contains("TBS = 1"));
+}
+
+#[test]
+fn ier_at_address_4_in_basiccan_is_address_confusion() {
+    let r = RunRecord::new("confusion", "model").op(
+        HostOp::write(4, 0x00)
+            .reg("ACR")
+            .intended("IER")
+            .mode(CanMode::BasicCan, false)
+            .outcome(WriteOutcome::IgnoredNotInResetMode),
+    );
+    let d = diagnose(&r);
+    assert_eq!(d.category, Category::AddressModeConfusion, "{}", d.to_text());
+    assert_eq!(d.figures.expected.as_deref(), Some("IER"));
+    assert_eq!(d.figures.seen.as_deref(), Some("ACR"));
+    assert!(d.what_happened.contains("address 4"));
+    // the ignored write is also reported, after the confusion
+    assert_eq!(d.also[0].category, Category::ConfigWriteOutsideReset);
+}
+
+#[test]
+fn reading_rx_info_at_16_in_reset_mode_is_confusion() {
+    let r = RunRecord::new("annexe4", "model")
+        .op(HostOp::read(16, 0xFF).reg("ACR0").intended("RXFI").mode(CanMode::PeliCan, true));
+    let d = diagnose(&r);
+    assert_eq!(d.category, Category::AddressModeConfusion);
+    assert!(d.what_happened.contains("read RXFI at address 16"), "{}", d.what_happened);
+}
+
+#[test]
+fn begintransfer_as_cyc_is_a_host_bus_violation() {
+    let mut r = RunRecord::new("de2-avalon-begintransfer", "rtl");
+    r.host_bus = HostBus::Avalon;
+    r.violations.push(Violation {
+        cycle: 3,
+        rule: "avalon.cyc_from_begintransfer".into(),
+        message: "wb_stb_i high while wb_cyc_i low".into(),
+    });
+    let d = diagnose(&r);
+    assert_eq!(d.category, Category::HostBusViolation);
+    assert!(d.root_cause.contains("begintransfer"));
+    assert!(d.fix.contains("waitrequest"));
+    assert!(d.what_happened.contains("host cycle 3"));
+}
+
+#[test]
+fn never_acked_access_is_a_timeout() {
+    let r = RunRecord::new("dead", "rtl").op(HostOp::read(2, 0).reg("SR").error("no wb_ack_o within 1000 cycles"));
+    let d = diagnose(&r);
+    assert_eq!(d.category, Category::HostBusTimeout);
+    assert!(d.what_happened.contains("no wb_ack_o"));
+}
+
+fn broken_dut_record() -> RunRecord {
+    let mut r = RunRecord::new("de2-with-ack-node", "broken-crc");
+    r.wiring.nodes.push(BusNode { name: "acker".into(), timing: Timing::default(), acknowledges: true });
+    r.divergence = Some(Divergence {
+        kind: DivergenceKind::TxBit,
+        time_ps: 1_234_000,
+        bit: Some(470),
+        frame: Some(1),
+        field: Some(Field::Crc),
+        register: None,
+        expected: 1,
+        seen: 0,
+        context: "CRC bit 3".into(),
+    });
+    r
+}
+
+#[test]
+fn divergence_names_field_frame_and_bit() {
+    let d = diagnose(&broken_dut_record());
+    assert_eq!(d.category, Category::DutDeviatesFromModel);
+    assert_eq!(d.figures.field, Some(Field::Crc));
+    assert_eq!(d.figures.bit, Some(470));
+    assert_eq!(d.figures.frame, Some(1));
+    assert!(d.what_happened.contains("CRC sequence"));
+    assert!(d.root_cause.contains("CRC sequence"));
+    assert!(d.to_text().contains("bit 470"));
+}
+
+#[test]
+fn early_divergence_outranks_wiring() {
+    // rx tied and a divergence before the model's first bus error: HDL bug first.
+    let mut r = thesis_record();
+    r.divergence = Some(Divergence { kind: DivergenceKind::TxBit, bit: Some(100), field: Some(Field::BusIdle), ..Default::default() });
+    assert_eq!(diagnose(&r).category, Category::DutDeviatesFromModel);
+    // a divergence after it (the error flag) is explained by the wiring
+    let mut r = thesis_record();
+    r.divergence = Some(Divergence { kind: DivergenceKind::TxBit, bit: Some(430), field: Some(Field::ActiveErrorFlag), ..Default::default() });
+    let d = diagnose(&r);
+    assert_eq!(d.category, Category::RxNotFollowingTx);
+    assert!(d.also.iter().any(|f| f.category == Category::DutDeviatesFromModel));
+}
+
+#[test]
+fn register_divergence_shows_sr_bits() {
+    let mut r = RunRecord::new("sr", "rtl");
+    r.divergence = Some(Divergence { kind: DivergenceKind::RegisterRead, register: Some("SR".into()), expected: 0x0C, seen: 0x04, ..Default::default() });
+    let d = diagnose(&r);
+    assert_eq!(d.category, Category::DutDeviatesFromModel);
+    assert!(d.what_happened.contains("0x0C (TCS TBS)"), "{}", d.what_happened);
+}
+
+#[test]
+fn failed_expectation_and_stuck_transfer_and_run_error() {
+    let mut r = RunRecord::new("x", "model");
+    r.expectations.push(Expectation { step: 3, what: "SR".into(), expected: "0x0C".into(), seen: "0x04".into(), passed: false });
+    assert_eq!(diagnose(&r).category, Category::ExpectationFailed);
+    let mut r = RunRecord::new("x", "model");
+    r.wiring.nodes.push(BusNode { name: "acker".into(), timing: Timing::default(), acknowledges: true });
+    r.stuck = Some(StuckTransfer { sr: 0x30, waited_bits: 1000, ..Default::default() });
+    let d = diagnose(&r);
+    assert_eq!(d.category, Category::StuckTransfer);
+    assert!(d.what_happened.contains("TS = 1, TBS = 0"));
+    let mut r = RunRecord::new("x", "ext");
+    r.error = Some("verilator: can_top.v:12: syntax error".into());
+    assert_eq!(diagnose(&r).category, Category::RunError);
+}
+
+#[test]
+fn clean_run_passes() {
+    let mut r = RunRecord::new("ok", "rtl");
+    r.expectations.push(Expectation { step: 1, what: "SR".into(), expected: "0x0C".into(), seen: "0x0C".into(), passed: true });
+    let d = diagnose(&r);
+    assert_eq!(d.category, Category::Pass);
+    assert!(d.to_text().contains("Pass"));
+}
+
+#[test]
+fn record_and_diagnosis_round_trip_through_json() {
+    let mut r = thesis_record();
+    r.events.push(EngineEvent::new(9000, Side::Dut, EventKind::FaultState(FaultState::BusOff)));
+    let back = RunRecord::from_json(&r.to_json()).unwrap();
+    assert_eq!(back, r);
+    let d = diagnose(&r);
+    let j: serde_json::Value = serde_json::from_str(&d.to_json()).unwrap();
+    assert_eq!(j["category"], "RxNotFollowingTx");
+    assert_eq!(j["figures"]["field"], "Sof");
+    assert_eq!(j["figures"]["first_attempt_tec"], 136);
+    let back: Diagnosis = serde_json::from_str(&d.to_json()).unwrap();
+    assert_eq!(back, d);
+}
+
+#[test]
+fn category_names_round_trip() {
+    for c in Category::ALL {
+        assert_eq!(Category::from_name(c.name()), Some(c));
+    }
+    assert_eq!(Category::from_name("Nope"), None);
+}
+
+#[test]
+fn push_bit_keeps_last_n() {
+    let mut r = RunRecord::default();
+    for i in 0..10 {
+        r.push_bit(BusBit { bit: i, ..Default::default() }, 4);
+    }
+    assert_eq!(r.bus_bits.iter().map(|b| b.bit).collect::<Vec<_>>(), vec![6, 7, 8, 9]);
+}
