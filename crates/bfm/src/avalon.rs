@@ -137,6 +137,7 @@ impl HostMaster for AvalonMaster {
     fn on_edge(&mut self, slave: &AvSlaveOut) {
         let sample = std::mem::replace(&mut self.prev, *slave);
         let paused = step_pause(&mut self.pause);
+        let mut aborted = false;
         if let Some((mut op, phase)) = self.active.take() {
             op.cycles += 1;
             let mut next = None;
@@ -171,11 +172,13 @@ impl HostMaster for AvalonMaster {
                 if op.cycles >= op.timeout {
                     self.q.time_out(&op);
                     next = None;
+                    aborted = true;
                 }
             }
             self.active = next;
         }
-        if self.active.is_none() {
+        // After an abandoned transfer, idle one cycle before the next.
+        if self.active.is_none() && !aborted {
             self.active = self.q.next(paused).map(|op| (op, Phase::Command { driven: 0 }));
         }
         self.drive();

@@ -60,7 +60,7 @@ pub use op::{
 };
 pub use pins::{AvMasterOut, AvSlaveOut, WbMasterOut, WbSlaveOut};
 pub use pio::{CTL_CYC, CTL_RST, CTL_STB, CTL_WE, DEFAULT_PIO_TIMEOUT_CYCLES, PioMaster, PioTiming};
-pub use wishbone::{WishboneMaster, WishboneRam};
+pub use wishbone::{AckMode, WishboneMaster, WishboneRam};
 
 /// A host-side bus master, stepped by the kernel (see the crate docs for the
 /// stepping contract).

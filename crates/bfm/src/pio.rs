@@ -206,6 +206,7 @@ impl HostMaster for PioMaster {
     fn on_edge(&mut self, slave: &WbSlaveOut) {
         let sample = std::mem::replace(&mut self.prev, *slave);
         let paused = step_pause(&mut self.pause);
+        let mut aborted = false;
         if let Some(mut a) = self.active.take() {
             a.op.cycles += 1;
             // A pause only delays the start of a GPIO access.
@@ -233,11 +234,12 @@ impl HostMaster for PioMaster {
             } else if a.op.cycles >= a.op.timeout {
                 self.ctl = 0;
                 self.q.time_out(&a.op);
+                aborted = true;
             } else {
                 self.active = Some(a);
             }
         }
-        if self.active.is_none() {
+        if self.active.is_none() && !aborted {
             if let Some(op) = self.q.next(paused) {
                 let steps = self.steps_for(&op);
                 let data = if op.kind == OpKind::Write { op.data } else { 0 };

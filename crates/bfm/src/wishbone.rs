@@ -81,6 +81,7 @@ impl HostMaster for WishboneMaster {
         // What was on the wires before this edge.
         let sample = std::mem::replace(&mut self.prev, *slave);
         let paused = step_pause(&mut self.pause);
+        let mut aborted = false;
         if let Some(mut op) = self.active.take() {
             op.cycles += 1;
             if self.retry_gap {
@@ -104,10 +105,13 @@ impl HostMaster for WishboneMaster {
                     self.active = None;
                     self.retry_gap = false;
                     self.q.time_out(&op);
+                    aborted = true;
                 }
             }
         }
-        if self.active.is_none() {
+        // After an abandoned cycle, idle one cycle so a late ack cannot
+        // complete the next operation.
+        if self.active.is_none() && !aborted {
             self.active = self.q.next(paused);
         }
         self.drive();
@@ -147,12 +151,30 @@ impl HostMaster for WishboneMaster {
     }
 }
 
-/// A 256-byte Wishbone classic RAM with a registered acknowledge
-/// (`ack <= cyc & stb & !ack & !stall`): one wait state, so a master that
-/// keeps `stb` high after `ack` starts a new transfer. The optional
-/// backpressure generator stalls `ack` while it yields true.
+/// How a [`WishboneRam`] acknowledges.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+pub enum AckMode {
+    /// Classic registered ack, `ack <= cyc & stb & !ack & !stall`: a one-cycle
+    /// pulse per transfer; a master that keeps `stb` high after `ack` starts
+    /// a new transfer (as `can_top` does: its synchronised `cs` re-triggers
+    /// and its `wb_ack_o` is a one-cycle pulse).
+    #[default]
+    Pulse,
+    /// The access happens once per `cyc & stb` assertion and `ack` then stays
+    /// high until `stb` falls (a four-phase handshake): what a slave needs to
+    /// be polled safely through GPIO. A registered `ack` then outlives `stb`
+    /// by one cycle, which a Wishbone monitor reports.
+    Level,
+}
+
+/// A 256-byte Wishbone classic RAM with a registered acknowledge (one wait
+/// state, see [`AckMode`]). The optional backpressure generator delays
+/// `ack` while it yields true.
 pub struct WishboneRam {
     name: String,
+    mode: AckMode,
+    /// Level mode: the current strobe has been served.
+    served: bool,
     mem: [u8; 256],
     backpressure: Option<Pause>,
     out: WbSlaveOut,
@@ -165,11 +187,20 @@ impl WishboneRam {
         log::info!("{name}: Wishbone RAM target, 256 x 8 bits, registered ack (1 wait state), no err/rty");
         Self {
             name: name.to_owned(),
+            mode: AckMode::Pulse,
+            served: false,
             mem: [0; 256],
             backpressure: None,
             out: WbSlaveOut::default(),
             accesses: 0,
         }
+    }
+
+    /// Choose how the RAM acknowledges (default [`AckMode::Pulse`]).
+    pub fn with_ack_mode(mut self, mode: AckMode) -> Self {
+        log::info!("{}: ack mode {mode:?}", self.name);
+        self.mode = mode;
+        self
     }
 
     /// Install (or remove) the ack-stalling backpressure generator.
@@ -203,7 +234,22 @@ impl HostBusTarget for WishboneRam {
     fn cycle(&mut self, m: &WbMasterOut) -> WbSlaveOut {
         let stall = step_pause(&mut self.backpressure);
         let mut next = WbSlaveOut { dat: self.out.dat, ..Default::default() };
-        if m.request() && !self.out.ack && !stall {
+        if self.mode == AckMode::Level {
+            if !m.request() {
+                self.served = false;
+            } else if self.served {
+                next.ack = true;
+            } else if !stall {
+                self.served = true;
+                next.ack = true;
+                self.accesses += 1;
+                if m.we {
+                    self.mem[m.adr as usize] = m.dat;
+                } else {
+                    next.dat = self.mem[m.adr as usize];
+                }
+            }
+        } else if m.request() && !self.out.ack && !stall {
             if m.we {
                 self.mem[m.adr as usize] = m.dat;
             } else {
