@@ -1,5 +1,37 @@
-//! `cancosim`: the command line of the verification kit.
+//! `cancosim`: the command line of the SJA1000 verification kit.
+//!
+//! Every subcommand prints a short, plain result and exits non-zero on a
+//! failure, so it can sit in a CI job or a regression script.
+
+use clap::{Parser, Subcommand};
+
+mod cmd;
+
+/// Co-simulate SJA1000-compatible CAN cores against a golden model, and explain why they fail.
+#[derive(Parser)]
+#[command(name = "cancosim", version, about, long_about = None)]
+struct Cli {
+    #[command(subcommand)]
+    command: Command,
+}
+
+#[derive(Subcommand)]
+enum Command {
+    /// Compute or check SJA1000 bit timing (BTR0/BTR1).
+    #[command(after_help = "Examples:\n  cancosim bittiming --clock 24MHz --rate 500k\n  cancosim bittiming --clock 16MHz --rate 125k --btr0 0x03 --btr1 0xBB")]
+    Bittiming(cmd::bittiming::Args),
+}
+
 fn main() {
-    eprintln!("cancosim: not built yet");
-    std::process::exit(2);
+    let cli = Cli::parse();
+    let result = match cli.command {
+        Command::Bittiming(a) => cmd::bittiming::run(a),
+    };
+    match result {
+        Ok(code) => std::process::exit(code),
+        Err(e) => {
+            eprintln!("cancosim: {e:#}");
+            std::process::exit(2);
+        }
+    }
 }
