@@ -1,1 +1,622 @@
-//! Bus (being built)
+//! N controllers on one wired-AND CAN bus (dominant = `false` wins), with
+//! per-node propagation delay, fault injectors wrapping the bus (the way
+//! smoltcp's `FaultInjector` wraps a device), a fast per-bit path, and the
+//! accounting check that no frame was lost.
+//!
+//! Time is counted in CAN clocks (clk_i) shared by every node. On the fast
+//! path one step is one bit time and advances the clock count by the bit's
+//! length in clocks, so both paths report the same units.
+
+use std::collections::VecDeque;
+use std::fmt;
+
+use can_proto::{CanFrame, RECESSIVE};
+use rand::{RngExt, SeedableRng, rngs::StdRng};
+
+use crate::controller::{NodeEvent, RxOutcome, Sja1000};
+use crate::FaultState;
+
+/// Where the bus is, as a fault injector sees it.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub struct BusContext {
+    /// CAN clocks since the bus was created.
+    pub clock: u64,
+    /// Index of the frame under way (0 = first SOF seen), if any.
+    pub frame: Option<u64>,
+    /// Bit of that frame, counted on the wire from SOF = 0 (stuff bits,
+    /// error and overload flags included), until the next SOF.
+    pub frame_bit: u32,
+    /// Clock within the bit (always 0 on the fast path).
+    pub sub: u32,
+    /// Clocks per bit of the reference timing (node 0).
+    pub clocks_per_bit: u32,
+}
+
+/// Which nodes a fault applies to.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Target {
+    /// What every node receives.
+    All,
+    /// What one node receives.
+    Node(usize),
+}
+
+impl Target {
+    fn hits(self, node: usize) -> bool {
+        match self {
+            Target::All => true,
+            Target::Node(n) => n == node,
+        }
+    }
+}
+
+/// A fault on the bus: turns the wired-AND level into what `node` receives.
+pub trait FaultInjector: fmt::Debug {
+    /// The level `node` sees when the bus carries `level`.
+    fn apply(&mut self, ctx: &BusContext, node: usize, level: bool) -> bool;
+    /// True if the fault acts inside a bit (glitch): the bus must then
+    /// run clock by clock, not on the per-bit fast path.
+    fn needs_clocks(&self) -> bool {
+        false
+    }
+}
+
+/// Receiver input stuck at one level (stuck-dominant / stuck-recessive),
+/// from clock `from` on (forever if `until` is `None`).
+#[derive(Clone, Copy, Debug)]
+pub struct StuckAt {
+    /// Level forced.
+    pub level: bool,
+    /// Who sees it.
+    pub target: Target,
+    /// First clock of the fault.
+    pub from: u64,
+    /// First clock after the fault.
+    pub until: Option<u64>,
+}
+
+impl StuckAt {
+    /// Stuck at `level` for `target`, from now on.
+    pub fn forever(level: bool, target: Target) -> Self {
+        StuckAt { level, target, from: 0, until: None }
+    }
+}
+
+impl FaultInjector for StuckAt {
+    fn apply(&mut self, ctx: &BusContext, node: usize, level: bool) -> bool {
+        let on = ctx.clock >= self.from && self.until.is_none_or(|u| ctx.clock < u);
+        if on && self.target.hits(node) { self.level } else { level }
+    }
+}
+
+/// Inverts bit `bit` (wire position, SOF = 0) of frame `frame` for `target`.
+#[derive(Clone, Copy, Debug)]
+pub struct FlipBit {
+    /// Frame index (0 = first frame on the bus).
+    pub frame: u64,
+    /// Wire bit within the frame.
+    pub bit: u32,
+    /// Who sees the flipped bit.
+    pub target: Target,
+}
+
+impl FlipBit {
+    /// A flip at a seeded random position: frame in `0..frames`, bit in `0..bits`.
+    pub fn random(seed: u64, frames: u64, bits: u32, target: Target) -> Self {
+        let mut rng = StdRng::seed_from_u64(seed);
+        FlipBit { frame: rng.random_range(0..frames.max(1)), bit: rng.random_range(0..bits.max(1)), target }
+    }
+}
+
+impl FaultInjector for FlipBit {
+    fn apply(&mut self, ctx: &BusContext, node: usize, level: bool) -> bool {
+        if ctx.frame == Some(self.frame) && ctx.frame_bit == self.bit && self.target.hits(node) {
+            !level
+        } else {
+            level
+        }
+    }
+}
+
+/// A short pulse of the opposite level inside one bit: `width` clocks
+/// starting `offset` clocks into bit `bit` of frame `frame`.
+#[derive(Clone, Copy, Debug)]
+pub struct Glitch {
+    /// Frame index.
+    pub frame: u64,
+    /// Wire bit within the frame.
+    pub bit: u32,
+    /// First clock of the pulse within the bit.
+    pub offset: u32,
+    /// Pulse length in clocks.
+    pub width: u32,
+    /// Who sees it.
+    pub target: Target,
+}
+
+impl Glitch {
+    /// A glitch at a seeded random place: frame in `0..frames`, bit in
+    /// `0..bits`, offset anywhere in a bit of `clocks_per_bit`, 1..=`max_width` clocks.
+    pub fn random(seed: u64, frames: u64, bits: u32, clocks_per_bit: u32, max_width: u32, target: Target) -> Self {
+        let mut rng = StdRng::seed_from_u64(seed);
+        Glitch {
+            frame: rng.random_range(0..frames.max(1)),
+            bit: rng.random_range(0..bits.max(1)),
+            offset: rng.random_range(0..clocks_per_bit.max(1)),
+            width: rng.random_range(1..=max_width.max(1)),
+            target,
+        }
+    }
+}
+
+impl FaultInjector for Glitch {
+    fn apply(&mut self, ctx: &BusContext, node: usize, level: bool) -> bool {
+        let inside = ctx.frame == Some(self.frame)
+            && ctx.frame_bit == self.bit
+            && ctx.sub >= self.offset
+            && ctx.sub < self.offset + self.width;
+        if inside && self.target.hits(node) { !level } else { level }
+    }
+
+    fn needs_clocks(&self) -> bool {
+        true
+    }
+}
+
+/// A fixed-length delay line of bus levels (propagation delay).
+#[derive(Clone, Debug)]
+struct DelayLine(VecDeque<bool>);
+
+impl DelayLine {
+    fn new(clocks: u32) -> Self {
+        DelayLine(std::iter::repeat_n(RECESSIVE, clocks as usize).collect())
+    }
+    #[inline]
+    fn push(&mut self, v: bool) -> bool {
+        if self.0.is_empty() {
+            return v;
+        }
+        self.0.push_back(v);
+        self.0.pop_front().unwrap_or(v)
+    }
+}
+
+/// Frame tracker on the true wired-AND level: a dominant level after at
+/// least 10 recessive bits is a start of frame (11 recessive bits end every
+/// frame, error and overload frame; a dominant third intermission bit is
+/// itself a SOF, CAN 2.0B §9.1).
+#[derive(Clone, Debug, Default)]
+struct Tracker {
+    recessive_clocks: u64,
+    frame: Option<u64>,
+    next_frame: u64,
+    start: u64,
+    starts: Vec<u64>,
+}
+
+impl Tracker {
+    fn step(&mut self, clock: u64, level: bool, clocks: u64, cpb: u64) {
+        if level {
+            self.recessive_clocks += clocks;
+        } else {
+            // Half a bit of tolerance for resynchronisation on the clock path.
+            if self.recessive_clocks + cpb / 2 >= 10 * cpb {
+                self.frame = Some(self.next_frame);
+                self.next_frame += 1;
+                self.start = clock;
+                self.starts.push(clock);
+            }
+            self.recessive_clocks = 0;
+        }
+    }
+}
+
+/// One journal entry with its time and node.
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub struct Entry {
+    /// CAN clock at which it was seen.
+    pub clock: u64,
+    /// Node index.
+    pub node: usize,
+    /// What happened.
+    pub event: NodeEvent,
+}
+
+/// Totals of a passed accounting check.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub struct Accounting {
+    /// Frames whose transmission completed.
+    pub sent: usize,
+    /// (frame, receiving node) pairs checked.
+    pub deliveries: usize,
+    /// Of those, stored in the receiver's FIFO.
+    pub stored: usize,
+    /// Rejected by the receiver's acceptance filter.
+    pub filtered: usize,
+    /// Lost to a data overrun (flagged by DOS).
+    pub overruns: usize,
+    /// Missed by a node that was off the bus (reset mode, sleep, bus-off, integrating).
+    pub off_bus: usize,
+    /// Missed by a node that signalled an error frame.
+    pub error_frames: usize,
+    /// Receptions of a frame the sender retransmitted after an error at the
+    /// last EOF bit (CAN's known double reception).
+    pub duplicates: usize,
+    /// Receptions whose sender is an external participant.
+    pub external: usize,
+}
+
+/// A frame the accounting cannot explain.
+#[derive(Clone, Debug, PartialEq, Eq, thiserror::Error)]
+pub enum AccountingError {
+    /// A node on the bus neither received a completed frame nor signalled an error.
+    #[error("frame {frame:?} sent by node {sender} at clock {clock} never reached node {receiver}, which was on the bus and signalled no error")]
+    Lost {
+        /// The frame.
+        frame: CanFrame,
+        /// Transmitter.
+        sender: usize,
+        /// Receiver that missed it.
+        receiver: usize,
+        /// Clock of the transmitter's completion.
+        clock: u64,
+    },
+    /// A node received a frame nobody sent.
+    #[error("node {receiver} received {frame:?} at clock {clock} but no node sent it and no error frame explains it")]
+    Phantom {
+        /// The frame.
+        frame: CanFrame,
+        /// Receiver.
+        receiver: usize,
+        /// Clock of the reception.
+        clock: u64,
+    },
+}
+
+/// N SJA1000 nodes on one wired-AND bus.
+#[derive(Debug, Default)]
+pub struct Bus {
+    nodes: Vec<Sja1000>,
+    tx_delay: Vec<DelayLine>,
+    rx_delay: Vec<DelayLine>,
+    delays: Vec<u32>,
+    faults: Vec<Box<dyn FaultInjector>>,
+    level: bool,
+    clock: u64,
+    tracker: Tracker,
+    ledger: Vec<Entry>,
+    accounting: bool,
+    external: bool,
+    rx_scratch: Vec<bool>,
+}
+
+impl Bus {
+    /// An empty bus, accounting on.
+    pub fn new() -> Self {
+        Bus { level: RECESSIVE, accounting: true, ..Default::default() }
+    }
+
+    /// Adds a node (configured or not); returns its index.
+    pub fn add_node(&mut self, mut node: Sja1000) -> usize {
+        let i = self.nodes.len();
+        node.set_journal(self.accounting);
+        if self.accounting {
+            self.ledger.push(Entry { clock: self.clock, node: i, event: NodeEvent::ResetMode(node.in_reset_mode()) });
+        }
+        self.nodes.push(node);
+        self.tx_delay.push(DelayLine::new(0));
+        self.rx_delay.push(DelayLine::new(0));
+        self.delays.push(0);
+        self.rx_scratch.push(RECESSIVE);
+        i
+    }
+
+    /// Number of nodes.
+    pub fn len(&self) -> usize {
+        self.nodes.len()
+    }
+
+    /// True with no node.
+    pub fn is_empty(&self) -> bool {
+        self.nodes.is_empty()
+    }
+
+    /// Node `i`.
+    pub fn node(&self, i: usize) -> &Sja1000 {
+        &self.nodes[i]
+    }
+
+    /// Node `i`, mutable (host accesses).
+    pub fn node_mut(&mut self, i: usize) -> &mut Sja1000 {
+        &mut self.nodes[i]
+    }
+
+    /// All nodes.
+    pub fn nodes_mut(&mut self) -> &mut [Sja1000] {
+        &mut self.nodes
+    }
+
+    /// Propagation delay between node `i` and the bus, in CAN clocks, each
+    /// way (a round trip is twice this).
+    pub fn set_delay(&mut self, i: usize, clocks: u32) {
+        self.tx_delay[i] = DelayLine::new(clocks);
+        self.rx_delay[i] = DelayLine::new(clocks);
+        self.delays[i] = clocks;
+    }
+
+    /// Adds a fault injector; they apply in the order added.
+    pub fn add_fault(&mut self, f: impl FaultInjector + 'static) {
+        self.faults.push(Box::new(f));
+    }
+
+    /// Removes every fault injector.
+    pub fn clear_faults(&mut self) {
+        self.faults.clear();
+    }
+
+    /// Turns the journal and the accounting check on or off (the
+    /// benchmark turns it off; every test keeps it on).
+    pub fn set_accounting(&mut self, on: bool) {
+        self.accounting = on;
+        for n in &mut self.nodes {
+            n.set_journal(on);
+        }
+    }
+
+    /// The current wired-AND level (before faults).
+    pub fn level(&self) -> bool {
+        self.level
+    }
+
+    /// CAN clocks run so far.
+    pub fn clocks(&self) -> u64 {
+        self.clock
+    }
+
+    /// Clocks per bit of the reference timing (node 0).
+    pub fn clocks_per_bit(&self) -> u32 {
+        self.nodes.first().map_or(1, |n| n.engine().timing().clocks_per_bit())
+    }
+
+    /// Bit times run so far (reference timing).
+    pub fn bit_times(&self) -> u64 {
+        self.clock / self.clocks_per_bit() as u64
+    }
+
+    /// Frames seen on the bus so far (SOFs).
+    pub fn frames_seen(&self) -> u64 {
+        self.tracker.next_frame
+    }
+
+    /// The journal of every node, in time order.
+    pub fn ledger(&self) -> &[Entry] {
+        &self.ledger
+    }
+
+    fn context(&self, sub: u32) -> BusContext {
+        BusContext {
+            clock: self.clock,
+            frame: self.tracker.frame,
+            frame_bit: match self.tracker.frame {
+                Some(_) => ((self.clock - self.tracker.start) / self.clocks_per_bit() as u64) as u32,
+                None => 0,
+            },
+            sub,
+            clocks_per_bit: self.clocks_per_bit(),
+        }
+    }
+
+    /// True when [`Bus::run_bits`] can use the per-bit fast path: every
+    /// node has the same timing, no propagation delay, no glitch.
+    pub fn fast_path_ok(&self) -> bool {
+        let Some(first) = self.nodes.first() else { return false };
+        let t = first.engine().timing();
+        self.nodes.iter().all(|n| n.engine().timing() == t)
+            && self.delays.iter().all(|&d| d == 0)
+            && self.faults.iter().all(|f| !f.needs_clocks())
+    }
+
+    /// One CAN clock for every node; returns the bus level.
+    pub fn clock(&mut self) -> bool {
+        self.clock_with(RECESSIVE)
+    }
+
+    /// One CAN clock with an external participant (a DUT, a CAN agent)
+    /// driving `extra_tx`; returns the bus level every node saw before faults.
+    pub fn clock_with(&mut self, extra_tx: bool) -> bool {
+        if !extra_tx {
+            self.external = true;
+        }
+        let mut level = extra_tx;
+        for (i, n) in self.nodes.iter().enumerate() {
+            level &= self.tx_delay[i].push(n.tx());
+        }
+        self.level = level;
+        let cpb = self.clocks_per_bit() as u64;
+        self.tracker.step(self.clock, level, 1, cpb);
+        let sub = ((self.clock - self.tracker.start) % cpb) as u32;
+        let ctx = self.context(sub);
+        for i in 0..self.nodes.len() {
+            let mut rx = self.rx_delay[i].push(level);
+            for f in &mut self.faults {
+                rx = f.apply(&ctx, i, rx);
+            }
+            self.nodes[i].clock(rx);
+        }
+        self.clock += 1;
+        self.collect();
+        level
+    }
+
+    /// Runs `n` clocks.
+    pub fn run_clocks(&mut self, n: u64) {
+        for _ in 0..n {
+            self.clock();
+        }
+    }
+
+    /// Runs `n` bit times: on the fast path when [`Bus::fast_path_ok`],
+    /// else clock by clock. Do not switch paths in the middle of a frame.
+    pub fn run_bits(&mut self, n: u64) {
+        if !self.fast_path_ok() {
+            self.run_clocks(n * self.clocks_per_bit() as u64);
+            return;
+        }
+        let cpb = self.clocks_per_bit() as u64;
+        for _ in 0..n {
+            self.step_bit(cpb);
+        }
+    }
+
+    /// Runs bit times until `done(self)` or `max_bits`; returns whether `done` held.
+    pub fn run_until(&mut self, max_bits: u64, mut done: impl FnMut(&mut Bus) -> bool) -> bool {
+        let fast = self.fast_path_ok();
+        let cpb = self.clocks_per_bit() as u64;
+        for _ in 0..max_bits {
+            if done(self) {
+                return true;
+            }
+            if fast {
+                self.step_bit(cpb);
+            } else {
+                self.run_clocks(cpb);
+            }
+        }
+        done(self)
+    }
+
+    /// One bit time on the fast path.
+    #[inline]
+    fn step_bit(&mut self, cpb: u64) {
+        let mut level = RECESSIVE;
+        for n in &self.nodes {
+            level &= n.tx();
+        }
+        self.level = level;
+        self.tracker.step(self.clock, level, cpb, cpb);
+        if self.faults.is_empty() {
+            for n in &mut self.nodes {
+                n.sample_bit(level);
+            }
+        } else {
+            let ctx = self.context(0);
+            for i in 0..self.nodes.len() {
+                let mut rx = level;
+                for f in &mut self.faults {
+                    rx = f.apply(&ctx, i, rx);
+                }
+                self.nodes[i].sample_bit(rx);
+            }
+        }
+        self.clock += cpb;
+        self.collect();
+    }
+
+    #[inline]
+    fn collect(&mut self) {
+        if !self.accounting {
+            return;
+        }
+        for (i, n) in self.nodes.iter_mut().enumerate() {
+            if n.journal_pending() {
+                let clock = self.clock;
+                self.ledger.extend(n.take_journal().into_iter().map(|event| Entry { clock, node: i, event }));
+            }
+        }
+    }
+
+    /// The accounting check (issue 8 item 4): every frame a node finished
+    /// sending reached every other node that was on the bus (stored,
+    /// filtered out, or lost to a flagged overrun) or is explained by an
+    /// error frame that node signalled; every frame a node received was
+    /// sent by someone (or is a double reception explained by an error
+    /// frame, or came from an external participant).
+    pub fn check_accounting(&self) -> Result<Accounting, AccountingError> {
+        let cpb = self.clocks_per_bit() as u64;
+        let max_delay = self.delays.iter().copied().max().unwrap_or(0) as u64 * 2;
+        let window = 4 * cpb + max_delay;
+        let mut acc = Accounting::default();
+        let frame_start = |t: u64| -> u64 {
+            let i = self.tracker.starts.partition_point(|&s| s <= t);
+            if i == 0 { 0 } else { self.tracker.starts[i - 1] }
+        };
+        for e in &self.ledger {
+            let NodeEvent::Sent(frame) = e.event else { continue };
+            acc.sent += 1;
+            let start = frame_start(e.clock);
+            for r in 0..self.nodes.len() {
+                if r == e.node {
+                    continue;
+                }
+                acc.deliveries += 1;
+                let got = self.ledger.iter().find(|x| {
+                    x.node == r
+                        && x.clock + window >= e.clock
+                        && x.clock <= e.clock + window
+                        && matches!(x.event, NodeEvent::Received { frame: f, own: false, .. } if f == frame)
+                });
+                match got.map(|x| &x.event) {
+                    Some(NodeEvent::Received { outcome, .. }) => match outcome {
+                        RxOutcome::Stored => acc.stored += 1,
+                        RxOutcome::Overrun => acc.overruns += 1,
+                        RxOutcome::Filtered | RxOutcome::ExtendedInBasicCan => acc.filtered += 1,
+                    },
+                    _ if self.off_bus(r, start.saturating_sub(11 * cpb), e.clock) => acc.off_bus += 1,
+                    _ if self.has_error(r, start, e.clock + window) => acc.error_frames += 1,
+                    _ => {
+                        return Err(AccountingError::Lost { frame, sender: e.node, receiver: r, clock: e.clock });
+                    }
+                }
+            }
+        }
+        for e in &self.ledger {
+            let NodeEvent::Received { frame, own: false, .. } = e.event else { continue };
+            let sent = self.ledger.iter().any(|x| {
+                x.node != e.node
+                    && x.clock + window >= e.clock
+                    && x.clock <= e.clock + window
+                    && x.event == NodeEvent::Sent(frame)
+            });
+            if sent {
+                continue;
+            }
+            // Error at the last EOF bit seen by the sender: it retransmits.
+            let dup = (0..self.nodes.len()).any(|s| s != e.node && self.has_error(s, e.clock, e.clock + window));
+            if dup {
+                acc.duplicates += 1;
+            } else if self.external {
+                acc.external += 1;
+            } else {
+                return Err(AccountingError::Phantom { frame, receiver: e.node, clock: e.clock });
+            }
+        }
+        Ok(acc)
+    }
+
+    /// True if node `r` was in reset mode, asleep or bus-off at some time
+    /// in `from..=to`, or left one of those states during it.
+    fn off_bus(&self, r: usize, from: u64, to: u64) -> bool {
+        let (mut reset, mut sleep, mut busoff) = (false, false, false);
+        for x in self.ledger.iter().filter(|x| x.node == r) {
+            if x.clock > to {
+                break;
+            }
+            match x.event {
+                NodeEvent::ResetMode(v) => reset = v,
+                NodeEvent::Sleep(v) => sleep = v,
+                NodeEvent::FaultState(s) => busoff = s == FaultState::BusOff,
+                _ => continue,
+            }
+            if x.clock >= from {
+                return true;
+            }
+        }
+        reset || sleep || busoff
+    }
+
+    fn has_error(&self, r: usize, from: u64, to: u64) -> bool {
+        self.ledger
+            .iter()
+            .any(|x| x.node == r && x.clock >= from && x.clock <= to && matches!(x.event, NodeEvent::BusError { .. }))
+    }
+}

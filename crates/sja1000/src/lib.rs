@@ -17,6 +17,7 @@
 pub mod bus;
 mod controller;
 pub mod fifo;
+pub mod host;
 pub mod filter;
 pub mod workload;
 
