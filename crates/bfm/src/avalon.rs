@@ -168,13 +168,12 @@ impl HostMaster for AvalonMaster {
                     }
                 }
             }
-            if let Some((op, _)) = next {
-                if op.cycles >= op.timeout {
+            if let Some((op, _)) = next
+                && op.cycles >= op.timeout {
                     self.q.time_out(&op);
                     next = None;
                     aborted = true;
                 }
-            }
             self.active = next;
         }
         // After an abandoned transfer, idle one cycle before the next.
@@ -300,12 +299,11 @@ impl HostBusTarget<AvMasterOut, AvSlaveOut> for AvalonRam {
             }
             AvalonTiming::Waitrequest | AvalonTiming::Pipelined => {
                 // Data of reads accepted at earlier edges first.
-                if !stall {
-                    if let Some(d) = self.read_queue.pop_front() {
+                if !stall
+                    && let Some(d) = self.read_queue.pop_front() {
                         next.readdata = d;
                         next.readdatavalid = true;
                     }
-                }
                 // A request on the wires while waitrequest was low has just
                 // been accepted at this edge: do not take it twice.
                 if self.out.waitrequest && m.request() && !stall {

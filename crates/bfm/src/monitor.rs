@@ -233,7 +233,11 @@ impl AvalonMonitor {
         Self {
             name: name.to_owned(),
             cfg,
-            prev_s: AvSlaveOut { waitrequest: false, ..Default::default() },
+            // Before the first edge nothing has been accepted.
+            prev_s: AvSlaveOut {
+                waitrequest: !matches!(cfg.timing, AvalonTiming::FixedWaitStates { .. }),
+                ..Default::default()
+            },
             prev_m: AvMasterOut::default(),
             pending: false,
             held: 0,

@@ -239,13 +239,12 @@ impl HostMaster for PioMaster {
                 self.active = Some(a);
             }
         }
-        if self.active.is_none() && !aborted {
-            if let Some(op) = self.q.next(paused) {
+        if self.active.is_none() && !aborted
+            && let Some(op) = self.q.next(paused) {
                 let steps = self.steps_for(&op);
                 let data = if op.kind == OpKind::Write { op.data } else { 0 };
                 self.active = Some(Active { op, steps, elapsed: 0, data });
             }
-        }
     }
 
     fn start_write(&mut self, addr: u8, data: u8) -> OpHandle {

@@ -100,14 +100,13 @@ impl HostMaster for WishboneMaster {
             } else {
                 self.active = Some(op);
             }
-            if let Some(op) = self.active {
-                if op.cycles >= op.timeout {
+            if let Some(op) = self.active
+                && op.cycles >= op.timeout {
                     self.active = None;
                     self.retry_gap = false;
                     self.q.time_out(&op);
                     aborted = true;
                 }
-            }
         }
         // After an abandoned cycle, idle one cycle so a late ack cannot
         // complete the next operation.

@@ -144,7 +144,9 @@ where
 /// against the RAM targets, asserted exactly.
 #[test]
 fn cycle_cost_per_access() {
-    let rows: Vec<(&str, (u64, u64, f64), (u64, u64))> = vec![
+    // (name, measured (read, write, back-to-back), expected (read, write))
+    type Row = (&'static str, (u64, u64, f64), (u64, u64));
+    let rows: Vec<Row> = vec![
         ("Wishbone classic (registered ack)", measure(WishboneMaster::new("wb"), WishboneRam::new("ram")), (2, 2)),
         (
             "Avalon fixed wait states (read 1, write 0)",

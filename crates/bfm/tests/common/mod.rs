@@ -83,7 +83,10 @@ where
 }
 
 /// The two pause settings of every BFM test: none, and 1-1-1-0.
-pub fn pause_settings() -> [(&'static str, fn() -> Option<Pause>); 2] {
+/// A named pause setting.
+pub type PauseSetting = (&'static str, fn() -> Option<Pause>);
+
+pub fn pause_settings() -> [PauseSetting; 2] {
     [("none", || None), ("1-1-1-0", || Some(cycle_pause()))]
 }
 
