@@ -1,0 +1,331 @@
+// SJA1000 register file (clk_i domain): BasicCAN and PeliCAN views, reset
+// vs operating mode access rules, commands, status, interrupts (IR/IER,
+// read-to-clear), ALC/ECC capture, TX buffer, acceptance code/mask, sleep,
+// and the CLKOUT divider (CDR). Addresses come from sja1000_addr.vh.
+module can_regs (
+    input  wire        clk,
+    input  wire        rst,
+    // register access (one clk pulse, from can_wb_cdc)
+    input  wire        acc_stb,
+    input  wire        acc_we,
+    input  wire [7:0]  acc_adr,
+    input  wire [7:0]  acc_wdat,
+    output reg  [7:0]  acc_rdat,
+    // configuration
+    output reg         rm,          // reset mode (MOD.RM / CR.RR)
+    output wire        peli,        // CDR.7
+    output reg         lom,
+    output reg         stm,
+    output reg         afm,
+    output reg         sleep,
+    output reg  [7:0]  btr0,
+    output reg  [7:0]  btr1,
+    output reg  [7:0]  ewlr,
+    output wire [31:0] acr,
+    output wire [31:0] amr,
+    // TX buffer decoded for the BSP
+    output wire        tx_ide,
+    output wire        tx_rtr,
+    output wire [3:0]  tx_dlc,
+    output wire [28:0] tx_id,
+    output wire [63:0] tx_data,
+    output reg         tx_req,
+    output reg         tx_single,
+    output reg         tx_self,
+    output reg         tx_abort,
+    // RX FIFO
+    output reg         rrb,
+    output reg         cdo,
+    output wire        rbsa_wr,
+    output wire [3:0]  win_idx,
+    input  wire [7:0]  win_dat,
+    output wire [5:0]  ram_adr,
+    input  wire [7:0]  ram_dat,
+    input  wire [6:0]  rmc,
+    input  wire [5:0]  rbsa,
+    input  wire        rbs,
+    input  wire        dos,
+    input  wire        dos_set,
+    input  wire        ri_set,
+    // from the protocol engine
+    input  wire        tx_done,
+    input  wire        tx_drop,
+    input  wire        alc_evt,
+    input  wire [4:0]  alc_val,
+    input  wire        err_evt,
+    input  wire [7:0]  ecc_val,
+    input  wire        rs,
+    input  wire        ts,
+    input  wire        bus_idle,
+    input  wire [7:0]  tec,
+    input  wire [7:0]  rec,
+    input  wire        bus_off,
+    input  wire        warn,
+    input  wire        epi_evt,
+    output wire        wr_tec,
+    output wire        wr_rec,
+    input  wire        rx_i,        // raw bus level, for wake-up
+    output wire        irq,
+    output reg         clkout
+);
+`include "sja1000_addr.vh"
+
+    reg  [7:0] cdr;
+    reg  [7:0] ocr;
+    reg  [7:0] ier;            // PeliCAN IER; BasicCAN CR.1-4 map to bits 0-3
+    reg        cr6;            // BasicCAN CR.6 (former SYNC bit), value reflected
+    reg  [7:0] ir;             // bit 0 used in BasicCAN only (PeliCAN RI is live)
+    reg  [7:0] alc, ecc;
+    reg        alc_arm, ecc_arm;
+    reg        tbs, tcs;
+    reg  [7:0] acr_r [0:3];
+    reg  [7:0] amr_r [0:3];
+    reg  [7:0] txb [0:12];
+    reg        bus_off_q, warn_q;
+
+    assign peli = cdr[7];
+    assign acr  = {acr_r[0], acr_r[1], acr_r[2], acr_r[3]};
+    assign amr  = {amr_r[0], amr_r[1], amr_r[2], amr_r[3]};
+
+    // ---- TX buffer decode ----
+    // BasicCAN: txb[0] = ID.10..3, txb[1] = ID.2..0 RTR DLC, txb[2..9] data.
+    // PeliCAN:  txb[0] = frame info (FF RTR x x DLC), ID bytes, data.
+    assign tx_ide  = peli & txb[0][7];
+    assign tx_rtr  = peli ? txb[0][6] : txb[1][4];
+    assign tx_dlc  = peli ? txb[0][3:0] : txb[1][3:0];
+    assign tx_id   = !peli ? {txb[0], txb[1][7:5], 18'd0} :
+                     tx_ide ? {txb[1], txb[2], txb[3], txb[4][7:3]} :
+                              {txb[1], txb[2][7:5], 18'd0};
+    assign tx_data = !peli ? {txb[2], txb[3], txb[4], txb[5], txb[6], txb[7], txb[8], txb[9]} :
+                     tx_ide ? {txb[5], txb[6], txb[7], txb[8], txb[9], txb[10], txb[11], txb[12]} :
+                              {txb[3], txb[4], txb[5], txb[6], txb[7], txb[8], txb[9], txb[10]};
+
+    // ---- address decode ----
+    wire [7:0] a  = peli ? {1'b0, acc_adr[6:0]} : {3'b000, acc_adr[4:0]};
+    wire       wr = acc_stb &  acc_we;
+    wire       rd = acc_stb & ~acc_we;
+    wire       in_win_p = (a >= PC_RXB) && (a < PC_RXB + PC_BUF_LEN);
+    wire       in_win_b = (a >= BC_RXB) && (a < BC_RXB + BC_RXB_LEN);
+    wire [7:0] tx_ofs_b = a - BC_TXB;   // BasicCAN TX buffer byte 0..9
+    assign win_idx = peli ? (a[3:0] - PC_RXB[3:0]) : (a[3:0] - BC_RXB[3:0]);
+    assign ram_adr = a[5:0] - PC_RXFIFO[5:0];
+    assign rbsa_wr = wr && peli && rm && a == PC_RBSA;
+    assign wr_tec  = wr && peli && rm && a == PC_TXERR;
+    assign wr_rec  = wr && peli && rm && a == PC_RXERR;
+
+    wire ri_live = peli ? (rbs & ier[0]) : ir[0];
+    wire [7:0] ir_view = peli ? {ir[7:1], ri_live} : {3'b111, ir[4:0]};
+    assign irq = peli ? ((|ir[7:1]) | ri_live) : (|ir[4:0]);
+
+    wire [7:0] sr = {bus_off, warn, ts, rs, tcs, tbs, dos, rbs};
+
+    // ---- read mux ----
+    always @* begin
+        acc_rdat = 8'h00;
+        if (peli) begin
+            case (a)
+                PC_MOD:   acc_rdat = {3'b000, sleep, afm, stm, lom, rm};
+                PC_CMR:   acc_rdat = 8'h00;
+                PC_SR:    acc_rdat = sr;
+                PC_IR:    acc_rdat = ir_view;
+                PC_IER:   acc_rdat = ier;
+                PC_BTR0:  acc_rdat = btr0;
+                PC_BTR1:  acc_rdat = btr1;
+                PC_OCR:   acc_rdat = ocr;
+                PC_ALC:   acc_rdat = alc;
+                PC_ECC:   acc_rdat = ecc;
+                PC_EWLR:  acc_rdat = ewlr;
+                PC_RXERR: acc_rdat = rec;
+                PC_TXERR: acc_rdat = tec;
+                PC_RMC:   acc_rdat = {1'b0, rmc};
+                PC_RBSA:  acc_rdat = {2'b00, rbsa};
+                PC_CDR:   acc_rdat = {cdr[7:5], 1'b0, cdr[3:0]};
+                default: begin
+                    if (in_win_p) begin
+                        if (!rm) acc_rdat = win_dat;
+                        else if (a < PC_AMR0) acc_rdat = acr_r[a[1:0]];
+                        else if (a < PC_AMR0 + 8'd4) acc_rdat = amr_r[a[1:0]];
+                    end else if (a >= PC_RXFIFO && a < PC_RXFIFO + PC_RXFIFO_LEN) begin
+                        acc_rdat = ram_dat;
+                    end else if (a >= PC_TXRAM && a < PC_TXRAM + PC_BUF_LEN) begin
+                        acc_rdat = txb[a[3:0]];
+                    end
+                end
+            endcase
+        end else begin
+            case (a)
+                BC_CR:   acc_rdat = {1'b0, cr6, 1'b1, ier[3:0], rm};
+                BC_CMR:  acc_rdat = 8'hFF;
+                BC_SR:   acc_rdat = sr;
+                BC_IR:   acc_rdat = ir_view;
+                BC_ACR:  acc_rdat = rm ? acr_r[0] : 8'hFF;
+                BC_AMR:  acc_rdat = rm ? amr_r[0] : 8'hFF;
+                BC_BTR0: acc_rdat = rm ? btr0 : 8'hFF;
+                BC_BTR1: acc_rdat = rm ? btr1 : 8'hFF;
+                BC_OCR:  acc_rdat = rm ? ocr : 8'hFF;
+                BC_TEST: acc_rdat = 8'h00;
+                BC_CDR:  acc_rdat = {cdr[7:5], 1'b0, cdr[3:0]};
+                default: begin
+                    if (a >= BC_TXB && a < BC_TXB + BC_TXB_LEN)
+                        acc_rdat = rm ? 8'hFF : txb[tx_ofs_b[3:0]];
+                    else if (in_win_b)
+                        acc_rdat = win_dat;
+                    else
+                        acc_rdat = 8'hFF;                   // address 30
+                end
+            endcase
+        end
+    end
+
+    // ---- sleep request (MOD.SM / CMR.GTS) ----
+    wire sleep_wr = wr && !rm && (peli ? (a == PC_MOD) : (a == BC_CMR));
+    wire sleep_d  = acc_wdat[4];
+    wire can_sleep = bus_idle && !irq;
+    wire wake_bus  = sleep && !rx_i;
+
+    // ---- clock divider (CDR.2..0: fosc/2,4,...,14, 7 = fosc; CDR.3 = off) ----
+    reg [2:0] cdiv;
+    always @(posedge clk) begin
+        if (rst) begin
+            cdiv <= 3'd0; clkout <= 1'b0;
+        end else if (cdr[3] || sleep) begin
+            cdiv <= 3'd0; clkout <= 1'b0;
+        end else if (cdr[2:0] == 3'd7) begin
+            cdiv <= 3'd0; clkout <= ~clkout;           // see README: fosc shown as fosc/2
+        end else if (cdiv == cdr[2:0]) begin
+            cdiv <= 3'd0; clkout <= ~clkout;
+        end else begin
+            cdiv <= cdiv + 3'd1;
+        end
+    end
+
+    integer i;
+    always @(posedge clk) begin
+        tx_req <= 1'b0; tx_single <= 1'b0; tx_self <= 1'b0; tx_abort <= 1'b0;
+        rrb <= 1'b0; cdo <= 1'b0;
+        if (rst) begin
+            rm <= 1'b1; lom <= 1'b0; stm <= 1'b0; afm <= 1'b0; sleep <= 1'b0;
+            btr0 <= 8'h00; btr1 <= 8'h00; ewlr <= 8'd96; cdr <= 8'h00; ocr <= 8'h00;
+            ier <= 8'h00; cr6 <= 1'b0; ir <= 8'h00; alc <= 8'h00; ecc <= 8'h00;
+            alc_arm <= 1'b1; ecc_arm <= 1'b1; tbs <= 1'b1; tcs <= 1'b1;
+            bus_off_q <= 1'b0; warn_q <= 1'b0;
+            for (i = 0; i < 4; i = i + 1) begin acr_r[i] <= 8'h00; amr_r[i] <= 8'h00; end
+            for (i = 0; i < 13; i = i + 1) txb[i] <= 8'h00;
+        end else begin
+            bus_off_q <= bus_off;
+            warn_q    <= warn;
+
+            // ---- interrupt sources ----
+            if ((tx_done || tx_drop) && ier[1]) ir[1] <= 1'b1;                 // TI
+            if (((bus_off != bus_off_q) || (warn != warn_q)) && ier[2]) ir[2] <= 1'b1; // EI
+            if (dos_set && ier[3]) ir[3] <= 1'b1;                              // DOI
+            if (!peli && ri_set && ier[0]) ir[0] <= 1'b1;                      // BasicCAN RI
+            if (peli && epi_evt && ier[5]) ir[5] <= 1'b1;                      // EPI
+            if (alc_evt && alc_arm) begin
+                alc <= {3'b000, alc_val}; alc_arm <= 1'b0;
+                if (peli && ier[6]) ir[6] <= 1'b1;                             // ALI
+            end
+            if (err_evt && ecc_arm) begin
+                ecc <= ecc_val; ecc_arm <= 1'b0;
+                if (peli && ier[7]) ir[7] <= 1'b1;                             // BEI
+            end
+            if (tx_done) begin tbs <= 1'b1; tcs <= 1'b1; end
+            if (tx_drop) tbs <= 1'b1;
+
+            // ---- sleep / wake-up ----
+            if (wake_bus || (sleep_wr && sleep && !sleep_d)) begin
+                sleep <= 1'b0;
+                if (!peli || ier[4]) ir[4] <= 1'b1;                            // WUI
+            end else if (sleep_wr && !sleep && sleep_d) begin
+                if (can_sleep) sleep <= 1'b1;
+                else if (!peli || ier[4]) ir[4] <= 1'b1;
+            end
+
+            // ---- bus-off sets reset mode ----
+            if (bus_off && !bus_off_q) rm <= 1'b1;
+
+            // ---- reads with side effects ----
+            if (rd && a == PC_IR) begin       // same address in both views
+                ir <= 8'h00;
+            end
+            if (rd && peli && a == PC_ALC) alc_arm <= 1'b1;
+            if (rd && peli && a == PC_ECC) ecc_arm <= 1'b1;
+
+            // ---- writes ----
+            if (wr) begin
+                if (peli) begin
+                    case (a)
+                        PC_MOD: begin
+                            if (rm) begin
+                                lom <= acc_wdat[1]; stm <= acc_wdat[2]; afm <= acc_wdat[3];
+                            end
+                            rm <= acc_wdat[0] | (bus_off && !bus_off_q);
+                        end
+                        PC_CMR: if (!rm) begin
+                            if (acc_wdat[4] && tbs) begin                  // SRR
+                                tx_req <= 1'b1; tx_self <= 1'b1; tx_single <= acc_wdat[1];
+                                tbs <= 1'b0; tcs <= 1'b0;
+                            end else if (acc_wdat[0] && tbs) begin         // TR
+                                tx_req <= 1'b1; tx_single <= acc_wdat[1];
+                                tbs <= 1'b0; tcs <= 1'b0;
+                            end else if (acc_wdat[1]) begin
+                                tx_abort <= 1'b1;                          // AT
+                            end
+                            rrb <= acc_wdat[2]; cdo <= acc_wdat[3];
+                        end else begin
+                            rrb <= acc_wdat[2]; cdo <= acc_wdat[3];
+                        end
+                        PC_IER:  ier <= acc_wdat;
+                        PC_BTR0: if (rm) btr0 <= acc_wdat;
+                        PC_BTR1: if (rm) btr1 <= acc_wdat;
+                        PC_OCR:  if (rm) ocr <= acc_wdat;
+                        PC_EWLR: if (rm) ewlr <= acc_wdat;
+                        PC_CDR:  cdr <= {rm ? acc_wdat[7] : cdr[7], acc_wdat[6:5], 1'b0, acc_wdat[3:0]};
+                        default: begin
+                            if (in_win_p) begin
+                                if (!rm) begin
+                                    if (tbs) txb[a[3:0]] <= acc_wdat;
+                                end else if (a < PC_AMR0) acr_r[a[1:0]] <= acc_wdat;
+                                else if (a < PC_AMR0 + 8'd4) amr_r[a[1:0]] <= acc_wdat;
+                            end
+                        end
+                    endcase
+                end else begin
+                    case (a)
+                        BC_CR: begin
+                            rm <= acc_wdat[0] | (bus_off && !bus_off_q);
+                            ier[3:0] <= acc_wdat[4:1];
+                            cr6 <= acc_wdat[6];
+                        end
+                        BC_CMR: begin
+                            if (!rm) begin
+                                if (acc_wdat[0] && tbs) begin
+                                    tx_req <= 1'b1; tx_single <= acc_wdat[1];
+                                    tbs <= 1'b0; tcs <= 1'b0;
+                                end else if (acc_wdat[1]) tx_abort <= 1'b1;
+                            end
+                            rrb <= acc_wdat[2]; cdo <= acc_wdat[3];
+                        end
+                        BC_ACR:  if (rm) acr_r[0] <= acc_wdat;
+                        BC_AMR:  if (rm) amr_r[0] <= acc_wdat;
+                        BC_BTR0: if (rm) btr0 <= acc_wdat;
+                        BC_BTR1: if (rm) btr1 <= acc_wdat;
+                        BC_OCR:  if (rm) ocr <= acc_wdat;
+                        BC_CDR:  cdr <= {rm ? acc_wdat[7] : cdr[7], acc_wdat[6:5], 1'b0, acc_wdat[3:0]};
+                        default: begin
+                            if (a >= BC_TXB && a < BC_TXB + BC_TXB_LEN && !rm && tbs)
+                                txb[tx_ofs_b[3:0]] <= acc_wdat;
+                        end
+                    endcase
+                end
+            end
+
+            // ---- entering reset mode cancels a pending transmission ----
+            if (rm) begin
+                tbs <= 1'b1;
+                sleep <= 1'b0;
+                if (!peli) ir[0] <= 1'b0;
+            end
+        end
+    end
+endmodule
