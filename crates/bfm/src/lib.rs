@@ -32,6 +32,23 @@
 //! `m_k` with `s_{k-1}` internally, so a violation's cycle number is the cycle
 //! during which the offending values were on the wires.
 //!
+//! ```
+//! use bfm::{HostBusTarget, HostMaster, WishboneMaster, WishboneMonitor, WishboneRam};
+//!
+//! let mut master = WishboneMaster::new("wb");
+//! let mut dut = WishboneRam::new("ram"); // the cosim crate puts a DUT here
+//! let mut monitor = WishboneMonitor::new("wbmon", 100);
+//! let h = master.start_write(0x1F, 0x08); // CDR: clock off
+//! for cycle in 0..10 {
+//!     let m = master.outputs();
+//!     let s = dut.cycle(&m);
+//!     master.on_edge(&s);
+//!     assert!(monitor.observe(cycle, &m, &s).is_empty());
+//! }
+//! assert_eq!(master.poll(h).unwrap().unwrap().cycles, 2);
+//! assert_eq!(dut.mem()[0x1F], 0x08);
+//! ```
+//!
 //! # Roles
 //!
 //! One type per role, as cocotbext-axi does: [`WishboneMaster`],

@@ -303,3 +303,30 @@ fn av_clean_traffic_is_silent() {
         }
     }
 }
+
+// ---- PIO ----------------------------------------------------------------
+
+/// What the Wishbone monitor says about PIO bit-banging, a fact the
+/// diagnoser needs: even against a slave that holds `ack` until `stb`
+/// falls, the registered `ack` outlives the control word by one cycle, so
+/// each access ends with one "ack without request" right after `ctl=0x00`.
+#[test]
+fn pio_against_level_ack_slave_leaves_one_late_ack_per_access() {
+    let mut b = Bench::new(
+        bfm::PioMaster::new("pio", bfm::PioTiming::default()),
+        WishboneRam::new("ram").with_ack_mode(bfm::AckMode::Level),
+        WishboneMonitor::new("wbmon", 100),
+    );
+    let w = b.master.start_write(1, 2);
+    let w = b.wait(w).unwrap();
+    let r = b.master.start_read(1);
+    let r = b.wait(r).unwrap();
+    b.steps(5);
+    assert_eq!(r.data, 2);
+    // The write is activated at edge 0 and ends at edge 20: pins idle from
+    // cycle 21, where the last ack is still on the wires. The read is queued
+    // then, activated at edge 21 and ends 22 edges later.
+    let end_w = w.cycles + 1;
+    let end_r = end_w + 1 + r.cycles;
+    assert_eq!(rules(&b.violations), vec![(end_w, Rule::AckWithoutRequest), (end_r, Rule::AckWithoutRequest)]);
+}
