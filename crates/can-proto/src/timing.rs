@@ -288,6 +288,13 @@ impl BusTiming {
         (((1 + self.tseg1_tq()) * 1000 + tq / 2) / tq) as u16
     }
 
+    /// True when the bit rate exceeds [`MAX_BIT_RATE`] by more than
+    /// [`BIT_RATE_TOLERANCE_PPM`] (a 20.000001 MHz clock at 1 Mbit/s is fine).
+    fn exceeds_max_bit_rate(&self, f_clk_hz: u32) -> bool {
+        f_clk_hz as u128 * 1_000_000
+            > MAX_BIT_RATE as u128 * (1_000_000 + BIT_RATE_TOLERANCE_PPM as u128) * self.clocks_per_bit() as u128
+    }
+
     /// Deviation of the bit rate from `target_bps` in ppm (negative = slower).
     pub fn error_ppm(&self, f_clk_hz: u32, target_bps: u32) -> i32 {
         error_ppm(f_clk_hz, self.clocks_per_bit(), target_bps)
@@ -295,7 +302,8 @@ impl BusTiming {
 
     /// Every setting the SJA1000 can be programmed with that gives
     /// `target_bps` within [`BIT_RATE_TOLERANCE_PPM`] from a CAN clock of
-    /// `f_clk_hz`, best first.
+    /// `f_clk_hz`, best first. Empty when there is none (including targets
+    /// above [`MAX_BIT_RATE`]).
     ///
     /// A setting is listed when (CAN 2.0B §10 and the datasheet field widths):
     /// BRP 0..=63, TSEG1 1..=16 tq, TSEG2 1..=8 tq; 8..=25 tq per bit;
@@ -328,7 +336,7 @@ impl BusTiming {
                         continue;
                     }
                     let err = t0.error_ppm(f_clk_hz, target_bps);
-                    if err.unsigned_abs() > BIT_RATE_TOLERANCE_PPM {
+                    if err.unsigned_abs() > BIT_RATE_TOLERANCE_PPM || t0.exceeds_max_bit_rate(f_clk_hz) {
                         continue;
                     }
                     let sjw_tq = 4.min(t0.tseg1_tq()).min(t0.tseg2_tq());
@@ -388,7 +396,7 @@ impl BusTiming {
         if err.unsigned_abs() > BIT_RATE_TOLERANCE_PPM {
             issues.push(TimingIssue::BitRateOffTarget { actual_bps, target_bps, error_ppm: err });
         }
-        if f_clk_hz as u64 > MAX_BIT_RATE as u64 * self.clocks_per_bit() as u64 {
+        if self.exceeds_max_bit_rate(f_clk_hz) {
             issues.push(TimingIssue::BitRateTooHigh { actual_bps });
         }
         let tq = self.tq_per_bit();
@@ -509,6 +517,8 @@ mod tests {
         // 5 clocks per bit, but the shortest legal bit is 2 * 8 = 16 clocks.
         let e = BusTiming::for_bit_rate(5_000_000, 1_000_000).unwrap_err();
         assert_eq!(e.to_string(), "No SJA1000 bit timing reaches 1000 kbit/s within 0.5% from a 5 MHz clock.");
+        assert!(BusTiming::candidates(24_000_000, 2_000_000).is_empty(), "above 1 Mbit/s");
+        assert_eq!(BusTiming::for_bit_rate(20_000_001, 1_000_000).unwrap().error_ppm, 0);
         let e = BusTiming::for_bit_rate(24_576_000, 0).unwrap_err();
         assert_eq!(e.to_string(), "No SJA1000 bit timing reaches 0 kbit/s within 0.5% from a 24.576 MHz clock.");
     }
@@ -576,7 +586,7 @@ mod tests {
         fn candidates_are_valid_and_sorted(
             f_clk in 1_000_000u32..=40_000_000,
             target in prop::sample::select(alloc::vec![10_000u32, 20_000, 50_000, 83_333, 100_000,
-                125_000, 250_000, 500_000, 800_000, 1_000_000]),
+                125_000, 250_000, 500_000, 800_000, 1_000_000, 1_004_000, 2_000_000]),
         ) {
             let c = BusTiming::candidates(f_clk, target);
             for x in &c {
