@@ -3,10 +3,10 @@
 
 use std::collections::VecDeque;
 
-use crate::op::{OpQueue, PendingOp, Pause, step_pause};
+use crate::op::{OpQueue, Pause, PendingOp, step_pause};
 use crate::{
-    AvMasterOut, AvSlaveOut, BfmError, DEFAULT_TIMEOUT_CYCLES, HostBusTarget, HostMaster,
-    OpHandle, OpKind, OpResult,
+    AvMasterOut, AvSlaveOut, BfmError, DEFAULT_TIMEOUT_CYCLES, HostBusTarget, HostMaster, OpHandle,
+    OpKind, OpResult,
 };
 
 /// How a transfer's end is decided, as a Platform Designer component
@@ -74,7 +74,9 @@ impl AvalonMaster {
     pub fn new(name: &str, cfg: AvalonMasterConfig) -> Self {
         let timing = match cfg.timing {
             AvalonTiming::FixedWaitStates { read, write } => {
-                format!("fixed wait states (read {read}, write {write}), no waitrequest, no readdatavalid")
+                format!(
+                    "fixed wait states (read {read}, write {write}), no waitrequest, no readdatavalid"
+                )
             }
             AvalonTiming::Waitrequest => "waitrequest, no readdatavalid".to_owned(),
             AvalonTiming::Pipelined => "waitrequest + readdatavalid (pipelined reads)".to_owned(),
@@ -82,7 +84,11 @@ impl AvalonMaster {
         log::info!(
             "{name}: Avalon-MM master, address 8 bits, data 8 bits, byteenable 1 bit, {timing}, \
              begintransfer {}, chipselect used, timeout {} cycles",
-            if cfg.begintransfer { "driven" } else { "absent" },
+            if cfg.begintransfer {
+                "driven"
+            } else {
+                "absent"
+            },
             cfg.timeout_cycles
         );
         Self {
@@ -153,10 +159,15 @@ impl HostMaster for AvalonMaster {
                     };
                     if !accepted {
                         next = Some((op, Phase::Command { driven }));
-                    } else if op.kind == OpKind::Read && self.cfg.timing == AvalonTiming::Pipelined {
+                    } else if op.kind == OpKind::Read && self.cfg.timing == AvalonTiming::Pipelined
+                    {
                         next = Some((op, Phase::Data));
                     } else {
-                        let data = if op.kind == OpKind::Read { sample.readdata } else { op.data };
+                        let data = if op.kind == OpKind::Read {
+                            sample.readdata
+                        } else {
+                            op.data
+                        };
                         self.q.finish(&op, data);
                     }
                 }
@@ -169,16 +180,20 @@ impl HostMaster for AvalonMaster {
                 }
             }
             if let Some((op, _)) = next
-                && op.cycles >= op.timeout {
-                    self.q.time_out(&op);
-                    next = None;
-                    aborted = true;
-                }
+                && op.cycles >= op.timeout
+            {
+                self.q.time_out(&op);
+                next = None;
+                aborted = true;
+            }
             self.active = next;
         }
         // After an abandoned transfer, idle one cycle before the next.
         if self.active.is_none() && !aborted {
-            self.active = self.q.next(paused).map(|op| (op, Phase::Command { driven: 0 }));
+            self.active = self
+                .q
+                .next(paused)
+                .map(|op| (op, Phase::Command { driven: 0 }));
         }
         self.drive();
     }
@@ -286,7 +301,10 @@ impl AvalonRam {
 impl HostBusTarget<AvMasterOut, AvSlaveOut> for AvalonRam {
     fn cycle(&mut self, m: &AvMasterOut) -> AvSlaveOut {
         let stall = step_pause(&mut self.backpressure);
-        let mut next = AvSlaveOut { readdata: self.out.readdata, ..Default::default() };
+        let mut next = AvSlaveOut {
+            readdata: self.out.readdata,
+            ..Default::default()
+        };
         let a = m.address as usize;
         match self.timing {
             AvalonTiming::FixedWaitStates { .. } => {
@@ -299,11 +317,10 @@ impl HostBusTarget<AvMasterOut, AvSlaveOut> for AvalonRam {
             }
             AvalonTiming::Waitrequest | AvalonTiming::Pipelined => {
                 // Data of reads accepted at earlier edges first.
-                if !stall
-                    && let Some(d) = self.read_queue.pop_front() {
-                        next.readdata = d;
-                        next.readdatavalid = true;
-                    }
+                if !stall && let Some(d) = self.read_queue.pop_front() {
+                    next.readdata = d;
+                    next.readdatavalid = true;
+                }
                 // A request on the wires while waitrequest was low has just
                 // been accepted at this edge: do not take it twice.
                 if self.out.waitrequest && m.request() && !stall {

@@ -27,7 +27,11 @@ impl<T> SpuriousAck<T> {
     /// Wrap `inner`; `period` idle cycles between spurious acks (at least 1).
     pub fn new(inner: T, period: u64) -> Self {
         log::info!("fault: spurious wb_ack_o every {period} idle cycles");
-        Self { inner, period: period.max(1), idle: 0 }
+        Self {
+            inner,
+            period: period.max(1),
+            idle: 0,
+        }
     }
 }
 
@@ -75,7 +79,9 @@ impl<T: HostBusTarget> HostBusTarget for DoubleAck<T> {
 /// Avalon slave whose `waitrequest` never falls.
 pub struct StuckWaitrequest<T>(pub T);
 
-impl<T: HostBusTarget<AvMasterOut, AvSlaveOut>> HostBusTarget<AvMasterOut, AvSlaveOut> for StuckWaitrequest<T> {
+impl<T: HostBusTarget<AvMasterOut, AvSlaveOut>> HostBusTarget<AvMasterOut, AvSlaveOut>
+    for StuckWaitrequest<T>
+{
     fn cycle(&mut self, m: &AvMasterOut) -> AvSlaveOut {
         let mut s = self.0.cycle(m);
         s.waitrequest = true;
@@ -96,7 +102,11 @@ impl<T> SpuriousReaddatavalid<T> {
     /// Wrap `inner`; a pulse every `period` cycles (at least 1).
     pub fn new(inner: T, period: u64) -> Self {
         log::info!("fault: spurious readdatavalid every {period} cycles");
-        Self { inner, period: period.max(1), count: 0 }
+        Self {
+            inner,
+            period: period.max(1),
+            count: 0,
+        }
     }
 }
 

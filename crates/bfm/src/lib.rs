@@ -67,16 +67,16 @@ mod monitor;
 mod op;
 mod pins;
 mod pio;
-mod wishbone;
 pub mod wiring;
+mod wishbone;
 
 pub use avalon::{AvalonMaster, AvalonMasterConfig, AvalonRam, AvalonTiming};
 pub use monitor::{AvalonMonitor, AvalonMonitorConfig, Rule, Violation, WishboneMonitor};
-pub use op::{
-    BfmError, DEFAULT_TIMEOUT_CYCLES, OpHandle, OpKind, OpResult, Pause, cycle_pause,
-};
+pub use op::{BfmError, DEFAULT_TIMEOUT_CYCLES, OpHandle, OpKind, OpResult, Pause, cycle_pause};
 pub use pins::{AvMasterOut, AvSlaveOut, WbMasterOut, WbSlaveOut};
-pub use pio::{CTL_CYC, CTL_RST, CTL_STB, CTL_WE, DEFAULT_PIO_TIMEOUT_CYCLES, PioMaster, PioTiming};
+pub use pio::{
+    CTL_CYC, CTL_RST, CTL_STB, CTL_WE, DEFAULT_PIO_TIMEOUT_CYCLES, PioMaster, PioTiming,
+};
 pub use wishbone::{AckMode, WishboneMaster, WishboneRam};
 
 /// A host-side bus master, stepped by the kernel (see the crate docs for the

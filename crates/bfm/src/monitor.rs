@@ -123,27 +123,56 @@ impl WishboneMonitor {
         let s = std::mem::replace(&mut self.prev_s, *s_after);
         let mut v = Vec::new();
         let mut flag = |rule, message: String| {
-            v.push(Violation { cycle, rule, message });
+            v.push(Violation {
+                cycle,
+                rule,
+                message,
+            });
         };
         let ended = s.ack || s.err || s.rty;
         if m.stb && !m.cyc {
-            flag(Rule::StbWithoutCyc, format!("wb_stb_i=1 while wb_cyc_i=0 (adr 0x{:02X})", m.adr));
+            flag(
+                Rule::StbWithoutCyc,
+                format!("wb_stb_i=1 while wb_cyc_i=0 (adr 0x{:02X})", m.adr),
+            );
         }
         if ended && !m.request() {
-            let which = if s.ack { "wb_ack_o" } else if s.err { "err" } else { "rty" };
+            let which = if s.ack {
+                "wb_ack_o"
+            } else if s.err {
+                "err"
+            } else {
+                "rty"
+            };
             flag(
                 Rule::AckWithoutRequest,
-                format!("{which}=1 while cyc={} stb={}: no transfer to acknowledge", m.cyc as u8, m.stb as u8),
+                format!(
+                    "{which}=1 while cyc={} stb={}: no transfer to acknowledge",
+                    m.cyc as u8, m.stb as u8
+                ),
             );
         }
         let pm = self.prev_m;
         let mut continues = false;
         if self.pending {
-            let what = format!("{} at 0x{:02X} started at cycle {}", dir(pm.we), pm.adr, self.started);
+            let what = format!(
+                "{} at 0x{:02X} started at cycle {}",
+                dir(pm.we),
+                pm.adr,
+                self.started
+            );
             if !m.cyc {
-                flag(Rule::CycDroppedBeforeAck, format!("wb_cyc_i fell while the {what} waited for wb_ack_o (transfer abandoned)"));
+                flag(
+                    Rule::CycDroppedBeforeAck,
+                    format!(
+                        "wb_cyc_i fell while the {what} waited for wb_ack_o (transfer abandoned)"
+                    ),
+                );
             } else if !m.stb {
-                flag(Rule::StbDroppedBeforeAck, format!("wb_stb_i fell while the {what} waited for wb_ack_o"));
+                flag(
+                    Rule::StbDroppedBeforeAck,
+                    format!("wb_stb_i fell while the {what} waited for wb_ack_o"),
+                );
             } else {
                 continues = true;
                 let mut changed = Vec::new();
@@ -159,7 +188,10 @@ impl WishboneMonitor {
                 if !changed.is_empty() {
                     flag(
                         Rule::ChangedWhileWaiting,
-                        format!("{} while the {what} waited for wb_ack_o", changed.join(", ")),
+                        format!(
+                            "{} while the {what} waited for wb_ack_o",
+                            changed.join(", ")
+                        ),
                     );
                 }
             }
@@ -178,7 +210,11 @@ impl WishboneMonitor {
                     Rule::NoAck,
                     format!(
                         "{} at 0x{:02X} started at cycle {} has waited {} cycles for wb_ack_o (limit {})",
-                        dir(m.we), m.adr, self.started, self.waited, self.ack_timeout
+                        dir(m.we),
+                        m.adr,
+                        self.started,
+                        self.waited,
+                        self.ack_timeout
                     ),
                 );
             }
@@ -227,7 +263,11 @@ impl AvalonMonitor {
         log::info!(
             "{name}: Avalon-MM monitor, address 8 bits, data 8 bits, {:?}, begintransfer {}, limit {} cycles",
             cfg.timing,
-            if cfg.begintransfer { "checked" } else { "absent" },
+            if cfg.begintransfer {
+                "checked"
+            } else {
+                "absent"
+            },
             cfg.timeout_cycles
         );
         Self {
@@ -264,23 +304,42 @@ impl AvalonMonitor {
         let s = std::mem::replace(&mut self.prev_s, *s_after);
         let mut v = Vec::new();
         let mut flag = |rule, message: String| {
-            v.push(Violation { cycle, rule, message });
+            v.push(Violation {
+                cycle,
+                rule,
+                message,
+            });
         };
         if m.chipselect && m.read && m.write {
-            flag(Rule::ReadAndWrite, format!("read=1 and write=1 with chipselect at address 0x{:02X}", m.address));
+            flag(
+                Rule::ReadAndWrite,
+                format!(
+                    "read=1 and write=1 with chipselect at address 0x{:02X}",
+                    m.address
+                ),
+            );
         }
         let pm = self.prev_m;
-        let held_by = if self.wait_states(&pm).is_some() { "fixed wait states" } else { "waitrequest" };
+        let held_by = if self.wait_states(&pm).is_some() {
+            "fixed wait states"
+        } else {
+            "waitrequest"
+        };
         let mut continues = false;
         if self.pending {
             let what = format!(
                 "{} at 0x{:02X} started at cycle {}",
-                if pm.write { "write" } else { "read" }, pm.address, self.started
+                if pm.write { "write" } else { "read" },
+                pm.address,
+                self.started
             );
             if !m.request() {
                 flag(
                     Rule::WithdrawnWhileWaitrequest,
-                    format!("the {what} was withdrawn after {} cycles, still held off by {held_by}", self.held),
+                    format!(
+                        "the {what} was withdrawn after {} cycles, still held off by {held_by}",
+                        self.held
+                    ),
                 );
             } else {
                 continues = true;
@@ -289,18 +348,30 @@ impl AvalonMonitor {
                     changed.push(format!("address 0x{:02X}->0x{:02X}", pm.address, m.address));
                 }
                 if m.read != pm.read || m.write != pm.write {
-                    changed.push(format!("read/write {}{}->{}{}", pm.read as u8, pm.write as u8, m.read as u8, m.write as u8));
+                    changed.push(format!(
+                        "read/write {}{}->{}{}",
+                        pm.read as u8, pm.write as u8, m.read as u8, m.write as u8
+                    ));
                 }
                 if m.byteenable != pm.byteenable {
-                    changed.push(format!("byteenable 0x{:X}->0x{:X}", pm.byteenable, m.byteenable));
+                    changed.push(format!(
+                        "byteenable 0x{:X}->0x{:X}",
+                        pm.byteenable, m.byteenable
+                    ));
                 }
                 if m.write && pm.write && m.writedata != pm.writedata {
-                    changed.push(format!("writedata 0x{:02X}->0x{:02X}", pm.writedata, m.writedata));
+                    changed.push(format!(
+                        "writedata 0x{:02X}->0x{:02X}",
+                        pm.writedata, m.writedata
+                    ));
                 }
                 if !changed.is_empty() {
                     flag(
                         Rule::ChangedWhileWaitrequest,
-                        format!("{} while the {what} was held off by {held_by}", changed.join(", ")),
+                        format!(
+                            "{} while the {what} was held off by {held_by}",
+                            changed.join(", ")
+                        ),
                     );
                 }
             }
@@ -308,12 +379,20 @@ impl AvalonMonitor {
         if self.cfg.begintransfer {
             let first = m.request() && !continues;
             if first && !m.begintransfer {
-                flag(Rule::BegintransferMisplaced, format!("transfer at 0x{:02X} started without begintransfer", m.address));
+                flag(
+                    Rule::BegintransferMisplaced,
+                    format!(
+                        "transfer at 0x{:02X} started without begintransfer",
+                        m.address
+                    ),
+                );
             } else if m.begintransfer && !first {
                 flag(
                     Rule::BegintransferMisplaced,
-                    format!("begintransfer=1 outside the first cycle of a transfer (chipselect={} read={} write={})",
-                        m.chipselect as u8, m.read as u8, m.write as u8),
+                    format!(
+                        "begintransfer=1 outside the first cycle of a transfer (chipselect={} read={} write={})",
+                        m.chipselect as u8, m.read as u8, m.write as u8
+                    ),
                 );
             }
         }
@@ -321,7 +400,13 @@ impl AvalonMonitor {
         if self.cfg.timing == AvalonTiming::Pipelined {
             if s.readdatavalid {
                 if self.outstanding == 0 {
-                    flag(Rule::ReaddatavalidWithoutRead, format!("readdatavalid=1 (readdata 0x{:02X}) with no read outstanding", s.readdata));
+                    flag(
+                        Rule::ReaddatavalidWithoutRead,
+                        format!(
+                            "readdatavalid=1 (readdata 0x{:02X}) with no read outstanding",
+                            s.readdata
+                        ),
+                    );
                 } else {
                     self.outstanding -= 1;
                     self.data_wait = 0;
@@ -333,8 +418,10 @@ impl AvalonMonitor {
                     self.data_reported = true;
                     flag(
                         Rule::NoReaddatavalid,
-                        format!("{} accepted read(s) without readdatavalid for {} cycles (limit {})",
-                            self.outstanding, self.data_wait, self.cfg.timeout_cycles),
+                        format!(
+                            "{} accepted read(s) without readdatavalid for {} cycles (limit {})",
+                            self.outstanding, self.data_wait, self.cfg.timeout_cycles
+                        ),
                     );
                 }
             }
@@ -355,13 +442,21 @@ impl AvalonMonitor {
             if accepted && m.read && self.cfg.timing == AvalonTiming::Pipelined {
                 self.outstanding += 1;
             }
-            if !accepted && self.wait_states(m).is_none() && self.held > self.cfg.timeout_cycles && !self.stuck_reported {
+            if !accepted
+                && self.wait_states(m).is_none()
+                && self.held > self.cfg.timeout_cycles
+                && !self.stuck_reported
+            {
                 self.stuck_reported = true;
                 flag(
                     Rule::WaitrequestStuck,
                     format!(
                         "waitrequest held {} cycles on the {} at 0x{:02X} started at cycle {} (limit {})",
-                        self.held, if m.write { "write" } else { "read" }, m.address, self.started, self.cfg.timeout_cycles
+                        self.held,
+                        if m.write { "write" } else { "read" },
+                        m.address,
+                        self.started,
+                        self.cfg.timeout_cycles
                     ),
                 );
             }

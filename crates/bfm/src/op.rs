@@ -165,7 +165,10 @@ impl OpQueue {
             cycles: 0,
         });
         self.in_flight.insert(handle);
-        log::trace!("{}: queued {handle} {kind} 0x{addr:02X} data 0x{data:02X}", self.name);
+        log::trace!(
+            "{}: queued {handle} {kind} 0x{addr:02X} data 0x{data:02X}",
+            self.name
+        );
         handle
     }
 
@@ -187,22 +190,40 @@ impl OpQueue {
     pub fn time_out(&mut self, op: &PendingOp) {
         log::warn!(
             "{}: {} {} at 0x{:02X} timed out after {} cycles",
-            self.name, op.handle, op.kind, op.addr, op.cycles
+            self.name,
+            op.handle,
+            op.kind,
+            op.addr,
+            op.cycles
         );
         self.complete(
             op.handle,
-            Err(BfmError::Timeout { op: op.kind, addr: op.addr, cycles: op.cycles }),
+            Err(BfmError::Timeout {
+                op: op.kind,
+                addr: op.addr,
+                cycles: op.cycles,
+            }),
         );
     }
 
     pub fn finish(&mut self, op: &PendingOp, data: u8) {
         log::debug!(
             "{}: {} {} 0x{:02X} data 0x{:02X} done in {} cycles",
-            self.name, op.handle, op.kind, op.addr, data, op.cycles
+            self.name,
+            op.handle,
+            op.kind,
+            op.addr,
+            data,
+            op.cycles
         );
         self.complete(
             op.handle,
-            Ok(OpResult { kind: op.kind, addr: op.addr, data, cycles: op.cycles }),
+            Ok(OpResult {
+                kind: op.kind,
+                addr: op.addr,
+                data,
+                cycles: op.cycles,
+            }),
         );
     }
 
@@ -228,9 +249,19 @@ impl OpQueue {
         for op in ops {
             log::warn!(
                 "{}: reset flushed {} {} at 0x{:02X} (data 0x{:02X})",
-                self.name, op.handle, op.kind, op.addr, op.data
+                self.name,
+                op.handle,
+                op.kind,
+                op.addr,
+                op.data
             );
-            self.complete(op.handle, Err(BfmError::Flushed { op: op.kind, addr: op.addr }));
+            self.complete(
+                op.handle,
+                Err(BfmError::Flushed {
+                    op: op.kind,
+                    addr: op.addr,
+                }),
+            );
         }
     }
 

@@ -4,10 +4,8 @@
 
 use std::collections::VecDeque;
 
-use crate::op::{OpQueue, PendingOp, Pause, step_pause};
-use crate::{
-    BfmError, HostMaster, OpHandle, OpKind, OpResult, WbMasterOut, WbSlaveOut,
-};
+use crate::op::{OpQueue, Pause, PendingOp, step_pause};
+use crate::{BfmError, HostMaster, OpHandle, OpKind, OpResult, WbMasterOut, WbSlaveOut};
 
 /// Control PIO bit 0: `wb_we_i`.
 pub const CTL_WE: u8 = 0x01;
@@ -46,7 +44,10 @@ pub struct PioTiming {
 
 impl Default for PioTiming {
     fn default() -> Self {
-        Self { iowr_cycles: 3, iord_cycles: 5 }
+        Self {
+            iowr_cycles: 3,
+            iord_cycles: 5,
+        }
     }
 }
 
@@ -114,7 +115,8 @@ impl PioMaster {
             "{name}: PIO master (Nios II bit-banging Wishbone), address PIO 8 bits, data-out PIO 8 bits, \
              control PIO we=bit0 stb=bit1 cyc=bit2 rst=bit3, inputs ack + data-in 8 bits, \
              IOWR {} cycles, IORD {} cycles, timeout {DEFAULT_PIO_TIMEOUT_CYCLES} cycles",
-            timing.iowr_cycles, timing.iord_cycles
+            timing.iowr_cycles,
+            timing.iord_cycles
         );
         Self {
             timing,
@@ -239,12 +241,19 @@ impl HostMaster for PioMaster {
                 self.active = Some(a);
             }
         }
-        if self.active.is_none() && !aborted
-            && let Some(op) = self.q.next(paused) {
-                let steps = self.steps_for(&op);
-                let data = if op.kind == OpKind::Write { op.data } else { 0 };
-                self.active = Some(Active { op, steps, elapsed: 0, data });
-            }
+        if self.active.is_none()
+            && !aborted
+            && let Some(op) = self.q.next(paused)
+        {
+            let steps = self.steps_for(&op);
+            let data = if op.kind == OpKind::Write { op.data } else { 0 };
+            self.active = Some(Active {
+                op,
+                steps,
+                elapsed: 0,
+                data,
+            });
+        }
     }
 
     fn start_write(&mut self, addr: u8, data: u8) -> OpHandle {

@@ -45,8 +45,16 @@ impl Wiring {
     /// The Avalon slave outputs the Wishbone slave's pins produce.
     pub fn to_avalon(self, s: &WbSlaveOut) -> AvSlaveOut {
         match self {
-            Wiring::Seed000 => AvSlaveOut { readdata: s.dat, waitrequest: false, readdatavalid: false },
-            Wiring::Bridge => AvSlaveOut { readdata: s.dat, waitrequest: !s.ack, readdatavalid: false },
+            Wiring::Seed000 => AvSlaveOut {
+                readdata: s.dat,
+                waitrequest: false,
+                readdatavalid: false,
+            },
+            Wiring::Bridge => AvSlaveOut {
+                readdata: s.dat,
+                waitrequest: !s.ack,
+                readdatavalid: false,
+            },
         }
     }
 }
@@ -64,7 +72,12 @@ impl<T> AvalonOverWishbone<T> {
     /// Wrap a Wishbone target.
     pub fn new(inner: T, wiring: Wiring) -> Self {
         log::info!("Avalon-over-Wishbone adapter, wiring {wiring:?}");
-        Self { inner, wiring, last_m: WbMasterOut::default(), last_s: WbSlaveOut::default() }
+        Self {
+            inner,
+            wiring,
+            last_m: WbMasterOut::default(),
+            last_s: WbSlaveOut::default(),
+        }
     }
 
     /// Wishbone pins of the last cycle: (master pins, slave outputs after the edge).

@@ -1,6 +1,6 @@
 //! Wishbone classic master and RAM target.
 
-use crate::op::{OpQueue, PendingOp, Pause, step_pause};
+use crate::op::{OpQueue, Pause, PendingOp, step_pause};
 use crate::{
     BfmError, DEFAULT_TIMEOUT_CYCLES, HostBusTarget, HostMaster, OpHandle, OpKind, OpResult,
     WbMasterOut, WbSlaveOut,
@@ -88,11 +88,27 @@ impl HostMaster for WishboneMaster {
                 self.retry_gap = false;
                 self.active = Some(op);
             } else if sample.ack {
-                let data = if op.kind == OpKind::Read { sample.dat } else { op.data };
+                let data = if op.kind == OpKind::Read {
+                    sample.dat
+                } else {
+                    op.data
+                };
                 self.q.finish(&op, data);
             } else if sample.err {
-                log::warn!("{}: {} {} at 0x{:02X} ended with err", self.q.name(), op.handle, op.kind, op.addr);
-                self.q.complete(op.handle, Err(BfmError::BusError { op: op.kind, addr: op.addr }));
+                log::warn!(
+                    "{}: {} {} at 0x{:02X} ended with err",
+                    self.q.name(),
+                    op.handle,
+                    op.kind,
+                    op.addr
+                );
+                self.q.complete(
+                    op.handle,
+                    Err(BfmError::BusError {
+                        op: op.kind,
+                        addr: op.addr,
+                    }),
+                );
             } else if sample.rty {
                 log::debug!("{}: {} retry requested by slave", self.q.name(), op.handle);
                 self.retry_gap = true;
@@ -101,12 +117,13 @@ impl HostMaster for WishboneMaster {
                 self.active = Some(op);
             }
             if let Some(op) = self.active
-                && op.cycles >= op.timeout {
-                    self.active = None;
-                    self.retry_gap = false;
-                    self.q.time_out(&op);
-                    aborted = true;
-                }
+                && op.cycles >= op.timeout
+            {
+                self.active = None;
+                self.retry_gap = false;
+                self.q.time_out(&op);
+                aborted = true;
+            }
         }
         // After an abandoned cycle, idle one cycle so a late ack cannot
         // complete the next operation.
@@ -183,7 +200,9 @@ pub struct WishboneRam {
 impl WishboneRam {
     /// A zero-filled RAM.
     pub fn new(name: &str) -> Self {
-        log::info!("{name}: Wishbone RAM target, 256 x 8 bits, registered ack (1 wait state), no err/rty");
+        log::info!(
+            "{name}: Wishbone RAM target, 256 x 8 bits, registered ack (1 wait state), no err/rty"
+        );
         Self {
             name: name.to_owned(),
             mode: AckMode::Pulse,
@@ -232,7 +251,10 @@ impl WishboneRam {
 impl HostBusTarget for WishboneRam {
     fn cycle(&mut self, m: &WbMasterOut) -> WbSlaveOut {
         let stall = step_pause(&mut self.backpressure);
-        let mut next = WbSlaveOut { dat: self.out.dat, ..Default::default() };
+        let mut next = WbSlaveOut {
+            dat: self.out.dat,
+            ..Default::default()
+        };
         if self.mode == AckMode::Level {
             if !m.request() {
                 self.served = false;

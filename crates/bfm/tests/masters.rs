@@ -6,9 +6,10 @@ mod common;
 
 use bfm::faults::{NeverAck, StuckWaitrequest};
 use bfm::{
-    AckMode, AvalonMaster, AvalonMasterConfig, AvalonMonitor, AvalonMonitorConfig, AvalonRam, AvalonTiming,
-    BfmError, HostBusTarget, HostMaster, OpKind, PioMaster, PioTiming, WbMasterOut, WbSlaveOut,
-    WishboneMaster, WishboneMonitor, WishboneRam, blocking_read, blocking_write, run_op,
+    AckMode, AvalonMaster, AvalonMasterConfig, AvalonMonitor, AvalonMonitorConfig, AvalonRam,
+    AvalonTiming, BfmError, HostBusTarget, HostMaster, OpKind, PioMaster, PioTiming, WbMasterOut,
+    WbSlaveOut, WishboneMaster, WishboneMonitor, WishboneRam, blocking_read, blocking_write,
+    run_op,
 };
 use common::{Bench, NoWatch, Watch, capture_logs, logs, matrix};
 use proptest::prelude::*;
@@ -22,11 +23,22 @@ const AV_TIMINGS: [AvalonTiming; 4] = [
 ];
 
 fn av_cfg(timing: AvalonTiming) -> AvalonMasterConfig {
-    AvalonMasterConfig { timing, begintransfer: true, ..Default::default() }
+    AvalonMasterConfig {
+        timing,
+        begintransfer: true,
+        ..Default::default()
+    }
 }
 
 fn av_mon(timing: AvalonTiming) -> AvalonMonitor {
-    AvalonMonitor::new("avmon", AvalonMonitorConfig { timing, begintransfer: true, timeout_cycles: 100 })
+    AvalonMonitor::new(
+        "avmon",
+        AvalonMonitorConfig {
+            timing,
+            begintransfer: true,
+            timeout_cycles: 100,
+        },
+    )
 }
 
 /// Queue every operation, then check each result against a shadow memory,
@@ -45,10 +57,18 @@ where
     let mut shadow = [0u8; 256];
     let handles: Vec<_> = ops
         .iter()
-        .map(|&(write, a, d)| if write { bench.master.start_write(a, d) } else { bench.master.start_read(a) })
+        .map(|&(write, a, d)| {
+            if write {
+                bench.master.start_write(a, d)
+            } else {
+                bench.master.start_read(a)
+            }
+        })
         .collect();
     for (&(write, a, d), h) in ops.iter().zip(handles) {
-        let r = bench.wait(h).map_err(|e| TestCaseError::fail(format!("{label}: {e}")))?;
+        let r = bench
+            .wait(h)
+            .map_err(|e| TestCaseError::fail(format!("{label}: {e}")))?;
         prop_assert_eq!(r.addr, a, "{}", label);
         if write {
             prop_assert_eq!(r.kind, OpKind::Write);
@@ -60,7 +80,12 @@ where
         prop_assert!(r.cycles >= 1);
     }
     prop_assert_eq!(mem(&bench.target), shadow, "{}", label);
-    prop_assert!(bench.violations.is_empty(), "{}: {:?}", label, bench.violations);
+    prop_assert!(
+        bench.violations.is_empty(),
+        "{}: {:?}",
+        label,
+        bench.violations
+    );
     prop_assert_eq!(bench.master.in_flight(), 0);
     Ok(())
 }
@@ -147,37 +172,59 @@ fn cycle_cost_per_access() {
     // (name, measured (read, write, back-to-back), expected (read, write))
     type Row = (&'static str, (u64, u64, f64), (u64, u64));
     let rows: Vec<Row> = vec![
-        ("Wishbone classic (registered ack)", measure(WishboneMaster::new("wb"), WishboneRam::new("ram")), (2, 2)),
+        (
+            "Wishbone classic (registered ack)",
+            measure(WishboneMaster::new("wb"), WishboneRam::new("ram")),
+            (2, 2),
+        ),
         (
             "Avalon fixed wait states (read 1, write 0)",
             measure(
-                AvalonMaster::new("av", av_cfg(AvalonTiming::FixedWaitStates { read: 1, write: 0 })),
+                AvalonMaster::new(
+                    "av",
+                    av_cfg(AvalonTiming::FixedWaitStates { read: 1, write: 0 }),
+                ),
                 AvalonRam::new("ram", AvalonTiming::FixedWaitStates { read: 1, write: 0 }),
             ),
             (2, 1),
         ),
         (
             "Avalon waitrequest (registered)",
-            measure(AvalonMaster::new("av", av_cfg(AvalonTiming::Waitrequest)), AvalonRam::new("ram", AvalonTiming::Waitrequest)),
+            measure(
+                AvalonMaster::new("av", av_cfg(AvalonTiming::Waitrequest)),
+                AvalonRam::new("ram", AvalonTiming::Waitrequest),
+            ),
             (2, 2),
         ),
         (
             "Avalon waitrequest + readdatavalid",
-            measure(AvalonMaster::new("av", av_cfg(AvalonTiming::Pipelined)), AvalonRam::new("ram", AvalonTiming::Pipelined)),
+            measure(
+                AvalonMaster::new("av", av_cfg(AvalonTiming::Pipelined)),
+                AvalonRam::new("ram", AvalonTiming::Pipelined),
+            ),
             (3, 2),
         ),
         (
             "PIO (Nios II/f, IOWR 3, IORD 5), pulse ack",
-            measure(PioMaster::new("pio", PioTiming::default()), WishboneRam::new("ram")),
+            measure(
+                PioMaster::new("pio", PioTiming::default()),
+                WishboneRam::new("ram"),
+            ),
             (27, 25),
         ),
         (
             "PIO (Nios II/f, IOWR 3, IORD 5), level ack",
-            measure(PioMaster::new("pio", PioTiming::default()), WishboneRam::new("ram").with_ack_mode(AckMode::Level)),
+            measure(
+                PioMaster::new("pio", PioTiming::default()),
+                WishboneRam::new("ram").with_ack_mode(AckMode::Level),
+            ),
             (22, 20),
         ),
     ];
-    println!("{:<44} {:>6} {:>6} {:>14}", "BFM vs RAM target", "read", "write", "back-to-back");
+    println!(
+        "{:<44} {:>6} {:>6} {:>14}",
+        "BFM vs RAM target", "read", "write", "back-to-back"
+    );
     for (name, (r, w, per), _) in &rows {
         println!("{name:<44} {r:>6} {w:>6} {per:>14.2}");
     }
@@ -193,23 +240,59 @@ fn wishbone_timeout_on_never_ack() {
     let mut m = WishboneMaster::new("wb").with_timeout(50);
     let mut t = NeverAck(WishboneRam::new("ram"));
     let e = blocking_read(&mut m, &mut t, 0x33).unwrap_err();
-    assert_eq!(e, BfmError::Timeout { op: OpKind::Read, addr: 0x33, cycles: 50 });
-    assert!(!m.outputs().cyc && !m.outputs().stb, "cycle abandoned after the timeout");
+    assert_eq!(
+        e,
+        BfmError::Timeout {
+            op: OpKind::Read,
+            addr: 0x33,
+            cycles: 50
+        }
+    );
+    assert!(
+        !m.outputs().cyc && !m.outputs().stb,
+        "cycle abandoned after the timeout"
+    );
     let e = blocking_write(&mut m, &mut t, 0x01, 0x02).unwrap_err();
-    assert!(matches!(e, BfmError::Timeout { op: OpKind::Write, addr: 0x01, .. }));
+    assert!(matches!(
+        e,
+        BfmError::Timeout {
+            op: OpKind::Write,
+            addr: 0x01,
+            ..
+        }
+    ));
 }
 
 #[test]
 fn avalon_timeout_on_stuck_waitrequest() {
     for timing in [AvalonTiming::Waitrequest, AvalonTiming::Pipelined] {
-        let mut m = AvalonMaster::new("av", AvalonMasterConfig { timeout_cycles: 40, ..av_cfg(timing) });
+        let mut m = AvalonMaster::new(
+            "av",
+            AvalonMasterConfig {
+                timeout_cycles: 40,
+                ..av_cfg(timing)
+            },
+        );
         let mut t = StuckWaitrequest(AvalonRam::new("ram", timing));
         let e = blocking_write(&mut m, &mut t, 0x07, 1).unwrap_err();
-        assert_eq!(e, BfmError::Timeout { op: OpKind::Write, addr: 0x07, cycles: 40 });
+        assert_eq!(
+            e,
+            BfmError::Timeout {
+                op: OpKind::Write,
+                addr: 0x07,
+                cycles: 40
+            }
+        );
     }
     // Pipelined read accepted but its data never comes.
     let timing = AvalonTiming::Pipelined;
-    let mut m = AvalonMaster::new("av", AvalonMasterConfig { timeout_cycles: 30, ..av_cfg(timing) });
+    let mut m = AvalonMaster::new(
+        "av",
+        AvalonMasterConfig {
+            timeout_cycles: 30,
+            ..av_cfg(timing)
+        },
+    );
     let mut ram = AvalonRam::new("ram", timing);
     let h = m.start_read(0x02);
     let e = run_op(&mut m, h, |p| {
@@ -218,7 +301,14 @@ fn avalon_timeout_on_stuck_waitrequest() {
         s
     })
     .unwrap_err();
-    assert_eq!(e, BfmError::Timeout { op: OpKind::Read, addr: 0x02, cycles: 30 });
+    assert_eq!(
+        e,
+        BfmError::Timeout {
+            op: OpKind::Read,
+            addr: 0x02,
+            cycles: 30
+        }
+    );
 }
 
 #[test]
@@ -227,7 +317,14 @@ fn pio_timeout_drops_control_word() {
     m.set_timeout(200);
     let mut t = NeverAck(WishboneRam::new("ram"));
     let e = blocking_write(&mut m, &mut t, 0x04, 0x99).unwrap_err();
-    assert_eq!(e, BfmError::Timeout { op: OpKind::Write, addr: 0x04, cycles: 200 });
+    assert_eq!(
+        e,
+        BfmError::Timeout {
+            op: OpKind::Write,
+            addr: 0x04,
+            cycles: 200
+        }
+    );
     assert_eq!(m.ctl(), 0, "control PIO cleared after the timeout");
 }
 
@@ -238,7 +335,14 @@ fn endless_pause_times_out() {
     m.set_pause(Some(Box::new(std::iter::repeat(true))));
     let mut ram = WishboneRam::new("ram");
     let e = blocking_read(&mut m, &mut ram, 9).unwrap_err();
-    assert_eq!(e, BfmError::Timeout { op: OpKind::Read, addr: 9, cycles: 20 });
+    assert_eq!(
+        e,
+        BfmError::Timeout {
+            op: OpKind::Read,
+            addr: 9,
+            cycles: 20
+        }
+    );
     assert_eq!(ram.accesses(), 0);
 }
 
@@ -251,7 +355,12 @@ where
     T: HostBusTarget<M::Out, M::In>,
 {
     capture_logs();
-    let hs = [m.start_write(1, 0x11), m.start_read(1), m.start_write(2, 0x22), m.start_read(3)];
+    let hs = [
+        m.start_write(1, 0x11),
+        m.start_read(1),
+        m.start_write(2, 0x22),
+        m.start_read(3),
+    ];
     // One edge: the first operation starts and is on the pins.
     for _ in 0..1 {
         let o = m.outputs();
@@ -262,10 +371,18 @@ where
     m.reset();
     assert!(!busy(&m.outputs()), "pins idle after reset");
     assert_eq!(m.in_flight(), 0);
-    for (h, (kind, addr)) in hs.iter().zip([(OpKind::Write, 1), (OpKind::Read, 1), (OpKind::Write, 2), (OpKind::Read, 3)]) {
+    for (h, (kind, addr)) in hs.iter().zip([
+        (OpKind::Write, 1),
+        (OpKind::Read, 1),
+        (OpKind::Write, 2),
+        (OpKind::Read, 3),
+    ]) {
         assert_eq!(m.poll(*h), Some(Err(BfmError::Flushed { op: kind, addr })));
     }
-    let warnings: Vec<_> = logs().into_iter().filter(|(l, s)| *l == log::Level::Warn && s.contains("flushed")).collect();
+    let warnings: Vec<_> = logs()
+        .into_iter()
+        .filter(|(l, s)| *l == log::Level::Warn && s.contains("flushed"))
+        .collect();
     assert_eq!(warnings.len(), 4, "{warnings:?}");
     // Redeemed handles are gone: a clear error, not a hang.
     assert_eq!(m.poll(hs[0]), Some(Err(BfmError::UnknownHandle(hs[0]))));
@@ -276,7 +393,11 @@ where
 
 #[test]
 fn reset_flushes_wishbone() {
-    reset_flushes(WishboneMaster::new("wb"), WishboneRam::new("ram"), |o: &WbMasterOut| o.cyc);
+    reset_flushes(
+        WishboneMaster::new("wb"),
+        WishboneRam::new("ram"),
+        |o: &WbMasterOut| o.cyc,
+    );
 }
 
 #[test]
@@ -308,7 +429,13 @@ fn reset_flushes_pio() {
     for h in hs {
         assert!(matches!(m.poll(h), Some(Err(BfmError::Flushed { .. }))));
     }
-    assert_eq!(logs().iter().filter(|(l, s)| *l == log::Level::Warn && s.contains("flushed")).count(), 2);
+    assert_eq!(
+        logs()
+            .iter()
+            .filter(|(l, s)| *l == log::Level::Warn && s.contains("flushed"))
+            .count(),
+        2
+    );
 }
 
 /// Construction logs the role's widths and options.
@@ -319,7 +446,10 @@ fn roles_log_their_setup() {
     let _ = AvalonMaster::new("av0", AvalonMasterConfig::default());
     let _ = PioMaster::new("pio0", PioTiming::default());
     let l = logs();
-    let has = |name: &str, what: &str| l.iter().any(|(_, s)| s.starts_with(name) && s.contains(what));
+    let has = |name: &str, what: &str| {
+        l.iter()
+            .any(|(_, s)| s.starts_with(name) && s.contains(what))
+    };
     assert!(has("wb0", "adr 8 bits"), "{l:?}");
     assert!(has("av0", "begintransfer absent"), "{l:?}");
     assert!(has("pio0", "IOWR 3 cycles, IORD 5 cycles"), "{l:?}");
@@ -338,7 +468,13 @@ fn wishbone_err_and_rty() {
         s
     })
     .unwrap_err();
-    assert_eq!(e, BfmError::BusError { op: OpKind::Write, addr: 3 });
+    assert_eq!(
+        e,
+        BfmError::BusError {
+            op: OpKind::Write,
+            addr: 3
+        }
+    );
 
     // First answer is rty, then normal acks.
     let mut retries = 0;
@@ -361,7 +497,13 @@ fn wishbone_err_and_rty() {
 /// The PIO master drives the thesis's control words in order.
 #[test]
 fn pio_control_word_sequence() {
-    let mut m = PioMaster::new("pio", PioTiming { iowr_cycles: 1, iord_cycles: 1 });
+    let mut m = PioMaster::new(
+        "pio",
+        PioTiming {
+            iowr_cycles: 1,
+            iord_cycles: 1,
+        },
+    );
     let mut ram = WishboneRam::new("ram");
     let mut seen = vec![m.ctl()];
     let h = m.start_write(0x1F, 0x00);
@@ -380,7 +522,10 @@ fn pio_control_word_sequence() {
     assert_eq!(seen, vec![0x00, 0x01, 0x07, 0x00, 0x06, 0x00]);
     // Address and data were set before the strobe rose.
     let first_stb = trace.iter().find(|o| o.stb).unwrap();
-    assert_eq!((first_stb.adr, first_stb.dat, first_stb.we, first_stb.cyc), (0x1F, 0x00, true, true));
+    assert_eq!(
+        (first_stb.adr, first_stb.dat, first_stb.we, first_stb.cyc),
+        (0x1F, 0x00, true, true)
+    );
     let _: WbSlaveOut = Default::default();
 
     // The reset pulse: ctl 0x08 held, then 0.
@@ -393,7 +538,10 @@ fn pio_control_word_sequence() {
         rst_cycles += m.rst() as u32;
     }
     assert!(m.poll(h).unwrap().is_ok());
-    assert_eq!(rst_cycles, 11, "rst held for the busy loop plus the clearing IOWR");
+    assert_eq!(
+        rst_cycles, 11,
+        "rst held for the busy loop plus the clearing IOWR"
+    );
     assert!(!m.rst());
 }
 
@@ -414,8 +562,18 @@ fn pio_polling_misses_pulse_acks() {
         (r, ram.accesses())
     };
     let (r, accesses) = run(AckMode::Pulse);
-    assert_eq!(r, Err(BfmError::Timeout { op: OpKind::Read, addr: 0, cycles: 2000 }));
-    assert!(accesses > 100, "the held strobe re-triggered the access {accesses} times");
+    assert_eq!(
+        r,
+        Err(BfmError::Timeout {
+            op: OpKind::Read,
+            addr: 0,
+            cycles: 2000
+        })
+    );
+    assert!(
+        accesses > 100,
+        "the held strobe re-triggered the access {accesses} times"
+    );
     let (r, accesses) = run(AckMode::Level);
     assert!(r.is_ok(), "{r:?}");
     assert_eq!(accesses, 1);

@@ -51,7 +51,13 @@ where
     W: Watch<M::Out, M::In>,
 {
     pub fn new(master: M, target: T, watch: W) -> Self {
-        Self { master, target, watch, cycle: 0, violations: Vec::new() }
+        Self {
+            master,
+            target,
+            watch,
+            cycle: 0,
+            violations: Vec::new(),
+        }
     }
 
     /// One host cycle, exactly as the kernel does it.
