@@ -1,11 +1,19 @@
 //! Co-simulation of HDL CAN controllers against the golden model: a thin
 //! Verilator bridge of our own ([`bridge`], see the README's design notes),
-//! a simulation kernel with two independent clocks, DUTs (Verilated RTL or
-//! the golden model itself), CAN bus wiring, a lockstep comparator and a
-//! VCD writer.
+//! a simulation kernel with two independent clocks ([`kernel`]), DUTs
+//! (Verilated RTL, the golden model itself, or a Rust twin of a fixture:
+//! [`dut`]), a bit clock, a lockstep comparator ([`compare`]), a VCD
+//! writer ([`wave`]) and the [`Testbench`] that ties them together.
 #![warn(missing_docs)]
 
+pub mod bitclock;
 pub mod bridge;
+pub mod compare;
+pub mod dut;
+pub mod kernel;
 pub mod shimgen;
 
 pub use bridge::{BridgeError, CompiledCore, ExternalCore, Model, Port, PortInfo, bundled_tops};
+pub use compare::{CompareConfig, Comparator, Reference};
+pub use dut::{CanPins, Dut, EchoModel, HostPort, VerilatedDut};
+pub use kernel::{Kernel, KernelError, Tick};

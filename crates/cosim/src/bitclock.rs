@@ -1,0 +1,92 @@
+//! The test bench's own bit clock: finds the sample points on the bus from
+//! the programmed bit timing (BTR0/BTR1), hard-synchronising on every
+//! recessive-to-dominant edge. It stamps bits for the record and the VCD,
+//! and tells the comparator where to compare tx, when the reference does
+//! not report its own sample points.
+
+use can_proto::timing::BusTiming;
+
+/// Sample-point finder on a bus level sampled once per CAN clock.
+#[derive(Clone, Debug)]
+pub struct BitClock {
+    timing: BusTiming,
+    count: u32,
+    prev: bool,
+    bits: u64,
+}
+
+impl BitClock {
+    /// A bit clock for `timing`, bus idle (recessive).
+    pub fn new(timing: BusTiming) -> BitClock {
+        BitClock { timing, count: 0, prev: true, bits: 0 }
+    }
+
+    /// Changes the timing (the host wrote BTR0/BTR1).
+    pub fn set_timing(&mut self, timing: BusTiming) {
+        self.timing = timing;
+        self.count = 0;
+    }
+
+    /// The timing in use.
+    pub fn timing(&self) -> BusTiming {
+        self.timing
+    }
+
+    /// CAN clocks per bit.
+    pub fn clocks_per_bit(&self) -> u32 {
+        self.timing.clocks_per_bit()
+    }
+
+    /// Index within the bit of the clock at which the bus is sampled: the
+    /// last clock of TSEG1.
+    pub fn sample_clock(&self) -> u32 {
+        (1 + self.timing.tseg1 as u32 + 1) * self.timing.clocks_per_tq() - 1
+    }
+
+    /// Bits sampled so far.
+    pub fn bits(&self) -> u64 {
+        self.bits
+    }
+
+    /// One CAN clock with bus `level`; true if this clock is a sample point.
+    #[inline]
+    pub fn clock(&mut self, level: bool) -> bool {
+        if self.prev && !level {
+            self.count = 0;
+        }
+        self.prev = level;
+        let sample = self.count == self.sample_clock();
+        self.count += 1;
+        if self.count >= self.clocks_per_bit() {
+            self.count = 0;
+        }
+        if sample {
+            self.bits += 1;
+        }
+        sample
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn samples_once_per_bit_at_the_end_of_tseg1_after_hard_sync() {
+        // Thesis timing: BTR0 0x41 (BRP 1: 4 clocks/tq), BTR1 0x25 (TSEG1 5, TSEG2 2): 10 tq.
+        let t = BusTiming::from_btr(0x41, 0x25);
+        let mut c = BitClock::new(t);
+        assert_eq!(c.clocks_per_bit(), 40);
+        assert_eq!(c.sample_clock(), 27);
+        let mut samples = Vec::new();
+        // 3 recessive bits then a dominant edge at clock 100, then 3 bits dominant.
+        for k in 0..(100 + 120) {
+            let level = k < 100;
+            if c.clock(level) {
+                samples.push(k);
+            }
+        }
+        assert_eq!(samples, vec![27, 67, 127, 167, 207], "free-running, then re-synced at clock 100");
+        assert_eq!(c.bits(), 5);
+    }
+}

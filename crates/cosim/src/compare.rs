@@ -1,0 +1,447 @@
+//! The lockstep comparator. The DUT and a reference (the golden model, or
+//! the Rust twin of a fixture) get the same host transactions, the
+//! reference at the very edge the DUT acknowledged each one, and see the
+//! same rx. Compared:
+//!
+//! - `tx` at every sample point, except within `tx_edge_tolerance` CAN
+//!   clocks of a reference tx edge (either side): where an implementation
+//!   puts its tx edge within the sync segment is its own business;
+//! - every register read, exactly, except SR and IR, whose bits change at
+//!   implementation-defined instants: a read of those matches if the
+//!   reference held the same value at some CAN clock within
+//!   `status_tolerance` clocks before the read (or, for SR, after it);
+//! - `irq_on` and `bus_off_on`, which may differ for at most
+//!   `pin_tolerance` CAN clocks in a row.
+//!
+//! The tolerances are part of the report ([`CompareConfig::describe`]).
+//! The first divergence stops the comparison; the record keeps the bits
+//! before it.
+
+use std::collections::VecDeque;
+
+use can_proto::Field;
+use diagnose::{CanMode, Divergence, DivergenceKind, EventKind, WriteOutcome};
+
+use crate::dut::CanPins;
+
+/// SR address (both register views).
+pub const SR_ADDR: u8 = 2;
+/// IR address (both register views).
+pub const IR_ADDR: u8 = 3;
+
+/// A reference the DUT is compared with: host access by direct calls and
+/// one CAN clock at a time.
+pub trait Reference {
+    /// What it is.
+    fn name(&self) -> String;
+    /// Hardware reset.
+    fn hard_reset(&mut self);
+    /// Host write; the model's verdict if it has one.
+    fn write(&mut self, addr: u8, data: u8) -> Option<WriteOutcome>;
+    /// Host read (with side effects).
+    fn read(&mut self, addr: u8) -> u8;
+    /// Read without side effects.
+    fn peek(&self, addr: u8) -> u8;
+    /// One CAN clock with rx level `rx`.
+    fn clock(&mut self, rx: bool);
+    /// Output pins after the last clock.
+    fn pins(&self) -> CanPins;
+    /// Field of the bit stream the reference is in, if it knows.
+    fn field(&self) -> Option<Field> {
+        None
+    }
+    /// TEC and REC, if it has them.
+    fn counters(&self) -> Option<(u16, u16)> {
+        None
+    }
+    /// Register view and reset mode, if it has them.
+    fn mode(&self) -> Option<(CanMode, bool)> {
+        None
+    }
+    /// Register name at `addr` in the view in force.
+    fn reg_name(&self, _addr: u8, _write: bool) -> Option<String> {
+        None
+    }
+    /// Engine events since the last call.
+    fn drain_events(&mut self, _out: &mut Vec<EventKind>) {}
+}
+
+/// Comparator tolerances.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct CompareConfig {
+    /// No tx comparison within this many CAN clocks of a reference tx edge.
+    pub tx_edge_tolerance: u32,
+    /// SR/IR reads match any reference value within this many CAN clocks.
+    pub status_tolerance: u32,
+    /// irq_on / bus_off_on may differ for this many CAN clocks in a row.
+    pub pin_tolerance: u32,
+    /// Compare irq_on.
+    pub compare_irq: bool,
+    /// Compare bus_off_on.
+    pub compare_bus_off: bool,
+}
+
+impl Default for CompareConfig {
+    fn default() -> Self {
+        CompareConfig { tx_edge_tolerance: 4, status_tolerance: 48, pin_tolerance: 48, compare_irq: true, compare_bus_off: true }
+    }
+}
+
+impl CompareConfig {
+    /// The tolerances in words, for the report.
+    pub fn describe(&self) -> String {
+        format!(
+            "tx compared at sample points, not within {} CAN clocks of a model tx edge; register reads exact except SR/IR \
+             (match if the model held that value within {} CAN clocks); irq_on{} / bus_off_on{} may differ for at most {} CAN clocks",
+            self.tx_edge_tolerance,
+            self.status_tolerance,
+            if self.compare_irq { "" } else { " (not compared)" },
+            if self.compare_bus_off { "" } else { " (not compared)" },
+            self.pin_tolerance
+        )
+    }
+}
+
+/// Where in the run a comparison happens.
+#[derive(Clone, Copy, Debug, Default)]
+pub struct Stamp {
+    /// Time, ps.
+    pub t_ps: u64,
+    /// Bit index.
+    pub bit: u64,
+    /// Field (reference's, else decoder's).
+    pub field: Option<Field>,
+    /// Frame number.
+    pub frame: Option<u32>,
+}
+
+#[derive(Clone, Copy, Debug)]
+struct TxSample {
+    ref_tx: bool,
+    dut_tx: bool,
+    sample: bool,
+    stamp: Stamp,
+}
+
+struct PendingRead {
+    addr: u8,
+    dut: u8,
+    model: u8,
+    clocks_left: u32,
+    stamp: Stamp,
+}
+
+/// The comparator's state.
+pub struct Comparator {
+    cfg: CompareConfig,
+    window: VecDeque<TxSample>,
+    sr_hist: VecDeque<u8>,
+    ir_hist: VecDeque<u8>,
+    irq_bad: u32,
+    irq_since: Stamp,
+    bus_bad: u32,
+    bus_since: Stamp,
+    pending: Vec<PendingRead>,
+    divergence: Option<Divergence>,
+    /// Reads and sample points compared (for the report).
+    pub compared_bits: u64,
+    /// Register reads compared.
+    pub compared_reads: u64,
+    /// Reads accepted only thanks to the status tolerance.
+    pub tolerated_reads: u64,
+}
+
+impl Comparator {
+    /// A comparator with these tolerances.
+    pub fn new(cfg: CompareConfig) -> Comparator {
+        Comparator {
+            cfg,
+            window: VecDeque::with_capacity(2 * cfg.tx_edge_tolerance as usize + 2),
+            sr_hist: VecDeque::new(),
+            ir_hist: VecDeque::new(),
+            irq_bad: 0,
+            irq_since: Stamp::default(),
+            bus_bad: 0,
+            bus_since: Stamp::default(),
+            pending: Vec::new(),
+            divergence: None,
+            compared_bits: 0,
+            compared_reads: 0,
+            tolerated_reads: 0,
+        }
+    }
+
+    /// The tolerances.
+    pub fn config(&self) -> &CompareConfig {
+        &self.cfg
+    }
+
+    /// The first divergence, once found.
+    pub fn divergence(&self) -> Option<&Divergence> {
+        self.divergence.as_ref()
+    }
+
+    fn diverge(&mut self, kind: DivergenceKind, s: Stamp, register: Option<String>, expected: u32, seen: u32, context: String) {
+        if self.divergence.is_none() {
+            self.divergence = Some(Divergence {
+                kind,
+                time_ps: s.t_ps,
+                bit: Some(s.bit),
+                frame: s.frame,
+                field: s.field,
+                register,
+                expected,
+                seen,
+                context: format!("{context}; tolerances: {}", self.cfg.describe()),
+            });
+        }
+    }
+
+    /// One CAN clock, after both sides were clocked: `sample` says whether
+    /// it is a sample point; `sr`/`ir` are the reference's peeks.
+    #[inline]
+    pub fn can_clock(&mut self, stamp: Stamp, sample: bool, reference: &CanPins, dut: &CanPins, sr: u8, ir: u8) {
+        if self.divergence.is_some() {
+            return;
+        }
+        // tx with an edge-tolerance window centred on the checked clock.
+        let tol = self.cfg.tx_edge_tolerance as usize;
+        self.window.push_back(TxSample { ref_tx: reference.tx, dut_tx: dut.tx, sample, stamp });
+        if self.window.len() > 2 * tol + 1 {
+            self.window.pop_front();
+        }
+        if self.window.len() == 2 * tol + 1 {
+            let mid = self.window[tol];
+            if mid.sample {
+                let stable = self.window.iter().all(|w| w.ref_tx == mid.ref_tx);
+                if stable {
+                    self.compared_bits += 1;
+                    if mid.dut_tx != mid.ref_tx {
+                        let lvl = |b: bool| if b { "recessive" } else { "dominant" };
+                        self.diverge(
+                            DivergenceKind::TxBit,
+                            mid.stamp,
+                            None,
+                            mid.ref_tx as u32,
+                            mid.dut_tx as u32,
+                            format!("at the sample point the model drives {} and the DUT's tx_o is {}", lvl(mid.ref_tx), lvl(mid.dut_tx)),
+                        );
+                        return;
+                    }
+                }
+            }
+        }
+        // Status history for tolerant reads.
+        let depth = self.cfg.status_tolerance as usize + 1;
+        self.sr_hist.push_back(sr);
+        self.ir_hist.push_back(ir);
+        if self.sr_hist.len() > depth {
+            self.sr_hist.pop_front();
+            self.ir_hist.pop_front();
+        }
+        // Pending SR reads: look forward.
+        let mut k = 0;
+        while k < self.pending.len() {
+            let p = &mut self.pending[k];
+            if p.addr == SR_ADDR && sr == p.dut {
+                self.tolerated_reads += 1;
+                self.pending.swap_remove(k);
+                continue;
+            }
+            if p.clocks_left == 0 {
+                let p = self.pending.swap_remove(k);
+                self.diverge(
+                    DivergenceKind::RegisterRead,
+                    p.stamp,
+                    Some(reg_label(p.addr)),
+                    p.model as u32,
+                    p.dut as u32,
+                    format!("read of address {} returned 0x{:02X}, the model 0x{:02X}", p.addr, p.dut, p.model),
+                );
+                return;
+            }
+            p.clocks_left -= 1;
+            k += 1;
+        }
+        // Pins: a mismatch may last pin_tolerance clocks.
+        if self.cfg.compare_irq {
+            if reference.irq_n != dut.irq_n {
+                if self.irq_bad == 0 {
+                    self.irq_since = stamp;
+                }
+                self.irq_bad += 1;
+                if self.irq_bad > self.cfg.pin_tolerance {
+                    let s = self.irq_since;
+                    self.diverge(
+                        DivergenceKind::Irq,
+                        s,
+                        None,
+                        reference.irq_n as u32,
+                        dut.irq_n as u32,
+                        format!("irq_on (active low) differs for more than {} CAN clocks", self.cfg.pin_tolerance),
+                    );
+                    return;
+                }
+            } else {
+                self.irq_bad = 0;
+            }
+        }
+        if self.cfg.compare_bus_off {
+            if reference.bus_on != dut.bus_on {
+                if self.bus_bad == 0 {
+                    self.bus_since = stamp;
+                }
+                self.bus_bad += 1;
+                if self.bus_bad > self.cfg.pin_tolerance {
+                    let s = self.bus_since;
+                    self.diverge(
+                        DivergenceKind::BusOff,
+                        s,
+                        None,
+                        reference.bus_on as u32,
+                        dut.bus_on as u32,
+                        format!("bus_off_on (high = on the bus) differs for more than {} CAN clocks", self.cfg.pin_tolerance),
+                    );
+                }
+            } else {
+                self.bus_bad = 0;
+            }
+        }
+    }
+
+    /// A register read completed on both sides: `dut` from the DUT, `model`
+    /// from the reference at the same edge.
+    pub fn read(&mut self, stamp: Stamp, addr: u8, dut: u8, model: u8, name: Option<String>) {
+        if self.divergence.is_some() {
+            return;
+        }
+        self.compared_reads += 1;
+        if dut == model {
+            return;
+        }
+        let hist = match addr {
+            SR_ADDR => Some(&self.sr_hist),
+            IR_ADDR => Some(&self.ir_hist),
+            _ => None,
+        };
+        if let Some(h) = hist {
+            if h.iter().any(|v| *v == dut) {
+                self.tolerated_reads += 1;
+                return;
+            }
+            if addr == SR_ADDR && self.cfg.status_tolerance > 0 {
+                self.pending.push(PendingRead { addr, dut, model, clocks_left: self.cfg.status_tolerance, stamp });
+                return;
+            }
+        }
+        let label = name.unwrap_or_else(|| reg_label(addr));
+        self.diverge(
+            DivergenceKind::RegisterRead,
+            stamp,
+            Some(label.clone()),
+            model as u32,
+            dut as u32,
+            format!("read of {label} (address {addr}) returned 0x{dut:02X}, the model 0x{model:02X}"),
+        );
+    }
+
+    /// Reads still waiting for their tolerance window to close.
+    pub fn pending_reads(&self) -> usize {
+        self.pending.len()
+    }
+}
+
+fn reg_label(addr: u8) -> String {
+    match addr {
+        SR_ADDR => "SR".into(),
+        IR_ADDR => "IR".into(),
+        a => format!("address {a}"),
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn pins(tx: bool) -> CanPins {
+        CanPins { tx, irq_n: true, bus_on: true, clkout: false }
+    }
+
+    fn run(cfg: CompareConfig, ref_tx: &[bool], dut_tx: &[bool], samples: &[usize]) -> Comparator {
+        let mut c = Comparator::new(cfg);
+        for k in 0..ref_tx.len() {
+            let s = Stamp { t_ps: k as u64, bit: k as u64, ..Stamp::default() };
+            c.can_clock(s, samples.contains(&k), &pins(ref_tx[k]), &pins(dut_tx[k]), 0, 0);
+        }
+        c
+    }
+
+    #[test]
+    fn tx_edges_within_tolerance_are_not_compared_but_sample_points_are() {
+        let cfg = CompareConfig { tx_edge_tolerance: 2, ..CompareConfig::default() };
+        // Model edge at clock 10, DUT edge at 12 (late by 2): sample at 11 is
+        // inside the window, sample at 20 is stable and equal.
+        let r: Vec<bool> = (0..30).map(|k| k < 10).collect();
+        let d: Vec<bool> = (0..30).map(|k| k < 12).collect();
+        let c = run(cfg, &r, &d, &[11, 20]);
+        assert!(c.divergence().is_none());
+        assert_eq!(c.compared_bits, 1);
+        // Late by 5 with a sample at 14: a divergence at 14.
+        let d: Vec<bool> = (0..30).map(|k| k < 15).collect();
+        let c = run(cfg, &r, &d, &[14, 20]);
+        let dv = c.divergence().expect("divergence");
+        assert_eq!(dv.kind, DivergenceKind::TxBit);
+        assert_eq!(dv.time_ps, 14);
+        assert_eq!((dv.expected, dv.seen), (0, 1));
+        assert!(dv.context.contains("not within 2 CAN clocks"), "tolerance printed: {}", dv.context);
+    }
+
+    #[test]
+    fn status_reads_use_the_window_other_reads_are_exact() {
+        let mut c = Comparator::new(CompareConfig { status_tolerance: 3, ..CompareConfig::default() });
+        let p = pins(true);
+        for sr in [0x0C, 0x0C, 0x3C] {
+            c.can_clock(Stamp::default(), false, &p, &p, sr, 0);
+        }
+        c.read(Stamp::default(), SR_ADDR, 0x0C, 0x3C, None);
+        assert!(c.divergence().is_none(), "SR 0x0C was the model's value 1 clock ago");
+        assert_eq!(c.tolerated_reads, 1);
+        // SR value the model takes 2 clocks after the read: accepted too.
+        c.read(Stamp::default(), SR_ADDR, 0x1C, 0x3C, None);
+        assert_eq!(c.pending_reads(), 1);
+        c.can_clock(Stamp::default(), false, &p, &p, 0x3C, 0);
+        c.can_clock(Stamp::default(), false, &p, &p, 0x1C, 0);
+        assert_eq!(c.pending_reads(), 0);
+        assert!(c.divergence().is_none());
+        // SR value never taken: divergence once the window closes.
+        c.read(Stamp { t_ps: 77, ..Stamp::default() }, SR_ADDR, 0xFF, 0x1C, None);
+        for _ in 0..5 {
+            c.can_clock(Stamp::default(), false, &p, &p, 0x1C, 0);
+        }
+        let d = c.divergence().expect("SR 0xFF never held");
+        assert_eq!((d.kind, d.time_ps, d.register.as_deref()), (DivergenceKind::RegisterRead, 77, Some("SR")));
+        // Another register: exact.
+        let mut c = Comparator::new(CompareConfig::default());
+        c.read(Stamp::default(), 6, 0x41, 0x41, Some("BTR0".into()));
+        assert!(c.divergence().is_none());
+        c.read(Stamp::default(), 6, 0x40, 0x41, Some("BTR0".into()));
+        assert_eq!(c.divergence().unwrap().register.as_deref(), Some("BTR0"));
+    }
+
+    #[test]
+    fn irq_may_differ_briefly_but_not_longer_than_the_tolerance() {
+        let mut c = Comparator::new(CompareConfig { pin_tolerance: 3, ..CompareConfig::default() });
+        let r = CanPins { irq_n: false, ..pins(true) };
+        let d = pins(true);
+        for k in 0..3 {
+            c.can_clock(Stamp { t_ps: k, ..Stamp::default() }, false, &r, &d, 0, 0);
+        }
+        assert!(c.divergence().is_none());
+        c.can_clock(Stamp::default(), false, &r, &r, 0, 0);
+        for k in 10..14 {
+            c.can_clock(Stamp { t_ps: k, ..Stamp::default() }, false, &r, &d, 0, 0);
+        }
+        let dv = c.divergence().expect("irq divergence");
+        assert_eq!((dv.kind, dv.time_ps), (DivergenceKind::Irq, 10));
+    }
+}

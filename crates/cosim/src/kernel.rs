@@ -1,0 +1,181 @@
+//! The one owner of time: picoseconds in a `u64`, and two independent
+//! clocks, the CAN clock `clk_i` and the host clock `wb_clk_i` (24 MHz and
+//! 50 MHz on the DE2). Edge times are computed from the edge index with
+//! integer arithmetic, so a run is exactly reproducible and never drifts.
+
+/// A free-running clock starting low at t = 0.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct ClockGen {
+    freq_hz: u64,
+    /// Edges already made.
+    edges: u64,
+    level: bool,
+}
+
+impl ClockGen {
+    fn new(freq_hz: u64) -> ClockGen {
+        ClockGen { freq_hz, edges: 0, level: false }
+    }
+
+    /// Time of edge number `n` (n >= 1): n half periods, rounded down.
+    fn edge_time(&self, n: u64) -> u64 {
+        ((n as u128 * 1_000_000_000_000u128) / (2 * self.freq_hz as u128)) as u64
+    }
+
+    fn next_edge(&self) -> u64 {
+        self.edge_time(self.edges + 1)
+    }
+
+    /// Frequency in Hz.
+    pub fn freq_hz(&self) -> u64 {
+        self.freq_hz
+    }
+
+    /// Rising edges so far (completed cycles).
+    pub fn cycles(&self) -> u64 {
+        self.edges.div_ceil(2)
+    }
+
+    /// Current level.
+    pub fn level(&self) -> bool {
+        self.level
+    }
+}
+
+/// What changed at one instant.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub struct Tick {
+    /// Time of the instant, ps.
+    pub t_ps: u64,
+    /// The host clock rose.
+    pub host_rise: bool,
+    /// The host clock fell.
+    pub host_fall: bool,
+    /// The CAN clock rose.
+    pub can_rise: bool,
+    /// The CAN clock fell.
+    pub can_fall: bool,
+}
+
+/// Bad kernel configuration.
+#[derive(Debug, thiserror::Error, PartialEq, Eq)]
+pub enum KernelError {
+    /// A clock of 0 Hz or above 500 GHz (one edge per picosecond).
+    #[error("{which} clock frequency {hz} Hz is out of range (1 Hz ..= 500 GHz)")]
+    BadFrequency {
+        /// Which clock.
+        which: &'static str,
+        /// The value given.
+        hz: u64,
+    },
+}
+
+/// Time and the two clocks.
+#[derive(Clone, Debug)]
+pub struct Kernel {
+    now_ps: u64,
+    host: ClockGen,
+    can: ClockGen,
+}
+
+impl Kernel {
+    /// Clocks of `host_hz` (`wb_clk_i`) and `can_hz` (`clk_i`).
+    pub fn new(host_hz: u64, can_hz: u64) -> Result<Kernel, KernelError> {
+        for (which, hz) in [("host", host_hz), ("CAN", can_hz)] {
+            if hz == 0 || hz > 500_000_000_000 {
+                return Err(KernelError::BadFrequency { which, hz });
+            }
+        }
+        Ok(Kernel { now_ps: 0, host: ClockGen::new(host_hz), can: ClockGen::new(can_hz) })
+    }
+
+    /// Advances to the next instant at which either clock changes, and
+    /// says which edges happened (both clocks may change at once).
+    #[inline]
+    pub fn next(&mut self) -> Tick {
+        let th = self.host.next_edge();
+        let tc = self.can.next_edge();
+        let t = th.min(tc);
+        self.now_ps = t;
+        let mut tick = Tick { t_ps: t, ..Tick::default() };
+        if th == t {
+            self.host.edges += 1;
+            self.host.level = !self.host.level;
+            tick.host_rise = self.host.level;
+            tick.host_fall = !self.host.level;
+        }
+        if tc == t {
+            self.can.edges += 1;
+            self.can.level = !self.can.level;
+            tick.can_rise = self.can.level;
+            tick.can_fall = !self.can.level;
+        }
+        tick
+    }
+
+    /// Current time, ps.
+    pub fn now_ps(&self) -> u64 {
+        self.now_ps
+    }
+
+    /// The host clock.
+    pub fn host(&self) -> &ClockGen {
+        &self.host
+    }
+
+    /// The CAN clock.
+    pub fn can(&self) -> &ClockGen {
+        &self.can
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn two_clocks_interleave_exactly_and_deterministically() {
+        let mut k = Kernel::new(50_000_000, 24_000_000).unwrap();
+        let mut host_rises = Vec::new();
+        let mut can_rises = Vec::new();
+        while k.now_ps() < 1_000_000 {
+            let t = k.next();
+            if t.host_rise {
+                host_rises.push(t.t_ps);
+            }
+            if t.can_rise {
+                can_rises.push(t.t_ps);
+            }
+        }
+        // 50 MHz: 20 ns period, first rise at 10 ns; 24 MHz: 41.666 ns.
+        assert_eq!(&host_rises[..3], &[10_000, 30_000, 50_000]);
+        assert_eq!(&can_rises[..3], &[20_833, 62_500, 104_166]);
+        assert_eq!(host_rises.len(), 50);
+        assert_eq!(can_rises.len(), 24);
+        assert_eq!(k.host().cycles(), 50);
+        // 24 edges of 24 MHz in 1 us: no drift.
+        let mut k2 = Kernel::new(50_000_000, 24_000_000).unwrap();
+        let mut again = Vec::new();
+        while k2.now_ps() < 1_000_000 {
+            let t = k2.next();
+            if t.can_rise {
+                again.push(t.t_ps);
+            }
+        }
+        assert_eq!(again, can_rises);
+    }
+
+    #[test]
+    fn simultaneous_edges_come_in_one_tick() {
+        let mut k = Kernel::new(10_000_000, 10_000_000).unwrap();
+        let t = k.next();
+        assert!(t.host_rise && t.can_rise);
+        let t = k.next();
+        assert!(t.host_fall && t.can_fall);
+    }
+
+    #[test]
+    fn zero_frequency_is_an_error() {
+        assert_eq!(Kernel::new(0, 1).unwrap_err(), KernelError::BadFrequency { which: "host", hz: 0 });
+    }
+}
