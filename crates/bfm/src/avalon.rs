@@ -64,6 +64,7 @@ pub struct AvalonMaster {
     cfg: AvalonMasterConfig,
     q: OpQueue,
     pause: Option<Pause>,
+    in_reset: bool,
     active: Option<(PendingOp, Phase)>,
     prev: AvSlaveOut,
     out: AvMasterOut,
@@ -95,6 +96,7 @@ impl AvalonMaster {
             cfg,
             q: OpQueue::new(name, cfg.timeout_cycles),
             pause: None,
+            in_reset: false,
             active: None,
             prev: AvSlaveOut::default(),
             out: AvMasterOut::default(),
@@ -142,7 +144,8 @@ impl HostMaster for AvalonMaster {
 
     fn on_edge(&mut self, slave: &AvSlaveOut) {
         let sample = std::mem::replace(&mut self.prev, *slave);
-        let paused = step_pause(&mut self.pause);
+        // Held in reset: start nothing (queued operations wait, and time out).
+        let paused = step_pause(&mut self.pause) || self.in_reset;
         let mut aborted = false;
         if let Some((mut op, phase)) = self.active.take() {
             op.cycles += 1;
@@ -215,6 +218,20 @@ impl HostMaster for AvalonMaster {
         let active = self.active.take().map(|(op, _)| op);
         self.q.flush(active);
         self.drive();
+    }
+
+    fn set_reset(&mut self, asserted: bool) {
+        if asserted != self.in_reset {
+            log::info!(
+                "{}: reset {}",
+                self.q.name(),
+                if asserted { "asserted" } else { "released" }
+            );
+            if asserted {
+                self.reset();
+            }
+            self.in_reset = asserted;
+        }
     }
 
     fn set_timeout(&mut self, cycles: u64) {

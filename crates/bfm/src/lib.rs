@@ -72,7 +72,9 @@ mod wishbone;
 
 pub use avalon::{AvalonMaster, AvalonMasterConfig, AvalonRam, AvalonTiming};
 pub use monitor::{AvalonMonitor, AvalonMonitorConfig, Rule, Violation, WishboneMonitor};
-pub use op::{BfmError, DEFAULT_TIMEOUT_CYCLES, OpHandle, OpKind, OpResult, Pause, cycle_pause};
+pub use op::{
+    BfmError, DEFAULT_TIMEOUT_CYCLES, OpHandle, OpKind, OpResult, Pause, cycle_pause, random_pause,
+};
 pub use pins::{AvMasterOut, AvSlaveOut, WbMasterOut, WbSlaveOut};
 pub use pio::{
     CTL_CYC, CTL_RST, CTL_STB, CTL_WE, DEFAULT_PIO_TIMEOUT_CYCLES, PioMaster, PioTiming,
@@ -102,6 +104,10 @@ pub trait HostMaster {
     /// Flush every queued and in-flight operation (each is logged and
     /// completes with [`BfmError::Flushed`]) and return the pins to idle.
     fn reset(&mut self);
+    /// The reset line's level, given every cycle or on change: on assertion
+    /// the master [`reset`](HostMaster::reset)s once; while it is held, no
+    /// operation starts (queued ones wait and count towards their timeout).
+    fn set_reset(&mut self, asserted: bool);
     /// Timeout, in host cycles, given to operations queued from now on.
     fn set_timeout(&mut self, cycles: u64);
     /// Operations queued or in flight.

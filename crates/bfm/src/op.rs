@@ -20,6 +20,16 @@ pub fn cycle_pause() -> Pause {
     Box::new([true, true, true, false].into_iter().cycle())
 }
 
+/// Random idle/backpressure insertion: each cycle pauses with probability
+/// `numerator / denominator`, from a seeded Xoshiro256++ (portable and
+/// reproducible: the same seed gives the same pattern everywhere).
+pub fn random_pause(seed: u64, numerator: u32, denominator: u32) -> Pause {
+    use rand::{RngExt, SeedableRng};
+    let mut rng = rand::rngs::Xoshiro256PlusPlus::seed_from_u64(seed);
+    let (n, d) = (numerator.min(denominator.max(1)), denominator.max(1));
+    Box::new(std::iter::repeat_with(move || rng.random_ratio(n, d)))
+}
+
 /// Direction of a register access.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
 pub enum OpKind {

@@ -101,6 +101,7 @@ pub struct PioMaster {
     timing: PioTiming,
     q: OpQueue,
     pause: Option<Pause>,
+    in_reset: bool,
     active: Option<Active>,
     prev: WbSlaveOut,
     adr: u8,
@@ -122,6 +123,7 @@ impl PioMaster {
             timing,
             q: OpQueue::new(name, DEFAULT_PIO_TIMEOUT_CYCLES),
             pause: None,
+            in_reset: false,
             active: None,
             prev: WbSlaveOut::default(),
             adr: 0,
@@ -207,7 +209,8 @@ impl HostMaster for PioMaster {
 
     fn on_edge(&mut self, slave: &WbSlaveOut) {
         let sample = std::mem::replace(&mut self.prev, *slave);
-        let paused = step_pause(&mut self.pause);
+        // Held in reset: start nothing (queued operations wait, and time out).
+        let paused = step_pause(&mut self.pause) || self.in_reset;
         let mut aborted = false;
         if let Some(mut a) = self.active.take() {
             a.op.cycles += 1;
@@ -277,6 +280,20 @@ impl HostMaster for PioMaster {
         self.adr = 0;
         self.dat = 0;
         self.ctl = 0;
+    }
+
+    fn set_reset(&mut self, asserted: bool) {
+        if asserted != self.in_reset {
+            log::info!(
+                "{}: reset {}",
+                self.q.name(),
+                if asserted { "asserted" } else { "released" }
+            );
+            if asserted {
+                self.reset();
+            }
+            self.in_reset = asserted;
+        }
     }
 
     fn set_timeout(&mut self, cycles: u64) {

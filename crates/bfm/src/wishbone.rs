@@ -16,6 +16,7 @@ use crate::{
 pub struct WishboneMaster {
     q: OpQueue,
     pause: Option<Pause>,
+    in_reset: bool,
     active: Option<PendingOp>,
     retry_gap: bool,
     prev: WbSlaveOut,
@@ -32,6 +33,7 @@ impl WishboneMaster {
         Self {
             q: OpQueue::new(name, DEFAULT_TIMEOUT_CYCLES),
             pause: None,
+            in_reset: false,
             active: None,
             retry_gap: false,
             prev: WbSlaveOut::default(),
@@ -80,7 +82,8 @@ impl HostMaster for WishboneMaster {
     fn on_edge(&mut self, slave: &WbSlaveOut) {
         // What was on the wires before this edge.
         let sample = std::mem::replace(&mut self.prev, *slave);
-        let paused = step_pause(&mut self.pause);
+        // Held in reset: start nothing (queued operations wait, and time out).
+        let paused = step_pause(&mut self.pause) || self.in_reset;
         let mut aborted = false;
         if let Some(mut op) = self.active.take() {
             op.cycles += 1;
@@ -151,6 +154,20 @@ impl HostMaster for WishboneMaster {
         self.q.flush(active);
         self.retry_gap = false;
         self.drive();
+    }
+
+    fn set_reset(&mut self, asserted: bool) {
+        if asserted != self.in_reset {
+            log::info!(
+                "{}: reset {}",
+                self.q.name(),
+                if asserted { "asserted" } else { "released" }
+            );
+            if asserted {
+                self.reset();
+            }
+            self.in_reset = asserted;
+        }
     }
 
     fn set_timeout(&mut self, cycles: u64) {

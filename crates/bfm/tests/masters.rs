@@ -592,3 +592,77 @@ fn pio_write_repeats_on_pulse_ack_slave() {
     blocking_write(&mut m, &mut ram, 1, 0x42).expect("write");
     assert_eq!(ram.accesses(), 1);
 }
+
+/// Random wait insertion on both sides (seeded), for every master.
+#[test]
+fn random_waits_every_master() {
+    let ops: Vec<(bool, u8, u8)> = (0..60u8)
+        .map(|i| (i % 3 != 1, i % 7, i.wrapping_mul(37)))
+        .collect();
+    for seed in 0..8u64 {
+        let label = format!("seed {seed}");
+        let mut m = WishboneMaster::new("wb");
+        m.set_pause(Some(bfm::random_pause(seed, 1, 3)));
+        let mut ram = WishboneRam::new("ram");
+        ram.set_backpressure(Some(bfm::random_pause(seed + 100, 1, 2)));
+        let mut b = Bench::new(m, ram, WishboneMonitor::new("wbmon", 100));
+        check_traffic(&mut b, &ops, |r| *r.mem(), &label).unwrap();
+        for timing in AV_TIMINGS {
+            let mut m = AvalonMaster::new("av", av_cfg(timing));
+            m.set_pause(Some(bfm::random_pause(seed, 1, 3)));
+            let mut ram = AvalonRam::new("ram", timing);
+            ram.set_backpressure(Some(bfm::random_pause(seed + 100, 1, 2)));
+            let mut b = Bench::new(m, ram, av_mon(timing));
+            check_traffic(&mut b, &ops, |r| *r.mem(), &label).unwrap();
+        }
+        let mut m = PioMaster::new("pio", PioTiming::default());
+        m.set_pause(Some(bfm::random_pause(seed, 1, 3)));
+        let mut ram = WishboneRam::new("ram").with_ack_mode(AckMode::Level);
+        ram.set_backpressure(Some(bfm::random_pause(seed + 100, 1, 2)));
+        let mut b = Bench::new(m, ram, NoWatch);
+        check_traffic(&mut b, &ops, |r| *r.mem(), &label).unwrap();
+    }
+}
+
+#[test]
+fn random_pause_is_seeded() {
+    let a: Vec<bool> = bfm::random_pause(7, 1, 4).take(4000).collect();
+    let b: Vec<bool> = bfm::random_pause(7, 1, 4).take(4000).collect();
+    let c: Vec<bool> = bfm::random_pause(8, 1, 4).take(4000).collect();
+    assert_eq!(a, b);
+    assert_ne!(a, c);
+    let n = a.iter().filter(|x| **x).count();
+    assert!((850..1150).contains(&n), "{n} pauses in 4000 at 1/4");
+}
+
+/// The reset line: assertion flushes once; while held nothing starts;
+/// after release queued work runs.
+#[test]
+fn reset_pin_holds_and_flushes() {
+    capture_logs();
+    let mut m = WishboneMaster::new("wb");
+    let mut ram = WishboneRam::new("ram");
+    let before = m.start_write(1, 1);
+    m.set_reset(true);
+    assert!(matches!(
+        m.poll(before),
+        Some(Err(BfmError::Flushed { .. }))
+    ));
+    let during = m.start_write(2, 0x22);
+    for _ in 0..10 {
+        m.set_reset(true);
+        let o = m.outputs();
+        assert!(!o.cyc, "nothing starts while reset is held");
+        let s = ram.cycle(&o);
+        m.on_edge(&s);
+    }
+    assert_eq!(m.poll(during), None);
+    m.set_reset(false);
+    let r = run_op(&mut m, during, |o| ram.cycle(o)).expect("runs after release");
+    assert_eq!(r.cycles, 12, "10 cycles held in reset + 2 for the access");
+    assert_eq!(ram.mem()[2], 0x22);
+    assert_eq!(
+        logs().iter().filter(|(_, s)| s.contains("flushed")).count(),
+        1
+    );
+}
