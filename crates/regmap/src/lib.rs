@@ -23,6 +23,8 @@
 #![warn(missing_docs)]
 
 mod map;
+pub mod frame;
+pub mod generate;
 pub use map::{basic, peli};
 
 use std::fmt;
