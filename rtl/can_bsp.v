@@ -307,7 +307,10 @@ module can_bsp (
                                 // start of frame from another node
                                 st <= S_IDA; cnt <= 6'd0; scnt <= 3'd1; slast <= 1'b0;
                                 crc <= 15'd0; rx_id <= 29'd0; rx_data <= 64'd0;
-                                txr <= (st == S_INTER) && can_tx && !(txr && passive);
+                                // a pending request joins arbitration from the first
+                                // identifier bit (bus idle, or intermission bit 3 unless
+                                // this node must suspend transmission)
+                                txr <= can_tx && (st == S_IDLE || !(txr && passive)) && st != S_SUSP;
                             end else if (!rx) begin
                                 // dominant in intermission bit 1 or 2: overload frame
                                 st <= S_OFLAG; cnt <= 6'd0;

@@ -1,0 +1,303 @@
+// Icarus self-checks for rtl/can_top: two nodes on a wired-AND bus.
+//  1. BasicCAN, thesis frame (seed 000): node 0 sends ID 0x52D... bytes
+//     A5 21 51; tx_o is checked bit by bit against the expected stuffed
+//     frame, node 1 acknowledges and receives it (RX buffer, RI, TCS, TI).
+//  2. PeliCAN self test (STM) + self reception request (SRR), node 1 in
+//     reset mode: the frame goes out unacknowledged and comes back in RXFIFO.
+//  3. PeliCAN arbitration: both nodes start together; the lower ID wins,
+//     the loser captures ALC, receives the winner, then retransmits.
+//  4. PeliCAN, lone node without self test: ACK errors raise TEC by 8 up
+//     to 128 (error passive, EPI), then stay (rule 3 exception 1).
+// Exits with $fatal on the first failure; prints "PASS" at the end.
+`timescale 1ns/1ps
+module tb_can;
+    reg wb_clk = 0, clk0 = 0, clk1 = 0, wb_rst = 1;
+    always #10 wb_clk = ~wb_clk;              // 50 MHz host clock
+    always #20.833 clk0 = ~clk0;              // 24 MHz CAN clock node 0
+    always #20.840 clk1 = ~clk1;              // node 1: slightly off, resyncs
+
+    reg  [7:0] adr [0:1];
+    reg  [7:0] dwr [0:1];
+    reg        cyc [0:1];
+    reg        we  [0:1];
+    wire [7:0] dout0, dout1;
+    wire       ack0, ack1, tx0, tx1, bo0, bo1, irq0, irq1, ck0, ck1;
+    wire       bus = tx0 & tx1;
+
+    can_top n0 (.wb_clk_i(wb_clk), .wb_rst_i(wb_rst), .wb_dat_i(dwr[0]), .wb_dat_o(dout0),
+        .wb_cyc_i(cyc[0]), .wb_stb_i(cyc[0]), .wb_we_i(we[0]), .wb_adr_i(adr[0]), .wb_ack_o(ack0),
+        .clk_i(clk0), .rx_i(bus), .tx_o(tx0), .bus_off_on(bo0), .irq_on(irq0), .clkout_o(ck0));
+    can_top n1 (.wb_clk_i(wb_clk), .wb_rst_i(wb_rst), .wb_dat_i(dwr[1]), .wb_dat_o(dout1),
+        .wb_cyc_i(cyc[1]), .wb_stb_i(cyc[1]), .wb_we_i(we[1]), .wb_adr_i(adr[1]), .wb_ack_o(ack1),
+        .clk_i(clk1), .rx_i(bus), .tx_o(tx1), .bus_off_on(bo1), .irq_on(irq1), .clkout_o(ck1));
+
+    integer errors = 0;
+    integer max_lat = 0;
+    task fail(input [8*64-1:0] msg);
+        begin $display("FAIL: %0s (t=%0t)", msg, $time); $fatal(1); end
+    endtask
+
+    // one Wishbone classic access; checks the ack is a single-cycle pulse
+    task automatic wb(input integer n, input w, input [7:0] a, input [7:0] d, output [7:0] q);
+        integer t;
+        begin
+            @(posedge wb_clk); #1;
+            adr[n] = a; dwr[n] = d; we[n] = w; cyc[n] = 1;
+            t = 0;
+            @(posedge wb_clk);
+            while (!(n == 0 ? ack0 : ack1)) begin
+                #1; t = t + 1;
+                if (t > 200) fail("no wb_ack_o within 200 cycles");
+                @(posedge wb_clk);
+            end
+            q = (n == 0) ? dout0 : dout1;
+            if (t + 1 > max_lat) max_lat = t + 1;
+            #1; cyc[n] = 0; we[n] = 0;
+            @(posedge wb_clk);
+            if ((n == 0 ? ack0 : ack1)) fail("wb_ack_o longer than one cycle");
+        end
+    endtask
+    reg [7:0] tmp;
+    task automatic wr(input integer n, input [7:0] a, input [7:0] d); reg [7:0] t; wb(n, 1, a, d, t); endtask
+    task automatic rd(input integer n, input [7:0] a, output [7:0] q); wb(n, 0, a, 8'h00, q); endtask
+    task expect_reg(input integer n, input [7:0] a, input [7:0] v, input [8*40-1:0] what);
+        reg [7:0] q;
+        begin
+            rd(n, a, q);
+            if (q !== v) begin
+                $display("FAIL: node %0d %0s: addr %0d read %02h, expected %02h", n, what, a, q, v);
+                $fatal(1);
+            end
+        end
+    endtask
+
+    // ---- expected frame bits (reference: CAN 2.0B framing, not the RTL) ----
+    reg [0:199] exp_bits;    // stuffed SOF..CRC, then CRC delim, ACK, ACK delim, EOF
+    integer exp_len;
+    function [14:0] crc_add(input [14:0] c, input b);
+        crc_add = {c[13:0], 1'b0} ^ ((b ^ c[14]) ? 15'h4599 : 15'h0);
+    endfunction
+    task build_std(input [10:0] id, input rtr, input [3:0] dlc, input [63:0] data, input ack);
+        reg [0:127] raw; integer n, i, run; reg last; reg [14:0] c; integer nd;
+        begin
+            nd = (rtr || dlc == 0) ? 0 : (dlc > 8 ? 8 : dlc);
+            n = 0;
+            raw[n] = 0; n = n + 1;
+            for (i = 10; i >= 0; i = i - 1) begin raw[n] = id[i]; n = n + 1; end
+            raw[n] = rtr; n = n + 1; raw[n] = 0; n = n + 1; raw[n] = 0; n = n + 1;
+            for (i = 3; i >= 0; i = i - 1) begin raw[n] = dlc[i]; n = n + 1; end
+            for (i = 0; i < nd * 8; i = i + 1) begin raw[n] = data[63 - i]; n = n + 1; end
+            c = 0;
+            for (i = 0; i < n; i = i + 1) c = crc_add(c, raw[i]);
+            for (i = 14; i >= 0; i = i - 1) begin raw[n] = c[i]; n = n + 1; end
+            exp_len = 0; run = 0; last = 1'bx;
+            for (i = 0; i < n; i = i + 1) begin
+                exp_bits[exp_len] = raw[i]; exp_len = exp_len + 1;
+                if (raw[i] === last) run = run + 1; else begin run = 1; last = raw[i]; end
+                if (run == 5) begin
+                    exp_bits[exp_len] = ~last; exp_len = exp_len + 1; last = ~last; run = 1;
+                end
+            end
+            exp_bits[exp_len] = 1; exp_len = exp_len + 1;            // CRC delimiter
+            exp_bits[exp_len] = ack ? 1'b0 : 1'b1; exp_len = exp_len + 1; // ACK slot (bus)
+            for (i = 0; i < 8; i = i + 1) begin exp_bits[exp_len] = 1; exp_len = exp_len + 1; end
+        end
+    endtask
+
+    // capture node 0's sampled bus bits and its own tx_o at each sample point
+    reg [0:255] cap_bus, cap_tx;
+    integer cap_n = 0;
+    reg capturing = 0;
+    always @(posedge clk0) begin
+        if (n0.u_btl.sample && (capturing || (cap_n == 0 && n0.u_btl.rx_bit == 1'b0 && capturing === 1'b0 && arm))) begin
+            if (cap_n < 256) begin cap_bus[cap_n] <= n0.u_btl.rx_bit; cap_tx[cap_n] <= tx0; end
+            cap_n <= cap_n + 1;
+            capturing <= 1;
+        end
+    end
+    reg arm = 0;
+    task start_capture; begin cap_n = 0; capturing = 0; arm = 1; end endtask
+
+    task check_frame(input check_tx, input [8*32-1:0] what);
+        integer i;
+        begin
+            wait (cap_n >= exp_len);
+            arm = 0; capturing = 0;
+            for (i = 0; i < exp_len; i = i + 1) begin
+                if (cap_bus[i] !== exp_bits[i]) begin
+                    $display("FAIL: %0s: bus bit %0d is %b, expected %b", what, i, cap_bus[i], exp_bits[i]);
+                    $fatal(1);
+                end
+                // tx_o equals the frame except the ACK slot, which the sender leaves recessive
+                if (check_tx && cap_tx[i] !== ((i == exp_len - 9) ? 1'b1 : exp_bits[i])) begin
+                    $display("FAIL: %0s: tx_o bit %0d is %b", what, i, cap_tx[i]);
+                    $fatal(1);
+                end
+            end
+            $display("  %0s: %0d bits on the bus as expected", what, exp_len);
+        end
+    endtask
+
+    task wait_bits(input integer nbits);
+        integer k;
+        begin
+            for (k = 0; k < nbits; k = k + 1) @(posedge n0.u_btl.sample);
+        end
+    endtask
+
+    // +trace: log protocol events of both nodes
+    always @(posedge clk0) if ($test$plusargs("trace")) begin
+        if (n0.u_bsp.alc_evt) $display("%0t n0 arbitration lost at %0d", $time, n0.u_bsp.alc_val);
+        if (n0.u_bsp.err_evt) $display("%0t n0 bus error ecc=%02h", $time, n0.u_bsp.ecc_val);
+        if (n0.u_bsp.tx_done) $display("%0t n0 tx done", $time);
+        if (n0.u_bsp.rx_valid) $display("%0t n0 rx valid id=%h", $time, n0.u_bsp.rx_id);
+    end
+    always @(posedge clk1) if ($test$plusargs("trace")) begin
+        if (n1.u_bsp.alc_evt) $display("%0t n1 arbitration lost at %0d", $time, n1.u_bsp.alc_val);
+        if (n1.u_bsp.err_evt) $display("%0t n1 bus error ecc=%02h", $time, n1.u_bsp.ecc_val);
+        if (n1.u_bsp.tx_done) $display("%0t n1 tx done", $time);
+        if (n1.u_bsp.rx_valid) $display("%0t n1 rx valid id=%h", $time, n1.u_bsp.rx_id);
+    end
+
+    reg [7:0] q;
+    integer k;
+    initial begin
+        cyc[0] = 0; cyc[1] = 0; we[0] = 0; we[1] = 0; adr[0] = 0; adr[1] = 0; dwr[0] = 0; dwr[1] = 0;
+        repeat (3) @(posedge wb_clk);
+        #1 wb_rst = 0;
+
+        // ================= 1. BasicCAN thesis frame =================
+        $display("1. BasicCAN: thesis frame A5 21 51, node 1 acknowledges and receives");
+        for (k = 0; k < 2; k = k + 1) begin
+            expect_reg(k, 8'd0, 8'h21, "CR after reset");
+            expect_reg(k, 8'd2, 8'h3C, "SR after reset");
+            expect_reg(k, 8'd3, 8'hE0, "IR after reset");
+            wr(k, 8'd0, 8'h01);            // CR: reset request
+            wr(k, 8'd4, 8'hFF);            // ACR
+            wr(k, 8'd5, 8'hFF);            // AMR: accept all
+            wr(k, 8'd6, 8'h41);            // BTR0: SJW 2, BRP 1 -> tq = 4 clk
+            wr(k, 8'd7, 8'h25);            // BTR1: TSEG1 6, TSEG2 3 -> 10 tq
+            wr(k, 8'd8, 8'h1A);            // OCR
+            wr(k, 8'd31, 8'h07);           // CDR: BasicCAN, CLKOUT fosc
+            expect_reg(k, 8'd6, 8'h41, "BTR0 in reset mode");
+            wr(k, 8'd0, 8'h06);            // CR: operating, RIE + TIE
+            expect_reg(k, 8'd6, 8'hFF, "BTR0 in operating mode");
+        end
+        wait_bits(12);                      // bus integration (11 recessive bits)
+        wr(0, 8'd10, 8'hA5);
+        wr(0, 8'd11, 8'h21);
+        wr(0, 8'd12, 8'h51);
+        expect_reg(0, 8'd10, 8'hA5, "TX buffer readback");
+        build_std(11'b10100101001, 1'b0, 4'd1, {8'h51, 56'd0}, 1'b1);
+        if (exp_bits[0:19] !== 20'b0_10100101001_0_0_0_0_0_1_0_1)
+            fail("reference frame head differs from the thesis");
+        start_capture;
+        wr(0, 8'd1, 8'h01);                 // CMR: transmission request
+        check_frame(1'b1, "thesis frame");
+        wait_bits(4);
+        expect_reg(1, 8'd2, 8'h01 | 8'h0C, "node 1 SR (RBS, TBS, TCS)");
+        if (irq1 !== 1'b0) fail("node 1 irq_on not asserted");
+        expect_reg(1, 8'd3, 8'hE1, "node 1 IR (RI)");
+        expect_reg(1, 8'd20, 8'hA5, "node 1 RX byte 0");
+        expect_reg(1, 8'd21, 8'h21, "node 1 RX byte 1");
+        expect_reg(1, 8'd22, 8'h51, "node 1 RX byte 2");
+        wr(1, 8'd1, 8'h04);                 // RRB
+        expect_reg(1, 8'd2, 8'h0C, "node 1 SR after RRB");
+        expect_reg(0, 8'd2, 8'h0C, "node 0 SR (TBS, TCS)");
+        expect_reg(0, 8'd3, 8'hE2, "node 0 IR (TI)");
+        if (irq0 !== 1'b1) fail("node 0 irq_on not released by IR read");
+        $display("  Wishbone ack latency: %0d wb_clk_i cycles (max so far)", max_lat);
+
+        // ================= 2. PeliCAN self test + self reception =================
+        $display("2. PeliCAN self test (STM) + SRR on a lone node");
+        for (k = 0; k < 2; k = k + 1) begin
+            wr(k, 8'd0, 8'h01);             // reset mode (BasicCAN CR)
+            wr(k, 8'd31, 8'h87);            // CDR: PeliCAN
+            wr(k, 8'd0, 8'h05);             // MOD: RM + STM
+            for (q = 16; q < 20; q = q + 1) wr(k, q, 8'h00);   // ACR0-3
+            for (q = 20; q < 24; q = q + 1) wr(k, q, 8'hFF);   // AMR0-3: accept all
+            wr(k, 8'd4, 8'hFF);             // IER: all
+        end
+        expect_reg(0, 8'd0, 8'h05, "MOD");
+        expect_reg(0, 8'd13, 8'd96, "EWLR reset value");
+        wr(0, 8'd0, 8'h04);                 // node 0: operating, self test
+        wait_bits(12);
+        wr(0, 8'd16, 8'h01);                // frame info: std, DLC 1
+        wr(0, 8'd17, 8'hA5);
+        wr(0, 8'd18, 8'h20);
+        wr(0, 8'd19, 8'h51);
+        expect_reg(0, 8'd97, 8'hA5, "TX RAM readback");
+        build_std(11'b10100101001, 1'b0, 4'd1, {8'h51, 56'd0}, 1'b0);
+        start_capture;
+        wr(0, 8'd1, 8'h10);                 // CMR: self reception request
+        check_frame(1'b1, "self-test frame");
+        wait_bits(4);
+        expect_reg(0, 8'd29, 8'd1, "RMC");
+        expect_reg(0, 8'd16, 8'h01, "RX frame info");
+        expect_reg(0, 8'd17, 8'hA5, "RX ID1");
+        expect_reg(0, 8'd18, 8'h20, "RX ID2");
+        expect_reg(0, 8'd19, 8'h51, "RX data 1");
+        expect_reg(0, 8'd32, 8'h01, "RXFIFO RAM byte 0");
+        expect_reg(0, 8'd3, 8'h03, "IR (RI, TI)");
+        expect_reg(0, 8'd3, 8'h01, "IR after read (RI stays)");
+        expect_reg(0, 8'd15, 8'd0, "TXERR");
+        wr(0, 8'd1, 8'h04);                 // RRB
+        expect_reg(0, 8'd29, 8'd0, "RMC after RRB");
+        expect_reg(0, 8'd30, 8'd4, "RBSA after RRB");
+
+        // ================= 3. arbitration =================
+        $display("3. PeliCAN arbitration: ID 0x123 against ID 0x124");
+        wr(0, 8'd0, 8'h01);                 // node 0 back to reset, normal mode
+        wr(0, 8'd0, 8'h00);
+        wr(1, 8'd0, 8'h00);
+        wait_bits(14);
+        expect_reg(0, 8'd3, 8'h00, "IR clear before arbitration");
+        rd(0, 8'd11, q); rd(1, 8'd11, q);   // arm ALC capture
+        // node 0: ID 0x124 (loses at ID.20 = bit 8), node 1: ID 0x123
+        wr(0, 8'd16, 8'h02); wr(0, 8'd17, 8'h24); wr(0, 8'd18, 8'h80); wr(0, 8'd19, 8'hAA); wr(0, 8'd20, 8'hBB);
+        wr(1, 8'd16, 8'h01); wr(1, 8'd17, 8'h24); wr(1, 8'd18, 8'h60); wr(1, 8'd19, 8'hCC);
+        fork
+            wr(0, 8'd1, 8'h01);
+            wr(1, 8'd1, 8'h01);
+        join
+        wait_bits(60);
+        expect_reg(0, 8'd11, 8'd8, "node 0 ALC (lost at ID.20, bit 8)");
+        expect_reg(0, 8'd29, 8'd1, "node 0 RMC (received the winner)");
+        expect_reg(0, 8'd17, 8'h24, "node 0 RX ID1");
+        expect_reg(0, 8'd18, 8'h60, "node 0 RX ID2");
+        expect_reg(0, 8'd19, 8'hCC, "node 0 RX data");
+        wait_bits(80);
+        expect_reg(1, 8'd29, 8'd1, "node 1 RMC (received the retransmission)");
+        expect_reg(1, 8'd16, 8'h02, "node 1 RX frame info");
+        expect_reg(1, 8'd18, 8'h80, "node 1 RX ID2");
+        expect_reg(1, 8'd20, 8'hBB, "node 1 RX data 2");
+        expect_reg(0, 8'd2, 8'h0D, "node 0 SR: RBS TBS TCS");
+
+        // ================= 4. ACK errors on a lone node =================
+        $display("4. ACK errors: TEC +8 per frame up to error passive");
+        wr(1, 8'd0, 8'h01);                 // node 1 leaves (reset mode)
+        wr(0, 8'd4, 8'h20);                 // IER: EPI only
+        rd(0, 8'd3, q);
+        rd(0, 8'd12, q);                    // arm ECC
+        wr(0, 8'd1, 8'h01);                 // TR
+        wait_bits(16 * 72 + 300);
+        expect_reg(0, 8'd15, 8'd128, "TXERR after ACK errors");
+        expect_reg(0, 8'd12, 8'hD9, "ECC: other error, TX, ACK slot");
+        rd(0, 8'd2, q);
+        if (q[6] !== 1'b1 || q[7] !== 1'b0) fail("SR: ES set, BS clear expected");
+        expect_reg(0, 8'd3, 8'h20, "IR: EPI");
+        if (bo0 !== 1'b1) fail("bus_off_on must stay high");
+        wr(0, 8'd1, 8'h02);                 // abort: no retransmission after the next error
+        wait_bits(100);
+        rd(0, 8'd2, q);
+        if (q[2] !== 1'b1) fail("TBS after abort");
+
+        $display("PASS (max Wishbone ack latency %0d wb_clk_i cycles)", max_lat);
+        $finish;
+    end
+
+    initial begin
+        #50_000_000;
+        fail("global timeout");
+    end
+endmodule
