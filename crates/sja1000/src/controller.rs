@@ -194,7 +194,7 @@ fn classify(r: &Register) -> R {
 }
 
 /// Bits of a register that read as a constant: outside every field, never
-/// writable, with the same defined value after both resets (e.g. CR.5
+/// writable, with a defined hardware reset value (e.g. CR.5
 /// reads 1, BasicCAN IR.7..5 read 1, MOD.7..5 read 0).
 fn constant_bits(r: &Register) -> (u8, u8) {
     let fields = r.fields.iter().fold(0u8, |m, f| m | f.mask());
@@ -208,8 +208,10 @@ fn constant_bits(r: &Register) -> (u8, u8) {
             }
         }
     }
-    let same = !(r.reset_hw.value ^ r.reset_rm.value);
-    let mask = !fields & !writable & r.reset_hw.defined & r.reset_rm.defined & same;
+    // A bit nothing can write keeps its hardware reset value, unless
+    // entering reset mode defines another one.
+    let rm_agrees = !r.reset_rm.defined | !(r.reset_hw.value ^ r.reset_rm.value);
+    let mask = !fields & !writable & r.reset_hw.defined & rm_agrees;
     (mask, r.reset_hw.value & mask)
 }
 

@@ -105,3 +105,204 @@ pub fn pelican_accepts(mode: FilterMode, acr: [u8; 4], amr: [u8; 4], frame: &Can
         }
     }
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use can_proto::{ExtendedId, StandardId};
+    use rand::{RngExt, SeedableRng, rngs::StdRng};
+
+    /// Seed 002's BasicCAN example: ACR = 0111 0010, AMR = 0011 1000
+    /// accepts exactly the identifiers 0 1 x x x 0 1 0 x x x (ID.10..ID.0).
+    #[test]
+    fn basic_seed_002_example_all_2048_ids() {
+        let (acr, amr) = (0b0111_0010, 0b0011_1000);
+        for id in 0u16..2048 {
+            let want = (id >> 9) == 0b01 && ((id >> 3) & 0b111) == 0b010;
+            assert_eq!(basic_accepts(acr, amr, id), want, "id {id:011b}");
+        }
+    }
+
+    /// Where each filtered bit sits, per data sheet Figures 10-13, as
+    /// (register byte, bit) for each frame bit; an independent bit-by-bit
+    /// reference for the byte-wise implementation above.
+    #[derive(Clone, Copy)]
+    enum Src {
+        Id(u8),
+        Rtr,
+        Data(usize, u8),
+    }
+
+    fn reference(map: &[(Src, usize, u8)], acr: [u8; 4], amr: [u8; 4], f: &CanFrame) -> bool {
+        let (id, _) = match f.id() {
+            Id::Standard(s) => (s.as_raw() as u32, false),
+            Id::Extended(e) => (e.as_raw(), true),
+        };
+        map.iter().all(|&(src, byte, bit)| {
+            let v = match src {
+                Src::Id(b) => (id >> b) & 1 != 0,
+                Src::Rtr => f.is_remote_frame(),
+                Src::Data(i, b) => match f.data().get(i) {
+                    Some(d) => (d >> b) & 1 != 0,
+                    None => return true,
+                },
+            };
+            amr[byte] >> bit & 1 != 0 || (acr[byte] >> bit & 1 != 0) == v
+        })
+    }
+
+    /// Standard IDs are numbered here as 10..0 (ID.28..ID.18 in the figures).
+    fn single_std() -> Vec<(Src, usize, u8)> {
+        let mut m = vec![];
+        for k in 0..8 {
+            m.push((Src::Id(10 - k), 0, 7 - k as u8));
+        }
+        for k in 0..3 {
+            m.push((Src::Id(2 - k), 1, 7 - k as u8));
+        }
+        m.push((Src::Rtr, 1, 4));
+        for b in 0..8 {
+            m.push((Src::Data(0, b), 2, b));
+            m.push((Src::Data(1, b), 3, b));
+        }
+        m
+    }
+
+    fn single_ext() -> Vec<(Src, usize, u8)> {
+        let mut m = vec![];
+        for k in 0..29u8 {
+            // ID.28 is ACR0.7, ..., ID.0 is ACR3.3
+            let pos = k as usize; // 0 = ID.28
+            m.push((Src::Id(28 - k), pos / 8, 7 - (pos % 8) as u8));
+        }
+        m.push((Src::Rtr, 3, 2));
+        m
+    }
+
+    fn dual_std() -> [Vec<(Src, usize, u8)>; 2] {
+        let mut f1 = vec![];
+        let mut f2 = vec![];
+        for k in 0..8 {
+            f1.push((Src::Id(10 - k), 0, 7 - k as u8));
+            f2.push((Src::Id(10 - k), 2, 7 - k as u8));
+        }
+        for k in 0..3 {
+            f1.push((Src::Id(2 - k), 1, 7 - k as u8));
+            f2.push((Src::Id(2 - k), 3, 7 - k as u8));
+        }
+        f1.push((Src::Rtr, 1, 4));
+        f2.push((Src::Rtr, 3, 4));
+        for b in 0..4 {
+            f1.push((Src::Data(0, b + 4), 1, b));
+            f1.push((Src::Data(0, b), 3, b));
+        }
+        [f1, f2]
+    }
+
+    fn dual_ext() -> [Vec<(Src, usize, u8)>; 2] {
+        let mut f1 = vec![];
+        let mut f2 = vec![];
+        for k in 0..16u8 {
+            let pos = k as usize;
+            f1.push((Src::Id(28 - k), pos / 8, 7 - (pos % 8) as u8));
+            f2.push((Src::Id(28 - k), 2 + pos / 8, 7 - (pos % 8) as u8));
+        }
+        [f1, f2]
+    }
+
+    fn frame(rng: &mut StdRng, ext: bool) -> CanFrame {
+        let id: Id = if ext {
+            ExtendedId::new(rng.random_range(0..0x2000_0000)).unwrap().into()
+        } else {
+            StandardId::new(rng.random_range(0..0x800)).unwrap().into()
+        };
+        let rtr = rng.random_bool(0.2);
+        let dlc = rng.random_range(0..=8u8);
+        let data: Vec<u8> = (0..if rtr { 0 } else { dlc }).map(|_| rng.random()).collect();
+        CanFrame::with_dlc(id, rtr, dlc, &data).unwrap()
+    }
+
+    /// Codes and masks biased so that matches happen often: the mask is
+    /// mostly ones, the code is taken from a frame.
+    fn check(mode: FilterMode, ext: bool, n: usize) {
+        let mut rng = StdRng::seed_from_u64(0x5a1000 + ext as u64 + 2 * (mode == FilterMode::Single) as u64);
+        let (mut accepted, mut rejected) = (0, 0);
+        for _ in 0..n {
+            let f = frame(&mut rng, ext);
+            let mut acr: [u8; 4] = rng.random();
+            let amr: [u8; 4] = std::array::from_fn(|_| rng.random::<u8>() | rng.random::<u8>());
+            if rng.random_bool(0.5) {
+                // Make the code equal to the frame's bits to get acceptances.
+                let mut b = [0u8; 13];
+                let len = crate::host::encode_peli(&f, &mut b);
+                let _ = len;
+                acr = [b[1], b[2] | (f.is_remote_frame() as u8) << 4, b[3], b[4]];
+            }
+            let want = match (mode, ext) {
+                (FilterMode::Single, false) => reference(&single_std(), acr, amr, &f),
+                (FilterMode::Single, true) => reference(&single_ext(), acr, amr, &f),
+                (FilterMode::Dual, false) => dual_std().iter().any(|m| reference(m, acr, amr, &f)),
+                (FilterMode::Dual, true) => dual_ext().iter().any(|m| reference(m, acr, amr, &f)),
+            };
+            assert_eq!(pelican_accepts(mode, acr, amr, &f), want, "{mode:?} {f:?} acr {acr:02x?} amr {amr:02x?}");
+            if want { accepted += 1 } else { rejected += 1 }
+        }
+        assert!(accepted > n / 20 && rejected > n / 20, "both outcomes exercised: {accepted}/{rejected}");
+    }
+
+    #[test]
+    fn single_filter_standard_matches_figure_10() {
+        check(FilterMode::Single, false, 20_000);
+    }
+
+    #[test]
+    fn single_filter_extended_matches_figure_11() {
+        check(FilterMode::Single, true, 20_000);
+    }
+
+    #[test]
+    fn dual_filter_standard_matches_figure_12() {
+        check(FilterMode::Dual, false, 20_000);
+    }
+
+    #[test]
+    fn dual_filter_extended_matches_figure_13() {
+        check(FilterMode::Dual, true, 20_000);
+    }
+
+    /// Every standard ID against an exact single-filter code with all
+    /// data bits don't-care: exactly one ID (per RTR value) passes.
+    #[test]
+    fn single_filter_exact_id_accepts_only_that_id() {
+        let target = 0x5A3u16;
+        let acr = [(target >> 3) as u8, ((target & 7) << 5) as u8, 0, 0];
+        let amr = [0, 0x1F, 0xFF, 0xFF]; // RTR don't care
+        for id in 0u16..2048 {
+            for rtr in [false, true] {
+                let f = CanFrame::with_dlc(StandardId::new(id).unwrap(), rtr, 0, &[]).unwrap();
+                assert_eq!(pelican_accepts(FilterMode::Single, acr, amr, &f), id == target);
+            }
+        }
+    }
+
+    /// Data-byte comparisons skip bytes the frame does not carry.
+    #[test]
+    fn missing_data_bytes_pass() {
+        let id = StandardId::new(0x123).unwrap();
+        let acr = [(0x123 >> 3) as u8, ((0x123 & 7) << 5) as u8, 0xAB, 0xCD];
+        let amr = [0, 0x0F, 0, 0];
+        let f0 = CanFrame::with_dlc(id, false, 0, &[]).unwrap();
+        let f1_ok = CanFrame::with_dlc(id, false, 1, &[0xAB]).unwrap();
+        let f1_bad = CanFrame::with_dlc(id, false, 1, &[0xAC]).unwrap();
+        let f2_bad = CanFrame::with_dlc(id, false, 2, &[0xAB, 0xCE]).unwrap();
+        let rtr = CanFrame::with_dlc(id, true, 2, &[]).unwrap();
+        assert!(pelican_accepts(FilterMode::Single, acr, amr, &f0));
+        assert!(pelican_accepts(FilterMode::Single, acr, amr, &f1_ok));
+        assert!(!pelican_accepts(FilterMode::Single, acr, amr, &f1_bad));
+        assert!(!pelican_accepts(FilterMode::Single, acr, amr, &f2_bad));
+        // RTR bit in the code is 0: a remote frame fails on RTR, not on data.
+        assert!(!pelican_accepts(FilterMode::Single, acr, amr, &rtr));
+        let amr_rtr = [0, 0x1F, 0, 0];
+        assert!(pelican_accepts(FilterMode::Single, acr, amr_rtr, &rtr));
+    }
+}
