@@ -26,7 +26,13 @@
 //! Wishbone access therefore takes 2 cycles (stb at `E_k`, ack after `E_k`,
 //! sampled at `E_{k+1}`). Slave outputs that depend combinationally on the
 //! master's pins in the same cycle are not modelled (the `can_top` outputs
-//! are registered).
+//! are registered); in particular an Avalon `waitrequest` must be
+//! registered and high whenever the slave is not accepting, idle included.
+//!
+//! An operation queued between cycles is taken at the next `on_edge` and
+//! drives the pins from the cycle after; its [`OpResult::cycles`] counts from
+//! that edge. Drive the reset line with [`HostMaster::set_reset`] every
+//! cycle (or on change): assertion flushes the queue once.
 //!
 //! Monitors take the same pair the kernel has in hand (`m` and `s_k`) and pair
 //! `m_k` with `s_{k-1}` internally, so a violation's cycle number is the cycle
