@@ -286,6 +286,15 @@ impl RegisterView {
         }
     }
 
+    /// Byte index inside the reached register for an access at `addr`
+    /// (0 for a plain register), or `None` if the access reaches no register.
+    pub const fn index(&self, addr: u8) -> Option<u8> {
+        match self.target {
+            Target::Register(r) if r.contains(addr) => Some(addr - r.addr),
+            _ => None,
+        }
+    }
+
     /// The constant a read returns, if it returns one.
     pub const fn constant(&self) -> Option<u8> {
         match self.target {

@@ -241,7 +241,10 @@ fn peli_address_16_has_three_meanings() {
     assert_eq!(name(Reset, Read), "ACR0");
     assert_eq!(name(Reset, Write), "ACR0");
     assert_eq!(lookup(Mode::PeliCan, Reset, Read, 24).unwrap().constant(), Some(0x00));
-    assert_eq!(lookup(Mode::PeliCan, Operating, Read, 28).unwrap().register().unwrap().name, "RXB");
+    let v = lookup(Mode::PeliCan, Operating, Read, 28).unwrap();
+    assert_eq!(v.register().unwrap().name, "RXB");
+    assert_eq!(v.index(28), Some(11));
+    assert_eq!(v.index(16), None);
 }
 
 #[test]
