@@ -81,6 +81,8 @@ static inline int can_sja_pio_write_reg(unsigned char reg, unsigned char data)
     IOWR_ALTERA_AVALON_PIO_DATA(CAN_SJA_PIO_ADDR_BASE, reg);
     IOWR_ALTERA_AVALON_PIO_DATA(CAN_SJA_PIO_DOUT_BASE, data);
     CAN_SJA_PIO_ACK_CLEAR();
+    /* we first, then cyc|stb|we: the thesis sequence, so traces match it */
+    IOWR_ALTERA_AVALON_PIO_DATA(CAN_SJA_PIO_CTRL_BASE, CAN_SJA_PIO_CTRL_WE_MSK);
     IOWR_ALTERA_AVALON_PIO_DATA(CAN_SJA_PIO_CTRL_BASE, CAN_SJA_PIO_CTRL_WRITE);
     if (can_sja_pio_wait_ack() != 0)
         return -1;
@@ -93,6 +95,7 @@ static inline int can_sja_pio_read_reg(unsigned char reg, unsigned char *data)
 {
     IOWR_ALTERA_AVALON_PIO_DATA(CAN_SJA_PIO_ADDR_BASE, reg);
     CAN_SJA_PIO_ACK_CLEAR();
+    IOWR_ALTERA_AVALON_PIO_DATA(CAN_SJA_PIO_CTRL_BASE, CAN_SJA_PIO_CTRL_IDLE);
     IOWR_ALTERA_AVALON_PIO_DATA(CAN_SJA_PIO_CTRL_BASE, CAN_SJA_PIO_CTRL_READ);
     if (can_sja_pio_wait_ack() != 0)
         return -1;

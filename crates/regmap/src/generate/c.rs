@@ -290,6 +290,8 @@ static inline int {l}_pio_write_reg(unsigned char reg, unsigned char data)
     IOWR_ALTERA_AVALON_PIO_DATA({p}_PIO_ADDR_BASE, reg);
     IOWR_ALTERA_AVALON_PIO_DATA({p}_PIO_DOUT_BASE, data);
     {p}_PIO_ACK_CLEAR();
+    /* we first, then cyc|stb|we: the thesis sequence, so traces match it */
+    IOWR_ALTERA_AVALON_PIO_DATA({p}_PIO_CTRL_BASE, {p}_PIO_CTRL_WE_MSK);
     IOWR_ALTERA_AVALON_PIO_DATA({p}_PIO_CTRL_BASE, {p}_PIO_CTRL_WRITE);
     if ({l}_pio_wait_ack() != 0)
         return -1;
@@ -302,6 +304,7 @@ static inline int {l}_pio_read_reg(unsigned char reg, unsigned char *data)
 {{
     IOWR_ALTERA_AVALON_PIO_DATA({p}_PIO_ADDR_BASE, reg);
     {p}_PIO_ACK_CLEAR();
+    IOWR_ALTERA_AVALON_PIO_DATA({p}_PIO_CTRL_BASE, {p}_PIO_CTRL_IDLE);
     IOWR_ALTERA_AVALON_PIO_DATA({p}_PIO_CTRL_BASE, {p}_PIO_CTRL_READ);
     if ({l}_pio_wait_ack() != 0)
         return -1;
