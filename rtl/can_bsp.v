@@ -55,8 +55,7 @@ module can_bsp (
     output reg         recov_tick,
     output wire        rs,          // SR.RS
     output wire        ts,          // SR.TS
-    output wire        bus_idle,
-    output wire        req_pending
+    output wire        bus_idle
 );
     localparam [4:0] S_OFF = 5'd0, S_INTEG = 5'd1, S_IDLE = 5'd2, S_SOF = 5'd3,
                      S_IDA = 5'd4, S_SRTR = 5'd5, S_IDE = 5'd6, S_IDB = 5'd7,
@@ -82,7 +81,6 @@ module can_bsp (
     reg [2:0]  eq_cnt;       // passive error flag: equal bits in a row
     reg        eq_last;
     reg        first;        // first bit after an error flag
-    reg        ovl;          // the flag was an overload flag
     reg [2:0]  dom_cnt;      // dominant bits after a flag (tolerate 7)
     reg [3:0]  rcnt;         // recessive bits in a row (bus free)
 
@@ -92,7 +90,8 @@ module can_bsp (
     wire is_stuff  = ((st >= S_IDA) && (st <= S_CRCD)) && (scnt == 3'd5);
     wire in_arb    = (st == S_IDA) || (st == S_SRTR) || (st == S_IDE) ||
                      (st == S_IDB) || (st == S_RTR);
-    wire [3:0] ndata = (rx_rtr || rx_dlc == 4'd0) ? 4'd0 : (rx_dlc[3] ? 4'd8 : rx_dlc);
+    // data bytes mod 8 (8 bytes -> 0, so that 8 * ndata - 1 wraps to 63)
+    wire [2:0] ndata = rx_dlc[3] ? 3'd0 : rx_dlc[2:0];
     wire can_tx    = req && !lom;
 
     assign hard_en  = (st == S_IDLE) || (st == S_SUSP) || (st == S_SOF) ||
@@ -103,7 +102,6 @@ module can_bsp (
                 (!bus_idle && txr);
     assign rs = (st == S_OFF) || (st == S_INTEG) || (st == S_BUSOFF) ||
                 (!bus_idle && !txr);
-    assign req_pending = req;
 
     // ---- the level of the bit being sent (tx_cur) for the current state ----
     reg frame_bit;
@@ -241,7 +239,7 @@ module can_bsp (
             st <= S_OFF; cnt <= 6'd0; scnt <= 3'd0; slast <= 1'b1; crc <= 15'd0;
             srtr <= 1'b0; txr <= 1'b0; req <= 1'b0; req_single <= 1'b0; req_self <= 1'b0;
             crc_err <= 1'b0; ack_pend <= 1'b0; eq_cnt <= 3'd0; eq_last <= 1'b1;
-            first <= 1'b0; ovl <= 1'b0; dom_cnt <= 3'd0; rcnt <= 4'd0;
+            first <= 1'b0; dom_cnt <= 3'd0; rcnt <= 4'd0;
             rx_id <= 29'd0; rx_ide <= 1'b0; rx_rtr <= 1'b0; rx_dlc <= 4'd0; rx_data <= 64'd0;
             alc_val <= 5'd0; ecc_val <= 8'd0;
         end else begin
@@ -266,7 +264,7 @@ module can_bsp (
                     // ---- error detected: error flag from the next bit ----
                     err_evt <= 1'b1;
                     ecc_val <= {ekind, !txr, seg};
-                    st <= S_EFLAG; cnt <= 6'd0; ovl <= 1'b0; crc_err <= 1'b0;
+                    st <= S_EFLAG; cnt <= 6'd0; crc_err <= 1'b0;
                     if (txr) begin
                         if (e_ackpass) ack_pend <= 1'b1;
                         else if (!e_tec_none) tec_add8 <= 1'b1;
@@ -358,7 +356,7 @@ module can_bsp (
                         S_DATA: begin
                             rx_data[6'd63 - cnt] <= rx;
                             // last data bit: 8 * ndata - 1 (ndata = 8 wraps to 63)
-                            if (cnt == ({ndata[2:0], 3'b000} - 6'd1)) begin
+                            if (cnt == ({ndata, 3'b000} - 6'd1)) begin
                                 st <= S_CRC; cnt <= 6'd0;
                             end else cnt <= cnt + 6'd1;
                         end
@@ -400,7 +398,7 @@ module can_bsp (
                         end
                         S_OFLAG: begin
                             if (cnt == 6'd5) begin
-                                st <= S_EWAIT; first <= 1'b0; dom_cnt <= 3'd0; ovl <= 1'b1;
+                                st <= S_EWAIT; first <= 1'b0; dom_cnt <= 3'd0;
                             end else cnt <= cnt + 6'd1;
                         end
                         S_EWAIT: begin

@@ -8,7 +8,10 @@ module can_regs (
     // register access (one clk pulse, from can_wb_cdc)
     input  wire        acc_stb,
     input  wire        acc_we,
+    // BasicCAN decodes A4..A0 (32..255 mirror 0..31), PeliCAN A6..A0
+    /* verilator lint_off UNUSEDSIGNAL */
     input  wire [7:0]  acc_adr,
+    /* verilator lint_on UNUSEDSIGNAL */
     input  wire [7:0]  acc_wdat,
     output reg  [7:0]  acc_rdat,
     // configuration
@@ -68,7 +71,10 @@ module can_regs (
     output wire        irq,
     output reg         clkout
 );
+    // the include lists the whole register map; not every address is used here
+    /* verilator lint_off UNUSEDPARAM */
 `include "sja1000_addr.vh"
+    /* verilator lint_on UNUSEDPARAM */
 
     reg  [7:0] cdr;
     reg  [7:0] ocr;
@@ -106,7 +112,7 @@ module can_regs (
     wire       rd = acc_stb & ~acc_we;
     wire       in_win_p = (a >= PC_RXB) && (a < PC_RXB + PC_BUF_LEN);
     wire       in_win_b = (a >= BC_RXB) && (a < BC_RXB + BC_RXB_LEN);
-    wire [7:0] tx_ofs_b = a - BC_TXB;   // BasicCAN TX buffer byte 0..9
+    wire [3:0] tx_ofs_b = a[3:0] - BC_TXB[3:0];   // BasicCAN TX buffer byte 0..9 (mod 16)
     assign win_idx = peli ? (a[3:0] - PC_RXB[3:0]) : (a[3:0] - BC_RXB[3:0]);
     assign ram_adr = a[5:0] - PC_RXFIFO[5:0];
     assign rbsa_wr = wr && peli && rm && a == PC_RBSA;
@@ -139,7 +145,7 @@ module can_regs (
                 PC_TXERR: acc_rdat = tec;
                 PC_RMC:   acc_rdat = {1'b0, rmc};
                 PC_RBSA:  acc_rdat = {2'b00, rbsa};
-                PC_CDR:   acc_rdat = {cdr[7:5], 1'b0, cdr[3:0]};
+                PC_CDR:   acc_rdat = cdr;             // CDR.4 is always written 0
                 default: begin
                     if (in_win_p) begin
                         if (!rm) acc_rdat = win_dat;
@@ -164,10 +170,10 @@ module can_regs (
                 BC_BTR1: acc_rdat = rm ? btr1 : 8'hFF;
                 BC_OCR:  acc_rdat = rm ? ocr : 8'hFF;
                 BC_TEST: acc_rdat = 8'h00;
-                BC_CDR:  acc_rdat = {cdr[7:5], 1'b0, cdr[3:0]};
+                BC_CDR:  acc_rdat = cdr;             // CDR.4 is always written 0
                 default: begin
                     if (a >= BC_TXB && a < BC_TXB + BC_TXB_LEN)
-                        acc_rdat = rm ? 8'hFF : txb[tx_ofs_b[3:0]];
+                        acc_rdat = rm ? 8'hFF : txb[tx_ofs_b];
                     else if (in_win_b)
                         acc_rdat = win_dat;
                     else
@@ -314,7 +320,7 @@ module can_regs (
                         BC_CDR:  cdr <= {rm ? acc_wdat[7] : cdr[7], acc_wdat[6:5], 1'b0, acc_wdat[3:0]};
                         default: begin
                             if (a >= BC_TXB && a < BC_TXB + BC_TXB_LEN && !rm && tbs)
-                                txb[tx_ofs_b[3:0]] <= acc_wdat;
+                                txb[tx_ofs_b] <= acc_wdat;
                         end
                     endcase
                 end

@@ -19,7 +19,7 @@ module can_rxfifo (
     input  wire        rrb,        // release receive buffer
     input  wire        cdo,        // clear data overrun
     input  wire        rbsa_wr,    // host write of RBSA (reset mode)
-    input  wire [7:0]  wdat,
+    input  wire [5:0]  wdat,
     input  wire [3:0]  win_idx,    // receive buffer window byte
     output wire [7:0]  win_dat,
     input  wire [5:0]  ram_adr,    // direct RAM read (CAN address 32..95)
@@ -45,15 +45,22 @@ module can_rxfifo (
     wire [3:0] len = nd + (peli ? (ide ? 4'd5 : 4'd3) : 4'd2);
 
     // length of the message at RBSA
+    // only FF, RTR and DLC (PeliCAN frame info) / RTR and DLC (BasicCAN
+    // byte 1) carry length information; the other bits are not needed here
+    /* verilator lint_off UNUSEDSIGNAL */
     wire [7:0] h0 = ram[rbsa];
     wire [7:0] h1 = ram[rbsa + 6'd1];
+    /* verilator lint_on UNUSEDSIGNAL */
     wire [3:0] hnd_p = (h0[6] || h0[3:0] == 4'd0) ? 4'd0 : (h0[3] ? 4'd8 : h0[3:0]);
     wire [3:0] hnd_b = (h1[4] || h1[3:0] == 4'd0) ? 4'd0 : (h1[3] ? 4'd8 : h1[3:0]);
     wire [3:0] hlen  = peli ? (hnd_p + (h0[7] ? 4'd5 : 4'd3)) : (hnd_b + 4'd2);
 
     // byte wk of the message being written
     reg [7:0] wbyte;
-    reg [3:0] dj;
+    reg [3:0] dj;            // data byte index; always < 8 where used
+    /* verilator lint_off UNUSEDSIGNAL */
+    wire      dj_msb = dj[3];
+    /* verilator lint_on UNUSEDSIGNAL */
     always @* begin
         dj = 4'd0;
         if (peli) begin
@@ -95,7 +102,7 @@ module can_rxfifo (
             wbusy <= 1'b0; wk <= 4'd0; wlen <= 4'd0;
         end else if (clr) begin
             rmc <= 7'd0; fill <= 7'd0; dos <= 1'b0; wbusy <= 1'b0; wk <= 4'd0;
-            if (rbsa_wr) begin rbsa <= wdat[5:0]; wr_ptr <= wdat[5:0]; end
+            if (rbsa_wr) begin rbsa <= wdat; wr_ptr <= wdat; end
             else wr_ptr <= rbsa;
         end else begin
             if (cdo) dos <= 1'b0;

@@ -51,7 +51,7 @@ module can_top (
     wire        tx_done, tx_drop, alc_evt, err_evt;
     wire [4:0]  alc_val;
     wire [7:0]  ecc_val;
-    wire        rs, ts, bus_idle, req_pending;
+    wire        rs, ts, bus_idle;
     wire [7:0]  tec, rec;
     wire        bus_off, passive, warn, epi_evt, wr_tec, wr_rec;
     wire        irq;
@@ -98,7 +98,7 @@ module can_top (
         .alc_evt(alc_evt), .alc_val(alc_val), .err_evt(err_evt), .ecc_val(ecc_val),
         .tec_add8(tec_add8), .tec_sub1(tec_sub1), .rec_add1(rec_add1), .rec_add8(rec_add8),
         .rec_sub1(rec_sub1), .recov_tick(recov_tick),
-        .rs(rs), .ts(ts), .bus_idle(bus_idle), .req_pending(req_pending)
+        .rs(rs), .ts(ts), .bus_idle(bus_idle)
     );
 
     can_fce u_fce (
@@ -118,7 +118,7 @@ module can_top (
         .clk(clk_i), .rst(rst), .clr(rm), .peli(peli),
         .store(rx_valid && accept && (peli || !rx_ide)),
         .id(rx_id), .ide(rx_ide), .rtr(rx_rtr), .dlc(rx_dlc), .data(rx_data),
-        .rrb(rrb), .cdo(cdo), .rbsa_wr(rbsa_wr), .wdat(acc_wdat),
+        .rrb(rrb), .cdo(cdo), .rbsa_wr(rbsa_wr), .wdat(acc_wdat[5:0]),
         .win_idx(win_idx), .win_dat(win_dat), .ram_adr(ram_adr), .ram_dat(ram_dat),
         .rmc(rmc), .rbsa(rbsa), .rbs(rbs), .dos(dos), .dos_set(dos_set), .ri_set(ri_set)
     );
