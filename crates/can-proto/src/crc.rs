@@ -72,7 +72,9 @@ mod tests {
                 }
             }
         }
-        dividend[message.len()..].iter().fold(0, |acc, &b| (acc << 1) | b as u16)
+        dividend[message.len()..]
+            .iter()
+            .fold(0, |acc, &b| (acc << 1) | b as u16)
     }
 
     fn bits(s: &str) -> Vec<bool> {
@@ -82,7 +84,9 @@ mod tests {
     #[test]
     fn generator_constant_matches_poly() {
         assert!(GENERATOR[0], "x^15 term");
-        let low = GENERATOR[1..].iter().fold(0u16, |acc, &b| (acc << 1) | b as u16);
+        let low = GENERATOR[1..]
+            .iter()
+            .fold(0u16, |acc, &b| (acc << 1) | b as u16);
         assert_eq!(low, POLY);
     }
 
@@ -95,7 +99,13 @@ mod tests {
     /// - "0...0": zero (leading zeros change nothing).
     #[test]
     fn known_vectors() {
-        for (msg, crc) in [("1", 0x4599), ("10", 0x4EAB), ("11", 0x0B32), ("0000000000", 0), ("0001", 0x4599)] {
+        for (msg, crc) in [
+            ("1", 0x4599),
+            ("10", 0x4EAB),
+            ("11", 0x0B32),
+            ("0000000000", 0),
+            ("0001", 0x4599),
+        ] {
             assert_eq!(crc_reference(&bits(msg)), crc, "reference, {msg}");
             assert_eq!(Crc15::of(bits(msg)), crc, "Crc15, {msg}");
         }

@@ -141,7 +141,11 @@ impl fmt::Display for DecodeEvent {
                 d.start_bit,
                 d.end_bit,
                 d.frame.raw_id(),
-                if embedded_can::Frame::is_extended(&d.frame) { " (extended)" } else { "" },
+                if embedded_can::Frame::is_extended(&d.frame) {
+                    " (extended)"
+                } else {
+                    ""
+                },
                 d.frame.dlc_raw(),
                 if d.ack { "" } else { ", not acknowledged" }
             ),
@@ -164,12 +168,19 @@ impl Events {
     pub const CAPACITY: usize = 3;
 
     const fn new() -> Self {
-        Events { buf: [None; Events::CAPACITY], next: 0 }
+        Events {
+            buf: [None; Events::CAPACITY],
+            next: 0,
+        }
     }
 
     fn push(&mut self, e: DecodeEvent) {
         let slot = self.buf.iter_mut().find(|s| s.is_none());
-        debug_assert!(slot.is_some(), "more than {} events for one bit", Events::CAPACITY);
+        debug_assert!(
+            slot.is_some(),
+            "more than {} events for one bit",
+            Events::CAPACITY
+        );
         if let Some(s) = slot {
             *s = Some(e);
         }
@@ -224,7 +235,7 @@ struct Rx {
 }
 
 impl Rx {
-    fn new(start_bit: u64) -> Self {
+    const fn new(start_bit: u64) -> Self {
         Rx {
             start_bit,
             field: Field::Sof,
@@ -253,11 +264,18 @@ impl Rx {
 
     fn frame(&self) -> Option<CanFrame> {
         let id = if self.ide {
-            Id::Extended(ExtendedId::new(((self.base_id as u32) << 18) | self.ext_id)?)
+            Id::Extended(ExtendedId::new(
+                ((self.base_id as u32) << 18) | self.ext_id,
+            )?)
         } else {
             Id::Standard(StandardId::new(self.base_id)?)
         };
-        CanFrame::with_dlc(id, self.rtr, self.dlc, &self.data[..self.data_len() as usize])
+        CanFrame::with_dlc(
+            id,
+            self.rtr,
+            self.dlc,
+            &self.data[..self.data_len() as usize],
+        )
     }
 
     /// Moves to `field` with `len` bits.
@@ -272,7 +290,10 @@ impl Rx {
     fn take(&mut self, level: bool, bit: u64, ev: &mut Events) {
         if !self.started {
             self.started = true;
-            ev.push(DecodeEvent::FieldStart { field: self.field, bit });
+            ev.push(DecodeEvent::FieldStart {
+                field: self.field,
+                bit,
+            });
         }
         if self.field != Field::Crc {
             self.crc.push(level);
@@ -332,7 +353,11 @@ impl Rx {
                 self.crc_ok = v as u16 == self.crc.value();
                 self.done = true;
                 if !self.crc_ok {
-                    ev.push(DecodeEvent::Error { error: BusError::Crc, field: Field::Crc, bit });
+                    ev.push(DecodeEvent::Error {
+                        error: BusError::Crc,
+                        field: Field::Crc,
+                        bit,
+                    });
                 }
             }
             _ => {}
@@ -348,10 +373,15 @@ enum State {
     /// Bus idle; `announced` once its field start was reported.
     Idle { announced: bool },
     /// SOF..CRC (and a stuff bit after the CRC).
-    Frame(Rx),
+    Frame,
     /// CRC delimiter, ACK slot, ACK delimiter and EOF; `n` = bits of the
     /// current field already seen.
-    Tail { rx: Rx, field: Field, n: u8, ack: bool, ack_bit: u64 },
+    Tail {
+        field: Field,
+        n: u8,
+        ack: bool,
+        ack_bit: u64,
+    },
     /// `n` intermission bits seen.
     Intermission { n: u8 },
     /// First bit after an error: decides active or passive flag.
@@ -370,6 +400,8 @@ enum State {
 #[derive(Clone, Debug)]
 pub struct Decoder {
     state: State,
+    /// The frame under way (meaningful in `Frame` and `Tail`).
+    rx: Rx,
     bit: u64,
 }
 
@@ -382,7 +414,22 @@ impl Default for Decoder {
 impl Decoder {
     /// A decoder that has not integrated yet (see the module documentation).
     pub const fn new() -> Self {
-        Decoder { state: State::Integrating { recessive: 0 }, bit: 0 }
+        Decoder {
+            state: State::Integrating { recessive: 0 },
+            rx: Rx::new(0),
+            bit: 0,
+        }
+    }
+
+    /// A decoder that takes the bus as already idle: the first dominant bit
+    /// is a start of frame. For streams known to begin on an idle bus, such
+    /// as a transmitter's own bits (see [`parse_frame`]).
+    pub const fn integrated() -> Self {
+        Decoder {
+            state: State::Idle { announced: true },
+            rx: Rx::new(0),
+            bit: 0,
+        }
     }
 
     /// Index the next pushed bit will get.
@@ -408,41 +455,58 @@ impl Decoder {
                     });
                     State::Idle { announced: true }
                 } else {
-                    State::Integrating { recessive: recessive + 1 }
+                    State::Integrating {
+                        recessive: recessive + 1,
+                    }
                 }
             }
             State::Idle { announced } => {
                 if dominant {
-                    Self::sof(bit, &mut ev)
+                    Self::sof(&mut self.rx, bit, &mut ev)
                 } else {
                     if !announced {
-                        ev.push(DecodeEvent::FieldStart { field: Field::BusIdle, bit });
+                        ev.push(DecodeEvent::FieldStart {
+                            field: Field::BusIdle,
+                            bit,
+                        });
                     }
                     State::Idle { announced: true }
                 }
             }
-            State::Frame(mut rx) => Self::frame_bit(&mut rx, level, bit, &mut ev),
-            State::Tail { rx, field, n, ack, ack_bit } => {
-                Self::tail_bit(rx, field, n, ack, ack_bit, level, bit, &mut ev)
-            }
+            State::Frame => Self::frame_bit(&mut self.rx, level, bit, &mut ev),
+            State::Tail {
+                field,
+                n,
+                ack,
+                ack_bit,
+            } => Self::tail_bit(&self.rx, field, n, ack, ack_bit, level, bit, &mut ev),
             State::Intermission { n } => {
                 if n == 0 {
-                    ev.push(DecodeEvent::FieldStart { field: Field::Intermission, bit });
+                    ev.push(DecodeEvent::FieldStart {
+                        field: Field::Intermission,
+                        bit,
+                    });
                 }
                 match (dominant, n) {
                     (false, 2) => State::Idle { announced: false },
                     (false, _) => State::Intermission { n: n + 1 },
                     // ISO 11898-1: a dominant third intermission bit is SOF.
-                    (true, 2) => Self::sof(bit, &mut ev),
+                    (true, 2) => Self::sof(&mut self.rx, bit, &mut ev),
                     (true, _) => Self::overload_flag(bit, &mut ev),
                 }
             }
             State::ErrorFlagStart => {
                 if dominant {
-                    ev.push(DecodeEvent::FieldStart { field: Field::ActiveErrorFlag, bit });
+                    ev.push(DecodeEvent::FieldStart {
+                        field: Field::ActiveErrorFlag,
+                        bit,
+                    });
                     State::FlagTail
                 } else {
-                    ev.push(DecodeEvent::FieldStart { field: Field::PassiveErrorFlag, bit });
+                    ev.push(DecodeEvent::FieldStart {
+                        field: Field::PassiveErrorFlag,
+                        bit,
+                    });
                     State::PassiveFlag { level, run: 1 }
                 }
             }
@@ -460,18 +524,36 @@ impl Decoder {
                 if dominant {
                     State::FlagTail
                 } else {
-                    ev.push(DecodeEvent::FieldStart { field: Field::ErrorDelimiter, bit });
-                    State::Delimiter { kind: DelimKind::Error, n: 1 }
+                    ev.push(DecodeEvent::FieldStart {
+                        field: Field::ErrorDelimiter,
+                        bit,
+                    });
+                    State::Delimiter {
+                        kind: DelimKind::Error,
+                        n: 1,
+                    }
                 }
             }
             State::OverloadFlag { dominant: d } => {
                 if dominant {
-                    State::OverloadFlag { dominant: d.saturating_add(1) }
+                    State::OverloadFlag {
+                        dominant: d.saturating_add(1),
+                    }
                 } else if d >= 6 {
-                    ev.push(DecodeEvent::FieldStart { field: Field::OverloadDelimiter, bit });
-                    State::Delimiter { kind: DelimKind::Overload, n: 1 }
+                    ev.push(DecodeEvent::FieldStart {
+                        field: Field::OverloadDelimiter,
+                        bit,
+                    });
+                    State::Delimiter {
+                        kind: DelimKind::Overload,
+                        n: 1,
+                    }
                 } else {
-                    ev.push(DecodeEvent::Error { error: BusError::Form, field: Field::OverloadFlag, bit });
+                    ev.push(DecodeEvent::Error {
+                        error: BusError::Form,
+                        field: Field::OverloadFlag,
+                        bit,
+                    });
                     State::ErrorFlagStart
                 }
             }
@@ -486,7 +568,11 @@ impl Decoder {
                     // ISO 11898-1: dominant last delimiter bit = overload.
                     (true, 7) => Self::overload_flag(bit, &mut ev),
                     (true, _) => {
-                        ev.push(DecodeEvent::Error { error: BusError::Form, field, bit });
+                        ev.push(DecodeEvent::Error {
+                            error: BusError::Form,
+                            field,
+                            bit,
+                        });
                         State::ErrorFlagStart
                     }
                 }
@@ -495,16 +581,19 @@ impl Decoder {
         ev
     }
 
-    fn sof(bit: u64, ev: &mut Events) -> State {
-        let mut rx = Rx::new(bit);
+    fn sof(rx: &mut Rx, bit: u64, ev: &mut Events) -> State {
+        *rx = Rx::new(bit);
         rx.take(false, bit, ev);
         rx.run_level = false;
         rx.run = 1;
-        State::Frame(rx)
+        State::Frame
     }
 
     fn overload_flag(bit: u64, ev: &mut Events) -> State {
-        ev.push(DecodeEvent::FieldStart { field: Field::OverloadFlag, bit });
+        ev.push(DecodeEvent::FieldStart {
+            field: Field::OverloadFlag,
+            bit,
+        });
         State::OverloadFlag { dominant: 1 }
     }
 
@@ -514,7 +603,11 @@ impl Decoder {
                 // Reported in the field the receiver's bit counter is in: the
                 // one the next data bit belongs to (CRC for a stuff bit after
                 // the CRC sequence).
-                ev.push(DecodeEvent::Error { error: BusError::Stuff, field: rx.field, bit });
+                ev.push(DecodeEvent::Error {
+                    error: BusError::Stuff,
+                    field: rx.field,
+                    bit,
+                });
                 return State::ErrorFlagStart;
             }
             ev.push(DecodeEvent::StuffBit { bit });
@@ -530,15 +623,20 @@ impl Decoder {
             rx.take(level, bit, ev);
         }
         if rx.done && rx.run < crate::stuff::STUFF_WIDTH {
-            State::Tail { rx: *rx, field: Field::CrcDelim, n: 0, ack: false, ack_bit: 0 }
+            State::Tail {
+                field: Field::CrcDelim,
+                n: 0,
+                ack: false,
+                ack_bit: 0,
+            }
         } else {
-            State::Frame(*rx)
+            State::Frame
         }
     }
 
     #[allow(clippy::too_many_arguments)]
     fn tail_bit(
-        rx: Rx,
+        rx: &Rx,
         field: Field,
         n: u8,
         mut ack: bool,
@@ -549,14 +647,25 @@ impl Decoder {
     ) -> State {
         let dominant = !level;
         let form = |ev: &mut Events| {
-            ev.push(DecodeEvent::Error { error: BusError::Form, field, bit });
+            ev.push(DecodeEvent::Error {
+                error: BusError::Form,
+                field,
+                bit,
+            });
             State::ErrorFlagStart
         };
         match field {
             Field::AckDelim if dominant && !ack => {
                 // The transmitter saw no ACK and flags it from here on.
-                ev.push(DecodeEvent::Error { error: BusError::Acknowledge, field: Field::AckSlot, bit: ack_bit });
-                ev.push(DecodeEvent::FieldStart { field: Field::ActiveErrorFlag, bit });
+                ev.push(DecodeEvent::Error {
+                    error: BusError::Acknowledge,
+                    field: Field::AckSlot,
+                    bit: ack_bit,
+                });
+                ev.push(DecodeEvent::FieldStart {
+                    field: Field::ActiveErrorFlag,
+                    bit,
+                });
                 return State::FlagTail;
             }
             _ => {}
@@ -564,7 +673,12 @@ impl Decoder {
         if n == 0 {
             ev.push(DecodeEvent::FieldStart { field, bit });
         }
-        let next = |field, ack, ack_bit| State::Tail { rx, field, n: 0, ack, ack_bit };
+        let next = |field, ack, ack_bit| State::Tail {
+            field,
+            n: 0,
+            ack,
+            ack_bit,
+        };
         match field {
             Field::CrcDelim if dominant => form(ev),
             Field::CrcDelim => next(Field::AckSlot, false, 0),
@@ -581,16 +695,30 @@ impl Decoder {
                 if dominant {
                     form(ev)
                 } else {
-                    State::Tail { rx, field, n: n + 1, ack, ack_bit }
+                    State::Tail {
+                        field,
+                        n: n + 1,
+                        ack,
+                        ack_bit,
+                    }
                 }
             }
             Field::Eof => {
                 // Last EOF bit: the frame is valid for receivers either way
                 // (CAN 2.0B §5); a dominant level starts an overload flag.
                 if let Some(frame) = rx.frame() {
-                    ev.push(DecodeEvent::Frame(DecodedFrame { frame, start_bit: rx.start_bit, end_bit: bit, ack }));
+                    ev.push(DecodeEvent::Frame(DecodedFrame {
+                        frame,
+                        start_bit: rx.start_bit,
+                        end_bit: bit,
+                        ack,
+                    }));
                 }
-                if dominant { Self::overload_flag(bit, ev) } else { State::Intermission { n: 0 } }
+                if dominant {
+                    Self::overload_flag(bit, ev)
+                } else {
+                    State::Intermission { n: 0 }
+                }
             }
             _ => form(ev),
         }
@@ -608,13 +736,61 @@ impl Decoder {
 }
 
 /// Decodes a bit slice (transmission order) from a fresh decoder.
-pub fn decode_bits<T: BitStore, O: BitOrder>(bits: &BitSlice<T, O>) -> alloc::vec::Vec<DecodeEvent> {
+pub fn decode_bits<T: BitStore, O: BitOrder>(
+    bits: &BitSlice<T, O>,
+) -> alloc::vec::Vec<DecodeEvent> {
     Decoder::decode(bits.iter().by_vals())
+}
+
+/// Why [`parse_frame`] found no frame.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, thiserror::Error)]
+pub enum FrameError {
+    /// The decoder detected an error.
+    #[error("{error} in the {field} at bit {bit}")]
+    Bus {
+        /// What went wrong.
+        error: BusError,
+        /// Where.
+        field: Field,
+        /// Bit index from the start of the slice.
+        bit: u64,
+    },
+    /// The bits end before the last EOF bit.
+    #[error("the bit stream ends after {bits} bits, before the end of the frame")]
+    Truncated {
+        /// Length of the slice.
+        bits: u64,
+    },
+}
+
+/// Reads the first frame of a stream that starts on an idle bus (leading
+/// recessive bits are idle), such as [`CanFrame::wire_bits`]: the frame with
+/// bit indices from the start of the slice, or the first error.
+pub fn parse_frame<T: BitStore, O: BitOrder>(
+    bits: &BitSlice<T, O>,
+) -> Result<DecodedFrame, FrameError> {
+    let mut d = Decoder::integrated();
+    for level in bits.iter().by_vals() {
+        for e in d.push(level) {
+            match e {
+                DecodeEvent::Frame(f) => return Ok(f),
+                DecodeEvent::Error { error, field, bit } => {
+                    return Err(FrameError::Bus { error, field, bit });
+                }
+                _ => {}
+            }
+        }
+    }
+    Err(FrameError::Truncated {
+        bits: bits.len() as u64,
+    })
 }
 
 /// A character of a bit string that is neither a bit nor a separator.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, thiserror::Error)]
-#[error("character {ch:?} at position {pos} is not a bit (expected 0, 1, or a separator: space, _ or |)")]
+#[error(
+    "character {ch:?} at position {pos} is not a bit (expected 0, 1, or a separator: space, _ or |)"
+)]
 pub struct NotABit {
     /// Character index in the string.
     pub pos: usize,

@@ -28,7 +28,12 @@ impl CanFrame {
         }
         let mut buf = [0u8; 8];
         buf[..want].copy_from_slice(data);
-        Some(CanFrame { id: id.into(), rtr, dlc, data: buf })
+        Some(CanFrame {
+            id: id.into(),
+            rtr,
+            dlc,
+            data: buf,
+        })
     }
 
     /// Standard (11-bit) identifier from a raw value, if in range.
@@ -56,7 +61,11 @@ impl CanFrame {
 
     /// Number of data bytes on the wire (0 for remote frames).
     pub fn data_len(&self) -> usize {
-        if self.rtr { 0 } else { self.dlc.min(8) as usize }
+        if self.rtr {
+            0
+        } else {
+            self.dlc.min(8) as usize
+        }
     }
 
     /// Calls `f(field, level)` for each destuffed bit from SOF to the last
@@ -121,10 +130,67 @@ impl CanFrame {
         bits
     }
 
+    /// [`CanFrame::wire_bits`] with the field of every bit, for fault
+    /// injection and probes that target a field. A stuff bit carries the
+    /// field of the data bit after it (the CRC for a stuff bit that follows
+    /// the last CRC bit), as the decoder reports stuff errors.
+    pub fn wire_layout(&self) -> alloc::vec::Vec<WireBit> {
+        let mut plain = alloc::vec::Vec::with_capacity(160);
+        self.for_each_unstuffed_bit(|field, level| plain.push((field, level)));
+        let mut out = alloc::vec::Vec::with_capacity(plain.len() + plain.len() / 4 + 11);
+        let (mut last, mut run) = (None, 0u8);
+        for (i, &(field, level)) in plain.iter().enumerate() {
+            out.push(WireBit {
+                level,
+                field,
+                stuff: false,
+            });
+            run = if last == Some(level) { run + 1 } else { 1 };
+            last = Some(level);
+            if run == stuff::STUFF_WIDTH {
+                let field = plain.get(i + 1).map_or(Field::Crc, |&(f, _)| f);
+                out.push(WireBit {
+                    level: !level,
+                    field,
+                    stuff: true,
+                });
+                (last, run) = (Some(!level), 1);
+            }
+        }
+        let tail = [
+            (Field::CrcDelim, 1),
+            (Field::AckSlot, 1),
+            (Field::AckDelim, 1),
+            (Field::Eof, 7),
+        ];
+        for (field, n) in tail {
+            for _ in 0..n {
+                out.push(WireBit {
+                    level: RECESSIVE,
+                    field,
+                    stuff: false,
+                });
+            }
+        }
+        out
+    }
+
     /// Total bits on the wire from SOF to the end of EOF (without intermission).
     pub fn bit_len(&self) -> usize {
         self.wire_bits().len()
     }
+}
+
+/// One bit of [`CanFrame::wire_layout`].
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+pub struct WireBit {
+    /// Bus level as transmitted (`true` = recessive; the ACK slot is sent
+    /// recessive).
+    pub level: bool,
+    /// The field the bit belongs to.
+    pub field: Field,
+    /// True for a stuff bit.
+    pub stuff: bool,
 }
 
 impl embedded_can::Frame for CanFrame {
@@ -177,11 +243,37 @@ mod tests {
     fn thesis_frame_head() {
         let f = CanFrame::new(CanFrame::std_id(0x529).unwrap(), &[0x51]).unwrap();
         let w = f.wire_bits();
-        let head: alloc::string::String =
-            w.iter().by_vals().take(25).map(|b| if b { '1' } else { '0' }).collect();
+        let head: alloc::string::String = w
+            .iter()
+            .by_vals()
+            .take(25)
+            .map(|b| if b { '1' } else { '0' })
+            .collect();
         // SOF | ID 10100101001 | RTR IDE r0 DLC3 DLC2 | stuff 1 | DLC1 DLC0 | data 01010001
         assert_eq!(head, "0101001010010000010101010");
         assert_eq!(&head[..12], "010100101001");
+    }
+
+    /// The thesis frame's layout: stuff bits at 17 (DLC) and 32 (CRC), CRC
+    /// delimiter at 44, EOF 47..=53 (see decode tests for the whole map).
+    #[test]
+    fn thesis_frame_layout() {
+        let f = CanFrame::new(CanFrame::std_id(0x529).unwrap(), &[0x51]).unwrap();
+        let l = f.wire_layout();
+        assert_eq!(l.len(), 54);
+        let levels: Bits = l.iter().map(|b| b.level).collect();
+        assert_eq!(levels, f.wire_bits());
+        let stuffs: alloc::vec::Vec<(usize, Field)> = l
+            .iter()
+            .enumerate()
+            .filter(|(_, b)| b.stuff)
+            .map(|(i, b)| (i, b.field))
+            .collect();
+        assert_eq!(stuffs, [(17, Field::Dlc), (32, Field::Crc)]);
+        assert_eq!(l[44].field, Field::CrcDelim);
+        assert_eq!(l[45].field, Field::AckSlot);
+        assert!(l[47..].iter().all(|b| b.field == Field::Eof));
+        assert_eq!(l[12].field, Field::SrrRtr);
     }
 
     #[test]

@@ -72,11 +72,17 @@ mod tests {
     /// Longest run of equal bits.
     fn longest_run(bits: &bitvec::slice::BitSlice<u32>) -> usize {
         let v: Vec<bool> = bits.iter().by_vals().collect();
-        v.chunk_by(|a, b| a == b).map(|c| c.len()).max().unwrap_or(0)
+        v.chunk_by(|a, b| a == b)
+            .map(|c| c.len())
+            .max()
+            .unwrap_or(0)
     }
 
     fn to_bits(s: &str) -> Bits {
-        s.chars().filter(|c| !c.is_whitespace()).map(|c| c == '1').collect()
+        s.chars()
+            .filter(|c| !c.is_whitespace())
+            .map(|c| c == '1')
+            .collect()
     }
 
     #[test]
@@ -85,7 +91,10 @@ mod tests {
         assert_eq!(stuff(&to_bits("00000")), to_bits("00000 1"));
         assert_eq!(stuff(&to_bits("0000011110")), to_bits("00000 1 1111 0 0"));
         assert_eq!(stuff(&to_bits("1111")), to_bits("1111"));
-        assert_eq!(destuff(&to_bits("00000 1 1111 0 0")), Ok(to_bits("0000011110")));
+        assert_eq!(
+            destuff(&to_bits("00000 1 1111 0 0")),
+            Ok(to_bits("0000011110"))
+        );
         // A sixth equal bit where the stuff bit was due: error at index 5.
         assert_eq!(destuff(&to_bits("000000")), Err(5));
     }

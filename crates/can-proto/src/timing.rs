@@ -139,7 +139,9 @@ pub enum TimingIssue {
         actual_bps: f64,
     },
     /// Fewer time quanta per bit than CAN 2.0B §10 asks controllers to support.
-    #[error("A bit is only {tq_per_bit} time quanta long, fewer than the 8 that CAN 2.0B requires.")]
+    #[error(
+        "A bit is only {tq_per_bit} time quanta long, fewer than the 8 that CAN 2.0B requires."
+    )]
     TooFewQuanta {
         /// Time quanta per bit.
         tq_per_bit: u32,
@@ -179,7 +181,9 @@ pub enum TimingIssue {
         brp: u8,
     },
     /// Triple sampling with a TSEG1 too short to hold the three samples.
-    #[error("Triple sampling (SAM = 1) needs TSEG1 of at least 3 time quanta to hold its three samples, but TSEG1 is {tseg1_tq}.")]
+    #[error(
+        "Triple sampling (SAM = 1) needs TSEG1 of at least 3 time quanta to hold its three samples, but TSEG1 is {tseg1_tq}."
+    )]
     TripleSamplingTseg1TooShort {
         /// TSEG1 length in time quanta.
         tseg1_tq: u32,
@@ -292,7 +296,9 @@ impl BusTiming {
     /// [`BIT_RATE_TOLERANCE_PPM`] (a 20.000001 MHz clock at 1 Mbit/s is fine).
     fn exceeds_max_bit_rate(&self, f_clk_hz: u32) -> bool {
         f_clk_hz as u128 * 1_000_000
-            > MAX_BIT_RATE as u128 * (1_000_000 + BIT_RATE_TOLERANCE_PPM as u128) * self.clocks_per_bit() as u128
+            > MAX_BIT_RATE as u128
+                * (1_000_000 + BIT_RATE_TOLERANCE_PPM as u128)
+                * self.clocks_per_bit() as u128
     }
 
     /// Deviation of the bit rate from `target_bps` in ppm (negative = slower).
@@ -322,7 +328,13 @@ impl BusTiming {
         for brp in 0..=63u8 {
             for tseg1 in 0..=15u8 {
                 for tseg2 in 0..=7u8 {
-                    let t0 = BusTiming { brp, sjw: 0, tseg1, tseg2, sam: false };
+                    let t0 = BusTiming {
+                        brp,
+                        sjw: 0,
+                        tseg1,
+                        tseg2,
+                        sam: false,
+                    };
                     let tq = t0.tq_per_bit();
                     if !TQ_PER_BIT_RANGE.contains(&tq)
                         || t0.tseg2_tq() < INFORMATION_PROCESSING_TQ
@@ -336,11 +348,16 @@ impl BusTiming {
                         continue;
                     }
                     let err = t0.error_ppm(f_clk_hz, target_bps);
-                    if err.unsigned_abs() > BIT_RATE_TOLERANCE_PPM || t0.exceeds_max_bit_rate(f_clk_hz) {
+                    if err.unsigned_abs() > BIT_RATE_TOLERANCE_PPM
+                        || t0.exceeds_max_bit_rate(f_clk_hz)
+                    {
                         continue;
                     }
                     let sjw_tq = 4.min(t0.tseg1_tq()).min(t0.tseg2_tq());
-                    let timing = BusTiming { sjw: (sjw_tq - 1) as u8, ..t0 };
+                    let timing = BusTiming {
+                        sjw: (sjw_tq - 1) as u8,
+                        ..t0
+                    };
                     out.push(Candidate {
                         timing,
                         bit_rate: timing.bit_rate(f_clk_hz as f64),
@@ -376,7 +393,10 @@ impl BusTiming {
         Self::candidates(f_clk_hz, target_bps)
             .into_iter()
             .next()
-            .ok_or(NoValidTiming { f_clk_hz, target_bps })
+            .ok_or(NoValidTiming {
+                f_clk_hz,
+                target_bps,
+            })
     }
 
     /// Everything wrong with this setting for `target_bps` at a CAN clock of
@@ -384,9 +404,12 @@ impl BusTiming {
     /// [`BusTiming::candidates`] validates clean.
     pub fn validate(&self, f_clk_hz: u32, target_bps: u32) -> alloc::vec::Vec<TimingIssue> {
         let mut issues = alloc::vec::Vec::new();
-        for (name, value, max) in
-            [("BRP", self.brp, 63), ("SJW", self.sjw, 3), ("TSEG1", self.tseg1, 15), ("TSEG2", self.tseg2, 7)]
-        {
+        for (name, value, max) in [
+            ("BRP", self.brp, 63),
+            ("SJW", self.sjw, 3),
+            ("TSEG1", self.tseg1, 15),
+            ("TSEG2", self.tseg2, 7),
+        ] {
             if value > max {
                 issues.push(TimingIssue::FieldOutOfRange { name, value, max });
             }
@@ -394,7 +417,11 @@ impl BusTiming {
         let actual_bps = self.bit_rate(f_clk_hz as f64);
         let err = self.error_ppm(f_clk_hz, target_bps);
         if err.unsigned_abs() > BIT_RATE_TOLERANCE_PPM {
-            issues.push(TimingIssue::BitRateOffTarget { actual_bps, target_bps, error_ppm: err });
+            issues.push(TimingIssue::BitRateOffTarget {
+                actual_bps,
+                target_bps,
+                error_ppm: err,
+            });
         }
         if self.exceeds_max_bit_rate(f_clk_hz) {
             issues.push(TimingIssue::BitRateTooHigh { actual_bps });
@@ -405,22 +432,36 @@ impl BusTiming {
         }
         let sp = 1 + self.tseg1_tq();
         if 2 * sp < tq || 10 * sp > 9 * tq {
-            issues.push(TimingIssue::SamplePointOutOfRange { permille: self.sample_point_permille() });
+            issues.push(TimingIssue::SamplePointOutOfRange {
+                permille: self.sample_point_permille(),
+            });
         }
         if self.sjw_tq() > self.tseg2_tq() {
-            issues.push(TimingIssue::SjwLongerThanTseg2 { sjw_tq: self.sjw_tq(), tseg2_tq: self.tseg2_tq() });
+            issues.push(TimingIssue::SjwLongerThanTseg2 {
+                sjw_tq: self.sjw_tq(),
+                tseg2_tq: self.tseg2_tq(),
+            });
         }
         if self.sjw_tq() > self.tseg1_tq() {
-            issues.push(TimingIssue::SjwLongerThanTseg1 { sjw_tq: self.sjw_tq(), tseg1_tq: self.tseg1_tq() });
+            issues.push(TimingIssue::SjwLongerThanTseg1 {
+                sjw_tq: self.sjw_tq(),
+                tseg1_tq: self.tseg1_tq(),
+            });
         }
         if self.tseg2_tq() < INFORMATION_PROCESSING_TQ {
-            issues.push(TimingIssue::Tseg2BelowProcessingTime { tseg2_tq: self.tseg2_tq(), brp: self.brp });
+            issues.push(TimingIssue::Tseg2BelowProcessingTime {
+                tseg2_tq: self.tseg2_tq(),
+                brp: self.brp,
+            });
         }
         if self.sam {
             if self.tseg1_tq() < 3 {
-                issues.push(TimingIssue::TripleSamplingTseg1TooShort { tseg1_tq: self.tseg1_tq() });
+                issues.push(TimingIssue::TripleSamplingTseg1TooShort {
+                    tseg1_tq: self.tseg1_tq(),
+                });
             }
-            if f_clk_hz as u64 > MAX_TRIPLE_SAMPLING_BIT_RATE as u64 * self.clocks_per_bit() as u64 {
+            if f_clk_hz as u64 > MAX_TRIPLE_SAMPLING_BIT_RATE as u64 * self.clocks_per_bit() as u64
+            {
                 issues.push(TimingIssue::TripleSamplingTooFast { actual_bps });
             }
         }
@@ -482,15 +523,27 @@ mod tests {
 
     #[test]
     fn thesis_timing_is_clean() {
-        assert_eq!(BusTiming::from_btr(0x41, 0x25).validate(24_000_000, 600_000), []);
+        assert_eq!(
+            BusTiming::from_btr(0x41, 0x25).validate(24_000_000, 600_000),
+            []
+        );
     }
 
     #[test]
     fn faster_than_target_says_above() {
         // 16 tq of 2 clocks at 16 MHz: 500 kbit/s, twice 250 kbit/s.
-        let t = BusTiming { brp: 0, sjw: 0, tseg1: 12, tseg2: 1, sam: false };
+        let t = BusTiming {
+            brp: 0,
+            sjw: 0,
+            tseg1: 12,
+            tseg2: 1,
+            sam: false,
+        };
         let msg = t.validate(16_000_000, 250_000)[0].to_string();
-        assert_eq!(msg, "The bit rate is 500 kbit/s, 100% (1000000 ppm) above the 250 kbit/s target.");
+        assert_eq!(
+            msg,
+            "The bit rate is 500 kbit/s, 100% (1000000 ppm) above the 250 kbit/s target."
+        );
     }
 
     /// 16 MHz, 125 kbit/s: 128 clocks per bit = 2 (BRP + 1) * tq, so 16 tq
@@ -516,58 +569,161 @@ mod tests {
     fn no_timing_gives_a_clear_error() {
         // 5 clocks per bit, but the shortest legal bit is 2 * 8 = 16 clocks.
         let e = BusTiming::for_bit_rate(5_000_000, 1_000_000).unwrap_err();
-        assert_eq!(e.to_string(), "No SJA1000 bit timing reaches 1000 kbit/s within 0.5% from a 5 MHz clock.");
-        assert!(BusTiming::candidates(24_000_000, 2_000_000).is_empty(), "above 1 Mbit/s");
-        assert_eq!(BusTiming::for_bit_rate(20_000_001, 1_000_000).unwrap().error_ppm, 0);
+        assert_eq!(
+            e.to_string(),
+            "No SJA1000 bit timing reaches 1000 kbit/s within 0.5% from a 5 MHz clock."
+        );
+        assert!(
+            BusTiming::candidates(24_000_000, 2_000_000).is_empty(),
+            "above 1 Mbit/s"
+        );
+        assert_eq!(
+            BusTiming::for_bit_rate(20_000_001, 1_000_000)
+                .unwrap()
+                .error_ppm,
+            0
+        );
         let e = BusTiming::for_bit_rate(24_576_000, 0).unwrap_err();
-        assert_eq!(e.to_string(), "No SJA1000 bit timing reaches 0 kbit/s within 0.5% from a 24.576 MHz clock.");
+        assert_eq!(
+            e.to_string(),
+            "No SJA1000 bit timing reaches 0 kbit/s within 0.5% from a 24.576 MHz clock."
+        );
     }
 
     #[test]
     fn each_rule_is_flagged() {
         let f = 16_000_000;
         // SJW 4 tq, TSEG2 2 tq, BRP 0, 16 tq: 500 kbit/s.
-        let t = BusTiming { brp: 0, sjw: 3, tseg1: 12, tseg2: 1, sam: false };
-        assert_eq!(t.validate(f, 500_000), [TimingIssue::SjwLongerThanTseg2 { sjw_tq: 4, tseg2_tq: 2 }]);
+        let t = BusTiming {
+            brp: 0,
+            sjw: 3,
+            tseg1: 12,
+            tseg2: 1,
+            sam: false,
+        };
+        assert_eq!(
+            t.validate(f, 500_000),
+            [TimingIssue::SjwLongerThanTseg2 {
+                sjw_tq: 4,
+                tseg2_tq: 2
+            }]
+        );
         assert_eq!(
             t.validate(f, 500_000)[0].to_string(),
             "SJW is 4 time quanta, longer than the 2 of phase segment 2 (TSEG2)."
         );
         // TSEG2 of one quantum with BRP = 0: 1 + 14 + 1 = 16 tq, 93.75 %.
-        let t = BusTiming { brp: 0, sjw: 0, tseg1: 13, tseg2: 0, sam: false };
+        let t = BusTiming {
+            brp: 0,
+            sjw: 0,
+            tseg1: 13,
+            tseg2: 0,
+            sam: false,
+        };
         let issues = t.validate(f, 500_000);
         assert_eq!(
             issues,
             [
                 TimingIssue::SamplePointOutOfRange { permille: 938 },
-                TimingIssue::Tseg2BelowProcessingTime { tseg2_tq: 1, brp: 0 }
+                TimingIssue::Tseg2BelowProcessingTime {
+                    tseg2_tq: 1,
+                    brp: 0
+                }
             ]
         );
-        assert_eq!(issues[0].to_string(), "The sample point is at 93.8% of the bit time, outside the usual 50% to 90%.");
-        assert!(issues[1].to_string().contains("only 2 clock periods"), "{}", issues[1]);
+        assert_eq!(
+            issues[0].to_string(),
+            "The sample point is at 93.8% of the bit time, outside the usual 50% to 90%."
+        );
+        assert!(
+            issues[1].to_string().contains("only 2 clock periods"),
+            "{}",
+            issues[1]
+        );
         // Triple sampling at 500 kbit/s.
-        let t = BusTiming { brp: 0, sjw: 0, tseg1: 12, tseg2: 1, sam: true };
-        assert_eq!(t.validate(f, 500_000), [TimingIssue::TripleSamplingTooFast { actual_bps: 500_000.0 }]);
+        let t = BusTiming {
+            brp: 0,
+            sjw: 0,
+            tseg1: 12,
+            tseg2: 1,
+            sam: true,
+        };
+        assert_eq!(
+            t.validate(f, 500_000),
+            [TimingIssue::TripleSamplingTooFast {
+                actual_bps: 500_000.0
+            }]
+        );
         // Triple sampling with TSEG1 of 2 tq: 1 + 2 + 2 = 5 tq per bit,
         // sample point 60 %, 32 clocks per tq: 100 kbit/s at 16 MHz.
-        let t = BusTiming { brp: 15, sjw: 0, tseg1: 1, tseg2: 1, sam: true };
+        let t = BusTiming {
+            brp: 15,
+            sjw: 0,
+            tseg1: 1,
+            tseg2: 1,
+            sam: true,
+        };
         assert_eq!(
             t.validate(f, 100_000),
-            [TimingIssue::TooFewQuanta { tq_per_bit: 5 }, TimingIssue::TripleSamplingTseg1TooShort { tseg1_tq: 2 }]
+            [
+                TimingIssue::TooFewQuanta { tq_per_bit: 5 },
+                TimingIssue::TripleSamplingTseg1TooShort { tseg1_tq: 2 }
+            ]
         );
         // SJW longer than TSEG1 too (and TSEG2), and too early a sample point.
-        let t = BusTiming { brp: 1, sjw: 3, tseg1: 0, tseg2: 7, sam: false };
+        let t = BusTiming {
+            brp: 1,
+            sjw: 3,
+            tseg1: 0,
+            tseg2: 7,
+            sam: false,
+        };
         let issues = t.validate(f, 400_000);
-        assert!(issues.contains(&TimingIssue::SjwLongerThanTseg1 { sjw_tq: 4, tseg1_tq: 1 }), "{issues:?}");
-        assert!(issues.contains(&TimingIssue::SamplePointOutOfRange { permille: 200 }), "{issues:?}");
+        assert!(
+            issues.contains(&TimingIssue::SjwLongerThanTseg1 {
+                sjw_tq: 4,
+                tseg1_tq: 1
+            }),
+            "{issues:?}"
+        );
+        assert!(
+            issues.contains(&TimingIssue::SamplePointOutOfRange { permille: 200 }),
+            "{issues:?}"
+        );
         // Fields written directly beyond their register width.
-        let t = BusTiming { brp: 64, sjw: 4, tseg1: 16, tseg2: 8, sam: false };
+        let t = BusTiming {
+            brp: 64,
+            sjw: 4,
+            tseg1: 16,
+            tseg2: 8,
+            sam: false,
+        };
         let issues = t.validate(f, 125_000);
-        assert_eq!(issues[0].to_string(), "BRP = 64 does not fit its register field (at most 63).");
-        assert_eq!(issues.iter().filter(|i| matches!(i, TimingIssue::FieldOutOfRange { .. })).count(), 4);
+        assert_eq!(
+            issues[0].to_string(),
+            "BRP = 64 does not fit its register field (at most 63)."
+        );
+        assert_eq!(
+            issues
+                .iter()
+                .filter(|i| matches!(i, TimingIssue::FieldOutOfRange { .. }))
+                .count(),
+            4
+        );
         // Above 1 Mbit/s: 8 tq of 2 clocks at 24 MHz is 1.5 Mbit/s.
-        let t = BusTiming { brp: 0, sjw: 0, tseg1: 4, tseg2: 1, sam: false };
-        assert_eq!(t.validate(24_000_000, 1_500_000), [TimingIssue::BitRateTooHigh { actual_bps: 1_500_000.0 }]);
+        let t = BusTiming {
+            brp: 0,
+            sjw: 0,
+            tseg1: 4,
+            tseg2: 1,
+            sam: false,
+        };
+        assert_eq!(
+            t.validate(24_000_000, 1_500_000),
+            [TimingIssue::BitRateTooHigh {
+                actual_bps: 1_500_000.0
+            }]
+        );
     }
 
     #[test]

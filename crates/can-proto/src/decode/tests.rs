@@ -94,7 +94,10 @@ fn thesis_frame_field_indices() {
     let f = thesis_frame();
     let ev = Decoder::decode(on_bus(&f));
     let sof = 11;
-    let rel: Vec<(Field, u64)> = starts(&ev).into_iter().map(|(fl, b)| (fl, b.wrapping_sub(sof))).collect();
+    let rel: Vec<(Field, u64)> = starts(&ev)
+        .into_iter()
+        .map(|(fl, b)| (fl, b.wrapping_sub(sof)))
+        .collect();
     assert_eq!(
         rel,
         [
@@ -118,7 +121,12 @@ fn thesis_frame_field_indices() {
     assert_eq!(stuff_bits(&ev), [sof + 17, sof + 32]);
     assert_eq!(
         frames(&ev),
-        [DecodedFrame { frame: f, start_bit: sof, end_bit: sof + 53, ack: true }]
+        [DecodedFrame {
+            frame: f,
+            start_bit: sof,
+            end_bit: sof + 53,
+            ack: true
+        }]
     );
     assert_eq!(errors(&ev), []);
     assert_eq!(f.crc(), 0x7D2A);
@@ -134,10 +142,7 @@ fn decode_str_reads_the_thesis_frame() {
     assert_eq!(fr.len(), 1);
     assert_eq!(fr[0].frame, thesis_frame());
     assert!(fr[0].ack);
-    assert_eq!(
-        decode_str("0110x1"),
-        Err(NotABit { pos: 4, ch: 'x' })
-    );
+    assert_eq!(decode_str("0110x1"), Err(NotABit { pos: 4, ch: 'x' }));
     assert_eq!(
         NotABit { pos: 4, ch: 'x' }.to_string(),
         "character 'x' at position 4 is not a bit (expected 0, 1, or a separator: space, _ or |)"
@@ -184,13 +189,16 @@ fn extended_remote_frame_fields() {
     );
     let fr = frames(&ev);
     assert_eq!(fr[0].frame, f);
-    assert!(fr[0].frame.is_remote_frame() && fr[0].frame.dlc() == 3 && fr[0].frame.data().is_empty());
+    assert!(
+        fr[0].frame.is_remote_frame() && fr[0].frame.dlc() == 3 && fr[0].frame.data().is_empty()
+    );
 }
 
 #[test]
 fn dlc_over_8_decodes_8_bytes() {
     for dlc in 9..=15u8 {
-        let f = CanFrame::with_dlc(CanFrame::std_id(0x7FF).unwrap(), false, dlc, &[0xA5; 8]).unwrap();
+        let f =
+            CanFrame::with_dlc(CanFrame::std_id(0x7FF).unwrap(), false, dlc, &[0xA5; 8]).unwrap();
         let fr = frames(&Decoder::decode(on_bus(&f)));
         assert_eq!(fr.len(), 1);
         assert_eq!(fr[0].frame.dlc_raw(), dlc);
@@ -256,11 +264,24 @@ fn flipped_crc_bit_is_a_crc_error() {
         v.extend([false; 6]); // receivers' error flags, from the first EOF bit
         v.extend(idle(8 + 3 + 1));
         let ev = Decoder::decode(v);
-        let last_crc = crc_delim - 1 - stuff_bits(&ev).iter().filter(|&&s| s == crc_delim - 1).count() as u64;
-        assert_eq!(errors(&ev), [(BusError::Crc, Field::Crc, last_crc)], "flip {k}");
+        let last_crc = crc_delim
+            - 1
+            - stuff_bits(&ev)
+                .iter()
+                .filter(|&&s| s == crc_delim - 1)
+                .count() as u64;
+        assert_eq!(
+            errors(&ev),
+            [(BusError::Crc, Field::Crc, last_crc)],
+            "flip {k}"
+        );
         assert_eq!(frames(&ev), []);
         let s = starts(&ev);
-        let tail: Vec<Field> = s.iter().skip_while(|&&(fl, _)| fl != Field::CrcDelim).map(|&(fl, _)| fl).collect();
+        let tail: Vec<Field> = s
+            .iter()
+            .skip_while(|&&(fl, _)| fl != Field::CrcDelim)
+            .map(|&(fl, _)| fl)
+            .collect();
         assert_eq!(
             tail,
             [
@@ -323,7 +344,10 @@ fn dominant_crc_delimiter_is_a_form_error() {
     let crc_delim = 11 + 44;
     v[crc_delim] = false;
     let ev = Decoder::decode(v);
-    assert_eq!(errors(&ev), [(BusError::Form, Field::CrcDelim, crc_delim as u64)]);
+    assert_eq!(
+        errors(&ev),
+        [(BusError::Form, Field::CrcDelim, crc_delim as u64)]
+    );
     assert_eq!(frames(&ev), []);
     // The next bit (the dominant ACK slot) is read as the start of a flag.
     assert!(starts(&ev).contains(&(Field::ActiveErrorFlag, crc_delim as u64 + 1)));
@@ -337,7 +361,11 @@ fn dominant_eof_bit_is_a_form_error_but_not_the_last() {
         let eof = 11 + 47 + k;
         v[eof] = false;
         let ev = Decoder::decode(v);
-        assert_eq!(errors(&ev), [(BusError::Form, Field::Eof, eof as u64)], "EOF bit {k}");
+        assert_eq!(
+            errors(&ev),
+            [(BusError::Form, Field::Eof, eof as u64)],
+            "EOF bit {k}"
+        );
         assert_eq!(frames(&ev), []);
     }
     // Last EOF bit dominant: valid for receivers, then an overload flag.
@@ -351,7 +379,10 @@ fn dominant_eof_bit_is_a_form_error_but_not_the_last() {
     assert_eq!(frames(&ev).len(), 1);
     let s = starts(&ev);
     assert!(s.contains(&(Field::OverloadFlag, last as u64)));
-    assert!(s.contains(&(Field::OverloadDelimiter, last as u64 + 7)), "{s:?}");
+    assert!(
+        s.contains(&(Field::OverloadDelimiter, last as u64 + 7)),
+        "{s:?}"
+    );
 }
 
 #[test]
@@ -364,7 +395,10 @@ fn recessive_ack_then_flag_is_an_ack_error() {
     v.extend([false; 6]); // transmitter's flag from the ACK delimiter
     v.extend(idle(12));
     let ev = Decoder::decode(v);
-    assert_eq!(errors(&ev), [(BusError::Acknowledge, Field::AckSlot, ack_slot as u64)]);
+    assert_eq!(
+        errors(&ev),
+        [(BusError::Acknowledge, Field::AckSlot, ack_slot as u64)]
+    );
     assert!(starts(&ev).contains(&(Field::ActiveErrorFlag, ack_slot as u64 + 1)));
     assert!(starts(&ev).contains(&(Field::ErrorDelimiter, ack_slot as u64 + 7)));
     assert_eq!(frames(&ev), []);
@@ -431,7 +465,11 @@ fn dominant_bit_in_error_delimiter() {
         v.push(false);
         v.extend(idle(20));
         let ev = Decoder::decode(v);
-        assert_eq!(errors(&ev)[1], (BusError::Form, Field::ErrorDelimiter, delim + k), "bit {k}");
+        assert_eq!(
+            errors(&ev)[1],
+            (BusError::Form, Field::ErrorDelimiter, delim + k),
+            "bit {k}"
+        );
     }
     // Bit 8 dominant: an overload flag (ISO 11898-1).
     let mut v = base.clone();
@@ -476,7 +514,39 @@ fn short_overload_flag_is_a_form_error() {
     v.extend([false, false, true]);
     v.extend(idle(20));
     let ev = Decoder::decode(v);
-    assert_eq!(errors(&ev), [(BusError::Form, Field::OverloadFlag, inter as u64 + 2)]);
+    assert_eq!(
+        errors(&ev),
+        [(BusError::Form, Field::OverloadFlag, inter as u64 + 2)]
+    );
+}
+
+#[test]
+fn parse_frame_reports_errors_and_truncation() {
+    let f = thesis_frame();
+    let mut w = f.wire_bits();
+    assert_eq!(
+        parse_frame(&w[..50]),
+        Err(FrameError::Truncated { bits: 50 })
+    );
+    w.set(17, false);
+    let e = parse_frame(&w).unwrap_err();
+    assert_eq!(
+        e,
+        FrameError::Bus {
+            error: BusError::Stuff,
+            field: Field::Dlc,
+            bit: 17
+        }
+    );
+    assert_eq!(
+        e.to_string(),
+        "stuff error in the data length code at bit 17"
+    );
+    // Leading idle bits are skipped; indices count from the slice start.
+    let mut v = Bits::new();
+    v.extend([true; 3]);
+    v.extend(f.wire_bits());
+    assert_eq!(parse_frame(&v).unwrap().start_bit, 3);
 }
 
 // --------------------------------------------------------------- truncation
@@ -485,7 +555,13 @@ fn short_overload_flag_is_a_form_error() {
 fn truncated_streams_give_no_frame() {
     for f in [
         thesis_frame(),
-        CanFrame::with_dlc(CanFrame::ext_id(0x1FFF_FFFF).unwrap(), false, 15, &[0xFF; 8]).unwrap(),
+        CanFrame::with_dlc(
+            CanFrame::ext_id(0x1FFF_FFFF).unwrap(),
+            false,
+            15,
+            &[0xFF; 8],
+        )
+        .unwrap(),
     ] {
         let v = on_bus(&f);
         let last_eof = v.len() - 4 - 1;
@@ -501,11 +577,22 @@ fn truncated_streams_give_no_frame() {
 // ------------------------------------------------------------ property tests
 
 fn arb_frame() -> impl Strategy<Value = CanFrame> {
-    (any::<bool>(), 0u32..(1 << 29), any::<bool>(), 0u8..=15, any::<[u8; 8]>()).prop_map(|(ext, id, rtr, dlc, data)| {
-        let id = if ext { CanFrame::ext_id(id).unwrap() } else { CanFrame::std_id((id & 0x7FF) as u16).unwrap() };
-        let n = if rtr { 0 } else { dlc.min(8) as usize };
-        CanFrame::with_dlc(id, rtr, dlc, &data[..n]).unwrap()
-    })
+    (
+        any::<bool>(),
+        0u32..(1 << 29),
+        any::<bool>(),
+        0u8..=15,
+        any::<[u8; 8]>(),
+    )
+        .prop_map(|(ext, id, rtr, dlc, data)| {
+            let id = if ext {
+                CanFrame::ext_id(id).unwrap()
+            } else {
+                CanFrame::std_id((id & 0x7FF) as u16).unwrap()
+            };
+            let n = if rtr { 0 } else { dlc.min(8) as usize };
+            CanFrame::with_dlc(id, rtr, dlc, &data[..n]).unwrap()
+        })
 }
 
 /// Checks what every event list must satisfy, whatever the input.
@@ -555,6 +642,21 @@ proptest! {
         let mut from_encoder = Vec::new();
         f.for_each_unstuffed_bit(|field, level| from_encoder.push((field, level)));
         prop_assert_eq!(from_decoder, from_encoder);
+        // The encoder's annotated layout agrees bit for bit.
+        let layout = f.wire_layout();
+        for (i, wb) in layout.iter().enumerate() {
+            let b = sof + i as u64;
+            prop_assert_eq!(wb.stuff, stuffed.contains(&b), "bit {}", i);
+            let field = s.iter().rev().find(|&&(_, at)| at <= b).unwrap().0;
+            if !wb.stuff {
+                prop_assert_eq!(wb.field, field, "bit {}", i);
+            }
+        }
+        // parse_frame reads the transmitter's own bits.
+        prop_assert_eq!(
+            parse_frame(&f.wire_bits()),
+            Ok(DecodedFrame { frame: f, start_bit: 0, end_bit: f.bit_len() as u64 - 1, ack: false })
+        );
         // Stuff bits are exactly where the stuffer put them.
         let unstuffed: Bits = crate::stuff::destuff(&f.wire_bits()[..(crc_delim - sof) as usize]).unwrap();
         prop_assert_eq!(unstuffed, f.unstuffed_bits());
@@ -600,8 +702,11 @@ fn corrupted_traffic() -> impl Strategy<Value = Vec<bool>> {
         2 => (0usize..14).prop_map(idle),
         1 => (1usize..14).prop_map(|n| vec![false; n]),
     ];
-    (prop::collection::vec(chunk, 1..12), prop::collection::vec(any::<prop::sample::Index>(), 0..6)).prop_map(
-        |(chunks, flips)| {
+    (
+        prop::collection::vec(chunk, 1..12),
+        prop::collection::vec(any::<prop::sample::Index>(), 0..6),
+    )
+        .prop_map(|(chunks, flips)| {
             let mut v = idle(11);
             for c in chunks {
                 v.extend(c);
@@ -612,8 +717,7 @@ fn corrupted_traffic() -> impl Strategy<Value = Vec<bool>> {
                 v[k] = !v[k];
             }
             v
-        },
-    )
+        })
 }
 
 /// Long fuzz campaign; prints executions and what the decoder produced.
@@ -627,13 +731,22 @@ fn fuzz_long() {
     static FRAMES: AtomicU64 = AtomicU64::new(0);
     static ERRORS: AtomicU64 = AtomicU64::new(0);
     for (name, random) in [("random bits", true), ("corrupted traffic", false)] {
-        let mut runner = TestRunner::new(Config { cases: 100_000, failure_persistence: None, ..Config::default() });
+        let mut runner = TestRunner::new(Config {
+            cases: 100_000,
+            failure_persistence: None,
+            ..Config::default()
+        });
         let strat = if random {
             prop::collection::vec(any::<bool>(), 0..2000).boxed()
         } else {
             corrupted_traffic().boxed()
         };
-        let (c0, b0, f0, e0) = (CASES.load(Relaxed), BITS.load(Relaxed), FRAMES.load(Relaxed), ERRORS.load(Relaxed));
+        let (c0, b0, f0, e0) = (
+            CASES.load(Relaxed),
+            BITS.load(Relaxed),
+            FRAMES.load(Relaxed),
+            ERRORS.load(Relaxed),
+        );
         runner
             .run(&strat, |v| {
                 let ev = Decoder::decode(v.clone());
@@ -653,4 +766,39 @@ fn fuzz_long() {
             ERRORS.load(Relaxed) - e0
         );
     }
+}
+
+/// Decoder speed on back-to-back random frames (not a timed assertion).
+#[test]
+#[ignore = "measurement; run with cargo test -p can-proto --release decoder_throughput -- --ignored --nocapture"]
+fn decoder_throughput() {
+    use proptest::strategy::ValueTree;
+    let mut runner = proptest::test_runner::TestRunner::deterministic();
+    let mut v = idle(11);
+    while v.len() < 1_000_000 {
+        let f = arb_frame().new_tree(&mut runner).unwrap().current();
+        v.extend(wire(&f, true));
+        v.extend(idle(3));
+    }
+    let rounds = 20;
+    let t = std::time::Instant::now();
+    let mut frames_seen = 0usize;
+    for _ in 0..rounds {
+        let mut d = Decoder::new();
+        for &b in &v {
+            for e in d.push(b) {
+                frames_seen += matches!(e, DecodeEvent::Frame(_)) as usize;
+            }
+        }
+    }
+    let secs = t.elapsed().as_secs_f64();
+    let bits = (v.len() * rounds) as f64;
+    assert!(frames_seen > rounds * 1000);
+    std::println!(
+        "decoder: {:.1} Mbit/s ({} bits, {} frames in {:.3} s)",
+        bits / secs / 1e6,
+        bits,
+        frames_seen,
+        secs
+    );
 }
