@@ -736,6 +736,26 @@ mod tests {
     }
 
     proptest! {
+        /// Any field values (even beyond the register widths), any clock and
+        /// target: no panic, and each issue reads as one plain sentence.
+        #[test]
+        fn validate_never_panics_and_speaks_in_sentences(
+            brp in any::<u8>(), sjw in any::<u8>(), tseg1 in any::<u8>(), tseg2 in any::<u8>(), sam in any::<bool>(),
+            f_clk in any::<u32>(), target in any::<u32>(),
+        ) {
+            let t = BusTiming { brp, sjw, tseg1, tseg2, sam };
+            for issue in t.validate(f_clk, target) {
+                let msg = issue.to_string();
+                prop_assert!(msg.starts_with(|c: char| c.is_ascii_uppercase()), "{}", msg);
+                prop_assert!(msg.ends_with('.') && !msg[..msg.len() - 1].contains(". "), "{}", msg);
+            }
+            let in_range = brp <= 63 && sjw <= 3 && tseg1 <= 15 && tseg2 <= 7;
+            prop_assert_eq!(
+                in_range,
+                !t.validate(f_clk, target).iter().any(|i| matches!(i, TimingIssue::FieldOutOfRange { .. }))
+            );
+        }
+
         /// Every listed setting validates clean, meets the target within the
         /// tolerance, and the list is in the documented order.
         #[test]

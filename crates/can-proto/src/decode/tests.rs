@@ -130,6 +130,21 @@ fn thesis_frame_field_indices() {
     );
     assert_eq!(errors(&ev), []);
     assert_eq!(f.crc(), 0x7D2A);
+    // Display, for reports and the diagnoser.
+    let lines: Vec<alloc::string::String> = ev.iter().map(|e| e.to_string()).collect();
+    assert!(lines.contains(&"bit 28: stuff bit".into()), "{lines:?}");
+    assert!(lines.contains(&"bit 31: data field".into()));
+    assert!(
+        lines.contains(&"bits 11-64: frame id 0x529 dlc 1".into()),
+        "{lines:?}"
+    );
+    let e = DecodeEvent::Error {
+        error: BusError::Stuff,
+        field: Field::Dlc,
+        bit: 28,
+    };
+    assert_eq!(e.to_string(), "bit 28: stuff error in data length code");
+    assert_eq!(BusError::Crc.kind(), embedded_can::ErrorKind::Crc);
 }
 
 #[test]
