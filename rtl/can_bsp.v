@@ -259,7 +259,7 @@ module can_bsp (
                 st <= bus_off ? S_BUSOFF : S_INTEG; rcnt <= 4'd0;
             end else if (st == S_BUSOFF && !bus_off) begin
                 st <= S_IDLE;
-            end else if (sample && !bus_off) begin
+            end else if (sample && (!bus_off || st == S_BUSOFF)) begin
                 if (err) begin
                     // ---- error detected: error flag from the next bit ----
                     err_evt <= 1'b1;

@@ -205,6 +205,22 @@ module can_regs (
         end
     end
 
+    // ---- interrupt sources (IR bits are set only when enabled) ----
+    wire rd_ir   = rd && a == PC_IR;     // same address in both views
+    // WUI: sleep mode left, or go-to-sleep refused (bus activity / interrupt pending)
+    wire wui_evt = wake_bus || (sleep_wr && sleep && !sleep_d) ||
+                   (sleep_wr && !sleep && sleep_d && !can_sleep);
+    wire [7:0] ir_set = {
+        peli & err_evt & ecc_arm & ier[7],                       // BEI
+        peli & alc_evt & alc_arm & ier[6],                       // ALI
+        peli & epi_evt & ier[5],                                 // EPI
+        wui_evt & (~peli | ier[4]),                              // WUI (always on in BasicCAN)
+        dos_set & ier[3],                                        // DOI
+        ((bus_off != bus_off_q) | (warn != warn_q)) & ier[2],   // EI
+        (tx_done | tx_drop) & ier[1],                            // TI
+        ~peli & ri_set & ier[0]                                  // BasicCAN RI (PeliCAN RI is live)
+    };
+
     integer i;
     always @(posedge clk) begin
         tx_req <= 1'b0; tx_single <= 1'b0; tx_self <= 1'b0; tx_abort <= 1'b0;
@@ -222,18 +238,14 @@ module can_regs (
             warn_q    <= warn;
 
             // ---- interrupt sources ----
-            if ((tx_done || tx_drop) && ier[1]) ir[1] <= 1'b1;                 // TI
-            if (((bus_off != bus_off_q) || (warn != warn_q)) && ier[2]) ir[2] <= 1'b1; // EI
-            if (dos_set && ier[3]) ir[3] <= 1'b1;                              // DOI
-            if (!peli && ri_set && ier[0]) ir[0] <= 1'b1;                      // BasicCAN RI
-            if (peli && epi_evt && ier[5]) ir[5] <= 1'b1;                      // EPI
+            // a read of IR clears the bits it returned; events of the same
+            // clk are kept for the next read
+            ir <= (rd_ir ? 8'h00 : ir) | ir_set;
             if (alc_evt && alc_arm) begin
                 alc <= {3'b000, alc_val}; alc_arm <= 1'b0;
-                if (peli && ier[6]) ir[6] <= 1'b1;                             // ALI
             end
             if (err_evt && ecc_arm) begin
                 ecc <= ecc_val; ecc_arm <= 1'b0;
-                if (peli && ier[7]) ir[7] <= 1'b1;                             // BEI
             end
             if (tx_done) begin tbs <= 1'b1; tcs <= 1'b1; end
             if (tx_drop) tbs <= 1'b1;
@@ -241,19 +253,14 @@ module can_regs (
             // ---- sleep / wake-up ----
             if (wake_bus || (sleep_wr && sleep && !sleep_d)) begin
                 sleep <= 1'b0;
-                if (!peli || ier[4]) ir[4] <= 1'b1;                            // WUI
-            end else if (sleep_wr && !sleep && sleep_d) begin
-                if (can_sleep) sleep <= 1'b1;
-                else if (!peli || ier[4]) ir[4] <= 1'b1;
+            end else if (sleep_wr && !sleep && sleep_d && can_sleep) begin
+                sleep <= 1'b1;
             end
 
             // ---- bus-off sets reset mode ----
             if (bus_off && !bus_off_q) rm <= 1'b1;
 
             // ---- reads with side effects ----
-            if (rd && a == PC_IR) begin       // same address in both views
-                ir <= 8'h00;
-            end
             if (rd && peli && a == PC_ALC) alc_arm <= 1'b1;
             if (rd && peli && a == PC_ECC) ecc_arm <= 1'b1;
 

@@ -8,6 +8,11 @@
 //     the loser captures ALC, receives the winner, then retransmits.
 //  4. PeliCAN, lone node without self test: ACK errors raise TEC by 8 up
 //     to 128 (error passive, EPI), then stay (rule 3 exception 1).
+//  5. Bus stuck recessive: bit error at SOF and at every bit of the active
+//     error flag (+8 each), passive flag from TEC = 128 on (exactly 16
+//     dominant bits sent), bus-off at TEC > 255 (RM set, TXERR = 127,
+//     bus_off_on low), recovery after 128 x 11 recessive bits.
+//  6. Sleep: MOD.SM accepted when idle, bus activity wakes the node (WUI).
 // Exits with $fatal on the first failure; prints "PASS" at the end.
 `timescale 1ns/1ps
 module tb_can;
@@ -22,7 +27,8 @@ module tb_can;
     reg        we  [0:1];
     wire [7:0] dout0, dout1;
     wire       ack0, ack1, tx0, tx1, bo0, bo1, irq0, irq1, ck0, ck1;
-    wire       bus = tx0 & tx1;
+    reg        force_rec = 0;             // fault injector: bus stuck recessive
+    wire       bus = (tx0 & tx1) | force_rec;
 
     can_top n0 (.wb_clk_i(wb_clk), .wb_rst_i(wb_rst), .wb_dat_i(dwr[0]), .wb_dat_o(dout0),
         .wb_cyc_i(cyc[0]), .wb_stb_i(cyc[0]), .wb_we_i(we[0]), .wb_adr_i(adr[0]), .wb_ack_o(ack0),
@@ -159,6 +165,14 @@ module tb_can;
         if (n1.u_bsp.rx_valid) $display("%0t n1 rx valid id=%h", $time, n1.u_bsp.rx_id);
     end
 
+    // length of node 0's first run of dominant tx_o bits (test 5)
+    integer dom_run = 0, dom_first = 0;
+    reg count_dom = 0;
+    always @(posedge clk0) if (count_dom && n0.u_btl.sample && dom_first == 0) begin
+        if (!tx0) dom_run <= dom_run + 1;
+        else if (dom_run != 0) dom_first <= dom_run;
+    end
+
     reg [7:0] q;
     integer k;
     initial begin
@@ -291,6 +305,70 @@ module tb_can;
         wait_bits(100);
         rd(0, 8'd2, q);
         if (q[2] !== 1'b1) fail("TBS after abort");
+
+        // ================= 5. bus stuck recessive: bus-off and recovery =================
+        $display("5. bus stuck recessive: error flags, error passive, bus-off, recovery");
+        wr(0, 8'd0, 8'h01);                 // reset mode
+        wr(0, 8'd15, 8'd0);                 // TXERR = 0
+        wr(0, 8'd4, 8'h04);                 // IER: EI
+        wr(0, 8'd0, 8'h00);
+        wait_bits(12);
+        rd(0, 8'd3, q);
+        rd(0, 8'd12, q);                    // arm ECC
+        force_rec = 1;
+        dom_run = 0; dom_first = 0; count_dom = 1;
+        wr(0, 8'd1, 8'h01);                 // TR
+        k = 0;
+        while (bo0 !== 1'b0) begin
+            @(posedge wb_clk); k = k + 1;
+            if (k > 2_000_000) fail("never went bus-off");
+        end
+        count_dom = 0;
+        if (dom_first != 16) begin
+            $display("FAIL: %0d dominant bits before the passive flag, expected 16", dom_first);
+            $fatal(1);
+        end
+        $display("  16 dominant bits (SOF + 15 active flag bits) then passive flags; bus-off");
+        expect_reg(0, 8'd12, 8'h03, "ECC: bit error at SOF, TX");
+        expect_reg(0, 8'd15, 8'd127, "TXERR at bus-off");
+        expect_reg(0, 8'd14, 8'd0, "RXERR at bus-off");
+        expect_reg(0, 8'd0, 8'h01, "MOD: RM set by bus-off");
+        rd(0, 8'd2, q);
+        if (q[7] !== 1'b1 || q[2] !== 1'b1) fail("SR: BS and TBS expected at bus-off");
+        if (irq0 !== 1'b0) fail("EI expected at bus-off");
+        expect_reg(0, 8'd3, 8'h04, "IR: EI");
+        force_rec = 0;
+        wr(0, 8'd0, 8'h00);                 // leave reset mode: recovery starts
+        wait_bits(700);
+        rd(0, 8'd15, q);
+        if (q == 0 || q >= 127 || bo0 !== 1'b0) fail("TXERR must count the recovery down");
+        $display("  recovery under way, TXERR = %0d", q);
+        k = 0;
+        while (bo0 !== 1'b1) begin
+            @(posedge wb_clk); k = k + 1;
+            if (k > 2_000_000) fail("never recovered from bus-off");
+        end
+        expect_reg(0, 8'd15, 8'd0, "TXERR after recovery");
+        expect_reg(0, 8'd2, 8'h04, "SR after recovery (TBS; TCS stays 0: the request was cancelled)");
+        expect_reg(0, 8'd3, 8'h04, "IR: EI at bus-on");
+
+        // ================= 6. sleep and wake-up =================
+        $display("6. sleep mode, wake-up by bus activity");
+        wr(0, 8'd4, 8'h10);                 // IER: WUI
+        wait_bits(12);
+        wr(0, 8'd0, 8'h10);                 // MOD.SM
+        expect_reg(0, 8'd0, 8'h10, "MOD: sleeping");
+        if (ck0 !== 1'b0) fail("CLKOUT must stop in sleep mode");
+        wr(1, 8'd0, 8'h00);                 // node 1 operating, sends its frame again
+        #20000;                             // (node 0 is asleep: no sample points to count)
+        wr(1, 8'd1, 8'h01);
+        k = 0;
+        while (irq0 !== 1'b0) begin
+            @(posedge wb_clk); k = k + 1;
+            if (k > 200_000) fail("no wake-up interrupt");
+        end
+        expect_reg(0, 8'd0, 8'h00, "MOD: awake");
+        expect_reg(0, 8'd3, 8'h10, "IR: WUI");
 
         $display("PASS (max Wishbone ack latency %0d wb_clk_i cycles)", max_lat);
         $finish;
