@@ -321,3 +321,30 @@ fn mode_from_cdr() {
     assert_eq!(Mode::from_cdr(0x80), Mode::PeliCan);
     assert_eq!(Mode::from_cdr(0x7F), Mode::BasicCan);
 }
+
+// ---- the thesis's hand-typed addresses (seed 000 annexe 4), decoded ----------
+
+/// What the thesis's PeliCAN initialisation really wrote, decoded through
+/// the map (reset mode, PeliCAN view). It typed BTR0 at 0x05 and BTR1 at
+/// 0x06: the BTR0 value 0x41 went to a reserved address and the BTR1 value
+/// 0x25 landed in BTR0, so BTR1 kept its undefined reset value. Its
+/// "acceptance filter" 0x14..0x17 is AMR0..AMR3 (writing FFh there accepts
+/// everything, which hid the mistake).
+#[test]
+fn thesis_pelican_init_addresses_hit_other_registers() {
+    let w = |a| decode(Mode::PeliCan, OpMode::Reset, Access::Write, a).unwrap();
+    assert_eq!(w(0x05).target, Target::Nothing, "pelican_timing0 0x05 is reserved");
+    assert_eq!(w(0x06).register().unwrap().name, "BTR0", "pelican_timing1 0x06 is BTR0");
+    for (a, n) in [(0x14, "AMR0"), (0x15, "AMR1"), (0x16, "AMR2"), (0x17, "AMR3")] {
+        assert_eq!(w(a).register().unwrap().name, n);
+    }
+    assert_eq!(w(0x04).register().unwrap().name, "IER", "its 'interrupt' 0x04 is IER in PeliCAN");
+    // The same 0x04 in BasicCAN is the acceptance code register.
+    let b = decode(Mode::BasicCan, OpMode::Reset, Access::Write, 0x04).unwrap();
+    assert_eq!(b.register().unwrap().name, "ACR");
+    // Its TX_INFO 0x10, read in operating mode, is the RX frame information.
+    let r = decode(Mode::PeliCan, OpMode::Operating, Access::Read, 0x10).unwrap();
+    assert_eq!(r.register().unwrap().name, "RXFI");
+    // BasicCAN timing at 0x06/0x07 was right.
+    assert_eq!(decode(Mode::BasicCan, OpMode::Reset, Access::Write, 0x06).unwrap().register().unwrap().name, "BTR0");
+}
