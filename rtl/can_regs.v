@@ -13,7 +13,7 @@ module can_regs (
     input  wire [7:0]  acc_adr,
     /* verilator lint_on UNUSEDSIGNAL */
     input  wire [7:0]  acc_wdat,
-    output reg  [7:0]  acc_rdat,
+    output wire [7:0]  acc_rdat,    // valid one clk after acc_stb
     // configuration
     output reg         rm,          // reset mode (MOD.RM / CR.RR)
     output wire        peli,        // CDR.7
@@ -40,10 +40,9 @@ module can_regs (
     output reg         rrb,
     output reg         cdo,
     output wire        rbsa_wr,
-    output wire [3:0]  win_idx,
-    input  wire [7:0]  win_dat,
-    output wire [5:0]  ram_adr,
-    input  wire [7:0]  ram_dat,
+    output wire        fifo_rd,     // this read targets the RX FIFO RAM
+    output wire [5:0]  fifo_adr,
+    input  wire [7:0]  fifo_q,      // RAM data, one clk after fifo_rd
     input  wire [6:0]  rmc,
     input  wire [5:0]  rbsa,
     input  wire        rbs,
@@ -113,8 +112,24 @@ module can_regs (
     wire       in_win_p = (a >= PC_RXB) && (a < PC_RXB + PC_BUF_LEN);
     wire       in_win_b = (a >= BC_RXB) && (a < BC_RXB + BC_RXB_LEN);
     wire [3:0] tx_ofs_b = a[3:0] - BC_TXB[3:0];   // BasicCAN TX buffer byte 0..9 (mod 16)
-    assign win_idx = peli ? (a[3:0] - PC_RXB[3:0]) : (a[3:0] - BC_RXB[3:0]);
-    assign ram_adr = a[5:0] - PC_RXFIFO[5:0];
+    wire [3:0] win_idx = peli ? (a[3:0] - PC_RXB[3:0]) : (a[3:0] - BC_RXB[3:0]);
+    wire       in_ram  = (a >= PC_RXFIFO) && (a < PC_RXFIFO + PC_RXFIFO_LEN);
+    wire       rd_win  = peli ? (in_win_p && !rm) : in_win_b;
+    assign fifo_rd  = rd && (rd_win || (peli && in_ram));
+    assign fifo_adr = rd_win ? (rbsa + {2'b00, win_idx}) : (a[5:0] - PC_RXFIFO[5:0]);
+
+    // read data: registers are captured at the access strobe (the same clk
+    // as read side effects such as the IR clear), RAM data comes one clk later
+    reg  [7:0] rdat;
+    reg  [7:0] rdat_q;
+    reg        fifo_sel_q;
+    always @(posedge clk) begin
+        if (acc_stb) begin
+            rdat_q     <= rdat;
+            fifo_sel_q <= fifo_rd;
+        end
+    end
+    assign acc_rdat = fifo_sel_q ? fifo_q : rdat_q;
     assign rbsa_wr = wr && peli && rm && a == PC_RBSA;
     assign wr_tec  = wr && peli && rm && a == PC_TXERR;
     assign wr_rec  = wr && peli && rm && a == PC_RXERR;
@@ -127,57 +142,53 @@ module can_regs (
 
     // ---- read mux ----
     always @* begin
-        acc_rdat = 8'h00;
+        rdat = 8'h00;
         if (peli) begin
             case (a)
-                PC_MOD:   acc_rdat = {3'b000, sleep, afm, stm, lom, rm};
-                PC_CMR:   acc_rdat = 8'h00;
-                PC_SR:    acc_rdat = sr;
-                PC_IR:    acc_rdat = ir_view;
-                PC_IER:   acc_rdat = ier;
-                PC_BTR0:  acc_rdat = btr0;
-                PC_BTR1:  acc_rdat = btr1;
-                PC_OCR:   acc_rdat = ocr;
-                PC_ALC:   acc_rdat = alc;
-                PC_ECC:   acc_rdat = ecc;
-                PC_EWLR:  acc_rdat = ewlr;
-                PC_RXERR: acc_rdat = rec;
-                PC_TXERR: acc_rdat = tec;
-                PC_RMC:   acc_rdat = {1'b0, rmc};
-                PC_RBSA:  acc_rdat = {2'b00, rbsa};
-                PC_CDR:   acc_rdat = cdr;             // CDR.4 is always written 0
+                PC_MOD:   rdat = {3'b000, sleep, afm, stm, lom, rm};
+                PC_CMR:   rdat = 8'h00;
+                PC_SR:    rdat = sr;
+                PC_IR:    rdat = ir_view;
+                PC_IER:   rdat = ier;
+                PC_BTR0:  rdat = btr0;
+                PC_BTR1:  rdat = btr1;
+                PC_OCR:   rdat = ocr;
+                PC_ALC:   rdat = alc;
+                PC_ECC:   rdat = ecc;
+                PC_EWLR:  rdat = ewlr;
+                PC_RXERR: rdat = rec;
+                PC_TXERR: rdat = tec;
+                PC_RMC:   rdat = {1'b0, rmc};
+                PC_RBSA:  rdat = {2'b00, rbsa};
+                PC_CDR:   rdat = cdr;             // CDR.4 is always written 0
                 default: begin
-                    if (in_win_p) begin
-                        if (!rm) acc_rdat = win_dat;
-                        else if (a < PC_AMR0) acc_rdat = acr_r[a[1:0]];
-                        else if (a < PC_AMR0 + 8'd4) acc_rdat = amr_r[a[1:0]];
-                    end else if (a >= PC_RXFIFO && a < PC_RXFIFO + PC_RXFIFO_LEN) begin
-                        acc_rdat = ram_dat;
+                    // RX window (operating mode) and RAM: data from the FIFO RAM
+                    if (in_win_p && rm) begin
+                        if (a < PC_AMR0) rdat = acr_r[a[1:0]];
+                        else if (a < PC_AMR0 + 8'd4) rdat = amr_r[a[1:0]];
                     end else if (a >= PC_TXRAM && a < PC_TXRAM + PC_BUF_LEN) begin
-                        acc_rdat = txb[a[3:0]];
+                        rdat = txb[a[3:0]];
                     end
                 end
             endcase
         end else begin
             case (a)
-                BC_CR:   acc_rdat = {1'b0, cr6, 1'b1, ier[3:0], rm};
-                BC_CMR:  acc_rdat = 8'hFF;
-                BC_SR:   acc_rdat = sr;
-                BC_IR:   acc_rdat = ir_view;
-                BC_ACR:  acc_rdat = rm ? acr_r[0] : 8'hFF;
-                BC_AMR:  acc_rdat = rm ? amr_r[0] : 8'hFF;
-                BC_BTR0: acc_rdat = rm ? btr0 : 8'hFF;
-                BC_BTR1: acc_rdat = rm ? btr1 : 8'hFF;
-                BC_OCR:  acc_rdat = rm ? ocr : 8'hFF;
-                BC_TEST: acc_rdat = 8'h00;
-                BC_CDR:  acc_rdat = cdr;             // CDR.4 is always written 0
+                BC_CR:   rdat = {1'b0, cr6, 1'b1, ier[3:0], rm};
+                BC_CMR:  rdat = 8'hFF;
+                BC_SR:   rdat = sr;
+                BC_IR:   rdat = ir_view;
+                BC_ACR:  rdat = rm ? acr_r[0] : 8'hFF;
+                BC_AMR:  rdat = rm ? amr_r[0] : 8'hFF;
+                BC_BTR0: rdat = rm ? btr0 : 8'hFF;
+                BC_BTR1: rdat = rm ? btr1 : 8'hFF;
+                BC_OCR:  rdat = rm ? ocr : 8'hFF;
+                BC_TEST: rdat = 8'h00;
+                BC_CDR:  rdat = cdr;             // CDR.4 is always written 0
                 default: begin
                     if (a >= BC_TXB && a < BC_TXB + BC_TXB_LEN)
-                        acc_rdat = rm ? 8'hFF : txb[tx_ofs_b];
-                    else if (in_win_b)
-                        acc_rdat = win_dat;
-                    else
-                        acc_rdat = 8'hFF;                   // address 30
+                        rdat = rm ? 8'hFF : txb[tx_ofs_b];
+                    else if (!in_win_b)
+                        rdat = 8'hFF;                   // address 30 (window: FIFO RAM)
                 end
             endcase
         end

@@ -5,6 +5,10 @@
 // not fit is dropped and sets DOS (data overrun).
 // A stored message is copied into the RAM one byte per clk (at most 13 clk,
 // well inside the 5 bit times before the next frame's identifier).
+// The RAM has one synchronous write port and one synchronous read port
+// (block-RAM friendly): the read port serves host reads (data one clk after
+// the access strobe) and otherwise looks at the header of the message at
+// RBSA, which a release (RRB) needs one clk later to know its length.
 module can_rxfifo (
     input  wire        clk,
     input  wire        rst,
@@ -20,10 +24,9 @@ module can_rxfifo (
     input  wire        cdo,        // clear data overrun
     input  wire        rbsa_wr,    // host write of RBSA (reset mode)
     input  wire [5:0]  wdat,
-    input  wire [3:0]  win_idx,    // receive buffer window byte
-    output wire [7:0]  win_dat,
-    input  wire [5:0]  ram_adr,    // direct RAM read (CAN address 32..95)
-    output wire [7:0]  ram_dat,
+    input  wire        host_rd,    // host reads the RAM (window or CAN address 32..95)
+    input  wire [5:0]  host_adr,   // absolute RAM address
+    output reg  [7:0]  rd_q,       // RAM data, one clk after host_rd
     output reg  [6:0]  rmc,
     output reg  [5:0]  rbsa,
     output wire        rbs,
@@ -38,22 +41,21 @@ module can_rxfifo (
     reg [3:0] wk, wlen;
 
     assign rbs     = (rmc != 7'd0);
-    assign win_dat = ram[rbsa + {2'b00, win_idx}];
-    assign ram_dat = ram[ram_adr];
 
     wire [3:0] nd  = (rtr || dlc == 4'd0) ? 4'd0 : (dlc[3] ? 4'd8 : dlc);
     wire [3:0] len = nd + (peli ? (ide ? 4'd5 : 4'd3) : 4'd2);
 
     // length of the message at RBSA
-    // only FF, RTR and DLC (PeliCAN frame info) / RTR and DLC (BasicCAN
-    // byte 1) carry length information; the other bits are not needed here
+    // header byte with the length: PeliCAN frame info (FF, RTR, DLC) at
+    // RBSA, BasicCAN descriptor byte 1 (RTR, DLC) at RBSA + 1
+    reg        rrb_q;              // release pending, header in rd_q
+    wire [5:0] hdr_adr = peli ? rbsa : rbsa + 6'd1;
     /* verilator lint_off UNUSEDSIGNAL */
-    wire [7:0] h0 = ram[rbsa];
-    wire [7:0] h1 = ram[rbsa + 6'd1];
+    wire [7:0] h = rd_q;           // bit 5 carries no length information in either format
     /* verilator lint_on UNUSEDSIGNAL */
-    wire [3:0] hnd_p = (h0[6] || h0[3:0] == 4'd0) ? 4'd0 : (h0[3] ? 4'd8 : h0[3:0]);
-    wire [3:0] hnd_b = (h1[4] || h1[3:0] == 4'd0) ? 4'd0 : (h1[3] ? 4'd8 : h1[3:0]);
-    wire [3:0] hlen  = peli ? (hnd_p + (h0[7] ? 4'd5 : 4'd3)) : (hnd_b + 4'd2);
+    wire [3:0] hnd_p = (h[6] || h[3:0] == 4'd0) ? 4'd0 : (h[3] ? 4'd8 : h[3:0]);
+    wire [3:0] hnd_b = (h[4] || h[3:0] == 4'd0) ? 4'd0 : (h[3] ? 4'd8 : h[3:0]);
+    wire [3:0] hlen  = peli ? (hnd_p + (h[7] ? 4'd5 : 4'd3)) : (hnd_b + 4'd2);
 
     // byte wk of the message being written
     reg [7:0] wbyte;
@@ -85,18 +87,20 @@ module can_rxfifo (
         end
     end
 
-    wire do_rrb    = rrb && rmc != 7'd0 && !clr;
+    wire do_rrb    = rrb_q && rmc != 7'd0 && !clr;
     wire fits      = ({3'b000, len} + fill) <= 7'd64;
     wire start     = store && !wbusy && !clr;
     wire commit    = wbusy && (wk == wlen - 4'd1);
 
     always @(posedge clk) begin
         if (wbusy && !clr) ram[wr_ptr + {2'b00, wk}] <= wbyte;
+        rd_q <= ram[host_rd ? host_adr : hdr_adr];
     end
 
     always @(posedge clk) begin
         dos_set <= 1'b0;
         ri_set  <= 1'b0;
+        rrb_q   <= rrb && !host_rd;
         if (rst) begin
             rmc <= 7'd0; rbsa <= 6'd0; dos <= 1'b0; wr_ptr <= 6'd0; fill <= 7'd0;
             wbusy <= 1'b0; wk <= 4'd0; wlen <= 4'd0;

@@ -43,9 +43,9 @@ module can_top (
     wire [63:0] tx_data;
     wire        tx_req, tx_single, tx_self, tx_abort;
     wire        rrb, cdo, rbsa_wr;
-    wire [3:0]  win_idx;
-    wire [7:0]  win_dat, ram_dat;
-    wire [5:0]  ram_adr, rbsa;
+    wire        fifo_rd;
+    wire [7:0]  fifo_q;
+    wire [5:0]  fifo_adr, rbsa;
     wire [6:0]  rmc;
     wire        rbs, dos, dos_set, ri_set;
     wire        tx_done, tx_drop, alc_evt, err_evt;
@@ -71,8 +71,8 @@ module can_top (
         .btr0(btr0), .btr1(btr1), .ewlr(ewlr), .acr(acr), .amr(amr),
         .tx_ide(tx_ide), .tx_rtr(tx_rtr), .tx_dlc(tx_dlc), .tx_id(tx_id), .tx_data(tx_data),
         .tx_req(tx_req), .tx_single(tx_single), .tx_self(tx_self), .tx_abort(tx_abort),
-        .rrb(rrb), .cdo(cdo), .rbsa_wr(rbsa_wr), .win_idx(win_idx), .win_dat(win_dat),
-        .ram_adr(ram_adr), .ram_dat(ram_dat), .rmc(rmc), .rbsa(rbsa), .rbs(rbs), .dos(dos),
+        .rrb(rrb), .cdo(cdo), .rbsa_wr(rbsa_wr), .fifo_rd(fifo_rd), .fifo_adr(fifo_adr),
+        .fifo_q(fifo_q), .rmc(rmc), .rbsa(rbsa), .rbs(rbs), .dos(dos),
         .dos_set(dos_set), .ri_set(ri_set),
         .tx_done(tx_done), .tx_drop(tx_drop), .alc_evt(alc_evt), .alc_val(alc_val),
         .err_evt(err_evt), .ecc_val(ecc_val), .rs(rs), .ts(ts), .bus_idle(bus_idle),
@@ -119,7 +119,7 @@ module can_top (
         .store(rx_valid && accept && (peli || !rx_ide)),
         .id(rx_id), .ide(rx_ide), .rtr(rx_rtr), .dlc(rx_dlc), .data(rx_data),
         .rrb(rrb), .cdo(cdo), .rbsa_wr(rbsa_wr), .wdat(acc_wdat[5:0]),
-        .win_idx(win_idx), .win_dat(win_dat), .ram_adr(ram_adr), .ram_dat(ram_dat),
+        .host_rd(fifo_rd), .host_adr(fifo_adr), .rd_q(fifo_q),
         .rmc(rmc), .rbsa(rbsa), .rbs(rbs), .dos(dos), .dos_set(dos_set), .ri_set(ri_set)
     );
 

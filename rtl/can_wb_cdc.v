@@ -10,9 +10,10 @@
 //
 // Ack latency, counted from the first wb_clk_i edge that sees cyc&stb to the
 // edge that presents wb_ack_o (Twb = wb_clk_i period, Tclk = clk_i period):
-//   1 Twb (launch) + 3..4 Tclk (2 sync flops + strobe, access) + 3 Twb
-//   (2 sync flops + registered ack), i.e. about 4 + 4*Tclk/Twb wb_clk_i
-//   cycles: 12..13 cycles at 50 MHz wb_clk_i / 24 MHz clk_i.
+//   1 Twb (launch) + 4..5 Tclk (2 sync flops, strobe, read data capture)
+//   + 3..4 Twb (2 sync flops, registered ack), i.e. 4..5 + (4..5)*Tclk/Twb
+//   wb_clk_i cycles: 13..16 cycles at 50 MHz wb_clk_i / 24 MHz clk_i
+//   (measured by tb/rtl/tb_can.v, see rtl/README.md).
 // wb_ack_o is a one-cycle pulse, raised only if cyc&stb are still held;
 // the next access is launched only after the previous one completed.
 //
@@ -38,7 +39,7 @@ module can_wb_cdc (
     output wire       acc_we,
     output wire [7:0] acc_adr,
     output wire [7:0] acc_wdat,
-    input  wire [7:0] acc_rdat    // read data, valid while acc_stb
+    input  wire [7:0] acc_rdat    // read data, valid the clk after acc_stb
 );
     // ---------------- wb_clk_i domain ----------------
     reg       rst_req;
@@ -92,6 +93,7 @@ module can_wb_cdc (
     // ---------------- clk_i domain ----------------
     reg rst_m;
     reg req_m, req_s, req_d;
+    reg acc_stb_d;
 
     assign acc_we   = we_q;
     assign acc_adr  = adr_q;
@@ -108,6 +110,7 @@ module can_wb_cdc (
             req_s   <= 1'b0;
             req_d   <= 1'b0;
             acc_stb <= 1'b0;
+            acc_stb_d <= 1'b0;
             ack_tgl <= 1'b0;
             rdat_x  <= 8'h00;
         end else begin
@@ -115,7 +118,8 @@ module can_wb_cdc (
             req_s   <= req_m;
             req_d   <= req_s;
             acc_stb <= req_s ^ req_d;
-            if (acc_stb) begin
+            acc_stb_d <= acc_stb;
+            if (acc_stb_d) begin
                 rdat_x  <= acc_rdat;
                 ack_tgl <= ~ack_tgl;
             end
