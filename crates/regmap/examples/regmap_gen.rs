@@ -9,11 +9,11 @@ fn main() {
         eprintln!("usage: regmap_gen <dir> [byte|word]");
         std::process::exit(2);
     };
-    let spacing = match args.next().as_deref() {
-        None | Some("byte") => Spacing::Byte,
-        Some("word") => Spacing::Word,
-        Some(other) => {
-            eprintln!("spacing must be byte or word, not {other:?}");
+    let spacing = match args.next().map(|s| s.parse::<Spacing>()) {
+        None => Spacing::Byte,
+        Some(Ok(s)) => s,
+        Some(Err(e)) => {
+            eprintln!("{e}");
             std::process::exit(2);
         }
     };

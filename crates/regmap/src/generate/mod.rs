@@ -14,6 +14,7 @@ pub use docs::markdown;
 pub use tcl::{hw_tcl, TclOptions};
 pub use verilog::verilog_include;
 
+
 use crate::{lookup, Access, OpMode, Register};
 use std::io;
 use std::path::{Path, PathBuf};
@@ -29,6 +30,30 @@ pub enum Spacing {
     /// One 32-bit word per register at `base + 4 * index`; accesses use
     /// `IORD`/`IOWR` (for a wrapper with a 32-bit data bus).
     Word,
+}
+
+impl std::str::FromStr for Spacing {
+    type Err = GenError;
+
+    /// `byte` or `word` (case-insensitive), for command lines.
+    fn from_str(s: &str) -> Result<Self, GenError> {
+        match s.to_ascii_lowercase().as_str() {
+            "byte" | "8direct" => Ok(Spacing::Byte),
+            "word" | "native" => Ok(Spacing::Word),
+            _ => Err(GenError::BadSpacing(s.to_string())),
+        }
+    }
+}
+
+/// Errors in generator options.
+#[derive(Debug, Clone, PartialEq, Eq, thiserror::Error)]
+pub enum GenError {
+    /// The spacing is not `byte` or `word`.
+    #[error("register spacing {0:?} is neither \"byte\" (IORD_8DIRECT) nor \"word\" (IORD)")]
+    BadSpacing(String),
+    /// The prefix would not make C identifiers.
+    #[error("prefix {0:?} is not an upper-case C identifier (A-Z, 0-9, _; not starting with a digit)")]
+    BadPrefix(String),
 }
 
 /// Options of the C header generators.
@@ -47,6 +72,17 @@ impl Default for HeaderOptions {
 }
 
 impl HeaderOptions {
+    /// Options with a checked prefix (upper-case C identifier, e.g. `CAN0`).
+    pub fn new(prefix: &str, spacing: Spacing) -> Result<Self, GenError> {
+        let ok = !prefix.is_empty()
+            && !prefix.starts_with(|c: char| c.is_ascii_digit())
+            && prefix.chars().all(|c| c.is_ascii_uppercase() || c.is_ascii_digit() || c == '_');
+        if !ok {
+            return Err(GenError::BadPrefix(prefix.to_string()));
+        }
+        Ok(HeaderOptions { prefix: prefix.to_string(), spacing })
+    }
+
     /// File name of the register header: `<prefix>_regs.h` in lower case.
     pub fn regs_file(&self) -> String {
         format!("{}_regs.h", self.prefix.to_lowercase())

@@ -125,3 +125,15 @@ fn rtl_address_include_agrees_with_the_map() {
     }
     assert!(checked >= 30, "only {checked} localparams found in {}", path.display());
 }
+
+#[test]
+fn options_from_command_line_text() {
+    assert_eq!("Byte".parse::<Spacing>(), Ok(Spacing::Byte));
+    assert_eq!("word".parse::<Spacing>(), Ok(Spacing::Word));
+    let e = "dword".parse::<Spacing>().unwrap_err();
+    assert!(e.to_string().contains("dword"), "{e}");
+    assert!(HeaderOptions::new("CAN0", Spacing::Byte).is_ok());
+    for bad in ["", "can", "0CAN", "CAN-0", "CAN SJA"] {
+        assert_eq!(HeaderOptions::new(bad, Spacing::Byte), Err(GenError::BadPrefix(bad.to_string())), "{bad:?}");
+    }
+}
