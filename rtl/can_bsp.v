@@ -81,11 +81,16 @@ module can_bsp (
     reg [2:0]  eq_cnt;       // passive error flag: equal bits in a row
     reg        eq_last;
     reg        first;        // first bit after an error flag
+    reg        flag_act;     // the error flag being sent is active (dominant)
     reg [2:0]  dom_cnt;      // dominant bits after a flag (tolerate 7)
     reg [3:0]  rcnt;         // recessive bits in a row (bus free)
 
-    wire flag_passive = passive || lom;
-    wire in_frame  = (st >= S_SOF) && (st <= S_EOF);
+    // CAN 2.0B 8, rule 9 note: the flag type is the fault state *before*
+    // the increment of the error that starts it (an error making the node
+    // error passive is still signalled with an active error flag).
+    wire flag_passive = !flag_act;
+    wire busy      = !(st == S_OFF || st == S_INTEG || st == S_BUSOFF || st == S_IDLE ||
+                       st == S_INTER || st == S_SUSP);
     wire stuffed   = (st >= S_IDA) && (st <= S_CRC);
     wire is_stuff  = ((st >= S_IDA) && (st <= S_CRCD)) && (scnt == 3'd5);
     wire in_arb    = (st == S_IDA) || (st == S_SRTR) || (st == S_IDE) ||
@@ -238,7 +243,7 @@ module can_bsp (
         if (rst) begin
             st <= S_OFF; cnt <= 6'd0; scnt <= 3'd0; slast <= 1'b1; crc <= 15'd0;
             srtr <= 1'b0; txr <= 1'b0; req <= 1'b0; req_single <= 1'b0; req_self <= 1'b0;
-            crc_err <= 1'b0; ack_pend <= 1'b0; eq_cnt <= 3'd0; eq_last <= 1'b1;
+            crc_err <= 1'b0; ack_pend <= 1'b0; eq_cnt <= 3'd0; eq_last <= 1'b1; flag_act <= 1'b1;
             first <= 1'b0; dom_cnt <= 3'd0; rcnt <= 4'd0;
             rx_id <= 29'd0; rx_ide <= 1'b0; rx_rtr <= 1'b0; rx_dlc <= 4'd0; rx_data <= 64'd0;
             alc_val <= 5'd0; ecc_val <= 8'd0;
@@ -249,7 +254,7 @@ module can_bsp (
             end else if (tx_req && !req) begin
                 req <= 1'b1; req_single <= tx_single; req_self <= tx_self;
             end else if (tx_abort && req) begin
-                if (txr && in_frame) req_single <= 1'b1;
+                if (txr && busy) req_single <= 1'b1;
                 else begin req <= 1'b0; tx_drop <= 1'b1; end
             end
 
@@ -265,10 +270,11 @@ module can_bsp (
                     err_evt <= 1'b1;
                     ecc_val <= {ekind, !txr, seg};
                     st <= S_EFLAG; cnt <= 6'd0; crc_err <= 1'b0;
+                    flag_act <= !passive && !lom;
                     if (txr) begin
                         if (e_ackpass) ack_pend <= 1'b1;
                         else if (!e_tec_none) tec_add8 <= 1'b1;
-                        if (req_single && req && in_frame) begin
+                        if (req_single && req) begin
                             req <= 1'b0; tx_drop <= 1'b1;
                         end
                     end else begin
@@ -292,8 +298,12 @@ module can_bsp (
                     case (st)
                         S_INTEG: begin
                             if (!rx) rcnt <= 4'd0;
-                            else if (rcnt == 4'd10) begin rcnt <= 4'd0; st <= S_IDLE; end
-                            else rcnt <= rcnt + 4'd1;
+                            else if (rcnt == 4'd10) begin
+                                // bus idle reached: a pending request starts with the next bit
+                                rcnt <= 4'd0;
+                                if (can_tx) begin st <= S_SOF; txr <= 1'b1; end
+                                else st <= S_IDLE;
+                            end else rcnt <= rcnt + 4'd1;
                         end
                         S_BUSOFF: begin
                             if (!rx) rcnt <= 4'd0;
@@ -305,10 +315,10 @@ module can_bsp (
                                 // start of frame from another node
                                 st <= S_IDA; cnt <= 6'd0; scnt <= 3'd1; slast <= 1'b0;
                                 crc <= 15'd0; rx_id <= 29'd0; rx_data <= 64'd0;
-                                // a pending request joins arbitration from the first
-                                // identifier bit (bus idle, or intermission bit 3 unless
-                                // this node must suspend transmission)
-                                txr <= can_tx && (st == S_IDLE || !(txr && passive)) && st != S_SUSP;
+                                // at intermission bit 3 a pending request takes this as its
+                                // own SOF and goes on with the identifier (unless it must
+                                // suspend transmission); in bus idle the node is a receiver
+                                txr <= (st == S_INTER) && can_tx && !(txr && passive);
                             end else if (!rx) begin
                                 // dominant in intermission bit 1 or 2: overload frame
                                 st <= S_OFLAG; cnt <= 6'd0;
@@ -373,10 +383,13 @@ module can_bsp (
                         end
                         S_ACKD: begin st <= S_EOF; cnt <= 6'd0; end
                         S_EOF: begin
-                            if (cnt == 6'd5 && (!txr || req_self)) rx_valid <= 1'b1;
+                            // valid for receivers at the last-but-one EOF bit; an own
+                            // frame (self reception) when the transmission succeeds
+                            if (cnt == 6'd5 && !txr) rx_valid <= 1'b1;
                             if (cnt == 6'd6) begin
                                 if (txr) begin
                                     tx_done <= 1'b1; tec_sub1 <= 1'b1; req <= 1'b0;
+                                    if (req_self) rx_valid <= 1'b1;
                                 end
                                 if (!rx) begin st <= S_OFLAG; cnt <= 6'd0; end
                                 else begin st <= S_INTER; cnt <= 6'd0; end

@@ -45,7 +45,7 @@ module can_btl (
     wire [4:0] t1   = {1'b0, tseg1} + 5'd1;
     wire [4:0] nq   = t1 + {2'b00, tseg2} + 5'd2;      // 1 + t1 + t2
     wire [4:0] sjw1 = {3'b000, sjw} + 5'd1;
-    wire       edge_det = rx_tq && !rx && last_bit && !synced;
+    wire       edge_det = rx_tq && !rx && last_bit && !synced && (q != 5'd0); // none in SYNC_SEG
     wire       in_tseg1 = (q != 5'd0) && (q <= t1);
     wire       in_tseg2 = (q > t1);
     wire [4:0] rem  = nq - q;                          // quanta left incl. q
@@ -90,7 +90,6 @@ module can_btl (
                         q    <= q + 5'd1 + sjw1;
                     end
                 end else begin
-                    if (edge_det && q == 5'd0) synced <= 1'b1;
                     if (q == t1) begin
                         sample   <= 1'b1;
                         rx_bit   <= sam ? maj : rx;

@@ -40,9 +40,15 @@ module can_fce (
             passive_q <= 1'b0;
         end else begin
             passive_q <= passive;
-            if (wr_tec) tec <= wdat;
-            if (wr_rec) rec <= wdat;
-            if (bus_off) begin
+            if (wr_rec && !bus_off) rec <= wdat;   // ignored while bus-off
+            if (wr_tec) begin
+                if (wdat == 8'd255 && !bus_off) begin
+                    // datasheet: writing 255 to TXERR forces a bus-off event
+                    bus_off <= 1'b1; tec <= 8'd127; rec <= 8'd0;
+                end else begin
+                    tec <= wdat; bus_off <= 1'b0; // a TXERR write ends bus-off
+                end
+            end else if (bus_off) begin
                 // 128 occurrences of 11 recessive bits: TXERR counts 127..0,
                 // the 128th sequence brings the node back error active.
                 if (recov_tick) begin

@@ -228,7 +228,8 @@ module can_regs (
         wui_evt & (~peli | ier[4]),                              // WUI (always on in BasicCAN)
         dos_set & ier[3],                                        // DOI
         ((bus_off != bus_off_q) | (warn != warn_q)) & ier[2],   // EI
-        (tx_done | tx_drop) & ier[1],                            // TI
+        // TI: TBS 0 -> 1 (sent, dropped, or released by bus-off)
+        (tx_done | tx_drop | (bus_off & ~bus_off_q & ~tbs)) & ier[1],
         ~peli & ri_set & ier[0]                                  // BasicCAN RI (PeliCAN RI is live)
     };
 

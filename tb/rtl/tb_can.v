@@ -9,8 +9,9 @@
 //  4. PeliCAN, lone node without self test: ACK errors raise TEC by 8 up
 //     to 128 (error passive, EPI), then stay (rule 3 exception 1).
 //  5. Bus stuck recessive: bit error at SOF and at every bit of the active
-//     error flag (+8 each), passive flag from TEC = 128 on (exactly 16
-//     dominant bits sent), bus-off at TEC > 255 (RM set, TXERR = 127,
+//     error flag (+8 each); the flag after the error that reaches TEC = 128
+//     is still active (exactly 17 dominant bits sent), then passive flags;
+//     bus-off at TEC > 255 (RM set, TXERR = 127,
 //     bus_off_on low), recovery after 128 x 11 recessive bits.
 //  6. Sleep: MOD.SM accepted when idle, bus activity wakes the node (WUI).
 // Exits with $fatal on the first failure; prints "PASS" at the end.
@@ -28,7 +29,8 @@ module tb_can;
     wire [7:0] dout0, dout1;
     wire       ack0, ack1, tx0, tx1, bo0, bo1, irq0, irq1, ck0, ck1;
     reg        force_rec = 0;             // fault injector: bus stuck recessive
-    wire       bus = (tx0 & tx1) | force_rec;
+    reg        force_dom = 0;             // fault injector: bus stuck dominant
+    wire       bus = ((tx0 & tx1) | force_rec) & ~force_dom;
 
     can_top n0 (.wb_clk_i(wb_clk), .wb_rst_i(wb_rst), .wb_dat_i(dwr[0]), .wb_dat_o(dout0),
         .wb_cyc_i(cyc[0]), .wb_stb_i(cyc[0]), .wb_we_i(we[0]), .wb_adr_i(adr[0]), .wb_ack_o(ack0),
@@ -270,11 +272,19 @@ module tb_can;
         // node 0: ID 0x124 (loses at ID.20 = bit 8), node 1: ID 0x123
         wr(0, 8'd16, 8'h02); wr(0, 8'd17, 8'h24); wr(0, 8'd18, 8'h80); wr(0, 8'd19, 8'hAA); wr(0, 8'd20, 8'hBB);
         wr(1, 8'd16, 8'h01); wr(1, 8'd17, 8'h24); wr(1, 8'd18, 8'h60); wr(1, 8'd19, 8'hCC);
+        // Both requests must be pending when the bus becomes free: hold the
+        // bus dominant (stuff error, error flags, both nodes wait for a
+        // recessive bus), queue both, release: both start after the error
+        // delimiter and intermission, in the same bit.
+        force_dom = 1;
+        wait_bits(10);
         fork
             wr(0, 8'd1, 8'h01);
             wr(1, 8'd1, 8'h01);
         join
-        wait_bits(60);
+        wait_bits(4);
+        force_dom = 0;
+        wait_bits(70);
         expect_reg(0, 8'd11, 8'd8, "node 0 ALC (lost at ID.20, bit 8)");
         expect_reg(0, 8'd29, 8'd1, "node 0 RMC (received the winner)");
         expect_reg(0, 8'd17, 8'h24, "node 0 RX ID1");
@@ -324,11 +334,13 @@ module tb_can;
             if (k > 2_000_000) fail("never went bus-off");
         end
         count_dom = 0;
-        if (dom_first != 16) begin
-            $display("FAIL: %0d dominant bits before the passive flag, expected 16", dom_first);
+        // SOF + 16 active flags: the error that makes TEC 128 is still
+        // signalled by an active flag (CAN 2.0B 8, note to rule 9)
+        if (dom_first != 17) begin
+            $display("FAIL: %0d dominant bits before the passive flag, expected 17", dom_first);
             $fatal(1);
         end
-        $display("  16 dominant bits (SOF + 15 active flag bits) then passive flags; bus-off");
+        $display("  17 dominant bits (SOF + 16 one-bit active flags) then passive flags; bus-off");
         expect_reg(0, 8'd12, 8'h03, "ECC: bit error at SOF, TX");
         expect_reg(0, 8'd15, 8'd127, "TXERR at bus-off");
         expect_reg(0, 8'd14, 8'd0, "RXERR at bus-off");
