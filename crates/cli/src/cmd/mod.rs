@@ -1,5 +1,7 @@
 //! One module per subcommand.
 pub mod bittiming;
+pub mod decode;
+pub mod generate;
 
 /// Parses "24MHz", "16e6", "500k", "125000", "1M" into a number.
 pub fn parse_si(s: &str) -> Result<u32, String> {
