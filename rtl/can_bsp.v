@@ -34,11 +34,11 @@ module can_bsp (
     output reg         tx_next,
     output wire        hard_en,
     // received frame
-    output reg  [28:0] rx_id,
+    output wire [28:0] rx_id,       // standard ID in [28:18]
     output reg         rx_ide,
     output reg         rx_rtr,
     output reg  [3:0]  rx_dlc,
-    output reg  [63:0] rx_data,
+    output reg  [63:0] rx_data,     // byte 1 in [63:56] (aligned during the CRC field)
     output reg         rx_valid,    // pulse: frame valid for the receiver (EOF bit 6)
     // events
     output reg         tx_done,     // pulse: transmission successful
@@ -81,6 +81,8 @@ module can_bsp (
     reg [2:0]  eq_cnt;       // passive error flag: equal bits in a row
     reg        eq_last;
     reg        first;        // first bit after an error flag
+    reg [28:0] id_sr;        // identifier bits shifted in (11 or 29)
+    reg [2:0]  align;        // byte shifts left to align the data field
     reg        flag_act;     // the error flag being sent is active (dominant)
     reg [2:0]  dom_cnt;      // dominant bits after a flag (tolerate 7)
     reg [3:0]  rcnt;         // recessive bits in a row (bus free)
@@ -97,6 +99,7 @@ module can_bsp (
                      (st == S_IDB) || (st == S_RTR);
     // data bytes mod 8 (8 bytes -> 0, so that 8 * ndata - 1 wraps to 63)
     wire [2:0] ndata = rx_dlc[3] ? 3'd0 : rx_dlc[2:0];
+    assign rx_id = rx_ide ? id_sr : {id_sr[10:0], 18'd0};
     wire can_tx    = req && !lom;
 
     assign hard_en  = (st == S_IDLE) || (st == S_SUSP) || (st == S_SOF) ||
@@ -245,7 +248,8 @@ module can_bsp (
             srtr <= 1'b0; txr <= 1'b0; req <= 1'b0; req_single <= 1'b0; req_self <= 1'b0;
             crc_err <= 1'b0; ack_pend <= 1'b0; eq_cnt <= 3'd0; eq_last <= 1'b1; flag_act <= 1'b1;
             first <= 1'b0; dom_cnt <= 3'd0; rcnt <= 4'd0;
-            rx_id <= 29'd0; rx_ide <= 1'b0; rx_rtr <= 1'b0; rx_dlc <= 4'd0; rx_data <= 64'd0;
+            id_sr <= 29'd0; rx_ide <= 1'b0; rx_rtr <= 1'b0; rx_dlc <= 4'd0; rx_data <= 64'd0;
+            align <= 3'd0;
             alc_val <= 5'd0; ecc_val <= 8'd0;
         end else begin
             // ---- transmission requests ----
@@ -314,7 +318,7 @@ module can_bsp (
                             if (!rx && (st != S_INTER || cnt == 6'd2)) begin
                                 // start of frame from another node
                                 st <= S_IDA; cnt <= 6'd0; scnt <= 3'd1; slast <= 1'b0;
-                                crc <= 15'd0; rx_id <= 29'd0; rx_data <= 64'd0;
+                                crc <= 15'd0;
                                 // at intermission bit 3 a pending request takes this as its
                                 // own SOF and goes on with the identifier (unless it must
                                 // suspend transmission); in bus idle the node is a receiver
@@ -336,10 +340,10 @@ module can_bsp (
                         end
                         S_SOF: begin
                             st <= S_IDA; cnt <= 6'd0; scnt <= 3'd1; slast <= 1'b0;
-                            crc <= 15'd0; rx_id <= 29'd0; rx_data <= 64'd0;
+                            crc <= 15'd0;
                         end
                         S_IDA: begin
-                            rx_id[5'd28 - cnt[4:0]] <= rx;
+                            id_sr <= {id_sr[27:0], rx};
                             if (cnt == 6'd10) st <= S_SRTR; else cnt <= cnt + 6'd1;
                         end
                         S_SRTR: begin srtr <= rx; st <= S_IDE; end
@@ -349,28 +353,34 @@ module can_bsp (
                             else begin rx_rtr <= srtr; st <= S_R0; end
                         end
                         S_IDB: begin
-                            rx_id[5'd17 - cnt[4:0]] <= rx;
+                            id_sr <= {id_sr[27:0], rx};
                             if (cnt == 6'd17) st <= S_RTR; else cnt <= cnt + 6'd1;
                         end
                         S_RTR: begin rx_rtr <= rx; st <= S_R1; end
                         S_R1:  st <= S_R0;
                         S_R0:  begin st <= S_DLC; cnt <= 6'd0; end
                         S_DLC: begin
-                            rx_dlc[2'd3 - cnt[1:0]] <= rx;
+                            rx_dlc <= {rx_dlc[2:0], rx};
                             if (cnt == 6'd3) begin
                                 cnt <= 6'd0;
-                                if (rx_rtr || {rx_dlc[3:1], rx} == 4'd0) st <= S_CRC;
+                                // data bytes 1..n end up in the low bytes of rx_data;
+                                // 8 - n byte shifts during the CRC field align byte 1
+                                align <= (rx_rtr || rx_dlc[2]) ? 3'd0 : 3'd0 - {rx_dlc[1:0], rx};
+                                if (rx_rtr || {rx_dlc[2:0], rx} == 4'd0) st <= S_CRC;
                                 else st <= S_DATA;
                             end else cnt <= cnt + 6'd1;
                         end
                         S_DATA: begin
-                            rx_data[6'd63 - cnt] <= rx;
+                            rx_data <= {rx_data[62:0], rx};
                             // last data bit: 8 * ndata - 1 (ndata = 8 wraps to 63)
                             if (cnt == ({ndata, 3'b000} - 6'd1)) begin
                                 st <= S_CRC; cnt <= 6'd0;
                             end else cnt <= cnt + 6'd1;
                         end
                         S_CRC: begin
+                            if (align != 3'd0) begin
+                                rx_data <= {rx_data[55:0], 8'h00}; align <= align - 3'd1;
+                            end
                             if (cnt == 6'd14) st <= S_CRCD; else cnt <= cnt + 6'd1;
                         end
                         S_CRCD: begin

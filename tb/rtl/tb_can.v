@@ -14,6 +14,8 @@
 //     bus-off at TEC > 255 (RM set, TXERR = 127,
 //     bus_off_on low), recovery after 128 x 11 recessive bits.
 //  6. Sleep: MOD.SM accepted when idle, bus activity wakes the node (WUI).
+//  7. PeliCAN single acceptance filter (ID + RTR + data byte 1), extended
+//     8-byte frames in the RX FIFO, FIFO overrun (DOS, DOI, RMC), RRB/RBSA.
 // Exits with $fatal on the first failure; prints "PASS" at the end.
 `timescale 1ns/1ps
 module tb_can;
@@ -175,7 +177,27 @@ module tb_can;
         else if (dom_run != 0) dom_first <= dom_run;
     end
 
-    reg [7:0] q;
+    // node 1 sends one PeliCAN frame (frame info, 4 ID bytes, n data bytes)
+    // and the task waits until node 1 reports it complete (SR.TCS)
+    task send1(input [7:0] fi, input [7:0] i1, input [7:0] i2, input [7:0] i3, input [7:0] i4,
+               input [63:0] data, input integer n);
+        integer j, base, t; reg [7:0] st;
+        begin
+            wr(1, 8'd16, fi); wr(1, 8'd17, i1); wr(1, 8'd18, i2);
+            base = 19;
+            if (fi[7]) begin wr(1, 8'd19, i3); wr(1, 8'd20, i4); base = 21; end
+            for (j = 0; j < n; j = j + 1) wr(1, base + j, data[63 - 8 * j -: 8]);
+            wr(1, 8'd1, 8'h01);
+            t = 0; st = 0;
+            while (st[3] !== 1'b1) begin
+                rd(1, 8'd2, st); t = t + 1;
+                if (t > 2000) fail("node 1 transmission never completed");
+            end
+            wait_bits(4);
+        end
+    endtask
+
+    reg [7:0] q, rbsa0;
     integer k;
     initial begin
         cyc[0] = 0; cyc[1] = 0; we[0] = 0; we[1] = 0; adr[0] = 0; adr[1] = 0; dwr[0] = 0; dwr[1] = 0;
@@ -381,6 +403,53 @@ module tb_can;
         end
         expect_reg(0, 8'd0, 8'h00, "MOD: awake");
         expect_reg(0, 8'd3, 8'h10, "IR: WUI");
+
+        // ================= 7. filters, extended frames, FIFO overrun =================
+        $display("7. single filter, extended frames, RX FIFO overrun");
+        wr(0, 8'd0, 8'h09);                 // node 0: reset mode, single filter
+        wr(0, 8'd16, 8'h24); wr(0, 8'd17, 8'h60); wr(0, 8'd18, 8'h55); wr(0, 8'd19, 8'h00);
+        wr(0, 8'd20, 8'h00); wr(0, 8'd21, 8'h0F); wr(0, 8'd22, 8'h00); wr(0, 8'd23, 8'hFF);
+        wr(0, 8'd4, 8'h09);                 // IER: RI, DOI
+        wr(0, 8'd0, 8'h08);                 // operating
+        wr(1, 8'd0, 8'h01);
+        wr(1, 8'd0, 8'h00);                 // node 1 re-integrates
+        wait_bits(14);
+        // accepted: ID 0x123, 2 bytes 55 01
+        send1(8'h02, 8'h24, 8'h60, 8'h00, 8'h00, 64'h5501_0000_0000_0000, 2);
+        // rejected: data byte 1 differs
+        send1(8'h01, 8'h24, 8'h60, 8'h00, 8'h00, 64'h5600_0000_0000_0000, 1);
+        // rejected: extended frame with another ID.28..21
+        send1(8'h88, 8'h55, 8'h9A, 8'hBC, 8'hD8, 64'h0102_0304_0506_0708, 8);
+        expect_reg(0, 8'd29, 8'd1, "RMC: one frame passed the filter");
+        expect_reg(0, 8'd16, 8'h02, "filtered frame info");
+        expect_reg(0, 8'd19, 8'h55, "filtered data 1");
+        expect_reg(0, 8'd20, 8'h01, "filtered data 2");
+        rd(0, 8'd30, rbsa0);
+        wr(0, 8'd1, 8'h04);                 // RRB
+        expect_reg(0, 8'd30, (rbsa0 + 8'd5) & 8'h3F, "RBSA after RRB (5-byte message)");
+        rbsa0 = (rbsa0 + 8'd5) & 8'h3F;
+        wr(0, 8'd0, 8'h09);
+        for (q = 20; q < 24; q = q + 1) wr(0, q, 8'hFF);   // accept all
+        wr(0, 8'd0, 8'h08);
+        wait_bits(14);
+        for (k = 0; k < 5; k = k + 1)
+            send1(8'h88, 8'h55, 8'h9A, 8'hBC, 8'hD8, 64'h0102_0304_0506_0708 + k, 8);
+        expect_reg(0, 8'd29, 8'd4, "RMC: 4 x 13 bytes fit, the 5th overruns");
+        rd(0, 8'd2, q);
+        if (q[1] !== 1'b1 || q[0] !== 1'b1) fail("SR: DOS and RBS expected");
+        expect_reg(0, 8'd3, 8'h09, "IR: DOI, RI");
+        expect_reg(0, 8'd16, 8'h88, "ext frame info");
+        expect_reg(0, 8'd17, 8'h55, "ext ID1");
+        expect_reg(0, 8'd18, 8'h9A, "ext ID2");
+        expect_reg(0, 8'd19, 8'hBC, "ext ID3");
+        expect_reg(0, 8'd20, 8'hD8, "ext ID4");
+        expect_reg(0, 8'd21, 8'h01, "ext data 1");
+        expect_reg(0, 8'd28, 8'h08, "ext data 8");
+        wr(0, 8'd1, 8'h0C);                 // RRB + CDO
+        expect_reg(0, 8'd28, 8'h09, "second message data 8");
+        expect_reg(0, 8'd30, (rbsa0 + 8'd13) & 8'h3F, "RBSA: + 13");
+        rd(0, 8'd2, q);
+        if (q[1] !== 1'b0) fail("DOS not cleared by CDO");
 
         $display("PASS (max Wishbone ack latency %0d wb_clk_i cycles)", max_lat);
         $finish;
