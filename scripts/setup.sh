@@ -12,6 +12,9 @@ command -v yosys     >/dev/null 2>&1 || need_pkgs+=(yosys)
 # verilator needs a C++ compiler and make for the models it generates.
 command -v g++  >/dev/null 2>&1 || need_pkgs+=(g++)
 command -v make >/dev/null 2>&1 || need_pkgs+=(make)
+command -v gcc  >/dev/null 2>&1 || need_pkgs+=(gcc)
+# tclsh sources the generated _hw.tcl in the generator tests.
+command -v tclsh >/dev/null 2>&1 || need_pkgs+=(tcl)
 
 if [ ${#need_pkgs[@]} -gt 0 ]; then
   if ! command -v apt-get >/dev/null 2>&1; then
