@@ -6,12 +6,25 @@
 //!
 //! Time: [`Engine::clock`] is one period of the CAN clock `clk_i`; all work
 //! happens on time-quantum boundaries (tq = 2 * (BRP + 1) clocks).
-//! [`Engine::bit`] is the fast path used when every node on a bus shares one
-//! clock and timing, so no resynchronisation can ever occur: one call per
-//! bit time, at the sample point.
+//! [`Engine::sample_bit`] is the fast path used when every node on a bus
+//! shares one clock and timing, so no resynchronisation can ever occur: one
+//! call per bit time, at the sample point. Both paths run the same bit
+//! stream processor, so they produce the same bits and events.
+//!
+//! Modules: `btl` bit timing, `bsp` frame state machine,
+//! `fault` confinement rules (CAN 2.0B §8), `ecc` ECC/ALC encodings.
 #![warn(missing_docs)]
 
-use can_proto::{CanFrame, Field};
+mod bsp;
+mod btl;
+mod ecc;
+mod fault;
+#[cfg(test)]
+mod tests;
+
+use bsp::{Bsp, TxRequest};
+use btl::{Btl, Tq};
+use can_proto::{CanFrame, Field, RECESSIVE};
 
 pub use can_proto::timing::BusTiming;
 
@@ -100,52 +113,37 @@ impl Default for Options {
 
 /// One CAN node's protocol engine (BTL + BSP + fault confinement).
 ///
-/// The API below is the contract with the `sja1000` crate; bodies marked
-/// `todo!` are being filled in.
+/// The API below is the contract with the `sja1000` crate.
 #[derive(Clone, Debug)]
 pub struct Engine {
     timing: BusTiming,
-    options: Options,
-    events: Vec<Event>,
-    reset_mode: bool,
-    sleep: bool,
-    pending: Option<TxRequest>,
-    tec: u8,
-    rec: u8,
-    state: FaultState,
-    warning: bool,
-    field: Field,
-}
-
-/// A transmission request as the controller gave it.
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
-struct TxRequest {
-    frame: CanFrame,
-    single_shot: bool,
-    self_rx: bool,
+    btl: Btl,
+    bsp: Bsp,
+    /// Level driven on the bus now.
+    tx_out: bool,
+    /// Bits sampled since creation (both paths).
+    bits: u64,
 }
 
 impl Engine {
     /// A node in the bus-idle state waiting for 11 recessive bits (bus integration).
     pub fn new(timing: BusTiming, options: Options) -> Self {
-        Engine {
-            timing,
-            options,
-            events: Vec::with_capacity(8),
-            reset_mode: false,
-            sleep: false,
-            pending: None,
-            tec: 0,
-            rec: 0,
-            state: FaultState::ErrorActive,
-            warning: false,
-            field: Field::BusIdle,
-        }
+        Engine { timing, btl: Btl::new(timing), bsp: Bsp::new(options), tx_out: RECESSIVE, bits: 0 }
+    }
+
+    /// Back to the power-on state (hardware reset): counters 0, error
+    /// active, no request, bus integration pending. Options and timing kept.
+    pub fn hard_reset(&mut self) {
+        let opt = self.bsp.opt;
+        self.bsp = Bsp::new(opt);
+        self.btl = Btl::new(self.timing);
+        self.tx_out = RECESSIVE;
     }
 
     /// Changes the bit timing (the controller allows it in reset mode only).
     pub fn set_timing(&mut self, timing: BusTiming) {
         self.timing = timing;
+        self.btl.set_timing(timing);
     }
 
     /// The bit timing in use.
@@ -155,112 +153,194 @@ impl Engine {
 
     /// Changes listen-only / self-test / EWL.
     pub fn set_options(&mut self, options: Options) {
-        self.options = options;
+        self.bsp.opt = options;
+        self.bsp.fc.set_ewl(options.ewl, options.listen_only);
+        if !self.bsp.reset_mode {
+            self.bsp.fc.update(&mut self.bsp.ev);
+        }
     }
 
     /// The options in use.
     pub fn options(&self) -> Options {
-        self.options
+        self.bsp.opt
     }
 
     /// Enters (true) or leaves (false) the controller's reset mode. In reset
-    /// mode the engine sends recessive and takes part in no frame; leaving it
-    /// while bus-off starts the recovery count (128 x 11 recessive bits).
+    /// mode the engine sends recessive and takes part in no frame, and a
+    /// pending request is dropped (the controller releases its buffer).
+    /// Leaving it starts bus integration (11 recessive bits), or while
+    /// bus-off the recovery count (128 x 11 recessive bits).
     pub fn set_reset_mode(&mut self, on: bool) {
-        self.reset_mode = on;
+        self.bsp.set_reset_mode(on);
+        if on {
+            self.tx_out = RECESSIVE;
+        }
     }
 
-    /// Sleep mode: stop until a dominant bit wakes the node ([`Event::WakeUp`]).
+    /// True in reset mode. The engine enters it by itself at bus-off, as the
+    /// SJA1000 sets MOD.RM then.
+    pub fn in_reset_mode(&self) -> bool {
+        self.bsp.reset_mode
+    }
+
+    /// Sleep mode: stop until a dominant bit wakes the node ([`Event::WakeUp`]);
+    /// after a wake-up the node waits for 11 recessive bits before taking part.
     pub fn set_sleep(&mut self, on: bool) {
-        self.sleep = on;
+        self.bsp.set_sleep(on);
+        if on {
+            self.tx_out = RECESSIVE;
+        }
+    }
+
+    /// True while sleeping.
+    pub fn is_sleeping(&self) -> bool {
+        self.bsp.phase == bsp::Phase::Sleep
     }
 
     /// One CAN clock period (clk_i) with the bus level `rx`; returns `tx`.
-    pub fn clock(&mut self, _rx: bool) -> bool {
-        can_proto::RECESSIVE
+    /// Work happens only at time-quantum boundaries.
+    #[inline]
+    pub fn clock(&mut self, rx: bool) -> bool {
+        if !self.btl.clock() {
+            return self.tx_out;
+        }
+        self.tq(rx)
+    }
+
+    /// CAN clocks until the next time-quantum boundary (at least 1): the
+    /// next `n - 1` calls of [`Engine::clock`] only count and return the
+    /// same level.
+    pub fn clocks_to_next_tq(&self) -> u32 {
+        self.btl.clocks_to_next_tq()
+    }
+
+    fn tq(&mut self, rx: bool) -> bool {
+        if self.bsp.reset_mode {
+            self.tx_out = RECESSIVE;
+            return RECESSIVE;
+        }
+        let hard = self.bsp.hard_sync_allowed();
+        match self.btl.tq(rx, hard, !self.tx_out) {
+            Tq::Quiet => {}
+            Tq::Sample(v) => {
+                self.bits += 1;
+                self.bsp.bit(v)
+            }
+            Tq::BitStart => self.tx_out = self.bsp.tx,
+        }
+        self.tx_out
     }
 
     /// Level this node drives for the current bit (fast path and BTL).
+    #[inline]
     pub fn tx(&self) -> bool {
-        can_proto::RECESSIVE
+        self.tx_out
     }
 
     /// Fast path: process one whole bit whose sampled bus level is `rx`.
     /// Valid only when all nodes share one clock and timing (no resync).
-    pub fn sample_bit(&mut self, _rx: bool) {
+    #[inline]
+    pub fn sample_bit(&mut self, rx: bool) {
+        if self.bsp.reset_mode {
+            return;
+        }
+        self.bits += 1;
+        self.bsp.bit(rx);
+        self.tx_out = self.bsp.tx;
+    }
+
+    /// Number of bits sampled so far outside reset mode (both paths); lets
+    /// a harness find the sample points of the clocked path.
+    pub fn bits_sampled(&self) -> u64 {
+        self.bits
     }
 
     /// Requests transmission of `frame` (CMR.TR / CMR.SRR). `single_shot`:
     /// no retransmission after an error or lost arbitration (TR + AT).
     /// `self_rx`: also receive the frame ourselves (self-reception request).
+    /// The transmission starts at the next bus-idle bit; a request made
+    /// while another one is under way replaces it for later attempts only
+    /// (the controller never does this: TBS is 0 then).
     pub fn request_tx(&mut self, frame: CanFrame, single_shot: bool, self_rx: bool) {
-        self.pending = Some(TxRequest { frame, single_shot, self_rx });
+        self.bsp.request(TxRequest::new(frame, single_shot, self_rx));
     }
 
-    /// CMR.AT: drop the pending request if its transmission has not started.
+    /// CMR.AT: drop the pending request if its transmission has not started
+    /// ([`Event::TxAborted`] now); if it is under way it completes or, after
+    /// an error or lost arbitration, is dropped instead of retransmitted.
     pub fn abort_tx(&mut self) {
-        if self.pending.take().is_some() {
-            self.events.push(Event::TxAborted);
-        }
+        self.bsp.abort();
     }
 
     /// True while a transmission request is pending or under way.
     pub fn tx_pending(&self) -> bool {
-        self.pending.is_some()
+        self.bsp.pending.is_some()
+    }
+
+    /// The frame pending or under way.
+    pub fn pending_frame(&self) -> Option<CanFrame> {
+        self.bsp.pending.as_ref().map(|r| r.frame)
     }
 
     /// Drains the events produced since the last call.
     pub fn take_events(&mut self) -> std::vec::Drain<'_, Event> {
-        self.events.drain(..)
+        self.bsp.ev.drain(..)
     }
 
     /// True if events are waiting (cheap check for the fast path).
+    #[inline]
     pub fn has_events(&self) -> bool {
-        !self.events.is_empty()
+        !self.bsp.ev.is_empty()
     }
 
     /// Transmit error counter (0..=255; bus-off is reported by [`Engine::fault_state`]).
+    /// During bus-off recovery it counts 127 down to 0 (SJA1000 TXERR).
     pub fn tec(&self) -> u8 {
-        self.tec
+        self.bsp.fc.tec()
     }
 
     /// Receive error counter.
     pub fn rec(&self) -> u8 {
-        self.rec
+        self.bsp.fc.rec()
     }
 
-    /// Writes TEC (the controller allows it in reset mode only); may change the fault state.
+    /// Writes TEC (the controller allows it in reset mode only); may change
+    /// the fault state: 255 forces bus-off, any other value while bus-off
+    /// clears it (datasheet TXERR). Warning/passive changes show when reset
+    /// mode is left.
     pub fn set_tec(&mut self, v: u8) {
-        self.tec = v;
+        self.bsp.write_counters(Some(v), None);
     }
 
-    /// Writes REC (reset mode only).
+    /// Writes REC (reset mode only; ignored while bus-off).
     pub fn set_rec(&mut self, v: u8) {
-        self.rec = v;
+        self.bsp.write_counters(None, Some(v));
     }
 
     /// Fault confinement state.
     pub fn fault_state(&self) -> FaultState {
-        self.state
+        self.bsp.fc.state()
     }
 
-    /// Error status: TEC or REC at or above the warning limit.
+    /// Error status: TEC or REC at or above the warning limit (held while bus-off).
     pub fn error_warning(&self) -> bool {
-        self.warning
+        self.bsp.fc.warning()
     }
 
-    /// SR.RS: a frame is being received.
+    /// SR.RS: a frame is being received (from SOF to the end of its error
+    /// or overload signalling).
     pub fn is_receiving(&self) -> bool {
-        false
+        !self.bsp.role_tx && self.bsp.busy()
     }
 
-    /// SR.TS: a frame is being transmitted.
+    /// SR.TS: a frame is being transmitted (from SOF until the bus is idle,
+    /// so it stays set between automatic retransmissions).
     pub fn is_transmitting(&self) -> bool {
-        false
+        self.bsp.role_tx
     }
 
     /// The field the engine is in, for diagnostics and waveforms.
     pub fn field(&self) -> Field {
-        self.field
+        self.bsp.field()
     }
 }

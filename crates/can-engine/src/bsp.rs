@@ -1,0 +1,856 @@
+//! Bit stream processor: the CAN 2.0B frame state machine, one call per bit
+//! at the sample point ([`Bsp::bit`]). Transmitters and receivers run the
+//! same destuffing/decoding path on the sampled level; a transmitter also
+//! compares it with the level it sent (bit error, arbitration).
+//!
+//! Counter changes are asked of [`crate::fault`]; this file only says which
+//! rule applies.
+
+use crate::ecc::{self, seg};
+use crate::fault::Fault;
+use crate::{ErrorKind, Event, FaultState, Options};
+use can_proto::{CanFrame, DOMINANT, ExtendedId, Field, FrameTrait, Id, RECESSIVE, StandardId};
+
+/// Where the processor is. Frame fields inside the stuffed region are
+/// tracked by `Bsp::fld`.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub(crate) enum Phase {
+    /// Reset mode (or bus-off before recovery may start): drives recessive.
+    Off,
+    /// Sleep mode: a dominant bit wakes the node.
+    Sleep,
+    /// Bus integration: waiting for 11 consecutive recessive bits.
+    Integrating,
+    /// Bus-off; counts 128 x 11 recessive bits once reset mode is left.
+    BusOff,
+    /// Bus idle.
+    Idle,
+    /// SOF to the end of the CRC sequence (stuffed).
+    Stuffed,
+    CrcDelim,
+    AckSlot,
+    AckDelim,
+    Eof,
+    Intermission,
+    Suspend,
+    ActiveFlag,
+    PassiveFlag,
+    /// After an error flag, sending recessive until the bus is recessive.
+    ErrorTolerate,
+    ErrorDelim,
+    OverloadFlag,
+    OverloadTolerate,
+    OverloadDelim,
+}
+
+/// A transmission request with its stuffed SOF..CRC bits precomputed.
+#[derive(Clone, Copy, Debug)]
+pub(crate) struct TxRequest {
+    pub(crate) frame: CanFrame,
+    pub(crate) single_shot: bool,
+    pub(crate) self_rx: bool,
+    bits: [u64; 3],
+    len: u8,
+}
+
+impl TxRequest {
+    pub(crate) fn new(frame: CanFrame, single_shot: bool, self_rx: bool) -> Self {
+        let mut bits = [0u64; 3];
+        let mut len = 0usize;
+        let mut last = RECESSIVE;
+        let mut run = 0u8;
+        let mut push = |b: bool, len: &mut usize| {
+            if b {
+                bits[*len >> 6] |= 1 << (*len & 63);
+            }
+            *len += 1;
+        };
+        frame.for_each_unstuffed_bit(|_, b| {
+            if b == last {
+                run += 1;
+            } else {
+                last = b;
+                run = 1;
+            }
+            push(b, &mut len);
+            if run == 5 {
+                push(!b, &mut len);
+                last = !b;
+                run = 1;
+            }
+        });
+        TxRequest { frame, single_shot, self_rx, bits, len: len as u8 }
+    }
+
+    /// The stuffed bit `i` (SOF is 0).
+    #[inline]
+    fn bit(&self, i: u8) -> bool {
+        (self.bits[(i >> 6) as usize] >> (i & 63)) & 1 != 0
+    }
+
+    #[cfg(test)]
+    pub(crate) fn stuffed(&self) -> Vec<bool> {
+        (0..self.len).map(|i| self.bit(i)).collect()
+    }
+}
+
+/// Frame state machine and the state it needs.
+#[derive(Clone, Debug)]
+pub(crate) struct Bsp {
+    pub(crate) phase: Phase,
+    /// Level driven in the current bit; set for the next bit by [`Bsp::bit`].
+    pub(crate) tx: bool,
+    /// Bits done in a fixed-length phase, or the recessive run length.
+    cnt: u8,
+    // Decoder of the stuffed region.
+    fld: Field,
+    idx: u8,
+    flen: u8,
+    last: bool,
+    run: u8,
+    crc: u16,
+    crc_calc: u16,
+    acc: u32,
+    id_base: u32,
+    srr_rtr: bool,
+    ide: bool,
+    rtr: bool,
+    id_ext: u32,
+    dlc: u8,
+    data: [u8; 8],
+    crc_ok: bool,
+    // Transmitter.
+    /// A transmitter from SOF until the bus is idle or arbitration is lost.
+    pub(crate) role_tx: bool,
+    tx_ext: bool,
+    tx_idx: u8,
+    pub(crate) pending: Option<TxRequest>,
+    abort_req: bool,
+    // Error signalling.
+    flag_lvl: bool,
+    flag_run: u8,
+    dom_cnt: u32,
+    /// Rule 3 exception 1 may apply: ACK error while error passive; TEC is
+    /// raised only if a dominant bit shows during the passive flag.
+    ack_exc: bool,
+    recovery: u8,
+    pub(crate) reset_mode: bool,
+    pub(crate) fc: Fault,
+    pub(crate) ev: Vec<Event>,
+    pub(crate) opt: Options,
+}
+
+impl Bsp {
+    pub(crate) fn new(opt: Options) -> Self {
+        let mut fc = Fault::new(opt.ewl);
+        fc.set_ewl(opt.ewl, opt.listen_only);
+        Bsp {
+            phase: Phase::Integrating,
+            tx: RECESSIVE,
+            cnt: 0,
+            fld: Field::Sof,
+            idx: 0,
+            flen: 1,
+            last: RECESSIVE,
+            run: 0,
+            crc: 0,
+            crc_calc: 0,
+            acc: 0,
+            id_base: 0,
+            srr_rtr: false,
+            ide: false,
+            rtr: false,
+            id_ext: 0,
+            dlc: 0,
+            data: [0; 8],
+            crc_ok: false,
+            role_tx: false,
+            tx_ext: false,
+            tx_idx: 0,
+            pending: None,
+            abort_req: false,
+            flag_lvl: RECESSIVE,
+            flag_run: 0,
+            dom_cnt: 0,
+            ack_exc: false,
+            recovery: 0,
+            reset_mode: false,
+            fc,
+            ev: Vec::with_capacity(8),
+            opt,
+        }
+    }
+
+    /// One bit, sampled at `rx`; sets [`Bsp::tx`] for the next bit.
+    #[inline]
+    pub(crate) fn bit(&mut self, rx: bool) {
+        match self.phase {
+            Phase::Stuffed => self.stuffed(rx),
+            Phase::Idle => self.idle(rx),
+            Phase::CrcDelim => {
+                if !rx {
+                    return self.error(ErrorKind::Form, false);
+                }
+                self.phase = Phase::AckSlot;
+                // Receivers that got a matching CRC acknowledge (never in
+                // listen-only mode; never the transmitter itself).
+                self.tx = if !self.role_tx && self.crc_ok && !self.opt.listen_only {
+                    DOMINANT
+                } else {
+                    RECESSIVE
+                };
+            }
+            Phase::AckSlot => self.ack_slot(rx),
+            Phase::AckDelim => {
+                if !rx {
+                    return self.error(ErrorKind::Form, false);
+                }
+                if !self.role_tx && !self.crc_ok {
+                    // CRC error: flag after the ACK delimiter (CAN 2.0B §7.2).
+                    return self.error(ErrorKind::Crc, false);
+                }
+                self.phase = Phase::Eof;
+                self.cnt = 0;
+            }
+            Phase::Eof => self.eof(rx),
+            Phase::Intermission => self.intermission(rx),
+            Phase::Suspend => {
+                self.cnt += 1;
+                if !rx {
+                    // Another node's SOF: become its receiver.
+                    self.role_tx = false;
+                    self.begin_frame();
+                    return self.stuffed(rx);
+                }
+                if self.cnt == 8 {
+                    self.enter_idle();
+                }
+            }
+            Phase::ActiveFlag | Phase::OverloadFlag => self.dominant_flag(rx),
+            Phase::PassiveFlag => self.passive_flag(rx),
+            Phase::ErrorTolerate | Phase::OverloadTolerate => self.tolerate(rx),
+            Phase::ErrorDelim | Phase::OverloadDelim => {
+                self.cnt += 1;
+                if !rx {
+                    if self.cnt == 8 {
+                        // Dominant at the last delimiter bit: overload frame,
+                        // no counter change (CAN 2.0B §7.2).
+                        return self.start_overload();
+                    }
+                    return self.error(ErrorKind::Form, false);
+                }
+                if self.cnt == 8 {
+                    self.phase = Phase::Intermission;
+                    self.cnt = 0;
+                }
+            }
+            Phase::Integrating => {
+                if rx {
+                    self.cnt += 1;
+                    if self.cnt >= 11 {
+                        self.enter_idle();
+                    }
+                } else {
+                    self.cnt = 0;
+                }
+            }
+            Phase::BusOff => self.bus_off_recovery(rx),
+            Phase::Sleep => {
+                if !rx {
+                    self.ev.push(Event::WakeUp);
+                    // Datasheet: after a wake-up by bus activity the node
+                    // needs a bus-free sequence (11 recessive bits) first.
+                    self.phase = Phase::Integrating;
+                    self.cnt = 0;
+                }
+            }
+            Phase::Off => {}
+        }
+    }
+
+    // ---- frame --------------------------------------------------------
+
+    fn begin_frame(&mut self) {
+        self.phase = Phase::Stuffed;
+        self.fld = Field::Sof;
+        self.idx = 0;
+        self.flen = 1;
+        self.last = RECESSIVE;
+        self.run = 0;
+        self.crc = 0;
+        self.acc = 0;
+        self.crc_ok = false;
+    }
+
+    fn idle(&mut self, rx: bool) {
+        if !rx {
+            self.role_tx = false;
+            self.begin_frame();
+            return self.stuffed(rx);
+        }
+        self.try_start_tx();
+    }
+
+    /// Bus idle reached: start a pending transmission with the next bit.
+    fn enter_idle(&mut self) {
+        self.phase = Phase::Idle;
+        self.role_tx = false;
+        self.tx = RECESSIVE;
+        self.try_start_tx();
+    }
+
+    fn try_start_tx(&mut self) {
+        if let Some(req) = &self.pending {
+            if !self.opt.listen_only && !self.reset_mode {
+                self.tx_ext = req.frame.is_extended();
+                self.role_tx = true;
+                self.tx_idx = 0;
+                self.tx = DOMINANT; // SOF
+                self.begin_frame();
+            }
+        }
+    }
+
+    /// Level of the next stuffed bit this transmitter sends.
+    #[inline]
+    fn next_tx_bit(&mut self) {
+        if self.role_tx {
+            self.tx_idx += 1;
+            self.tx = match &self.pending {
+                Some(req) if self.tx_idx < req.len => req.bit(self.tx_idx),
+                _ => RECESSIVE,
+            };
+        }
+    }
+
+    /// The fields whose recessive bits may lose arbitration. IDE belongs to
+    /// it only in extended frames (in standard frames it follows RTR).
+    #[inline]
+    fn in_arbitration(&self) -> bool {
+        match self.fld {
+            Field::BaseId | Field::SrrRtr | Field::ExtId | Field::Rtr => true,
+            Field::Ide => self.tx_ext,
+            _ => false,
+        }
+    }
+
+    #[inline]
+    fn stuffed(&mut self, rx: bool) {
+        let sent = self.tx;
+        if self.run == 5 {
+            // A stuff bit is due.
+            if self.role_tx {
+                if rx != sent {
+                    // Rule 3 exception 2: a recessive stuff bit before RTR
+                    // monitored dominant is a stuff error, TEC unchanged.
+                    if sent && self.in_arbitration() {
+                        return self.error(ErrorKind::Stuff, true);
+                    }
+                    return self.error(ErrorKind::Bit, false);
+                }
+            } else if rx == self.last {
+                return self.error(ErrorKind::Stuff, false);
+            }
+            self.last = rx;
+            self.run = 1;
+            if self.fld == Field::CrcDelim {
+                // It was the stuff bit after the last CRC bit.
+                self.phase = Phase::CrcDelim;
+            }
+            return self.next_tx_bit();
+        }
+        if self.role_tx && rx != sent {
+            if sent && self.in_arbitration() {
+                self.lose_arbitration();
+            } else {
+                return self.error(ErrorKind::Bit, false);
+            }
+        }
+        if rx == self.last {
+            self.run += 1;
+        } else {
+            self.last = rx;
+            self.run = 1;
+        }
+        self.field_bit(rx);
+        self.next_tx_bit();
+    }
+
+    #[inline]
+    fn crc_push(&mut self, b: bool) {
+        let fb = (self.crc >> 14) & 1 != 0;
+        self.crc = (self.crc << 1) & 0x7fff;
+        if fb != b {
+            self.crc ^= 0x4599;
+        }
+    }
+
+    #[inline]
+    fn set_fld(&mut self, f: Field, len: u8) {
+        self.fld = f;
+        self.flen = len;
+        self.idx = 0;
+        self.acc = 0;
+    }
+
+    /// A destuffed bit of the field `fld`.
+    #[inline]
+    fn field_bit(&mut self, b: bool) {
+        if self.fld != Field::Crc {
+            self.crc_push(b);
+        }
+        self.acc = (self.acc << 1) | b as u32;
+        self.idx += 1;
+        match self.fld {
+            Field::Data => {
+                if self.idx & 7 == 0 {
+                    self.data[((self.idx >> 3) - 1) as usize] = self.acc as u8;
+                }
+                if self.idx == self.flen {
+                    self.crc_calc = self.crc;
+                    self.set_fld(Field::Crc, 15);
+                }
+            }
+            _ if self.idx < self.flen => {}
+            Field::Sof => self.set_fld(Field::BaseId, 11),
+            Field::BaseId => {
+                self.id_base = self.acc;
+                self.set_fld(Field::SrrRtr, 1);
+            }
+            Field::SrrRtr => {
+                self.srr_rtr = b;
+                self.set_fld(Field::Ide, 1);
+            }
+            Field::Ide => {
+                self.ide = b;
+                if b {
+                    self.set_fld(Field::ExtId, 18);
+                } else {
+                    self.rtr = self.srr_rtr;
+                    self.set_fld(Field::R0, 1);
+                }
+            }
+            Field::ExtId => {
+                self.id_ext = self.acc;
+                self.set_fld(Field::Rtr, 1);
+            }
+            Field::Rtr => {
+                self.rtr = b;
+                self.set_fld(Field::R1, 1);
+            }
+            Field::R1 => self.set_fld(Field::R0, 1),
+            Field::R0 => self.set_fld(Field::Dlc, 4),
+            Field::Dlc => {
+                self.dlc = self.acc as u8;
+                let n = if self.rtr { 0 } else { self.dlc.min(8) };
+                if n > 0 {
+                    self.set_fld(Field::Data, 8 * n);
+                } else {
+                    self.crc_calc = self.crc;
+                    self.set_fld(Field::Crc, 15);
+                }
+            }
+            Field::Crc => {
+                self.crc_ok = (self.acc & 0x7fff) as u16 == self.crc_calc;
+                if self.run == 5 {
+                    self.fld = Field::CrcDelim; // a stuff bit still follows
+                } else {
+                    self.phase = Phase::CrcDelim;
+                }
+            }
+            _ => {}
+        }
+    }
+
+    fn lose_arbitration(&mut self) {
+        self.role_tx = false;
+        self.tx = RECESSIVE;
+        let alc = ecc::alc(self.fld, self.idx);
+        self.ev.push(Event::ArbitrationLost { alc });
+        self.drop_if_single_shot();
+    }
+
+    /// Single shot (or an abort during the attempt): no retransmission.
+    fn drop_if_single_shot(&mut self) {
+        let single = self.pending.as_ref().is_some_and(|r| r.single_shot);
+        if single || self.abort_req {
+            self.pending = None;
+            self.abort_req = false;
+            self.ev.push(Event::TxAborted);
+        }
+    }
+
+    fn received_frame(&self) -> CanFrame {
+        let id: Id = if self.ide {
+            Id::Extended(ExtendedId::new((self.id_base << 18) | self.id_ext).unwrap_or(ExtendedId::ZERO))
+        } else {
+            Id::Standard(StandardId::new(self.id_base as u16).unwrap_or(StandardId::ZERO))
+        };
+        let n = if self.rtr { 0 } else { self.dlc.min(8) as usize };
+        // Cannot fail: DLC <= 15 and n matches it.
+        CanFrame::with_dlc(id, self.rtr, self.dlc, &self.data[..n]).expect("decoded frame is valid")
+    }
+
+    fn ack_slot(&mut self, rx: bool) {
+        let sent = self.tx;
+        self.tx = RECESSIVE;
+        if self.role_tx {
+            if rx && !self.opt.self_test {
+                return self.error(ErrorKind::Ack, false);
+            }
+        } else if !sent {
+            if rx {
+                return self.error(ErrorKind::Bit, false);
+            }
+            // Rule 8: received without error up to the ACK slot, ACK sent.
+            self.fc.rule8_receive_success(&mut self.ev);
+        }
+        self.phase = Phase::AckDelim;
+    }
+
+    fn eof(&mut self, rx: bool) {
+        self.cnt += 1;
+        if !rx {
+            if !self.role_tx && self.cnt == 7 {
+                // Last EOF bit is "don't care" for receivers: the frame is
+                // valid; a dominant level there starts an overload frame.
+                return self.start_overload();
+            }
+            return self.error(ErrorKind::Form, false);
+        }
+        if self.cnt == 6 && !self.role_tx {
+            // Valid for receivers at the last-but-one EOF bit (CAN 2.0B §5).
+            let frame = self.received_frame();
+            self.ev.push(Event::Received { frame, own: false });
+        }
+        if self.cnt == 7 {
+            if self.role_tx {
+                self.transmit_success();
+            }
+            self.phase = Phase::Intermission;
+            self.cnt = 0;
+        }
+    }
+
+    fn transmit_success(&mut self) {
+        if let Some(req) = self.pending.take() {
+            if req.self_rx {
+                self.ev.push(Event::Received { frame: req.frame, own: true });
+            }
+        }
+        self.abort_req = false;
+        self.fc.rule7_transmit_success(&mut self.ev);
+        self.ev.push(Event::TxComplete);
+    }
+
+    fn intermission(&mut self, rx: bool) {
+        self.cnt += 1;
+        if !rx {
+            if self.cnt < 3 {
+                // Dominant at the 1st or 2nd intermission bit: overload.
+                return self.start_overload();
+            }
+            // 3rd bit: a start of frame. A node with a message waiting
+            // takes it as its own SOF and goes on with the identifier.
+            let suspended = self.role_tx && self.fc.state() == FaultState::ErrorPassive;
+            self.role_tx = false;
+            if self.pending.is_some() && !suspended && !self.opt.listen_only && !self.reset_mode {
+                self.try_start_tx();
+                self.tx = DOMINANT;
+            } else {
+                self.begin_frame();
+            }
+            return self.stuffed(rx);
+        }
+        if self.cnt == 3 {
+            if self.role_tx && self.fc.state() == FaultState::ErrorPassive {
+                // Error-passive transmitter: suspend transmission (8 bits).
+                self.phase = Phase::Suspend;
+                self.cnt = 0;
+            } else {
+                self.enter_idle();
+            }
+        }
+    }
+
+    // ---- errors and overload -----------------------------------------
+
+    /// Current ECC segment code.
+    fn segment(&self) -> u8 {
+        match self.phase {
+            Phase::Stuffed if self.fld == Field::CrcDelim => seg::CRC_SEQ,
+            Phase::Stuffed => ecc::segment(self.fld, self.idx),
+            Phase::ErrorTolerate | Phase::OverloadTolerate => seg::TOLERATE_DOMINANT,
+            _ => ecc::segment(self.field(), 0),
+        }
+    }
+
+    fn push_error(&mut self, kind: ErrorKind) {
+        let ecc = ecc::ecc(kind, !self.role_tx, self.segment());
+        let field = self.field();
+        self.ev.push(Event::BusError { kind, ecc, field });
+    }
+
+    /// An error detected in a frame, delimiter or intermission; the error
+    /// flag starts with the next bit. `exc2`: rule 3 exception 2 applies.
+    fn error(&mut self, kind: ErrorKind, exc2: bool) {
+        self.push_error(kind);
+        // Rule 9: the flag is chosen by the state *before* this error's
+        // increment ("an error condition letting a node become error
+        // passive causes the node to send an active error flag").
+        let active = self.fc.is_active();
+        let bus_off = if self.role_tx {
+            let off = if kind == ErrorKind::Ack && !active {
+                self.ack_exc = true; // rule 3 exception 1, decided in the flag
+                false
+            } else if exc2 {
+                false
+            } else {
+                self.fc.rule3_transmitter_flag(&mut self.ev)
+            };
+            self.drop_if_single_shot();
+            off
+        } else {
+            self.fc.rule1_receiver_error(&mut self.ev)
+        };
+        if bus_off {
+            return self.enter_bus_off();
+        }
+        self.start_error_flag(active);
+    }
+
+    fn start_error_flag(&mut self, active: bool) {
+        self.cnt = 0;
+        if active && !self.opt.listen_only {
+            self.phase = Phase::ActiveFlag;
+            self.tx = DOMINANT;
+        } else {
+            self.phase = Phase::PassiveFlag;
+            self.tx = RECESSIVE;
+            self.flag_run = 0;
+        }
+    }
+
+    fn start_overload(&mut self) {
+        self.phase = Phase::OverloadFlag;
+        self.cnt = 0;
+        self.tx = if self.opt.listen_only { RECESSIVE } else { DOMINANT };
+    }
+
+    /// Active error flag or overload flag: six dominant bits.
+    fn dominant_flag(&mut self, rx: bool) {
+        if rx && self.tx == DOMINANT {
+            // Rules 4/5: bit error in the flag, +8; a new error flag follows.
+            self.push_error(ErrorKind::Bit);
+            let active = self.fc.is_active();
+            if self.fc.rule4_5_bit_error_in_flag(self.role_tx, &mut self.ev) {
+                return self.enter_bus_off();
+            }
+            return self.start_error_flag(active);
+        }
+        self.cnt += 1;
+        if self.cnt == 6 {
+            self.phase = if self.phase == Phase::ActiveFlag {
+                Phase::ErrorTolerate
+            } else {
+                Phase::OverloadTolerate
+            };
+            self.tx = RECESSIVE;
+            self.dom_cnt = 0;
+        }
+    }
+
+    /// Passive error flag: done after six consecutive equal bits.
+    fn passive_flag(&mut self, rx: bool) {
+        if !rx && self.ack_exc {
+            // Exception 1 no longer holds: a dominant bit during the flag.
+            self.ack_exc = false;
+            if self.fc.rule3_transmitter_flag(&mut self.ev) {
+                return self.enter_bus_off();
+            }
+        }
+        if self.flag_run == 0 || rx != self.flag_lvl {
+            self.flag_lvl = rx;
+            self.flag_run = 1;
+        } else {
+            self.flag_run += 1;
+        }
+        if self.flag_run == 6 {
+            self.ack_exc = false;
+            self.phase = Phase::ErrorTolerate;
+            self.dom_cnt = 0;
+        }
+    }
+
+    /// After a flag: recessive sent until the bus is recessive.
+    fn tolerate(&mut self, rx: bool) {
+        if !rx {
+            self.dom_cnt += 1;
+            let mut off = false;
+            if self.dom_cnt == 1 && !self.role_tx && self.phase == Phase::ErrorTolerate {
+                // Rule 2: dominant as the first bit after an error flag.
+                off |= self.fc.rule2_dominant_after_flag(&mut self.ev);
+            }
+            if self.dom_cnt % 8 == 0 {
+                // Rule 6: 14th dominant bit after an active/overload flag
+                // (6 flag bits + 8), 8th after a passive one, and each 8 more.
+                off |= self.fc.rule6_dominant_sequence(self.role_tx, &mut self.ev);
+            }
+            if off {
+                self.enter_bus_off();
+            }
+            return;
+        }
+        self.phase = if self.phase == Phase::ErrorTolerate {
+            Phase::ErrorDelim
+        } else {
+            Phase::OverloadDelim
+        };
+        self.cnt = 1;
+    }
+
+    fn enter_bus_off(&mut self) {
+        self.phase = Phase::BusOff;
+        self.tx = RECESSIVE;
+        self.role_tx = false;
+        self.cnt = 0;
+        self.recovery = 0;
+        self.ack_exc = false;
+        self.abort_req = false;
+        if self.pending.take().is_some() {
+            self.ev.push(Event::TxAborted);
+        }
+        // The SJA1000 sets MOD.RM itself at bus-off.
+        self.reset_mode = true;
+    }
+
+    /// Rule 12: 128 occurrences of 11 consecutive recessive bits.
+    fn bus_off_recovery(&mut self, rx: bool) {
+        if !rx {
+            self.cnt = 0;
+            return;
+        }
+        self.cnt += 1;
+        if self.cnt == 11 {
+            self.cnt = 0;
+            self.recovery += 1;
+            if self.fc.recovery_step(self.recovery, &mut self.ev) {
+                self.enter_idle();
+            }
+        }
+    }
+
+    // ---- queries -----------------------------------------------------
+
+    /// A recessive-to-dominant edge now would be a start of frame.
+    #[inline]
+    pub(crate) fn hard_sync_allowed(&self) -> bool {
+        match self.phase {
+            Phase::Idle | Phase::Integrating | Phase::Suspend | Phase::BusOff | Phase::Sleep | Phase::Off => true,
+            Phase::Intermission => self.cnt == 2,
+            _ => false,
+        }
+    }
+
+    pub(crate) fn field(&self) -> Field {
+        match self.phase {
+            Phase::Off | Phase::Sleep | Phase::Integrating | Phase::BusOff | Phase::Idle => Field::BusIdle,
+            Phase::Stuffed if self.fld == Field::CrcDelim => Field::Crc,
+            Phase::Stuffed => self.fld,
+            Phase::CrcDelim => Field::CrcDelim,
+            Phase::AckSlot => Field::AckSlot,
+            Phase::AckDelim => Field::AckDelim,
+            Phase::Eof => Field::Eof,
+            Phase::Intermission => Field::Intermission,
+            Phase::Suspend => Field::SuspendTransmission,
+            Phase::ActiveFlag => Field::ActiveErrorFlag,
+            Phase::PassiveFlag => Field::PassiveErrorFlag,
+            Phase::ErrorTolerate | Phase::ErrorDelim => Field::ErrorDelimiter,
+            Phase::OverloadFlag => Field::OverloadFlag,
+            Phase::OverloadTolerate | Phase::OverloadDelim => Field::OverloadDelimiter,
+        }
+    }
+
+    /// In a frame or in error/overload signalling.
+    pub(crate) fn busy(&self) -> bool {
+        !matches!(
+            self.phase,
+            Phase::Off | Phase::Sleep | Phase::Integrating | Phase::BusOff | Phase::Idle | Phase::Intermission | Phase::Suspend
+        )
+    }
+
+    pub(crate) fn request(&mut self, req: TxRequest) {
+        self.pending = Some(req);
+        self.abort_req = false;
+    }
+
+    pub(crate) fn abort(&mut self) {
+        if self.pending.is_none() {
+            return;
+        }
+        if self.role_tx && self.busy() {
+            self.abort_req = true;
+        } else {
+            self.pending = None;
+            self.ev.push(Event::TxAborted);
+        }
+    }
+
+    pub(crate) fn set_reset_mode(&mut self, on: bool) {
+        if on == self.reset_mode {
+            return;
+        }
+        self.reset_mode = on;
+        if on {
+            if self.phase != Phase::BusOff {
+                self.phase = Phase::Off;
+            }
+            self.tx = RECESSIVE;
+            self.role_tx = false;
+            // The controller releases the transmit buffer in reset mode.
+            self.pending = None;
+            self.abort_req = false;
+        } else {
+            self.cnt = 0;
+            if self.phase == Phase::BusOff {
+                self.recovery = 0;
+            } else {
+                self.phase = Phase::Integrating;
+            }
+            // Status changes from CPU writes to TXERR/RXERR show now.
+            self.fc.update(&mut self.ev);
+        }
+    }
+
+    pub(crate) fn set_sleep(&mut self, on: bool) {
+        if on {
+            if !matches!(self.phase, Phase::Off | Phase::BusOff) {
+                self.phase = Phase::Sleep;
+                self.tx = RECESSIVE;
+                self.role_tx = false;
+            }
+        } else if self.phase == Phase::Sleep {
+            self.phase = Phase::Integrating;
+            self.cnt = 0;
+        }
+    }
+
+    pub(crate) fn write_counters(&mut self, tec: Option<u8>, rec: Option<u8>) {
+        if tec == Some(255) {
+            // Datasheet: writing 255 to TXERR forces a bus-off event.
+            if self.fc.state() != FaultState::BusOff {
+                self.fc.force_bus_off(&mut self.ev);
+                self.enter_bus_off();
+            }
+            return;
+        }
+        let was_off = self.fc.state() == FaultState::BusOff;
+        self.fc.write(tec, rec, &mut self.ev);
+        if was_off && self.fc.state() != FaultState::BusOff {
+            // Bus-off cleared by the write: one bus-free sequence once reset
+            // mode is left.
+            self.phase = if self.reset_mode { Phase::Off } else { Phase::Integrating };
+            self.cnt = 0;
+        }
+    }
+}

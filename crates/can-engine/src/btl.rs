@@ -1,0 +1,181 @@
+//! Bit timing logic (CAN 2.0B §9, SJA1000 BTR0/BTR1): the prescaler makes
+//! time quanta of 2 * (BRP + 1) CAN clocks; a bit is the sync segment
+//! (1 tq), TSEG1 (TSEG1 + 1 tq, propagation + phase segment 1) and TSEG2
+//! (TSEG2 + 1 tq, phase segment 2); the bus is sampled at the end of TSEG1.
+//!
+//! Model: the bus is looked at once per time quantum, at the last CAN clock
+//! of the quantum. An edge is a recessive level at the previous look and a
+//! dominant one now (only recessive-to-dominant edges synchronise); it is
+//! placed in the quantum that just ended. Synchronisation rules (§9.2.4):
+//! 1. at most one synchronisation between two sample points;
+//! 2. an edge counts only if the level sampled at the previous sample point
+//!    was recessive (it differs from the level after the edge);
+//! 3. hard synchronisation on an edge while the bus is idle (the bit stream
+//!    processor says when a dominant bit would be a start of frame);
+//! 4. all other edges resynchronise: phase segment 1 is lengthened or phase
+//!    segment 2 shortened by the phase error, at most SJW + 1 tq; a node
+//!    sending a dominant bit does not resynchronise on a late edge (positive
+//!    phase error), as its own edge would otherwise move it.
+//!
+//! Triple sampling (BTR1.SAM): the datasheet says the bus is then "sampled
+//! three times" and recommends it for low/medium-speed buses to filter
+//! spikes; it does not give the spacing. We take the majority of the levels
+//! at the ends of the last three quanta of TSEG1 (1 tq apart, the last one at
+//! the sample point), so TSEG1 must be at least 3 tq (the validator in
+//! `can_proto::timing` flags shorter ones).
+
+use can_proto::timing::BusTiming;
+
+/// What a time-quantum boundary produced.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub(crate) enum Tq {
+    /// Nothing for the bit stream processor.
+    Quiet,
+    /// The sample point: the (majority) level of the bit.
+    Sample(bool),
+    /// A new bit begins: drive the level the processor chose for it.
+    BitStart,
+}
+
+/// Prescaler, segment counters and synchronisation state.
+#[derive(Clone, Debug)]
+pub(crate) struct Btl {
+    /// CAN clocks per tq.
+    cpt: u32,
+    /// Clock within the current tq (0..cpt).
+    clk: u32,
+    /// Nominal index of the sample tq (the last tq of TSEG1).
+    sp0: u8,
+    /// Nominal index of the last tq of the bit.
+    end0: u8,
+    sjw: u8,
+    sam: bool,
+    /// Index of the tq that ends at the next look (0 = sync segment).
+    pos: u8,
+    /// Sample tq index for this bit (after any lengthening).
+    sp: u8,
+    /// Last tq index for this bit (after any lengthening/shortening).
+    end: u8,
+    /// Level at the previous look.
+    prev_rx: bool,
+    /// Levels at the last three looks, newest in bit 0.
+    hist: u8,
+    /// Level sampled at the last sample point.
+    last_sample: bool,
+    /// A synchronisation happened since the last sample point (rule 1).
+    synced: bool,
+}
+
+impl Btl {
+    pub(crate) fn new(t: BusTiming) -> Self {
+        let mut b = Btl {
+            cpt: 2,
+            clk: 0,
+            sp0: 0,
+            end0: 0,
+            sjw: 1,
+            sam: false,
+            pos: 0,
+            sp: 0,
+            end: 0,
+            prev_rx: true,
+            hist: 7,
+            last_sample: true,
+            synced: false,
+        };
+        b.set_timing(t);
+        b
+    }
+
+    pub(crate) fn set_timing(&mut self, t: BusTiming) {
+        self.cpt = t.clocks_per_tq();
+        self.sp0 = t.tseg1_tq() as u8;
+        self.end0 = self.sp0 + t.tseg2_tq() as u8;
+        self.sjw = t.sjw_tq() as u8;
+        self.sam = t.sam;
+        self.restart();
+    }
+
+    /// Starts a fresh bit on the next clock (reset, wake-up).
+    pub(crate) fn restart(&mut self) {
+        self.clk = 0;
+        self.pos = 0;
+        self.sp = self.sp0;
+        self.end = self.end0;
+        self.synced = false;
+    }
+
+    /// CAN clocks until the next time-quantum boundary (1 = the next clock
+    /// is one); lets a kernel skip clocks in which nothing can happen.
+    pub(crate) fn clocks_to_next_tq(&self) -> u32 {
+        self.cpt - self.clk
+    }
+
+    /// One CAN clock; `None` between quantum boundaries.
+    #[inline]
+    pub(crate) fn clock(&mut self) -> bool {
+        self.clk += 1;
+        if self.clk < self.cpt {
+            return false;
+        }
+        self.clk = 0;
+        true
+    }
+
+    /// The end of a time quantum with the bus at `rx`. `hard_sync`: a
+    /// dominant bit would be a start of frame now; `sending_dominant`: this
+    /// node drives dominant in the current bit.
+    pub(crate) fn tq(&mut self, rx: bool, hard_sync: bool, sending_dominant: bool) -> Tq {
+        let edge = self.prev_rx && !rx;
+        self.prev_rx = rx;
+        self.hist = ((self.hist << 1) | rx as u8) & 7;
+        if edge && self.last_sample && !self.synced && self.pos != 0 {
+            if hard_sync {
+                // Rule 3: this quantum becomes the sync segment of a new bit.
+                let sampled = self.pos > self.sp;
+                self.new_bit_after_sync();
+                return if sampled { Tq::BitStart } else { Tq::Quiet };
+            } else if self.pos <= self.sp {
+                // Late edge: lengthen phase segment 1 by min(e, SJW).
+                if !sending_dominant {
+                    let e = self.pos.min(self.sjw);
+                    self.sp += e;
+                    self.end += e;
+                    self.synced = true;
+                }
+            } else {
+                // Early edge: shorten phase segment 2 by min(|e|, SJW).
+                let e = self.end + 1 - self.pos;
+                if e <= self.sjw {
+                    self.new_bit_after_sync();
+                    return Tq::BitStart;
+                }
+                self.end -= self.sjw;
+                self.synced = true;
+            }
+        }
+        if self.pos == self.sp {
+            let v = if self.sam { (self.hist & 1) + ((self.hist >> 1) & 1) + (self.hist >> 2) >= 2 } else { rx };
+            self.last_sample = v;
+            self.synced = false;
+            self.pos += 1;
+            Tq::Sample(v)
+        } else if self.pos >= self.end {
+            self.pos = 0;
+            self.sp = self.sp0;
+            self.end = self.end0;
+            Tq::BitStart
+        } else {
+            self.pos += 1;
+            Tq::Quiet
+        }
+    }
+
+    /// The quantum just ended was a sync segment.
+    fn new_bit_after_sync(&mut self) {
+        self.pos = 1;
+        self.sp = self.sp0;
+        self.end = self.end0;
+        self.synced = true;
+    }
+}

@@ -1,0 +1,170 @@
+//! Each error kind, with the ECC value the SJA1000 captures, and overload
+//! frames. Three nodes: 0 transmits, 1 and 2 receive (and acknowledge).
+
+use super::*;
+use crate::ErrorKind;
+use can_proto::DOMINANT;
+
+/// A three-node bus with node 0 about to send `frame`; also returns the
+/// bits and fields of a clean reference run of the same exchange, so a test
+/// can aim a fault at a field (the runs are deterministic).
+fn setup(frame: CanFrame) -> (TestBus, TestBus) {
+    let mk = || {
+        let mut b = TestBus::idle(3);
+        b.bits.clear();
+        b.fields.clear();
+        b.nodes[0].request_tx(frame, false, false);
+        b
+    };
+    let mut reference = mk();
+    reference.run(250);
+    assert_eq!(reference.count(0, |e| *e == Event::TxComplete), 1);
+    assert!(reference.log.iter().all(|l| !matches!(l.event, Event::BusError { .. })));
+    (mk(), reference)
+}
+
+fn nth_in(r: &TestBus, field: Field, n: usize) -> usize {
+    (0..r.fields.len()).filter(|&i| r.fields[i] == field).nth(n).unwrap()
+}
+
+fn first_error(bus: &TestBus, node: usize) -> Event {
+    bus.log.iter().find(|l| l.node == node && matches!(l.event, Event::BusError { .. })).unwrap().event.clone()
+}
+
+fn bus_error(kind: ErrorKind, ecc: u8, field: Field) -> Event {
+    Event::BusError { kind, ecc, field }
+}
+
+/// Bit error: the transmitter reads dominant where it sent a recessive
+/// data-field bit. ECC 00 0 01010.
+#[test]
+fn bit_error_in_data_field() {
+    let (mut bus, r) = setup(std_frame(0x321, &[0x0f, 0xf0]));
+    let i = (0..r.fields.len()).find(|&i| r.fields[i] == Field::Data && r.bits[i]).unwrap();
+    bus.force.push((i, DOMINANT));
+    bus.run(250);
+    assert_eq!(first_error(&bus, 0), bus_error(ErrorKind::Bit, 0x0A, Field::Data));
+    assert_eq!(bus.log.iter().find(|l| l.node == 0 && matches!(l.event, Event::BusError { .. })).unwrap().bit, i);
+    // Retransmitted and delivered once to each receiver.
+    assert_eq!(bus.count(0, |e| *e == Event::TxComplete), 1);
+    assert_eq!(bus.count(1, |e| matches!(e, Event::Received { .. })), 1);
+    assert_eq!(bus.nodes[0].tec(), 7, "rule 3 +8, rule 7 -1");
+}
+
+/// Stuff error: a receiver reads a sixth equal bit where a stuff bit was
+/// due. ECC 10 1 01010; rule 1 gives REC 1.
+#[test]
+fn stuff_error_at_receiver() {
+    let (mut bus, r) = setup(std_frame(0x321, &[0x00]));
+    let i = (5..r.fields.len())
+        .find(|&i| r.fields[i] == Field::Data && r.bits[i] && r.bits[i - 5..i].iter().all(|&b| !b))
+        .unwrap();
+    bus.force_rx.push((i, 1, DOMINANT));
+    bus.run_until(250, |b| b.log.iter().any(|l| l.node == 1));
+    assert_eq!(first_error(&bus, 1), bus_error(ErrorKind::Stuff, 0xAA, Field::Data));
+    assert_eq!(bus.nodes[1].rec(), 1);
+    bus.run(250);
+    assert_eq!(bus.count(1, |e| matches!(e, Event::Received { .. })), 1);
+    assert_eq!(bus.count(0, |e| *e == Event::TxComplete), 1);
+}
+
+/// CRC error: one receiver sees a data bit flipped. It sends no ACK and
+/// flags the error after the ACK delimiter (ECC 11 1 11011, "other" in the
+/// ACK delimiter); the others see its flag as a form error in EOF.
+/// Counters: receiver 1 gets rule 1 (+1) and rule 2 (+8: the others' flags
+/// make the first bit after its own flag dominant); receiver 2 rule 1
+/// (+1); the transmitter rule 3 (+8). The retransmission then succeeds.
+#[test]
+fn crc_error_flags_after_ack_delimiter() {
+    let (mut bus, r) = setup(std_frame(0x321, &[0x55]));
+    let i = nth_in(&r, Field::Data, 3);
+    bus.force_rx.push((i, 1, !r.bits[i]));
+    let ack_delim = nth_in(&r, Field::AckDelim, 0);
+    bus.run_until(250, |b| b.log.iter().any(|l| l.node == 1));
+    assert_eq!(first_error(&bus, 1), bus_error(ErrorKind::Crc, 0xFB, Field::AckDelim));
+    assert_eq!(bus.bits.len() - 1, ack_delim);
+    bus.run(20);
+    assert_eq!(first_error(&bus, 0), bus_error(ErrorKind::Form, 0x5A, Field::Eof));
+    assert_eq!(first_error(&bus, 2), bus_error(ErrorKind::Form, 0x7A, Field::Eof));
+    assert_eq!((bus.nodes[0].tec(), bus.nodes[1].rec(), bus.nodes[2].rec()), (8, 9, 1));
+    bus.run(200);
+    assert_eq!((bus.nodes[0].tec(), bus.nodes[1].rec(), bus.nodes[2].rec()), (7, 8, 0));
+    for n in 1..3 {
+        assert_eq!(bus.count(n, |e| matches!(e, Event::Received { .. })), 1);
+    }
+}
+
+/// Form error: a dominant CRC delimiter. Transmitter ECC 01 0 11000,
+/// receivers 01 1 11000.
+#[test]
+fn form_error_at_crc_delimiter() {
+    let (mut bus, r) = setup(ext_frame(0x0ab_cdef, &[1, 2]));
+    bus.force.push((nth_in(&r, Field::CrcDelim, 0), DOMINANT));
+    bus.run(300);
+    assert_eq!(first_error(&bus, 0), bus_error(ErrorKind::Form, 0x58, Field::CrcDelim));
+    assert_eq!(first_error(&bus, 1), bus_error(ErrorKind::Form, 0x78, Field::CrcDelim));
+    assert_eq!(first_error(&bus, 2), bus_error(ErrorKind::Form, 0x78, Field::CrcDelim));
+    assert_eq!(bus.count(1, |e| matches!(e, Event::Received { .. })), 1);
+}
+
+/// Form error at the ACK delimiter; and an error delimiter whose last bit is
+/// dominant starts an overload frame without any counter change.
+#[test]
+fn form_error_at_ack_delimiter_then_overload_at_delimiter_end() {
+    let (mut bus, r) = setup(std_frame(0x7f0, &[]));
+    let d = nth_in(&r, Field::AckDelim, 0);
+    bus.force.push((d, DOMINANT));
+    // Flag d+1..=d+6, error delimiter d+7..=d+14: force its last bit.
+    bus.force.push((d + 14, DOMINANT));
+    bus.run(d + 16);
+    assert_eq!(first_error(&bus, 0), bus_error(ErrorKind::Form, 0x5B, Field::AckDelim));
+    assert_eq!(first_error(&bus, 1), bus_error(ErrorKind::Form, 0x7B, Field::AckDelim));
+    assert_eq!(bus.fields[d + 14], Field::ErrorDelimiter);
+    assert_eq!(bus.fields[d + 15], Field::OverloadFlag);
+    assert_eq!((bus.nodes[0].tec(), bus.nodes[1].rec()), (8, 1));
+    bus.run(200);
+    assert_eq!(bus.count(2, |e| matches!(e, Event::Received { .. })), 1);
+}
+
+// ---- overload frames --------------------------------------------------------
+
+/// A dominant first intermission bit: every node sends an overload flag (6),
+/// overload delimiter (8), then intermission again; no counter changes.
+#[test]
+fn overload_at_first_intermission_bit() {
+    let (mut bus, r) = setup(std_frame(0x1, &[7]));
+    let f = nth_in(&r, Field::Intermission, 0);
+    bus.force.push((f, DOMINANT));
+    bus.run(f + 1);
+    bus.nodes[1].request_tx(std_frame(0x2, &[8]), false, false);
+    assert!(bus.log.iter().all(|l| !matches!(l.event, Event::BusError { .. })));
+    bus.run(16);
+    assert!((f + 1..f + 7).all(|i| bus.fields[i] == Field::OverloadFlag));
+    assert!((f + 7..f + 15).all(|i| bus.fields[i] == Field::OverloadDelimiter));
+    assert!((f + 15..f + 18).all(|i| bus.fields[i] == Field::Intermission));
+    bus.run(200);
+    assert!(bus.log.iter().all(|l| !matches!(l.event, Event::BusError { .. })));
+    assert_eq!(bus.count(0, |e| *e == Event::Received { frame: std_frame(0x2, &[8]), own: false }), 1);
+    for e in &bus.nodes {
+        assert_eq!((e.tec(), e.rec()), (0, 0));
+    }
+}
+
+/// A dominant last EOF bit: receivers accept the frame and send an
+/// overload flag; for the transmitter it is a form error, so it
+/// retransmits (the receivers get the frame twice, as CAN allows).
+#[test]
+fn dominant_last_eof_bit() {
+    let (mut bus, r) = setup(std_frame(0x3, &[1]));
+    let eof7 = nth_in(&r, Field::Eof, 6);
+    bus.force.push((eof7, DOMINANT));
+    bus.run(eof7 + 2);
+    assert_eq!(first_error(&bus, 0), bus_error(ErrorKind::Form, 0x5A, Field::Eof));
+    assert_eq!(bus.fields[eof7 + 1], Field::ActiveErrorFlag);
+    assert_eq!(bus.nodes[1].field(), Field::OverloadFlag);
+    assert!(bus.log.iter().all(|l| l.node == 0 || !matches!(l.event, Event::BusError { .. })));
+    bus.run(200);
+    assert_eq!(bus.count(1, |e| matches!(e, Event::Received { .. })), 2);
+    assert_eq!(bus.count(0, |e| *e == Event::TxComplete), 1);
+    assert_eq!((bus.nodes[1].rec(), bus.nodes[2].rec()), (0, 0));
+}

@@ -1,0 +1,238 @@
+//! Bit timing: the clocked path against the fast path, synchronisation
+//! with an oscillator that is off, triple sampling, and a speed measurement.
+
+use super::*;
+use crate::ErrorKind;
+use can_proto::DOMINANT;
+
+/// Nodes clocked by their own CAN clocks (periods in arbitrary time units)
+/// on a wired-AND bus; event-driven.
+struct ClockedBus {
+    nodes: Vec<Engine>,
+    period: Vec<u64>,
+    next: Vec<u64>,
+    tx: Vec<bool>,
+    /// Bus level at node 0's sample points.
+    bits: Vec<bool>,
+    /// Events with the index of the bit (of the node that reported it).
+    log: Vec<Logged>,
+    /// Bus glitches: (from, to) time intervals during which the bus is
+    /// forced to the given level.
+    glitch: Vec<(u64, u64, bool)>,
+    now: u64,
+}
+
+impl ClockedBus {
+    fn new(nodes: Vec<Engine>, period: Vec<u64>) -> Self {
+        let n = nodes.len();
+        ClockedBus { nodes, next: period.clone(), period, tx: vec![RECESSIVE; n], bits: Vec::new(), log: Vec::new(), glitch: Vec::new(), now: 0 }
+    }
+
+    fn bus(&self) -> bool {
+        let mut b = self.tx.iter().all(|&t| t);
+        for &(from, to, l) in &self.glitch {
+            if self.now >= from && self.now < to {
+                b = l;
+            }
+        }
+        b
+    }
+
+    /// Advances to the next clock edge of any node.
+    fn step(&mut self) {
+        let t = *self.next.iter().min().unwrap();
+        self.now = t;
+        let bus = self.bus();
+        for k in 0..self.nodes.len() {
+            if self.next[k] != t {
+                continue;
+            }
+            self.next[k] += self.period[k];
+            let before = self.nodes[k].bits_sampled();
+            self.tx[k] = self.nodes[k].clock(bus);
+            let after = self.nodes[k].bits_sampled();
+            if after != before && k == 0 {
+                self.bits.push(bus);
+            }
+            let bit = (after as usize).saturating_sub(1);
+            for event in self.nodes[k].take_events() {
+                self.log.push(Logged { bit, node: k, event });
+            }
+        }
+    }
+
+    fn run_until(&mut self, max_steps: usize, mut done: impl FnMut(&ClockedBus) -> bool) -> bool {
+        for _ in 0..max_steps {
+            self.step();
+            if done(self) {
+                return true;
+            }
+        }
+        false
+    }
+}
+
+/// The same two-node exchange (arbitration, ACK, an error, retransmission)
+/// stepped per CAN clock and per bit gives the same bus bits and events.
+#[test]
+fn clock_and_sample_bit_paths_agree() {
+    let frames = [std_frame(0x123, &[1, 2, 3]), ext_frame(0x0234_5678, &[0xff; 8])];
+    let timing = BusTiming { brp: 1, sjw: 1, tseg1: 7, tseg2: 3, sam: false };
+    let mk = || {
+        (0..2)
+            .map(|k| {
+                let mut e = Engine::new(timing, Options::default());
+                e.request_tx(frames[k], false, k == 1);
+                e
+            })
+            .collect::<Vec<_>>()
+    };
+    // Fast path.
+    let mut fast = TestBus::new(0, Options::default());
+    fast.nodes = mk();
+    fast.run(400);
+    // Clocked path, one shared clock.
+    let mut slow = ClockedBus::new(mk(), vec![1, 1]);
+    slow.run_until(400 * timing.clocks_per_bit() as usize, |_| false);
+    assert!(slow.bits.len() >= 400);
+    assert_eq!(&slow.bits[..400], &fast.bits[..]);
+    let upto = |log: &[Logged]| -> Vec<Logged> {
+        let mut v: Vec<Logged> = log.iter().filter(|l| l.bit < 400).cloned().collect();
+        v.sort_by_key(|l| (l.bit, l.node));
+        v
+    };
+    let mut want = fast.log.clone();
+    want.sort_by_key(|l| (l.bit, l.node));
+    assert_eq!(upto(&slow.log), want);
+    assert!(want.iter().any(|l| matches!(l.event, Event::ArbitrationLost { .. })));
+    assert_eq!(want.iter().filter(|l| l.event == Event::TxComplete).count(), 2);
+}
+
+/// Timing for the synchronisation tests: 21 tq per bit, sample point at
+/// 17/21, phase segment 2 of 4 tq.
+fn sync_timing(sjw: u8) -> BusTiming {
+    BusTiming { brp: 0, sjw, tseg1: 15, tseg2: 3, sam: false }
+}
+
+/// Node 0 sends `n` worst-case frames (all-ones data: a resynchronising
+/// edge only every 6 bits) to node 1 whose clock period differs by
+/// `ppm_b`; returns (frames received by node 1, bus errors seen).
+fn drift_exchange(sjw: u8, ppm_b: i64, n: usize) -> (usize, usize) {
+    let f = ext_frame(0x1fff_ffff, &[0xff; 8]);
+    let mut a = Engine::new(sync_timing(sjw), Options::default());
+    let b = Engine::new(sync_timing(sjw), Options::default());
+    a.request_tx(f, true, false);
+    let base = 1_000_000u64;
+    let mut bus = ClockedBus::new(vec![a, b], vec![base, (base as i64 + ppm_b) as u64]);
+    let mut sent = 0;
+    let mut guard = 0;
+    while sent < n && guard < 200 {
+        guard += 1;
+        let done = bus.run_until(300 * 42, |b| !b.nodes[0].tx_pending());
+        assert!(done, "transmission stalled");
+        sent += 1;
+        bus.nodes[0].request_tx(f, true, false);
+    }
+    let received = bus.log.iter().filter(|l| l.node == 1 && matches!(l.event, Event::Received { frame, .. } if frame == f)).count();
+    let errors = bus.log.iter().filter(|l| matches!(l.event, Event::BusError { .. })).count();
+    (received, errors)
+}
+
+/// With SJW = 4 tq, a receiver whose oscillator is 1 % or 2 % off either way
+/// stays in step (hard sync at SOF, resync on every recessive-to-dominant
+/// edge) and receives every frame without error.
+#[test]
+fn resync_with_enough_sjw_receives_everything() {
+    for ppm in [10_000, -10_000, 20_000, -20_000] {
+        assert_eq!(drift_exchange(3, ppm, 5), (5, 0), "receiver off by {ppm} ppm");
+    }
+}
+
+/// With SJW = 1 tq the 2 % drift (0.42 tq per bit, 2.5 tq per 6-bit stuff
+/// period) outruns the correction and frames are lost to errors.
+#[test]
+fn resync_with_too_small_sjw_fails() {
+    let (received, errors) = drift_exchange(0, 20_000, 5);
+    assert!(errors > 0, "expected bus errors");
+    assert!(received < 5);
+    // Same oscillators with no drift: fine even with SJW = 1.
+    assert_eq!(drift_exchange(0, 0, 3), (3, 0));
+}
+
+/// Triple sampling: a one-quantum spike at the sample point of a dominant
+/// bit is voted away with SAM = 1, but read as recessive with SAM = 0.
+#[test]
+fn triple_sampling_filters_a_spike() {
+    for sam in [false, true] {
+        let timing = BusTiming { brp: 0, sjw: 0, tseg1: 7, tseg2: 2, sam };
+        let f = std_frame(0x000, &[0x00]);
+        let mk = |k: usize| {
+            let mut e = Engine::new(timing, Options::default());
+            if k == 0 {
+                e.request_tx(f, false, false);
+            }
+            e
+        };
+        let mut bus = ClockedBus::new(vec![mk(0), mk(1)], vec![1, 1]);
+        // Bit 12 (after 11 integration bits) is the SOF; 13.. the ID (all
+        // dominant). Spike during the sample quantum of bit 14: tq 8 of the
+        // bit (sync 1 + TSEG1 8 = sample at the end of quantum index 8).
+        let cpb = timing.clocks_per_bit() as u64;
+        let cpt = timing.clocks_per_tq() as u64;
+        let bit14 = 13 * cpb; // bits are numbered from 1; clock 0 is the first
+        bus.glitch.push((bit14 + 8 * cpt + 1, bit14 + 9 * cpt + 1, RECESSIVE));
+        bus.run_until(200 * cpb as usize, |b| !b.nodes[0].tx_pending() || b.log.iter().any(|l| matches!(l.event, Event::BusError { .. })));
+        let errors: Vec<&Logged> = bus.log.iter().filter(|l| matches!(l.event, Event::BusError { .. })).collect();
+        if sam {
+            assert!(errors.is_empty(), "spike filtered: {errors:?}");
+        } else {
+            assert!(!errors.is_empty(), "spike seen without triple sampling");
+            assert!(matches!(errors[0].event, Event::BusError { kind: ErrorKind::Bit, .. }));
+        }
+    }
+}
+
+/// Fast-path speed: two nodes exchanging frames, bit-times per second.
+#[test]
+#[ignore = "measurement; run with cargo test -p can-engine --release -- --ignored --nocapture speed"]
+fn speed_two_nodes_fast_path() {
+    let mut nodes = [Engine::new(TIMING, Options::default()), Engine::new(TIMING, Options::default())];
+    let frames: Vec<CanFrame> = (0..64u32)
+        .map(|i| {
+            let d = (i.wrapping_mul(0x9e37_79b9)).to_le_bytes();
+            if i % 3 == 0 { ext_frame(i * 7919, &d[..(i % 9).min(4) as usize]) } else { std_frame((i * 31 % 2048) as u16, &[d[0], d[1], d[2], d[3], d[0], d[1], d[2], d[3]][..(i % 9) as usize]) }
+        })
+        .collect();
+    let bits = 200_000_000u64;
+    let mut k = 0usize;
+    let mut received = 0u64;
+    let t = std::time::Instant::now();
+    for _ in 0..bits {
+        let bus = nodes[0].tx() & nodes[1].tx();
+        nodes[0].sample_bit(bus);
+        nodes[1].sample_bit(bus);
+        for n in nodes.iter_mut() {
+            if n.has_events() {
+                for e in n.take_events() {
+                    received += matches!(e, Event::Received { .. }) as u64;
+                }
+            }
+            if !n.tx_pending() {
+                n.request_tx(frames[k % frames.len()], false, false);
+                k += 1;
+            }
+        }
+    }
+    let s = t.elapsed().as_secs_f64();
+    println!("2 nodes: {bits} bit-times in {s:.3} s = {:.1} M bit-times/s ({received} frames received)", bits as f64 / s / 1e6);
+    assert!(received > bits / 200);
+}
+
+#[test]
+fn dominant_spike_sanity() {
+    // The glitch helper works: a forced dominant level is seen.
+    let mut bus = ClockedBus::new(vec![Engine::new(TIMING, Options::default())], vec![1]);
+    bus.glitch.push((0, 1_000_000, DOMINANT));
+    bus.run_until(16 * 20, |_| false);
+    assert!(bus.bits.iter().all(|&b| !b));
+}
