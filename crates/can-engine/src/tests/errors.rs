@@ -138,7 +138,7 @@ fn overload_at_first_intermission_bit() {
     bus.run(f + 1);
     bus.nodes[1].request_tx(std_frame(0x2, &[8]), false, false);
     assert!(bus.log.iter().all(|l| !matches!(l.event, Event::BusError { .. })));
-    bus.run(16);
+    bus.run(17);
     assert!((f + 1..f + 7).all(|i| bus.fields[i] == Field::OverloadFlag));
     assert!((f + 7..f + 15).all(|i| bus.fields[i] == Field::OverloadDelimiter));
     assert!((f + 15..f + 18).all(|i| bus.fields[i] == Field::Intermission));
