@@ -9,7 +9,9 @@
 use can_engine::{Engine, Event, FaultState, Options};
 use can_proto::timing::BusTiming;
 use can_proto::{CanFrame, FrameTrait, Id};
-use regmap::{Access, Mode, OpMode, RegError, Register, ResetValue, Target, basic, peli};
+use std::sync::OnceLock;
+
+use regmap::{Access, Mode, OpMode, RegError, Register, RegisterView, ResetValue, Target, basic, peli};
 
 use crate::fifo::RxFifo;
 use crate::filter::{self, FilterMode};
@@ -217,6 +219,61 @@ fn constant_bits(r: &Register) -> (u8, u8) {
 
 fn reg_of(mode: Mode, name: &str) -> &'static Register {
     regmap::register(mode, name).expect("register present in regmap")
+}
+
+/// One (view, op mode, direction, address) decoded once from `regmap`,
+/// with what the model needs per access precomputed.
+#[derive(Clone, Copy, Debug)]
+struct Decoded {
+    view: &'static RegisterView,
+    r: R,
+    /// Constant bits of the register reached ([`constant_bits`]).
+    cmask: u8,
+    cval: u8,
+    /// All field bits of the register reached.
+    fields: u8,
+}
+
+const ADDRS: usize = 128;
+
+fn index(mode: Mode, op: OpMode, access: Access, addr: usize) -> usize {
+    let m = (mode == Mode::PeliCan) as usize;
+    let o = (op == OpMode::Operating) as usize;
+    let a = (access == Access::Write) as usize;
+    ((m * 2 + o) * 2 + a) * ADDRS + addr
+}
+
+/// The decode table, derived from `regmap` on first use.
+fn decode_table() -> &'static [Option<Decoded>] {
+    static TABLE: OnceLock<Vec<Option<Decoded>>> = OnceLock::new();
+    TABLE.get_or_init(|| {
+        let mut t = vec![None; 8 * ADDRS];
+        for mode in Mode::ALL {
+            for op in OpMode::ALL {
+                for access in Access::ALL {
+                    for addr in 0..ADDRS {
+                        let Some(view) = regmap::lookup(mode, op, access, addr as u8) else { continue };
+                        let (r, (cmask, cval), fields) = match view.register() {
+                            Some(reg) => (
+                                classify(reg),
+                                constant_bits(reg),
+                                reg.fields.iter().fold(0u8, |m, f| m | f.mask()),
+                            ),
+                            None => (R::Unknown, (0, 0), 0),
+                        };
+                        t[index(mode, op, access, addr)] = Some(Decoded { view, r, cmask, cval, fields });
+                    }
+                }
+            }
+        }
+        t
+    })
+}
+
+#[inline]
+fn decoded(mode: Mode, op: OpMode, access: Access, addr: u8) -> Result<&'static Decoded, RegError> {
+    let d = if (addr as usize) < ADDRS { decode_table()[index(mode, op, access, addr as usize)].as_ref() } else { None };
+    d.ok_or(RegError::OutOfRange { addr, mode })
 }
 
 // Interrupt flag masks (same positions in both views for the shared ones).
@@ -559,13 +616,13 @@ impl Sja1000 {
 
     /// Host read; an address outside the view is an error.
     pub fn try_read(&mut self, addr: u8) -> Result<u8, RegError> {
-        let view = regmap::decode(self.mode, self.opmode(), Access::Read, addr)?;
-        Ok(match view.target {
+        let d = decoded(self.mode, self.opmode(), Access::Read, addr)?;
+        Ok(match d.view.target {
             Target::Constant(c) => c,
             Target::Nothing => 0,
             Target::Register(r) => {
-                let v = self.value(r, addr);
-                match classify(r) {
+                let v = self.value(d, r, addr);
+                match d.r {
                     R::Ir => {
                         // A read clears every flag except RI.
                         self.ir &= RI;
@@ -581,25 +638,30 @@ impl Sja1000 {
 
     /// What a read would return, without side effects (diagnostics).
     pub fn peek(&self, addr: u8) -> u8 {
-        match regmap::lookup(self.mode, self.opmode(), Access::Read, addr) {
-            None => 0,
-            Some(view) => match view.target {
+        match decoded(self.mode, self.opmode(), Access::Read, addr) {
+            Err(_) => 0,
+            Ok(d) => match d.view.target {
                 Target::Constant(c) => c,
                 Target::Nothing => 0,
-                Target::Register(r) => self.value(r, addr),
+                Target::Register(r) => self.value(d, r, addr),
             },
         }
     }
 
     /// The value a read of `addr` inside `r` returns (no side effects).
-    fn value(&self, r: &Register, addr: u8) -> u8 {
-        let (cmask, cval) = constant_bits(r);
-        (self.raw_value(self.mode, r, addr) & !cmask) | cval
+    fn value(&self, d: &Decoded, r: &Register, addr: u8) -> u8 {
+        (self.raw_value_of(d.r, r, addr) & !d.cmask) | d.cval
     }
 
     fn raw_value(&self, mode: Mode, r: &Register, addr: u8) -> u8 {
+        let _ = mode;
+        self.raw_value_of(classify(r), r, addr)
+    }
+
+    fn raw_value_of(&self, kind: R, r: &Register, addr: u8) -> u8 {
+        let mode = self.mode;
         let off = addr.wrapping_sub(r.addr) as usize;
-        match classify(r) {
+        match kind {
             R::Mod => {
                 (self.rm as u8) * peli::r#mod::RM
                     | (self.lom as u8) * peli::r#mod::LOM
@@ -689,12 +751,12 @@ impl Sja1000 {
     /// Host write; an address outside the view is an error.
     pub fn try_write(&mut self, addr: u8, data: u8) -> Result<WriteOutcome, RegError> {
         let op = self.opmode();
-        let view = regmap::decode(self.mode, op, Access::Write, addr)?;
-        let r = match view.target {
+        let d = decoded(self.mode, op, Access::Write, addr)?;
+        let r = match d.view.target {
             Target::Register(r) => r,
             _ => return Ok(self.why_ignored(op, addr)),
         };
-        let outcome = self.write_reg(r, addr, data, view.write_mask);
+        let outcome = self.write_reg(d, r, addr, data);
         if self.engine.has_events() {
             self.handle_events();
         }
@@ -719,10 +781,11 @@ impl Sja1000 {
         WriteOutcome::IgnoredReserved
     }
 
-    fn write_reg(&mut self, r: &'static Register, addr: u8, data: u8, mask: u8) -> WriteOutcome {
+    fn write_reg(&mut self, d: &Decoded, r: &'static Register, addr: u8, data: u8) -> WriteOutcome {
+        let mask = d.view.write_mask;
         let off = addr.wrapping_sub(r.addr) as usize;
-        let old = self.raw_value(self.mode, r, addr);
-        let fields = r.fields.iter().fold(0u8, |m, f| m | f.mask());
+        let old = self.raw_value_of(d.r, r, addr);
+        let fields = d.fields;
         let v = (old & !mask) | (data & mask);
         // Field bits the host tried to change but the mode forbids.
         let blocked = (data ^ old) & !mask & fields;
@@ -732,7 +795,7 @@ impl Sja1000 {
         };
         let op = self.opmode();
         let mut outcome = if blocked != 0 { partly(r.name, op) } else { WriteOutcome::Applied };
-        match classify(r) {
+        match d.r {
             R::Mod => {
                 use peli::r#mod as m;
                 if self.rm {
