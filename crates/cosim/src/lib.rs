@@ -11,9 +11,14 @@ pub mod bridge;
 pub mod compare;
 pub mod dut;
 pub mod kernel;
+pub mod model;
 pub mod shimgen;
+pub mod testbench;
+pub mod wave;
 
 pub use bridge::{BridgeError, CompiledCore, ExternalCore, Model, Port, PortInfo, bundled_tops};
 pub use compare::{CompareConfig, Comparator, Reference};
 pub use dut::{CanPins, Dut, EchoModel, HostPort, VerilatedDut};
 pub use kernel::{Kernel, KernelError, Tick};
+pub use model::{ModelDut, ModelRef};
+pub use testbench::{AvalonWiring, DutChoice, HostBfm, NodeConfig, ReferenceChoice, TbConfig, TbError, Testbench};

@@ -1,0 +1,895 @@
+//! The test bench the scenario runner drives: one DUT, one host BFM, the
+//! CAN bus with golden-model nodes and faults, an optional lockstep
+//! reference, VCD output, and the run record for the diagnoser.
+//!
+//! Order of work at each instant (see [`Kernel::next`]):
+//! 1. on a CAN rising edge, the bus level is the wired-AND of the DUT's
+//!    `tx_o` and every model node's tx *before* the edge; model nodes are
+//!    clocked with it and the DUT's `rx_i` is set from it (or tied);
+//! 2. the DUT is evaluated with the new clock levels;
+//! 3. on a host rising edge, the BFM sees the DUT's outputs after the edge
+//!    (the `bfm` stepping contract) and its next pins are applied;
+//! 4. on a CAN rising edge, the reference is clocked with the DUT's rx, the
+//!    bit clock finds sample points, and the comparator compares.
+
+use std::path::PathBuf;
+
+use bfm::{
+    AvMasterOut, AvalonMaster, AvalonMasterConfig, AvalonMonitor, AvalonMonitorConfig, AvalonTiming, BfmError, HostMaster, OpHandle, OpResult,
+    PioMaster, PioTiming, WbMasterOut, WishboneMaster, WishboneMonitor, wiring::Wiring as AvWiring,
+};
+use can_proto::decode::{DecodeEvent, Decoder};
+use can_proto::timing::BusTiming;
+use can_proto::{Field, RECESSIVE};
+use diagnose::{Access as RecAccess, BusBit, EngineEvent, Expectation, FinalRegs, HostBus, HostOp, RunRecord, RxWiring, Side};
+use sja1000::{Bus, BusContext, FaultInjector, Sja1000};
+
+use crate::bitclock::BitClock;
+use crate::bridge::{BridgeError, ExternalCore};
+use crate::compare::{CompareConfig, Comparator, IR_ADDR, Reference, SR_ADDR, Stamp};
+use crate::dut::{Dut, EchoModel, HostPort, VerilatedDut};
+use crate::kernel::{Kernel, KernelError};
+use crate::model::{ModelDut, ModelRef};
+use crate::wave::{Wave, WaveSample};
+
+/// Which device is under test.
+#[derive(Clone, Debug)]
+pub enum DutChoice {
+    /// Our RTL `can_top` (Wishbone), compiled into this crate.
+    Rtl,
+    /// Our RTL behind the `can_avalon` wrapper.
+    RtlAvalon,
+    /// A bundled top with the `can_top` port list (the fixtures).
+    Bundled(String),
+    /// An HDL core given by path, built at run time.
+    External(ExternalCore),
+    /// The golden model itself as a Wishbone slave.
+    Model,
+    /// The Rust twin of the echo fixture.
+    Echo,
+}
+
+/// How the Avalon master reaches a Wishbone DUT.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum AvalonWiring {
+    /// The DUT has an Avalon port of its own (`can_avalon`).
+    Native,
+    /// Correct Avalon-to-Wishbone bridge (`waitrequest = !ack`).
+    Bridge,
+    /// The DE2 thesis wiring (seed 000, Tableau 3.2).
+    Seed000,
+}
+
+/// The host bus-functional model.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum HostBfm {
+    /// Wishbone classic master.
+    Wishbone,
+    /// Avalon-MM master.
+    Avalon {
+        /// Transfer timing.
+        timing: AvalonTiming,
+        /// How it reaches the DUT.
+        wiring: AvalonWiring,
+    },
+    /// Nios II bit-banging the Wishbone pins through PIO registers.
+    Pio(PioTiming),
+}
+
+/// The reference of a lockstep run.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum ReferenceChoice {
+    /// The golden model.
+    Model,
+    /// The Rust twin of the echo fixture.
+    Echo,
+}
+
+/// A golden-model node on the bus, configured by register writes at start.
+#[derive(Clone, Debug, Default)]
+pub struct NodeConfig {
+    /// Name for reports.
+    pub name: String,
+    /// Register writes applied right after its hardware reset.
+    pub init: Vec<(u8, u8)>,
+}
+
+/// Everything a test bench is built from.
+pub struct TbConfig {
+    /// Scenario name (for the record).
+    pub scenario: String,
+    /// The DUT.
+    pub dut: DutChoice,
+    /// The host BFM.
+    pub host: HostBfm,
+    /// Host clock (`wb_clk_i`), Hz.
+    pub host_hz: u64,
+    /// CAN clock (`clk_i`), Hz.
+    pub can_hz: u64,
+    /// Host cycles `wb_rst_i` is held high at start.
+    pub reset_cycles: u64,
+    /// Bit timing the bit clock starts with (updated by host writes to BTR0/BTR1).
+    pub btr0: u8,
+    /// See `btr0`.
+    pub btr1: u8,
+    /// Where the DUT's `rx_i` comes from.
+    pub rx: RxWiring,
+    /// The DUT's `tx_o` drives the bus.
+    pub tx_on_bus: bool,
+    /// Golden-model nodes on the bus.
+    pub nodes: Vec<NodeConfig>,
+    /// Faults on the bus (the `sja1000` injectors); node index `nodes.len()`
+    /// is the DUT's receiver.
+    pub faults: Vec<Box<dyn FaultInjector>>,
+    /// Lockstep reference and tolerances.
+    pub lockstep: Option<(ReferenceChoice, CompareConfig)>,
+    /// Our VCD (ports, bus, model, fields).
+    pub vcd: Option<PathBuf>,
+    /// Verilator's VCD of the DUT's internals.
+    pub dut_trace: Option<PathBuf>,
+    /// Bus bits kept in the record.
+    pub keep_bits: usize,
+    /// Per-operation timeout, host cycles.
+    pub op_timeout_cycles: u64,
+    /// Ack limit of the Wishbone monitor, host cycles.
+    pub monitor_ack_timeout: u64,
+}
+
+impl Default for TbConfig {
+    fn default() -> Self {
+        TbConfig {
+            scenario: "unnamed".into(),
+            dut: DutChoice::Rtl,
+            host: HostBfm::Wishbone,
+            host_hz: 50_000_000,
+            can_hz: 24_000_000,
+            reset_cycles: 8,
+            btr0: 0x41,
+            btr1: 0x25,
+            rx: RxWiring::Bus,
+            tx_on_bus: true,
+            nodes: Vec::new(),
+            faults: Vec::new(),
+            lockstep: None,
+            vcd: None,
+            dut_trace: None,
+            keep_bits: 256,
+            op_timeout_cycles: 2_000,
+            monitor_ack_timeout: 1_000,
+        }
+    }
+}
+
+/// Why a test-bench call failed. Each prints as one paragraph.
+#[derive(Debug, thiserror::Error)]
+pub enum TbError {
+    /// Building or binding the DUT failed.
+    #[error(transparent)]
+    Bridge(#[from] BridgeError),
+    /// Bad clocks.
+    #[error(transparent)]
+    Kernel(#[from] KernelError),
+    /// A configuration that cannot work.
+    #[error("test bench configuration: {0}")]
+    Config(String),
+    /// A host access did not complete.
+    #[error("host {op} at 0x{addr:02X}: {error}{monitor}")]
+    Host {
+        /// "read" or "write".
+        op: &'static str,
+        /// Address.
+        addr: u8,
+        /// The BFM's error.
+        error: BfmError,
+        /// What the protocol monitor saw, if anything.
+        monitor: String,
+    },
+    /// Something awaited did not happen in time.
+    #[error("timeout after {bits} bit times waiting for {what}")]
+    Timeout {
+        /// What.
+        what: String,
+        /// How long.
+        bits: u64,
+    },
+    /// The comparator found a divergence; the run stopped there.
+    #[error("DUT diverged from the reference: {0}")]
+    Diverged(String),
+    /// Writing the VCD failed.
+    #[error("VCD: {0}")]
+    Io(#[from] std::io::Error),
+}
+
+enum Master {
+    Wb(WishboneMaster),
+    Av(AvalonMaster, AvalonWiring),
+    Pio(PioMaster),
+}
+
+macro_rules! with_master {
+    ($m:expr, $x:ident => $e:expr) => {
+        match $m {
+            Master::Wb($x) => $e,
+            Master::Av($x, _) => $e,
+            Master::Pio($x) => $e,
+        }
+    };
+}
+
+fn rule_id(prefix: &str, r: bfm::Rule) -> String {
+    let dbg = format!("{r:?}");
+    let mut s = String::from(prefix);
+    for (i, c) in dbg.chars().enumerate() {
+        if c.is_ascii_uppercase() {
+            if i > 0 {
+                s.push('_');
+            }
+            s.push(c.to_ascii_lowercase());
+        } else {
+            s.push(c);
+        }
+    }
+    s
+}
+
+/// The test bench.
+pub struct Testbench {
+    kernel: Kernel,
+    dut: Box<dyn Dut>,
+    dut_name: String,
+    master: Master,
+    host_bus: HostBus,
+    applied_wb: WbMasterOut,
+    applied_av: AvMasterOut,
+    wb_mon: WishboneMonitor,
+    av_mon: Option<AvalonMonitor>,
+    host_cycle: u64,
+    reset_left: u64,
+    reference: Option<Box<dyn Reference>>,
+    comparator: Option<Comparator>,
+    bitclock: BitClock,
+    decoder: Decoder,
+    field: Option<Field>,
+    frame: u32,
+    bus: Bus,
+    dut_faults: Vec<Box<dyn FaultInjector>>,
+    rx_wiring: RxWiring,
+    tx_on_bus: bool,
+    bus_level: bool,
+    dut_rx: bool,
+    can_clocks: u64,
+    sample_now: bool,
+    wave: Option<Wave>,
+    tracing: bool,
+    keep_bits: usize,
+    record: RunRecord,
+    events: Vec<diagnose::EventKind>,
+    stopped: bool,
+}
+
+impl Testbench {
+    /// Builds the DUT, the BFM, the bus and the reference, and runs the
+    /// reset sequence.
+    pub fn new(mut cfg: TbConfig) -> Result<Testbench, TbError> {
+        let kernel = Kernel::new(cfg.host_hz, cfg.can_hz)?;
+        let trace = cfg.dut_trace.is_some();
+        let mut dut: Box<dyn Dut> = match &cfg.dut {
+            DutChoice::Rtl => Box::new(VerilatedDut::bundled("can_top", HostPort::Wishbone, trace)?),
+            DutChoice::RtlAvalon => Box::new(VerilatedDut::bundled("can_avalon", HostPort::Avalon, trace)?),
+            DutChoice::Bundled(top) => Box::new(VerilatedDut::bundled(top, HostPort::Wishbone, trace)?),
+            DutChoice::External(core) => Box::new(VerilatedDut::new(core.build()?.instantiate(trace), HostPort::Wishbone)?),
+            DutChoice::Model => Box::new(ModelDut::new()),
+            DutChoice::Echo => Box::new(EchoModel::new()),
+        };
+        if let Some(p) = &cfg.dut_trace {
+            dut.trace_open(p)?;
+        }
+        let (master, host_bus) = match cfg.host {
+            HostBfm::Wishbone => (Master::Wb(WishboneMaster::new("host").with_timeout(cfg.op_timeout_cycles)), HostBus::Wishbone),
+            HostBfm::Avalon { timing, wiring } => {
+                let native = dut.host_port() == HostPort::Avalon;
+                if native != (wiring == AvalonWiring::Native) {
+                    return Err(TbError::Config(format!(
+                        "Avalon wiring {wiring:?} does not fit {} (its host port is {:?}); use Native for can_avalon, Bridge or Seed000 for a Wishbone DUT",
+                        dut.name(),
+                        dut.host_port()
+                    )));
+                }
+                let begintransfer = wiring == AvalonWiring::Seed000;
+                let m = AvalonMaster::new("host", AvalonMasterConfig { timing, begintransfer, timeout_cycles: cfg.op_timeout_cycles });
+                (Master::Av(m, wiring), HostBus::Avalon)
+            }
+            HostBfm::Pio(t) => {
+                let mut m = PioMaster::new("host", t);
+                m.set_timeout(cfg.op_timeout_cycles.max(bfm::DEFAULT_PIO_TIMEOUT_CYCLES));
+                (Master::Pio(m), HostBus::Pio)
+            }
+        };
+        if dut.host_port() == HostPort::Avalon && !matches!(master, Master::Av(..)) {
+            return Err(TbError::Config(format!("{} has an Avalon port: drive it with the Avalon BFM (wiring Native)", dut.name())));
+        }
+        let av_mon = match &master {
+            Master::Av(m, _) => {
+                let c = m.config();
+                Some(AvalonMonitor::new(
+                    "avalon monitor",
+                    AvalonMonitorConfig { timing: c.timing, begintransfer: c.begintransfer, timeout_cycles: cfg.monitor_ack_timeout },
+                ))
+            },
+            _ => None,
+        };
+        let mut bus = Bus::new();
+        bus.set_accounting(false);
+        for n in &cfg.nodes {
+            let mut s = Sja1000::new();
+            for &(a, d) in &n.init {
+                s.write(a, d);
+            }
+            bus.add_node(s);
+        }
+        let n_nodes = cfg.nodes.len();
+        let mut dut_faults = Vec::new();
+        for f in cfg.faults.drain(..) {
+            dut_faults.push(f);
+        }
+        // The sja1000 bus applies its faults to its own nodes; the DUT's
+        // receiver (index n_nodes) gets the same injectors here.
+        let (reference, comparator): (Option<Box<dyn Reference>>, _) = match cfg.lockstep {
+            None => (None, None),
+            Some((ReferenceChoice::Model, c)) => (Some(Box::new(ModelRef::new())), Some(Comparator::new(c))),
+            Some((ReferenceChoice::Echo, c)) => (Some(Box::new(EchoModel::new())), Some(Comparator::new(c))),
+        };
+        let wave = match &cfg.vcd {
+            Some(p) => Some(Wave::create(p)?),
+            None => None,
+        };
+        let dut_name = match &cfg.dut {
+            DutChoice::Rtl => "rtl".to_string(),
+            DutChoice::RtlAvalon => "rtl (can_avalon)".to_string(),
+            DutChoice::Bundled(t) => t.clone(),
+            DutChoice::External(c) => c.dir.display().to_string(),
+            DutChoice::Model => "model".to_string(),
+            DutChoice::Echo => "echo model".to_string(),
+        };
+        let mut record = RunRecord::new(&cfg.scenario, &dut_name);
+        record.host_bus = host_bus;
+        record.timing = diagnose::Timing { can_clock_hz: cfg.can_hz as f64, host_clock_hz: cfg.host_hz as f64, btr0: cfg.btr0, btr1: cfg.btr1 };
+        record.wiring = diagnose::Wiring {
+            rx: cfg.rx,
+            tx_on_bus: cfg.tx_on_bus,
+            nodes: cfg
+                .nodes
+                .iter()
+                .map(|n| diagnose::BusNode { name: n.name.clone(), timing: record.timing, acknowledges: true })
+                .collect(),
+            self_test: false,
+            listen_only: false,
+        };
+        let _ = n_nodes;
+        let mut tb = Testbench {
+            kernel,
+            dut,
+            dut_name,
+            master,
+            host_bus,
+            applied_wb: WbMasterOut::default(),
+            applied_av: AvMasterOut::default(),
+            wb_mon: WishboneMonitor::new("wishbone monitor", cfg.monitor_ack_timeout),
+            av_mon,
+            host_cycle: 0,
+            reset_left: cfg.reset_cycles.max(1),
+            reference,
+            comparator,
+            bitclock: BitClock::new(BusTiming::from_btr(cfg.btr0, cfg.btr1)),
+            decoder: Decoder::new(),
+            field: None,
+            frame: 0,
+            bus,
+            dut_faults,
+            rx_wiring: cfg.rx,
+            tx_on_bus: cfg.tx_on_bus,
+            bus_level: RECESSIVE,
+            dut_rx: RECESSIVE,
+            can_clocks: 0,
+            sample_now: false,
+            wave,
+            tracing: trace,
+            keep_bits: cfg.keep_bits,
+            record,
+            events: Vec::new(),
+            stopped: false,
+        };
+        tb.dut.set_reset(true);
+        tb.dut.set_rx(RECESSIVE);
+        while tb.reset_left > 0 {
+            tb.tick();
+        }
+        Ok(tb)
+    }
+
+    /// The DUT's description.
+    pub fn dut_name(&self) -> String {
+        self.dut.name()
+    }
+
+    /// The kernel (time, clocks).
+    pub fn kernel(&self) -> &Kernel {
+        &self.kernel
+    }
+
+    /// The golden-model nodes.
+    pub fn bus(&self) -> &Bus {
+        &self.bus
+    }
+
+    /// Mutable access to the model nodes (to queue frames, change config).
+    pub fn bus_mut(&mut self) -> &mut Bus {
+        &mut self.bus
+    }
+
+    /// The comparator, if lockstep.
+    pub fn comparator(&self) -> Option<&Comparator> {
+        self.comparator.as_ref()
+    }
+
+    /// Protocol violations seen so far.
+    pub fn violations(&self) -> &[diagnose::Violation] {
+        &self.record.violations
+    }
+
+    /// Bits sampled by the bit clock so far.
+    pub fn bits(&self) -> u64 {
+        self.bitclock.bits()
+    }
+
+    /// Host cycles so far.
+    pub fn host_cycles(&self) -> u64 {
+        self.host_cycle
+    }
+
+    /// CAN clock cycles so far.
+    pub fn can_cycles(&self) -> u64 {
+        self.can_clocks
+    }
+
+    /// The DUT's CAN-side pins now.
+    pub fn pins(&self) -> crate::dut::CanPins {
+        self.dut.can()
+    }
+
+    /// One kernel instant.
+    #[inline]
+    fn tick(&mut self) {
+        let t = self.kernel.next();
+        if t.can_rise {
+            let dut_tx = if self.tx_on_bus { self.dut.can().tx } else { RECESSIVE };
+            let level = if self.bus.is_empty() { dut_tx } else { self.bus.clock_with(dut_tx) };
+            self.bus_level = level;
+            let rx = match self.rx_wiring {
+                RxWiring::Bus => {
+                    let mut rx = level;
+                    if !self.dut_faults.is_empty() {
+                        let ctx = BusContext { clock: self.can_clocks, clocks_per_bit: self.bitclock.clocks_per_bit(), ..BusContext::default() };
+                        let me = self.bus.len();
+                        for f in &mut self.dut_faults {
+                            rx = f.apply(&ctx, me, rx);
+                        }
+                    }
+                    rx
+                }
+                RxWiring::TiedRecessive => true,
+                RxWiring::TiedDominant => false,
+            };
+            self.dut_rx = rx;
+            self.dut.set_rx(rx);
+        }
+        self.dut.eval(self.kernel.host().level(), self.kernel.can().level());
+        if t.host_rise {
+            self.host_edge();
+        }
+        if t.can_rise {
+            self.can_edge(t.t_ps);
+        }
+        if self.tracing {
+            self.dut.trace_dump(t.t_ps);
+        }
+        if self.wave.is_some() {
+            self.dump_wave(t.t_ps);
+        }
+    }
+
+    fn dump_wave(&mut self, t_ps: u64) {
+        let p = self.dut.can();
+        let (ack, dat_o) = match self.dut.host_port() {
+            HostPort::Wishbone => {
+                let s = self.dut.wb();
+                (s.ack, s.dat)
+            }
+            HostPort::Avalon => {
+                let s = self.dut.av();
+                (self.applied_av.chipselect && !s.waitrequest, s.readdata)
+            }
+        };
+        let (cyc, stb, we, adr, dat_i) = match self.dut.host_port() {
+            HostPort::Wishbone => (self.applied_wb.cyc, self.applied_wb.stb, self.applied_wb.we, self.applied_wb.adr, self.applied_wb.dat),
+            HostPort::Avalon => {
+                let a = self.applied_av;
+                (a.chipselect, a.read || a.write, a.write, a.address, a.writedata)
+            }
+        };
+        let (model_tx, model_field) = match &self.reference {
+            Some(r) => (r.pins().tx, r.field()),
+            None => (true, None),
+        };
+        let s = WaveSample {
+            host_clk: self.kernel.host().level(),
+            can_clk: self.kernel.can().level(),
+            rst: self.reset_left > 0,
+            cyc,
+            stb,
+            we,
+            adr,
+            dat_i,
+            dat_o,
+            ack,
+            rx: self.dut_rx,
+            tx: p.tx,
+            irq_n: p.irq_n,
+            bus_on: p.bus_on,
+            clkout: p.clkout,
+            bus: self.bus_level,
+            model_tx,
+            model_rx: self.dut_rx,
+            sample: self.sample_now && self.kernel.can().level(),
+            field: self.field,
+            model_field,
+        };
+        if let Some(w) = &mut self.wave {
+            let _ = w.dump(t_ps, &s);
+        }
+    }
+
+    fn host_edge(&mut self) {
+        let cycle = self.host_cycle;
+        self.host_cycle += 1;
+        if self.reset_left > 0 {
+            self.reset_left -= 1;
+            if self.reset_left == 0 {
+                self.dut.set_reset(false);
+                if let Some(r) = &mut self.reference {
+                    r.hard_reset();
+                }
+            }
+            return;
+        }
+        let mut viol: Vec<bfm::Violation> = Vec::new();
+        let mut av_viol: Vec<bfm::Violation> = Vec::new();
+        match &mut self.master {
+            Master::Wb(m) => {
+                let s = self.dut.wb();
+                viol = self.wb_mon.observe(cycle, &self.applied_wb, &s);
+                m.on_edge(&s);
+                self.applied_wb = m.outputs();
+                self.dut.set_wb(&self.applied_wb);
+            }
+            Master::Pio(m) => {
+                let s = self.dut.wb();
+                viol = self.wb_mon.observe(cycle, &self.applied_wb, &s);
+                m.on_edge(&s);
+                self.applied_wb = m.outputs();
+                self.dut.set_wb(&self.applied_wb);
+                self.dut.set_reset(m.rst());
+            }
+            Master::Av(m, AvalonWiring::Native) => {
+                let s = self.dut.av();
+                if let Some(mon) = &mut self.av_mon {
+                    av_viol = mon.observe(cycle, &self.applied_av, &s);
+                }
+                m.on_edge(&s);
+                self.applied_av = m.outputs();
+                self.dut.set_av(&self.applied_av);
+            }
+            Master::Av(m, w) => {
+                let wiring = if *w == AvalonWiring::Seed000 { AvWiring::Seed000 } else { AvWiring::Bridge };
+                let s_wb = self.dut.wb();
+                viol = self.wb_mon.observe(cycle, &self.applied_wb, &s_wb);
+                let s = wiring.to_avalon(&s_wb);
+                if let Some(mon) = &mut self.av_mon {
+                    av_viol = mon.observe(cycle, &self.applied_av, &s);
+                }
+                m.on_edge(&s);
+                self.applied_av = m.outputs();
+                self.applied_wb = wiring.to_wishbone(&self.applied_av);
+                self.dut.set_wb(&self.applied_wb);
+            }
+        }
+        for v in viol {
+            self.record.violations.push(diagnose::Violation { cycle: v.cycle, rule: rule_id("wb.", v.rule), message: v.message });
+        }
+        for v in av_viol {
+            self.record.violations.push(diagnose::Violation { cycle: v.cycle, rule: rule_id("avalon.", v.rule), message: v.message });
+        }
+    }
+
+    fn can_edge(&mut self, t_ps: u64) {
+        self.can_clocks += 1;
+        let level = self.bus_level;
+        let sample = self.bitclock.clock(level);
+        self.sample_now = sample;
+        if let Some(r) = &mut self.reference {
+            r.clock(self.dut_rx);
+        }
+        let bit = self.bitclock.bits();
+        if sample {
+            for e in self.decoder.push(level) {
+                if let DecodeEvent::FieldStart { field, .. } = e {
+                    self.field = Some(field);
+                    if field == Field::Sof {
+                        self.frame += 1;
+                    }
+                }
+            }
+            if !self.stopped {
+                let dut_tx = self.dut.can().tx;
+                let (model_tx, mfield) = match &self.reference {
+                    Some(r) => (r.pins().tx, r.field()),
+                    None => (dut_tx, None),
+                };
+                self.record.push_bit(
+                    BusBit {
+                        bit,
+                        bus: level,
+                        dut_tx,
+                        model_tx,
+                        dut_rx: self.dut_rx,
+                        field: mfield.or(self.field),
+                        frame: if self.frame > 0 { Some(self.frame) } else { None },
+                    },
+                    self.keep_bits,
+                );
+            }
+        }
+        if let Some(r) = &mut self.reference {
+            r.drain_events(&mut self.events);
+            if !self.events.is_empty() {
+                let counters = r.counters();
+                for k in self.events.drain(..) {
+                    let mut e = EngineEvent::new(bit, Side::Model, k);
+                    if let Some((tec, rec)) = counters {
+                        e.tec = Some(tec);
+                        e.rec = Some(rec);
+                    }
+                    self.record.events.push(e);
+                }
+            }
+        }
+        if let (Some(c), Some(r)) = (&mut self.comparator, &self.reference)
+            && !self.stopped
+        {
+            let stamp = Stamp { t_ps, bit, field: r.field().or(self.field), frame: if self.frame > 0 { Some(self.frame) } else { None } };
+            c.can_clock(stamp, sample, &r.pins(), &self.dut.can(), r.peek(SR_ADDR), r.peek(IR_ADDR));
+            if let Some(d) = c.divergence() {
+                self.record.divergence = Some(d.clone());
+                self.stopped = true;
+            }
+        }
+    }
+
+    fn check_stopped(&self) -> Result<(), TbError> {
+        match &self.record.divergence {
+            Some(d) if self.stopped => Err(TbError::Diverged(format!(
+                "{:?} at {} ps (bit {:?}, field {:?}): expected {}, saw {}; {}",
+                d.kind, d.time_ps, d.bit, d.field, d.expected, d.seen, d.context
+            ))),
+            _ => Ok(()),
+        }
+    }
+
+    /// Runs `n` host clock cycles.
+    pub fn run_host_cycles(&mut self, n: u64) -> Result<(), TbError> {
+        let end = self.host_cycle + n;
+        while self.host_cycle < end {
+            self.tick();
+            self.check_stopped()?;
+        }
+        Ok(())
+    }
+
+    /// Runs `n` CAN clock cycles.
+    pub fn run_can_cycles(&mut self, n: u64) -> Result<(), TbError> {
+        let end = self.can_clocks + n;
+        while self.can_clocks < end {
+            self.tick();
+            self.check_stopped()?;
+        }
+        Ok(())
+    }
+
+    /// Runs `n` bit times (sample points of the bit clock).
+    pub fn run_bits(&mut self, n: u64) -> Result<(), TbError> {
+        let end = self.bitclock.bits() + n;
+        while self.bitclock.bits() < end {
+            self.tick();
+            self.check_stopped()?;
+        }
+        self.record.bits_simulated = self.bitclock.bits();
+        Ok(())
+    }
+
+    /// Runs until `done` holds, at most `max_bits` bit times.
+    pub fn run_until(&mut self, what: &str, max_bits: u64, mut done: impl FnMut(&Testbench) -> bool) -> Result<u64, TbError> {
+        let start = self.bitclock.bits();
+        let max_clocks = (max_bits + 1) * self.bitclock.clocks_per_bit() as u64;
+        let end = self.can_clocks + max_clocks;
+        while !done(self) {
+            if self.can_clocks >= end {
+                return Err(TbError::Timeout { what: what.into(), bits: max_bits });
+            }
+            self.tick();
+            self.check_stopped()?;
+        }
+        Ok(self.bitclock.bits() - start)
+    }
+
+    /// Waits for `irq_on` to go low (interrupt pending).
+    pub fn wait_irq(&mut self, max_bits: u64) -> Result<u64, TbError> {
+        self.run_until("irq_on low (interrupt)", max_bits, |tb| !tb.dut.can().irq_n)
+    }
+
+    /// Polls SR through the host BFM until `SR & mask == value`.
+    pub fn wait_sr(&mut self, mask: u8, value: u8, max_bits: u64) -> Result<u8, TbError> {
+        let start = self.bitclock.bits();
+        loop {
+            let sr = self.read(SR_ADDR)?;
+            if sr & mask == value {
+                return Ok(sr);
+            }
+            if self.bitclock.bits() - start > max_bits {
+                if self.record.stuck.is_none() && mask & diagnose::sr::TBS != 0 {
+                    // A transmission that never completed: the diagnoser's case.
+                    self.record.stuck = Some(diagnose::StuckTransfer {
+                        requested_ps: 0,
+                        requested_bit: start,
+                        waited_bits: max_bits,
+                        sr,
+                        attempts: self.frame,
+                    });
+                }
+                return Err(TbError::Timeout { what: format!("SR & 0x{mask:02X} == 0x{value:02X} (last SR 0x{sr:02X})"), bits: max_bits });
+            }
+            self.run_bits(1)?;
+        }
+    }
+
+    fn op(&mut self, write: bool, addr: u8, data: u8) -> Result<OpResult, TbError> {
+        self.check_stopped()?;
+        let t0 = self.kernel.now_ps();
+        let (mode, reset_mode) = self.reference.as_ref().and_then(|r| r.mode()).unwrap_or_default();
+        let reg = self.reference.as_ref().and_then(|r| r.reg_name(addr, write));
+        let h: OpHandle = with_master!(&mut self.master, m => if write { m.start_write(addr, data) } else { m.start_read(addr) });
+        let bound = with_master!(&mut self.master, m => m.drain_bound()) + 64;
+        let start_cycle = self.host_cycle;
+        let viol_before = self.record.violations.len();
+        let res = loop {
+            if let Some(r) = with_master!(&mut self.master, m => m.poll(h)) {
+                break r;
+            }
+            if self.host_cycle - start_cycle > bound {
+                break Err(BfmError::Stalled { cycles: self.host_cycle - start_cycle });
+            }
+            let c = self.host_cycle;
+            while self.host_cycle == c {
+                self.tick();
+            }
+        };
+        let mut rec = HostOp {
+            time_ps: t0,
+            bfm: self.host_bus,
+            access: if write { RecAccess::Write } else { RecAccess::Read },
+            addr,
+            data,
+            reg: reg.clone(),
+            mode,
+            reset_mode,
+            ..HostOp::default()
+        };
+        match res {
+            Ok(r) => {
+                rec.cycles = r.cycles as u32;
+                rec.data = r.data;
+                let stamp = Stamp { t_ps: self.kernel.now_ps(), bit: self.bitclock.bits(), field: self.field, frame: None };
+                if let Some(refm) = &mut self.reference {
+                    if write {
+                        rec.outcome = refm.write(addr, data);
+                    } else {
+                        let mv = refm.read(addr);
+                        if let Some(c) = &mut self.comparator
+                            && !self.stopped
+                        {
+                            c.read(stamp, addr, r.data, mv, reg.clone());
+                            if let Some(d) = c.divergence() {
+                                self.record.divergence = Some(d.clone());
+                                self.stopped = true;
+                            }
+                        }
+                    }
+                }
+                if write && (addr == 6 || addr == 7) && rec.outcome.as_ref().is_none_or(|o| !o.is_ignored()) {
+                    let (mut b0, mut b1) = (self.record.timing.btr0, self.record.timing.btr1);
+                    if addr == 6 { b0 = data } else { b1 = data }
+                    self.record.timing.btr0 = b0;
+                    self.record.timing.btr1 = b1;
+                    self.bitclock.set_timing(BusTiming::from_btr(b0, b1));
+                }
+                self.record.host_ops.push(rec);
+                self.check_stopped()?;
+                Ok(r)
+            }
+            Err(e) => {
+                let monitor: Vec<String> = self.record.violations[viol_before..].iter().map(|v| format!("cycle {}: {} ({})", v.cycle, v.message, v.rule)).collect();
+                let monitor = if monitor.is_empty() { String::new() } else { format!("; the protocol monitor saw: {}", monitor.join("; ")) };
+                rec.error = Some(e.to_string());
+                self.record.host_ops.push(rec);
+                let err = TbError::Host { op: if write { "write" } else { "read" }, addr, error: e, monitor };
+                self.record.error = Some(err.to_string());
+                Err(err)
+            }
+        }
+    }
+
+    /// Host register write through the BFM.
+    pub fn write(&mut self, addr: u8, data: u8) -> Result<OpResult, TbError> {
+        self.op(true, addr, data)
+    }
+
+    /// Host register read through the BFM (compared with the reference in lockstep).
+    pub fn read(&mut self, addr: u8) -> Result<u8, TbError> {
+        self.op(false, addr, 0).map(|r| r.data)
+    }
+
+    /// Reads `addr` and records whether `value & mask == expected`.
+    pub fn expect(&mut self, step: usize, what: &str, addr: u8, mask: u8, expected: u8) -> Result<bool, TbError> {
+        let v = self.read(addr)?;
+        let passed = v & mask == expected & mask;
+        self.record.expectations.push(Expectation {
+            step,
+            what: what.into(),
+            expected: format!("0x{:02X} (mask 0x{mask:02X})", expected & mask),
+            seen: format!("0x{:02X}", v & mask),
+            passed,
+        });
+        Ok(passed)
+    }
+
+    /// The run record for the diagnoser (final registers by peeking the
+    /// reference; the DUT's SR is read through the BFM when it can be).
+    pub fn record(&mut self) -> RunRecord {
+        let mut r = self.record.clone();
+        r.bits_simulated = self.bitclock.bits();
+        r.dut = self.dut_name.clone();
+        if let Some(refm) = &self.reference {
+            let (tec, rec) = refm.counters().unwrap_or((0, 0));
+            r.final_model = Some(FinalRegs { sr: refm.peek(SR_ADDR), ir: refm.peek(IR_ADDR), tec, rec, ecc: None, alc: None });
+            if let Some((mode, _)) = refm.mode() {
+                r.mode = mode;
+            }
+        }
+        if let Some(w) = &mut self.wave {
+            let _ = w.flush();
+        }
+        r
+    }
+
+    /// The comparator's tolerances in words (for reports), if lockstep.
+    pub fn tolerances(&self) -> Option<String> {
+        self.comparator.as_ref().map(|c| c.config().describe())
+    }
+
+    /// Flushes the VCD files.
+    pub fn flush(&mut self) -> Result<(), TbError> {
+        if let Some(w) = &mut self.wave {
+            w.flush()?;
+        }
+        Ok(())
+    }
+}
