@@ -2,11 +2,48 @@
 //! random frames back to back on the fast path (target: >= 50 M/s on one
 //! core). Run: `cargo bench -p sja1000 --bench two_nodes`; criterion
 //! reports the rate as "elem/s" (one element = one bit time).
+//!
+//! `engines_only` runs the same traffic on two bare protocol engines (no
+//! registers, no host), to show how the time splits between the engine
+//! and the controller model.
 
+use can_engine::{Engine, Event, Options};
+use can_proto::timing::BusTiming;
 use criterion::{Criterion, Throughput, criterion_group, criterion_main};
-use sja1000::workload::two_node_exchange;
+use rand::{SeedableRng, rngs::StdRng};
+use sja1000::workload::{random_frame, two_node_exchange};
 
 const BITS: u64 = 200_000;
+
+fn engines_only(seed: u64, bits: u64) -> u64 {
+    let mut rng = StdRng::seed_from_u64(seed);
+    let t = BusTiming::from_btr(0x41, 0x25);
+    let mut e = [Engine::new(t, Options::default()), Engine::new(t, Options::default())];
+    for x in &mut e {
+        x.set_reset_mode(false);
+        x.request_tx(random_frame(&mut rng), false, false);
+    }
+    let mut done = 0;
+    for _ in 0..bits {
+        let level = e[0].tx() & e[1].tx();
+        for i in 0..2 {
+            e[i].sample_bit(level);
+            if e[i].has_events() {
+                let mut again = false;
+                for ev in e[i].take_events() {
+                    if ev == Event::TxComplete {
+                        again = true;
+                        done += 1;
+                    }
+                }
+                if again {
+                    e[i].request_tx(random_frame(&mut rng), false, false);
+                }
+            }
+        }
+    }
+    done
+}
 
 fn bench(c: &mut Criterion) {
     let mut g = c.benchmark_group("two_nodes");
@@ -19,6 +56,13 @@ fn bench(c: &mut Criterion) {
             let st = two_node_exchange(seed, BITS);
             assert_eq!(st.bit_times, BITS);
             st
+        })
+    });
+    g.bench_function("engines_only", |b| {
+        let mut seed = 0;
+        b.iter(|| {
+            seed += 1;
+            engines_only(seed, BITS)
         })
     });
     g.finish();

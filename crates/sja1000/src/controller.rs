@@ -79,6 +79,34 @@ pub enum WriteOutcome {
     },
 }
 
+impl std::fmt::Display for WriteOutcome {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        match *self {
+            WriteOutcome::Applied => write!(f, "write applied"),
+            WriteOutcome::IgnoredNotInResetMode { reg } => {
+                write!(f, "{reg} written outside reset mode: it is writable in reset mode only, the write was ignored")
+            }
+            WriteOutcome::BitsIgnoredNotInResetMode { reg, bits } => write!(
+                f,
+                "{reg} bits {bits:#04x} written outside reset mode: they are writable in reset mode only and kept their value"
+            ),
+            WriteOutcome::BitsIgnoredInResetMode { reg, bits } => {
+                write!(f, "{reg} bits {bits:#04x} cannot be set in reset mode and kept their value")
+            }
+            WriteOutcome::IgnoredInResetMode { reg } => {
+                write!(f, "{reg} written in reset mode: it is writable in operating mode only, the write was ignored")
+            }
+            WriteOutcome::IgnoredTxBufferLocked { reg } => write!(
+                f,
+                "{reg} written while the TX buffer is locked (SR.TBS = 0, a transmission is pending): the write was ignored"
+            ),
+            WriteOutcome::IgnoredReadOnly { reg } => write!(f, "{reg} is read only: the write was ignored"),
+            WriteOutcome::IgnoredReserved => write!(f, "nothing is writable at this address: the write was ignored"),
+            WriteOutcome::CommandIgnored { command, reason } => write!(f, "command {command} ignored: {reason}"),
+        }
+    }
+}
+
 /// What a node did with a frame it received valid.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
 pub enum RxOutcome {
@@ -375,6 +403,23 @@ impl Sja1000 {
         self.engine.set_reset_mode(true);
         self.push_engine_config();
         self.engine.take_events().for_each(drop);
+    }
+
+    /// Either reset (tetanes-style `Reset`): [`ResetKind::Hardware`] is
+    /// [`Sja1000::hard_reset`]; [`ResetKind::ResetMode`] is what setting
+    /// MOD.RM / CR.RR does (a no-op if already in reset mode).
+    pub fn reset(&mut self, kind: ResetKind) {
+        match kind {
+            ResetKind::Hardware => self.hard_reset(),
+            ResetKind::ResetMode => {
+                if !self.rm {
+                    self.enter_reset_mode();
+                    if self.engine.has_events() {
+                        self.handle_events();
+                    }
+                }
+            }
+        }
     }
 
     /// All state zeroed; [`Sja1000::hard_reset`] then applies the map's values.

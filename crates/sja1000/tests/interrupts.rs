@@ -123,3 +123,22 @@ fn clkout_divider_and_clock_off() {
     assert_eq!(clkout_period(&mut n, 200), None);
     assert!(n.clkout());
 }
+
+/// `reset(ResetMode)` does what MOD.RM does; `reset(Hardware)` restores
+/// the power-on values (BasicCAN, EWLR 96, IER 0 here).
+#[test]
+fn reset_kinds() {
+    use sja1000::ResetKind;
+    let mut n = pelican_operating(peli::ier::TIE);
+    n.reset(ResetKind::ResetMode);
+    assert!(n.in_reset_mode());
+    assert_eq!(n.read(peli::IER), peli::ier::TIE, "IER kept on reset-mode entry");
+    n.write(peli::EWLR, 5);
+    n.reset(ResetKind::Hardware);
+    assert_eq!(n.mode(), regmap::Mode::BasicCan);
+    n.write(peli::CDR, peli::cdr::CANMODE);
+    assert_eq!(n.read(peli::EWLR), 96);
+    // The outcome explains itself in plain words.
+    let msg = WriteOutcome::IgnoredTxBufferLocked { reg: "TXB" }.to_string();
+    assert!(msg.contains("locked") && msg.contains("TBS = 0"), "{msg}");
+}
