@@ -168,3 +168,48 @@ fn dominant_last_eof_bit() {
     assert_eq!(bus.count(0, |e| *e == Event::TxComplete), 1);
     assert_eq!((bus.nodes[1].rec(), bus.nodes[2].rec()), (0, 0));
 }
+
+/// Rule 5: a receiver reading recessive during its own active error flag
+/// has a bit error (ECC 00 1 10001) and adds 8 to REC; a new flag follows.
+#[test]
+fn bit_error_in_receiver_active_flag() {
+    let (mut bus, r) = setup(std_frame(0x321, &[0x00]));
+    let i = (5..r.fields.len())
+        .find(|&i| r.fields[i] == Field::Data && r.bits[i] && r.bits[i - 5..i].iter().all(|&b| !b))
+        .unwrap();
+    bus.force_rx.push((i, 1, DOMINANT)); // stuff error at node 1
+    bus.force_rx.push((i + 2, 1, RECESSIVE)); // 2nd bit of its flag
+    bus.run(i + 3);
+    let errs: Vec<Event> = bus.events(1).into_iter().filter(|e| matches!(e, Event::BusError { .. })).collect();
+    assert_eq!(
+        errs,
+        vec![
+            bus_error(ErrorKind::Stuff, 0xAA, Field::Data),
+            bus_error(ErrorKind::Bit, 0x31, Field::ActiveErrorFlag)
+        ]
+    );
+    assert_eq!(bus.nodes[1].rec(), 1 + 8);
+    assert_eq!(bus.nodes[1].field(), Field::ActiveErrorFlag);
+}
+
+/// Suspend transmission: after its frame an error-passive transmitter
+/// waits 8 more bits, so a waiting error-active node goes first even with
+/// a lower priority.
+#[test]
+fn error_passive_transmitter_suspends() {
+    let mut bus = TestBus::idle(2);
+    bus.nodes[0] = node_error_passive(0, 130);
+    bus.nodes[0].request_tx(std_frame(0x001, &[1]), false, false);
+    bus.run(5);
+    bus.nodes[1].request_tx(std_frame(0x700, &[2]), false, false);
+    bus.run_until(300, |b| !b.nodes[0].tx_pending());
+    let end = bus.bits.len();
+    bus.nodes[0].request_tx(std_frame(0x001, &[3]), false, false);
+    bus.run_until(300, |b| !b.nodes[1].tx_pending());
+    assert_eq!(bus.first_bit_in(Field::SuspendTransmission, end), Some(end + 3));
+    assert!(bus.nodes[0].tx_pending(), "the passive node's second frame waits");
+    // Node 1's SOF is the first bit after intermission.
+    assert!(!bus.bits[end + 3] && bus.bits[end..end + 3].iter().all(|&b| b));
+    bus.run_until(300, |b| !b.nodes[0].tx_pending());
+    assert_eq!(bus.nodes[0].tec(), 128);
+}

@@ -72,8 +72,24 @@ impl ClockedBus {
     }
 }
 
-/// The same two-node exchange (arbitration, ACK, an error, retransmission)
-/// stepped per CAN clock and per bit gives the same bus bits and events.
+/// Runs the same two nodes per bit and per CAN clock (one shared clock) for
+/// `bits` bits and checks that the bus bits and the events are identical.
+fn paths_agree(mk: &dyn Fn() -> Vec<Engine>, timing: BusTiming, bits: usize) -> Vec<Logged> {
+    let mut fast = TestBus::new(0, Options::default());
+    fast.nodes = mk();
+    fast.run(bits);
+    let mut slow = ClockedBus::new(mk(), vec![1, 1]);
+    slow.run_until(bits * timing.clocks_per_bit() as usize + 1, |s| s.bits.len() > bits);
+    assert_eq!(&slow.bits[..bits], &fast.bits[..]);
+    let mut got: Vec<Logged> = slow.log.iter().filter(|l| l.bit < bits).cloned().collect();
+    got.sort_by_key(|l| (l.bit, l.node));
+    let mut want = fast.log.clone();
+    want.sort_by_key(|l| (l.bit, l.node));
+    assert_eq!(got, want);
+    want
+}
+
+/// Arbitration, ACK and self reception: identical on both paths.
 #[test]
 fn clock_and_sample_bit_paths_agree() {
     let frames = [std_frame(0x123, &[1, 2, 3]), ext_frame(0x0234_5678, &[0xff; 8])];
@@ -87,25 +103,26 @@ fn clock_and_sample_bit_paths_agree() {
             })
             .collect::<Vec<_>>()
     };
-    // Fast path.
-    let mut fast = TestBus::new(0, Options::default());
-    fast.nodes = mk();
-    fast.run(400);
-    // Clocked path, one shared clock.
-    let mut slow = ClockedBus::new(mk(), vec![1, 1]);
-    slow.run_until(400 * timing.clocks_per_bit() as usize, |_| false);
-    assert!(slow.bits.len() >= 400);
-    assert_eq!(&slow.bits[..400], &fast.bits[..]);
-    let upto = |log: &[Logged]| -> Vec<Logged> {
-        let mut v: Vec<Logged> = log.iter().filter(|l| l.bit < 400).cloned().collect();
-        v.sort_by_key(|l| (l.bit, l.node));
-        v
+    let log = paths_agree(&mk, timing, 400);
+    assert!(log.iter().any(|l| matches!(l.event, Event::ArbitrationLost { .. })));
+    assert_eq!(log.iter().filter(|l| l.event == Event::TxComplete).count(), 2);
+}
+
+/// Errors: a transmitter with only a listen-only node (no ACK): ACK errors,
+/// form errors at the listener, active then passive flags, suspend
+/// transmission, retransmissions: identical on both paths.
+#[test]
+fn clock_and_sample_bit_paths_agree_on_errors() {
+    let timing = BusTiming { brp: 0, sjw: 0, tseg1: 4, tseg2: 1, sam: false };
+    let mk = || {
+        let mut a = Engine::new(timing, Options::default());
+        a.request_tx(std_frame(0x555, &[0x0f; 3]), false, false);
+        let b = Engine::new(timing, Options { listen_only: true, ..Options::default() });
+        vec![a, b]
     };
-    let mut want = fast.log.clone();
-    want.sort_by_key(|l| (l.bit, l.node));
-    assert_eq!(upto(&slow.log), want);
-    assert!(want.iter().any(|l| matches!(l.event, Event::ArbitrationLost { .. })));
-    assert_eq!(want.iter().filter(|l| l.event == Event::TxComplete).count(), 2);
+    let log = paths_agree(&mk, timing, 2000);
+    assert!(log.iter().any(|l| l.event == Event::FaultState(crate::FaultState::ErrorPassive)));
+    assert!(log.iter().filter(|l| l.node == 1 && matches!(l.event, Event::BusError { kind: ErrorKind::Form, .. })).count() > 10);
 }
 
 /// Timing for the synchronisation tests: 21 tq per bit, sample point at
