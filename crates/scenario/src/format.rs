@@ -1,0 +1,189 @@
+//! The raw `tb/*.toml` layout, as serde reads it. Every table rejects keys it
+//! does not know (`deny_unknown_fields`), and tables that need a line number
+//! in later checks are wrapped in [`toml::Spanned`].
+
+use serde::Deserialize;
+use toml::Spanned;
+
+/// A register given by name (`"BTR0"`, `"TXDATA+1"`) or by address.
+#[derive(Clone, Debug, Deserialize, PartialEq)]
+#[serde(untagged)]
+pub enum RegRef {
+    /// Data sheet name, optionally `+offset` into a window.
+    Name(String),
+    /// Address.
+    Addr(i64),
+}
+
+/// The whole file.
+#[derive(Debug, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct RawScenario {
+    pub name: Option<String>,
+    pub purpose: String,
+    #[serde(default)]
+    pub verifies: Vec<String>,
+    #[serde(default)]
+    pub sequence: Vec<String>,
+    pub clocks: Spanned<RawClocks>,
+    #[serde(default)]
+    pub host: RawHost,
+    #[serde(default)]
+    pub dut: Option<Spanned<RawDut>>,
+    #[serde(default)]
+    pub wiring: RawWiring,
+    #[serde(default)]
+    pub run: RawRun,
+    #[serde(default, rename = "step")]
+    pub steps: Vec<Spanned<RawStep>>,
+    #[serde(default, rename = "node")]
+    pub nodes: Vec<Spanned<RawNode>>,
+    #[serde(default, rename = "fault")]
+    pub faults: Vec<Spanned<RawFault>>,
+    #[serde(default)]
+    pub expect: Option<Spanned<RawExpect>>,
+}
+
+/// `[clocks]`.
+#[derive(Debug, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct RawClocks {
+    pub host_mhz: f64,
+    pub can_mhz: f64,
+    /// Intended bit rate; if given, some BTR setting of `can_mhz` must reach it.
+    pub bit_rate: Option<u32>,
+}
+
+/// `[host]`.
+#[derive(Debug, Deserialize, Default)]
+#[serde(deny_unknown_fields)]
+pub struct RawHost {
+    pub bfm: Option<String>,
+    /// Avalon only: "wrapper" (default) or "begintransfer-cyc" (seed 000).
+    pub avalon_map: Option<String>,
+    /// Host cycles before an access with no ack is a timeout.
+    pub timeout_cycles: Option<u32>,
+}
+
+/// `[dut]`.
+#[derive(Debug, Deserialize, Default)]
+#[serde(deny_unknown_fields)]
+pub struct RawDut {
+    pub kind: Option<String>,
+    pub path: Option<String>,
+    pub top: Option<String>,
+    #[serde(default)]
+    pub defines: Vec<String>,
+    #[serde(default)]
+    pub includes: Vec<String>,
+}
+
+/// `[wiring]`.
+#[derive(Debug, Deserialize, Default)]
+#[serde(deny_unknown_fields)]
+pub struct RawWiring {
+    /// "bus" (default), "tied-recessive", "tied-dominant".
+    pub rx: Option<String>,
+    /// tx_o drives the bus (default true).
+    pub tx_to_bus: Option<bool>,
+}
+
+/// `[run]`.
+#[derive(Debug, Deserialize, Default)]
+#[serde(deny_unknown_fields)]
+pub struct RawRun {
+    pub max_bits: Option<u64>,
+    pub keep_bits: Option<usize>,
+}
+
+/// One `[[step]]`: exactly one action key.
+#[derive(Debug, Deserialize, Default)]
+#[serde(deny_unknown_fields)]
+pub struct RawStep {
+    pub note: Option<String>,
+    pub write: Option<RegRef>,
+    pub value: Option<i64>,
+    pub read: Option<RegRef>,
+    pub expect: Option<i64>,
+    pub mask: Option<i64>,
+    /// Use this register view's address for the name ("basic" / "peli"),
+    /// whatever mode the controller is in (to reproduce address confusion).
+    pub view: Option<String>,
+    pub wait_irq: Option<bool>,
+    pub wait_sr_set: Option<i64>,
+    pub wait_sr_clear: Option<i64>,
+    pub wait_bits: Option<i64>,
+    pub timeout_bits: Option<i64>,
+    /// Fill the TX buffer with this frame (expands to register writes).
+    pub load_tx: Option<RawFrame>,
+}
+
+/// A CAN frame in a file.
+#[derive(Debug, Deserialize, Default, Clone)]
+#[serde(deny_unknown_fields)]
+pub struct RawFrame {
+    pub id: i64,
+    #[serde(default)]
+    pub extended: bool,
+    #[serde(default)]
+    pub rtr: bool,
+    #[serde(default)]
+    pub data: Vec<i64>,
+    pub dlc: Option<i64>,
+    /// Send DLC 9..15 on purpose (legal on the wire, means 8 bytes).
+    #[serde(default)]
+    pub raw_dlc: bool,
+    /// Node traffic only: bit time at which to request transmission.
+    pub at_bit: Option<i64>,
+}
+
+/// One `[[node]]`: a golden-model node on the bus.
+#[derive(Debug, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct RawNode {
+    pub name: String,
+    pub can_mhz: Option<f64>,
+    pub btr0: i64,
+    pub btr1: i64,
+    /// "basic" (default) or "peli".
+    pub mode: Option<String>,
+    /// BasicCAN: one byte; PeliCAN: up to four.
+    #[serde(default)]
+    pub acr: Vec<i64>,
+    #[serde(default)]
+    pub amr: Vec<i64>,
+    #[serde(default)]
+    pub listen_only: bool,
+    #[serde(default, rename = "send")]
+    pub traffic: Vec<Spanned<RawFrame>>,
+}
+
+/// One `[[fault]]`.
+#[derive(Debug, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct RawFault {
+    /// "stuck-dominant", "stuck-recessive", "flip", "glitch".
+    pub kind: String,
+    pub at_bit: Option<i64>,
+    pub frame: Option<i64>,
+    pub bit_in_frame: Option<i64>,
+    pub duration_bits: Option<i64>,
+    /// "bus" (default), "dut-rx", or a node name.
+    pub target: Option<String>,
+}
+
+/// `[expect]`: the expected outcome.
+#[derive(Debug, Deserialize, Default)]
+#[serde(deny_unknown_fields)]
+pub struct RawExpect {
+    pub category: Option<String>,
+    pub field: Option<String>,
+    pub first_attempt_tec: Option<u16>,
+    pub tec: Option<u16>,
+    pub sr: Option<i64>,
+    pub attempts: Option<u32>,
+    pub bus_off_attempt: Option<u32>,
+    /// Frames each listed node must have received (name = count).
+    #[serde(default)]
+    pub received: std::collections::BTreeMap<String, u32>,
+}
