@@ -1,6 +1,8 @@
 // Acceptance filter (SJA1000 datasheet 6.3.9 and 6.4.15). Combinational.
 // Mask bit 1 = "don't care". BasicCAN: ACR/AMR against ID.10..ID.3 of
-// standard frames (extended frames are not stored in BasicCAN mode).
+// standard and extended frames (the 11 base ID bits of an extended frame).
+// (Extended frames are stored in BasicCAN mode with their 11 base ID bits,
+// and filtered on ID.28..ID.21, like the golden model.)
 // PeliCAN single filter (AFM = 1) and dual filter (AFM = 0), for standard and
 // extended frames; data-byte bits are compared only for bytes the frame
 // actually carries (remote frames and short frames pass those bits).
@@ -28,7 +30,7 @@ module can_acf (
     endfunction
 
     // BasicCAN
-    wire basic_ok = !ide && m8(id[28:21], acr0, amr0);
+    wire basic_ok = m8(id[28:21], acr0, amr0);
 
     // PeliCAN single filter
     wire s_std = m8(id[28:21], acr0, amr0) &&

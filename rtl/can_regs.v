@@ -40,6 +40,7 @@ module can_regs (
     output reg         rrb,
     output reg         cdo,
     output wire        rbsa_wr,
+    output wire        fifo_wr,     // host write of the RX FIFO RAM (PeliCAN, reset mode)
     output wire        fifo_rd,     // this read targets the RX FIFO RAM
     output wire [5:0]  fifo_adr,
     input  wire [7:0]  fifo_q,      // RAM data, one clk after fifo_rd
@@ -48,7 +49,6 @@ module can_regs (
     input  wire        rbs,
     input  wire        dos,
     input  wire        dos_set,
-    input  wire        ri_set,
     // from the protocol engine
     input  wire        tx_done,
     input  wire        tx_drop,
@@ -87,6 +87,9 @@ module can_regs (
     reg  [7:0] amr_r [0:3];
     reg  [7:0] txb [0:12];
     reg        bus_off_q, warn_q;
+    reg        rm_q;
+    reg  [7:0] test;           // test register: read/write, no function
+    reg  [7:0] ramfree [0:2];  // PeliCAN 109..111: free internal RAM
 
     assign peli = cdr[7];
     assign acr  = {acr_r[0], acr_r[1], acr_r[2], acr_r[3]};
@@ -106,9 +109,12 @@ module can_regs (
                               {txb[3], txb[4], txb[5], txb[6], txb[7], txb[8], txb[9], txb[10]};
 
     // ---- address decode ----
-    wire [7:0] a  = peli ? {1'b0, acc_adr[6:0]} : {3'b000, acc_adr[4:0]};
-    wire       wr = acc_stb &  acc_we;
-    wire       rd = acc_stb & ~acc_we;
+    // addresses outside the view (BasicCAN 32..255, PeliCAN 128..255) read
+    // 00h and ignore writes, as in the register map
+    wire [7:0] a  = acc_adr;
+    wire       in_view = peli ? !acc_adr[7] : (acc_adr[7:5] == 3'b000);
+    wire       wr = acc_stb &  acc_we & in_view;
+    wire       rd = acc_stb & ~acc_we & in_view;
     wire       in_win_p = (a >= PC_RXB) && (a < PC_RXB + PC_BUF_LEN);
     wire       in_win_b = (a >= BC_RXB) && (a < BC_RXB + BC_RXB_LEN);
     wire [3:0] tx_ofs_b = a[3:0] - BC_TXB[3:0];   // BasicCAN TX buffer byte 0..9 (mod 16)
@@ -116,6 +122,7 @@ module can_regs (
     wire       in_ram  = (a >= PC_RXFIFO) && (a < PC_RXFIFO + PC_RXFIFO_LEN);
     wire       rd_win  = peli ? (in_win_p && !rm) : in_win_b;
     assign fifo_rd  = rd && (rd_win || (peli && in_ram));
+    assign fifo_wr  = wr && peli && rm && in_ram;
     assign fifo_adr = rd_win ? (rbsa + {2'b00, win_idx}) : (a[5:0] - PC_RXFIFO[5:0]);
 
     // read data: registers are captured at the access strobe (the same clk
@@ -134,11 +141,13 @@ module can_regs (
     assign wr_tec  = wr && peli && rm && a == PC_TXERR;
     assign wr_rec  = wr && peli && rm && a == PC_RXERR;
 
-    wire ri_live = peli ? (rbs & ier[0]) : ir[0];
-    wire [7:0] ir_view = peli ? {ir[7:1], ri_live} : {3'b111, ir[4:0]};
-    assign irq = peli ? ((|ir[7:1]) | ri_live) : (|ir[4:0]);
+    // RI follows RBS (while RIE is set) in both views; a read never clears it
+    wire ri_live = rbs & ier[0];
+    wire [7:0] ir_view = peli ? {ir[7:1], ri_live} : {3'b111, ir[4:1], ri_live};
+    assign irq = peli ? ((|ir[7:1]) | ri_live) : ((|ir[4:1]) | ri_live);
 
-    wire [7:0] sr = {bus_off, warn, ts, rs, tcs, tbs, dos, rbs};
+    // reset mode: PeliCAN shows RS = TS = 1 (waiting for bus-free), BasicCAN 0
+    wire [7:0] sr = {bus_off, warn, ts & (peli | !rm), rs & (peli | !rm), tcs, tbs, dos, rbs};
 
     // ---- read mux ----
     always @* begin
@@ -161,6 +170,7 @@ module can_regs (
                 PC_RMC:   rdat = {1'b0, rmc};
                 PC_RBSA:  rdat = {2'b00, rbsa};
                 PC_CDR:   rdat = cdr;             // CDR.4 is always written 0
+                PC_TEST:  rdat = test;
                 default: begin
                     // RX window (operating mode) and RAM: data from the FIFO RAM
                     if (in_win_p && rm) begin
@@ -168,6 +178,8 @@ module can_regs (
                         else if (a < PC_AMR0 + 8'd4) rdat = amr_r[a[1:0]];
                     end else if (a >= PC_TXRAM && a < PC_TXRAM + PC_BUF_LEN) begin
                         rdat = txb[a[3:0]];
+                    end else if (a >= PC_TXRAM + PC_BUF_LEN && a < PC_TXRAM + PC_BUF_LEN + 8'd3) begin
+                        rdat = ramfree[a[1:0] - 2'd1];   // 109..111
                     end
                 end
             endcase
@@ -182,13 +194,12 @@ module can_regs (
                 BC_BTR0: rdat = rm ? btr0 : 8'hFF;
                 BC_BTR1: rdat = rm ? btr1 : 8'hFF;
                 BC_OCR:  rdat = rm ? ocr : 8'hFF;
-                BC_TEST: rdat = 8'h00;
+                BC_TEST: rdat = test;
                 BC_CDR:  rdat = cdr;             // CDR.4 is always written 0
                 default: begin
                     if (a >= BC_TXB && a < BC_TXB + BC_TXB_LEN)
                         rdat = rm ? 8'hFF : txb[tx_ofs_b];
-                    else if (!in_win_b)
-                        rdat = 8'hFF;                   // address 30 (window: FIFO RAM)
+                    // 20..29: window (FIFO RAM data); 30 reads 00h
                 end
             endcase
         end
@@ -228,9 +239,8 @@ module can_regs (
         wui_evt & (~peli | ier[4]),                              // WUI (always on in BasicCAN)
         dos_set & ier[3],                                        // DOI
         ((bus_off != bus_off_q) | (warn != warn_q)) & ier[2],   // EI
-        // TI: TBS 0 -> 1 (sent, dropped, or released by bus-off)
-        (tx_done | tx_drop | (bus_off & ~bus_off_q & ~tbs)) & ier[1],
-        ~peli & ri_set & ier[0]                                  // BasicCAN RI (PeliCAN RI is live)
+        (tx_done | tx_drop) & ier[1],                            // TI: TBS 0 -> 1
+        1'b0                                                     // RI: live, see ri_live
     };
 
     integer i;
@@ -242,12 +252,14 @@ module can_regs (
             btr0 <= 8'h00; btr1 <= 8'h00; ewlr <= 8'd96; cdr <= 8'h00; ocr <= 8'h00;
             ier <= 8'h00; cr6 <= 1'b0; ir <= 8'h00; alc <= 8'h00; ecc <= 8'h00;
             alc_arm <= 1'b1; ecc_arm <= 1'b1; tbs <= 1'b1; tcs <= 1'b1;
-            bus_off_q <= 1'b0; warn_q <= 1'b0;
+            bus_off_q <= 1'b0; warn_q <= 1'b0; rm_q <= 1'b1; test <= 8'h00;
+            for (i = 0; i < 3; i = i + 1) ramfree[i] <= 8'h00;
             for (i = 0; i < 4; i = i + 1) begin acr_r[i] <= 8'h00; amr_r[i] <= 8'h00; end
             for (i = 0; i < 13; i = i + 1) txb[i] <= 8'h00;
         end else begin
             bus_off_q <= bus_off;
             warn_q    <= warn;
+            rm_q      <= rm;
 
             // ---- interrupt sources ----
             // a read of IR clears the bits it returned; events of the same
@@ -301,12 +313,17 @@ module can_regs (
                             rrb <= acc_wdat[2]; cdo <= acc_wdat[3];
                         end
                         PC_IER:  ier <= acc_wdat;
+                        PC_TEST: test <= acc_wdat;
                         PC_BTR0: if (rm) btr0 <= acc_wdat;
                         PC_BTR1: if (rm) btr1 <= acc_wdat;
                         PC_OCR:  if (rm) ocr <= acc_wdat;
                         PC_EWLR: if (rm) ewlr <= acc_wdat;
-                        PC_CDR:  cdr <= {rm ? acc_wdat[7] : cdr[7], acc_wdat[6:5], 1'b0, acc_wdat[3:0]};
+                        PC_CDR:  cdr <= rm ? (acc_wdat & 8'hEF) : {cdr[7:4], acc_wdat[3:0]};
                         default: begin
+                            if (rm && a >= PC_TXRAM && a < PC_TXRAM + PC_BUF_LEN)
+                                txb[a[3:0]] <= acc_wdat;
+                            if (rm && a >= PC_TXRAM + PC_BUF_LEN && a < PC_TXRAM + PC_BUF_LEN + 8'd3)
+                                ramfree[a[1:0] - 2'd1] <= acc_wdat;
                             if (in_win_p) begin
                                 if (!rm) begin
                                     if (tbs) txb[a[3:0]] <= acc_wdat;
@@ -336,7 +353,8 @@ module can_regs (
                         BC_BTR0: if (rm) btr0 <= acc_wdat;
                         BC_BTR1: if (rm) btr1 <= acc_wdat;
                         BC_OCR:  if (rm) ocr <= acc_wdat;
-                        BC_CDR:  cdr <= {rm ? acc_wdat[7] : cdr[7], acc_wdat[6:5], 1'b0, acc_wdat[3:0]};
+                        BC_CDR:  cdr <= rm ? (acc_wdat & 8'hEF) : {cdr[7:4], acc_wdat[3:0]};
+                        BC_TEST: test <= acc_wdat;
                         default: begin
                             if (a >= BC_TXB && a < BC_TXB + BC_TXB_LEN && !rm && tbs)
                                 txb[tx_ofs_b] <= acc_wdat;
@@ -345,12 +363,13 @@ module can_regs (
                 end
             end
 
-            // ---- entering reset mode cancels a pending transmission ----
+            // ---- reset mode: the pending transmission is released (no TI);
+            // entering it clears WUI, DOI and TI (map reset values) ----
             if (rm) begin
                 tbs <= 1'b1;
                 sleep <= 1'b0;
-                if (!peli) ir[0] <= 1'b0;
             end
+            if (rm && !rm_q) ir <= ir & 8'hE4;
         end
     end
 endmodule

@@ -23,7 +23,8 @@ module can_rxfifo (
     input  wire        rrb,        // release receive buffer
     input  wire        cdo,        // clear data overrun
     input  wire        rbsa_wr,    // host write of RBSA (reset mode)
-    input  wire [5:0]  wdat,
+    input  wire [7:0]  wdat,
+    input  wire        host_wr,    // host writes the RAM (reset mode)
     input  wire        host_rd,    // host reads the RAM (window or CAN address 32..95)
     input  wire [5:0]  host_adr,   // absolute RAM address
     output reg  [7:0]  rd_q,       // RAM data, one clk after host_rd
@@ -31,8 +32,7 @@ module can_rxfifo (
     output reg  [5:0]  rbsa,
     output wire        rbs,
     output reg         dos,
-    output reg         dos_set,    // pulse: DOS 0 -> 1
-    output reg         ri_set      // pulse: a message became visible in the window
+    output reg         dos_set     // pulse: DOS 0 -> 1
 );
     reg [7:0] ram [0:63];
     reg [5:0] wr_ptr;
@@ -94,19 +94,19 @@ module can_rxfifo (
 
     always @(posedge clk) begin
         if (wbusy && !clr) ram[wr_ptr + {2'b00, wk}] <= wbyte;
+        else if (host_wr && clr) ram[host_adr] <= wdat;
         rd_q <= ram[host_rd ? host_adr : hdr_adr];
     end
 
     always @(posedge clk) begin
         dos_set <= 1'b0;
-        ri_set  <= 1'b0;
         rrb_q   <= rrb && !host_rd;
         if (rst) begin
             rmc <= 7'd0; rbsa <= 6'd0; dos <= 1'b0; wr_ptr <= 6'd0; fill <= 7'd0;
             wbusy <= 1'b0; wk <= 4'd0; wlen <= 4'd0;
         end else if (clr) begin
             rmc <= 7'd0; fill <= 7'd0; dos <= 1'b0; wbusy <= 1'b0; wk <= 4'd0;
-            if (rbsa_wr) begin rbsa <= wdat; wr_ptr <= wdat; end
+            if (rbsa_wr) begin rbsa <= wdat[5:0]; wr_ptr <= wdat[5:0]; end
             else wr_ptr <= rbsa;
         end else begin
             if (cdo) dos <= 1'b0;
@@ -125,9 +125,6 @@ module can_rxfifo (
             fill <= fill + (commit ? {3'b000, wlen} : 7'd0) - (do_rrb ? {3'b000, hlen} : 7'd0);
             rmc  <= rmc + (commit ? 7'd1 : 7'd0) - (do_rrb ? 7'd1 : 7'd0);
             if (do_rrb) rbsa <= rbsa + {2'b00, hlen};
-            if ((commit && (rmc == 7'd0 || (do_rrb && rmc == 7'd1))) ||
-                (do_rrb && rmc > 7'd1))
-                ri_set <= 1'b1;
         end
     end
 endmodule

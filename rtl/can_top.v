@@ -47,7 +47,7 @@ module can_top (
     wire [7:0]  fifo_q;
     wire [5:0]  fifo_adr, rbsa;
     wire [6:0]  rmc;
-    wire        rbs, dos, dos_set, ri_set;
+    wire        rbs, dos, dos_set, fifo_wr;
     wire        tx_done, tx_drop, alc_evt, err_evt;
     wire [4:0]  alc_val;
     wire [7:0]  ecc_val;
@@ -73,7 +73,7 @@ module can_top (
         .tx_req(tx_req), .tx_single(tx_single), .tx_self(tx_self), .tx_abort(tx_abort),
         .rrb(rrb), .cdo(cdo), .rbsa_wr(rbsa_wr), .fifo_rd(fifo_rd), .fifo_adr(fifo_adr),
         .fifo_q(fifo_q), .rmc(rmc), .rbsa(rbsa), .rbs(rbs), .dos(dos),
-        .dos_set(dos_set), .ri_set(ri_set),
+        .dos_set(dos_set), .fifo_wr(fifo_wr),
         .tx_done(tx_done), .tx_drop(tx_drop), .alc_evt(alc_evt), .alc_val(alc_val),
         .err_evt(err_evt), .ecc_val(ecc_val), .rs(rs), .ts(ts), .bus_idle(bus_idle),
         .tec(tec), .rec(rec), .bus_off(bus_off), .warn(warn), .epi_evt(epi_evt),
@@ -116,11 +116,11 @@ module can_top (
 
     can_rxfifo u_fifo (
         .clk(clk_i), .rst(rst), .clr(rm), .peli(peli),
-        .store(rx_valid && accept && (peli || !rx_ide)),
+        .store(rx_valid && accept),
         .id(rx_id), .ide(rx_ide), .rtr(rx_rtr), .dlc(rx_dlc), .data(rx_data),
-        .rrb(rrb), .cdo(cdo), .rbsa_wr(rbsa_wr), .wdat(acc_wdat[5:0]),
-        .host_rd(fifo_rd), .host_adr(fifo_adr), .rd_q(fifo_q),
-        .rmc(rmc), .rbsa(rbsa), .rbs(rbs), .dos(dos), .dos_set(dos_set), .ri_set(ri_set)
+        .rrb(rrb), .cdo(cdo), .rbsa_wr(rbsa_wr), .wdat(acc_wdat),
+        .host_wr(fifo_wr), .host_rd(fifo_rd), .host_adr(fifo_adr), .rd_q(fifo_q),
+        .rmc(rmc), .rbsa(rbsa), .rbs(rbs), .dos(dos), .dos_set(dos_set)
     );
 
     assign bus_off_on = !bus_off;

@@ -3,7 +3,7 @@
 // while waitrequest is high and takes readdata in the cycle it drops.
 // Checks: waitrequest high until the access completes (never a zero-wait
 // access, never a dropped one), the thesis frame goes from node 0 to node 1,
-// irq is active high and clears on IR read.
+// irq is active high and is released when the message is released (RRB).
 `timescale 1ns/1ps
 module tb_avalon;
     reg clk = 0, cclk = 0, reset = 1;
@@ -87,9 +87,10 @@ module tb_avalon;
         expect_reg(1, 8'd20, 8'hA5);
         expect_reg(1, 8'd21, 8'h21);
         expect_reg(1, 8'd22, 8'h51);
-        expect_reg(1, 8'd3, 8'hE1);          // IR: RI
+        expect_reg(1, 8'd3, 8'hE1);          // IR: RI (follows RBS, not cleared by the read)
+        wr(1, 8'd1, 8'h04);                  // RRB
         @(posedge clk); #1;
-        if (irq1 !== 1'b0) fail("irq not cleared by the IR read");
+        if (irq1 !== 1'b0) fail("irq not released by RRB");
         repeat (400) @(posedge cclk);       // node 0 finishes EOF (its success is at the last EOF bit)
         expect_reg(0, 8'd2, 8'h0C);          // node 0: TBS, TCS
         if (waits_min < 2) fail("an access completed without wait states");

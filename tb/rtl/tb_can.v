@@ -219,7 +219,7 @@ module tb_can;
             expect_reg(k, 8'd0, 8'h21, "CR after reset");
             // the first access also waits for the clk_i domain to leave reset
             if (k == 0) begin $display("  first access after reset: %0d cycles", lat_max); lat_max = 0; end
-            expect_reg(k, 8'd2, 8'h3C, "SR after reset");
+            expect_reg(k, 8'd2, 8'h0C, "SR after reset (BasicCAN: RS = TS = 0)");
             expect_reg(k, 8'd3, 8'hE0, "IR after reset");
             wr(k, 8'd0, 8'h01);            // CR: reset request
             wr(k, 8'd4, 8'hFF);            // ACR
