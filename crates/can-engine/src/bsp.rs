@@ -82,15 +82,9 @@ impl TxRequest {
         TxRequest { frame, single_shot, self_rx, bits, len: len as u8 }
     }
 
-    /// The stuffed bit `i` (SOF is 0).
-    #[inline]
-    fn bit(&self, i: u8) -> bool {
-        (self.bits[(i >> 6) as usize] >> (i & 63)) & 1 != 0
-    }
-
     #[cfg(test)]
     pub(crate) fn stuffed(&self) -> Vec<bool> {
-        (0..self.len).map(|i| self.bit(i)).collect()
+        (0..self.len).map(|i| (self.bits[(i >> 6) as usize] >> (i & 63)) & 1 != 0).collect()
     }
 }
 
@@ -124,6 +118,9 @@ pub(crate) struct Bsp {
     pub(crate) role_tx: bool,
     tx_ext: bool,
     tx_idx: u8,
+    /// Stuffed bits of the frame under way (a copy: the request may change).
+    txb: [u64; 3],
+    tx_len: u8,
     pub(crate) pending: Option<TxRequest>,
     abort_req: bool,
     // Error signalling.
@@ -167,6 +164,8 @@ impl Bsp {
             role_tx: false,
             tx_ext: false,
             tx_idx: 0,
+            txb: [0; 3],
+            tx_len: 0,
             pending: None,
             abort_req: false,
             flag_lvl: RECESSIVE,
@@ -303,6 +302,8 @@ impl Bsp {
         if let Some(req) = &self.pending {
             if !self.opt.listen_only && !self.reset_mode {
                 self.tx_ext = req.frame.is_extended();
+                self.txb = req.bits;
+                self.tx_len = req.len;
                 self.role_tx = true;
                 self.tx_idx = 0;
                 self.tx = DOMINANT; // SOF
@@ -316,10 +317,8 @@ impl Bsp {
     fn next_tx_bit(&mut self) {
         if self.role_tx {
             self.tx_idx += 1;
-            self.tx = match &self.pending {
-                Some(req) if self.tx_idx < req.len => req.bit(self.tx_idx),
-                _ => RECESSIVE,
-            };
+            let i = self.tx_idx;
+            self.tx = i >= self.tx_len || (self.txb[(i >> 6) as usize] >> (i & 63)) & 1 != 0;
         }
     }
 

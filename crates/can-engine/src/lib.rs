@@ -58,15 +58,17 @@ pub enum ErrorKind {
 #[derive(Clone, Debug, PartialEq, Eq)]
 pub enum Event {
     /// A frame was received valid (last-but-one EOF bit, CAN 2.0B §5).
-    /// `own` is true when the node received its own transmission
-    /// (self-reception request or self-test).
+    /// `own` is true when the node received its own transmission: only with
+    /// a self-reception request (CMR.SRR, `self_rx`), in normal or self-test
+    /// mode; it is reported at the end of EOF, just before
+    /// [`Event::TxComplete`]. Listen-only nodes receive too.
     Received {
         /// The frame.
         frame: CanFrame,
         /// Received back from our own transmission.
         own: bool,
     },
-    /// The pending transmission completed successfully.
+    /// The pending transmission completed successfully (end of EOF).
     TxComplete,
     /// The pending transmission was dropped (single shot after error or
     /// arbitration loss, abort, bus-off).
@@ -78,6 +80,10 @@ pub enum Event {
     },
     /// A bus error was detected; `ecc` is the SJA1000 ECC register value
     /// (bits 7:6 error code, bit 5 direction: 1 = RX, bits 4:0 segment).
+    /// Reported at the bit where it is detected, before the counter change
+    /// it causes; a CRC error is detected (and flagged) at the ACK
+    /// delimiter, so its segment is 11011. Counter changes without an error
+    /// (rules 2 and 6, dominant bits after a flag) raise no `BusError`.
     BusError {
         /// Kind of error.
         kind: ErrorKind,
@@ -88,7 +94,9 @@ pub enum Event {
     },
     /// The error warning status (TEC or REC >= EWL) changed.
     ErrorWarning(bool),
-    /// The fault confinement state changed.
+    /// The fault confinement state changed. At bus-off the engine has also
+    /// set TEC to 127, REC to 0, entered reset mode and dropped the request
+    /// ([`Event::TxAborted`] follows).
     FaultState(FaultState),
     /// A dominant bit was seen while sleeping (wake-up).
     WakeUp,
