@@ -213,3 +213,23 @@ fn error_passive_transmitter_suspends() {
     bus.run_until(300, |b| !b.nodes[0].tx_pending());
     assert_eq!(bus.nodes[0].tec(), 128);
 }
+
+/// Rule 3 exception 2: a recessive stuff bit in the arbitration field (before
+/// RTR) monitored dominant is a stuff error for the transmitter too, and its
+/// TEC does not change; receivers count it (rule 1). ECC 10 0 00010 at the
+/// transmitter, 10 1 00010 at the receivers.
+#[test]
+fn stuff_error_in_arbitration_leaves_tec() {
+    // ID 0: SOF and ID.28..ID.25 are five dominant bits, so stuffed bit 5
+    // is a recessive stuff bit inside ID.28-ID.21.
+    let (mut bus, r) = setup(std_frame(0x000, &[1]));
+    let sof = (0..r.bits.len()).find(|&i| !r.bits[i]).unwrap();
+    assert!(r.bits[sof + 5] && r.bits[sof..sof + 5].iter().all(|&b| !b));
+    bus.force.push((sof + 5, DOMINANT));
+    bus.run(sof + 6);
+    assert_eq!(first_error(&bus, 0), bus_error(ErrorKind::Stuff, 0x82, Field::BaseId));
+    assert_eq!(first_error(&bus, 1), bus_error(ErrorKind::Stuff, 0xA2, Field::BaseId));
+    assert_eq!((bus.nodes[0].tec(), bus.nodes[1].rec(), bus.nodes[2].rec()), (0, 1, 1));
+    bus.run(200);
+    assert_eq!(bus.count(0, |e| *e == Event::TxComplete), 1);
+}
