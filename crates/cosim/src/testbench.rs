@@ -301,7 +301,7 @@ impl Testbench {
             }
             HostBfm::Pio(t) => {
                 let mut m = PioMaster::new("host", t);
-                m.set_timeout(cfg.op_timeout_cycles.max(bfm::DEFAULT_PIO_TIMEOUT_CYCLES));
+                m.set_timeout(cfg.op_timeout_cycles);
                 (Master::Pio(m), HostBus::Pio)
             }
         };
