@@ -14,6 +14,10 @@
 //     bus-off at TEC > 255 (RM set, TXERR = 127,
 //     bus_off_on low), recovery after 128 x 11 recessive bits.
 //  6. Sleep: MOD.SM accepted when idle, bus activity wakes the node (WUI).
+//  8. A dominant glitch in node 1's data field: node 1 (transmitter) sees a
+//     bit error (ECC direction TX, TEC + 8), node 0 (receiver) an error with
+//     ECC direction RX; the retransmission succeeds (TEC 8 - 1 = 7); then a
+//     dominant first intermission bit: overload frame, counters unchanged.
 //  7. PeliCAN single acceptance filter (ID + RTR + data byte 1), extended
 //     8-byte frames in the RX FIFO, FIFO overrun (DOS, DOI, RMC), RRB/RBSA.
 // Exits with $fatal on the first failure; prints "PASS" at the end.
@@ -206,7 +210,25 @@ module tb_can;
         end
     endtask
 
-    reg [7:0] q, rbsa0;
+    reg [7:0] q, rbsa0, rec0;
+    // glitch injector (test 8): one dominant bit on the bus, centred on
+    // node 1's next sample point after the chosen position
+    integer glitch_at = 0, ovl_seen = 0;
+    always @(posedge clk1) begin
+        if (n1.u_btl.sample && glitch_at != 0) begin
+            #1;
+            if ($test$plusargs("trace")) $display("%0t glitch? st=%0d cnt=%0d", $time, n1.u_bsp.st, n1.u_bsp.cnt);
+            if ((glitch_at == 1 && n1.u_bsp.st == 5'd12 && n1.u_bsp.cnt == 6'd2) ||
+                (glitch_at == 2 && n1.u_bsp.st == 5'd18 && n1.u_bsp.cnt == 6'd0)) begin
+                glitch_at = 0;
+                repeat (20) @(posedge clk1);
+                force_dom = 1;
+                repeat (40) @(posedge clk1);
+                force_dom = 0;
+            end
+        end
+        if (n1.u_bsp.st == 5'd23) ovl_seen = 1;
+    end
     integer k;
     initial begin
         cyc[0] = 0; cyc[1] = 0; we[0] = 0; we[1] = 0; adr[0] = 0; adr[1] = 0; dwr[0] = 0; dwr[1] = 0;
@@ -464,6 +486,31 @@ module tb_can;
 
         $display("  Wishbone access length (cyc&stb high, ack cycle included): %0d..%0d wb_clk_i cycles", lat_min, lat_max);
         if (lat_max > 20) fail("ack latency above the documented bound");
+        // ================= 8. glitch: bit error / receiver error; overload =================
+        $display("8. dominant glitch in the data field; overload frame");
+        while (q != 0) begin rd(0, 8'd29, q); if (q != 0) wr(0, 8'd1, 8'h04); end
+        wr(0, 8'd1, 8'h08);                 // CDO
+        wr(1, 8'd0, 8'h01); wr(1, 8'd15, 8'd0); wr(1, 8'd14, 8'd0); wr(1, 8'd0, 8'h00);
+        wr(0, 8'd0, 8'h09); wr(0, 8'd15, 8'd0); wr(0, 8'd14, 8'd0); wr(0, 8'd0, 8'h08);
+        wait_bits(14);
+        rd(0, 8'd12, q); rd(1, 8'd12, q);   // arm ECC capture
+        glitch_at = 1;                      // data bit 2 of 0xAA (recessive)
+        send1(8'h01, 8'h24, 8'h60, 8'h00, 8'h00, 64'hAA00_0000_0000_0000, 1);
+        rd(1, 8'd12, q);
+        if (q[7:6] !== 2'b00 || q[5] !== 1'b0) fail("node 1 ECC: bit error, direction TX expected");
+        rd(0, 8'd12, q);
+        if (q[5] !== 1'b1) fail("node 0 ECC: direction RX expected");
+        expect_reg(1, 8'd15, 8'd7, "node 1 TXERR: +8, then -1 after the retransmission");
+        expect_reg(0, 8'd29, 8'd1, "node 0 received the retransmission once");
+        rd(0, 8'd14, rec0);
+        glitch_at = 2;                      // first intermission bit
+        send1(8'h01, 8'h24, 8'h60, 8'h00, 8'h00, 64'hAA00_0000_0000_0000, 1);
+        if (ovl_seen == 0) fail("no overload flag seen");
+        expect_reg(1, 8'd15, 8'd6, "node 1 TXERR after the overload frame");
+        rd(0, 8'd14, q);
+        if (q != rec0 - 8'd1 && !(rec0 == 0 && q == 0)) fail("node 0 RXERR: only the reception decrement expected");
+        expect_reg(0, 8'd29, 8'd2, "node 0 received the second frame");
+
         $display("PASS (Wishbone accesses %0d..%0d wb_clk_i cycles)", lat_min, lat_max);
         $finish;
     end
