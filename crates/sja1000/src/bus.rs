@@ -239,11 +239,17 @@ pub struct Accounting {
     pub off_bus: usize,
     /// Missed by a node that signalled an error frame.
     pub error_frames: usize,
-    /// Receptions of a frame the sender retransmitted after an error at the
-    /// last EOF bit (CAN's known double reception).
+    /// Receptions of a frame whose sender saw an error the receivers did
+    /// not (error at the last EOF bit, passive ACK error) and retransmits:
+    /// CAN's known double reception.
     pub duplicates: usize,
     /// Receptions whose sender is an external participant.
     pub external: usize,
+    /// Receptions at the very end of the run whose sender had not yet
+    /// reached the end of its EOF.
+    pub in_flight: usize,
+    /// Receptions whose sender left the bus before its last EOF bit.
+    pub sender_cut_off: usize,
 }
 
 /// A frame the accounting cannot explain.
@@ -540,6 +546,11 @@ impl Bus {
             let i = self.tracker.starts.partition_point(|&s| s <= t);
             if i == 0 { 0 } else { self.tracker.starts[i - 1] }
         };
+        // The ledger is in time order: look only at entries near `t`.
+        let near = |t: u64| {
+            let lo = self.ledger.partition_point(|x| x.clock + window < t);
+            self.ledger[lo..].iter().take_while(move |x| x.clock <= t + window)
+        };
         for e in &self.ledger {
             let NodeEvent::Sent(frame) = e.event else { continue };
             acc.sent += 1;
@@ -549,11 +560,8 @@ impl Bus {
                     continue;
                 }
                 acc.deliveries += 1;
-                let got = self.ledger.iter().find(|x| {
-                    x.node == r
-                        && x.clock + window >= e.clock
-                        && x.clock <= e.clock + window
-                        && matches!(x.event, NodeEvent::Received { frame: f, own: false, .. } if f == frame)
+                let got = near(e.clock).find(|x| {
+                    x.node == r && matches!(x.event, NodeEvent::Received { frame: f, own: false, .. } if f == frame)
                 });
                 match got.map(|x| &x.event) {
                     Some(NodeEvent::Received { outcome, .. }) => match outcome {
@@ -571,19 +579,26 @@ impl Bus {
         }
         for e in &self.ledger {
             let NodeEvent::Received { frame, own: false, .. } = e.event else { continue };
-            let sent = self.ledger.iter().any(|x| {
-                x.node != e.node
-                    && x.clock + window >= e.clock
-                    && x.clock <= e.clock + window
-                    && x.event == NodeEvent::Sent(frame)
-            });
+            let sent = near(e.clock).any(|x| x.node != e.node && x.event == NodeEvent::Sent(frame));
             if sent {
                 continue;
             }
-            // Error at the last EOF bit seen by the sender: it retransmits.
-            let dup = (0..self.nodes.len()).any(|s| s != e.node && self.has_error(s, e.clock, e.clock + window));
-            if dup {
+            // The sender saw an error in this frame that the receivers did
+            // not (an error at its last EOF bit, or an ACK error while error
+            // passive: its passive flag is recessive): it retransmits.
+            let start = frame_start(e.clock);
+            let dup = (0..self.nodes.len()).any(|s| s != e.node && self.has_error(s, start, e.clock + window));
+            // The sender left the bus (reset mode, sleep, bus-off) after the
+            // receivers took the frame and before its own last EOF bit.
+            let cut = (0..self.nodes.len()).any(|s| s != e.node && self.off_bus(s, e.clock, e.clock + window));
+            if e.clock + window > self.clock {
+                // The sender completes one bit after the receivers (EOF):
+                // the run stopped in between.
+                acc.in_flight += 1;
+            } else if dup {
                 acc.duplicates += 1;
+            } else if cut {
+                acc.sender_cut_off += 1;
             } else if self.external {
                 acc.external += 1;
             } else {
@@ -591,6 +606,26 @@ impl Bus {
             }
         }
         Ok(acc)
+    }
+
+    /// Forgets the journal so far (long runs: check, then clear). Node
+    /// states are carried over so later checks still know who is off the bus.
+    pub fn clear_accounting(&mut self) {
+        let mut carry = vec![];
+        for r in 0..self.nodes.len() {
+            let n = &self.nodes[r];
+            carry.push(Entry { clock: self.clock, node: r, event: NodeEvent::ResetMode(n.in_reset_mode()) });
+            if n.is_sleeping() {
+                carry.push(Entry { clock: self.clock, node: r, event: NodeEvent::Sleep(true) });
+            }
+            if n.bus_off() {
+                carry.push(Entry { clock: self.clock, node: r, event: NodeEvent::FaultState(FaultState::BusOff) });
+            }
+        }
+        self.ledger = carry;
+        let last = self.tracker.starts.last().copied();
+        self.tracker.starts.clear();
+        self.tracker.starts.extend(last);
     }
 
     /// True if node `r` was in reset mode, asleep or bus-off at some time
@@ -615,8 +650,10 @@ impl Bus {
     }
 
     fn has_error(&self, r: usize, from: u64, to: u64) -> bool {
-        self.ledger
+        let lo = self.ledger.partition_point(|x| x.clock < from);
+        self.ledger[lo..]
             .iter()
-            .any(|x| x.node == r && x.clock >= from && x.clock <= to && matches!(x.event, NodeEvent::BusError { .. }))
+            .take_while(|x| x.clock <= to)
+            .any(|x| x.node == r && matches!(x.event, NodeEvent::BusError { .. }))
     }
 }
