@@ -14,6 +14,8 @@ struct ClockedBus {
     tx: Vec<bool>,
     /// Bus level at node 0's sample points.
     bits: Vec<bool>,
+    /// (time, level) of every sample point of every node.
+    samples: Vec<Vec<(u64, bool)>>,
     /// Events with the index of the bit (of the node that reported it).
     log: Vec<Logged>,
     /// Bus glitches: (from, to) time intervals during which the bus is
@@ -25,7 +27,17 @@ struct ClockedBus {
 impl ClockedBus {
     fn new(nodes: Vec<Engine>, period: Vec<u64>) -> Self {
         let n = nodes.len();
-        ClockedBus { nodes, next: period.clone(), period, tx: vec![RECESSIVE; n], bits: Vec::new(), log: Vec::new(), glitch: Vec::new(), now: 0 }
+        ClockedBus {
+            nodes,
+            next: period.clone(),
+            period,
+            tx: vec![RECESSIVE; n],
+            bits: Vec::new(),
+            samples: vec![Vec::new(); n],
+            log: Vec::new(),
+            glitch: Vec::new(),
+            now: 0,
+        }
     }
 
     fn bus(&self) -> bool {
@@ -51,8 +63,11 @@ impl ClockedBus {
             let before = self.nodes[k].bits_sampled();
             self.tx[k] = self.nodes[k].clock(bus);
             let after = self.nodes[k].bits_sampled();
-            if after != before && k == 0 {
-                self.bits.push(bus);
+            if after != before {
+                self.samples[k].push((t, bus));
+                if k == 0 {
+                    self.bits.push(bus);
+                }
             }
             let bit = (after as usize).saturating_sub(1);
             for event in self.nodes[k].take_events() {
@@ -274,4 +289,54 @@ fn dominant_spike_sanity() {
 /// shared machine does not distort the measurement.
 fn thread_cpu_ns() -> Option<u64> {
     std::fs::read_to_string("/proc/thread-self/schedstat").ok()?.split_whitespace().next()?.parse().ok()
+}
+
+/// Hard synchronisation: a receiver whose bit clock starts out of phase
+/// with the transmitter by any fraction of a bit realigns on the SOF edge
+/// and receives the frame, even with the smallest SJW (1 tq), which alone
+/// could not pull in a large phase error.
+#[test]
+fn hard_sync_on_sof_aligns_an_out_of_phase_receiver() {
+    let timing = BusTiming { brp: 1, sjw: 0, tseg1: 9, tseg2: 3, sam: false };
+    let cpb = timing.clocks_per_bit() as u64;
+    let f = std_frame(0x2aa, &[0x00, 0xff, 0x33]);
+    for offset in (1..cpb).step_by(3) {
+        let a = Engine::new(timing, Options::default());
+        let b = Engine::new(timing, Options::default());
+        let mut bus = ClockedBus::new(vec![a, b], vec![1, 1]);
+        bus.next[1] = 1 + offset; // node 1's clock edges are the same, its bit phase is not
+        // Both integrate on the idle bus, then node 0 sends.
+        bus.run_until(20 * cpb as usize, |_| false);
+        let t_req = bus.now;
+        bus.nodes[0].request_tx(f, true, false);
+        let done = bus.run_until(400 * cpb as usize, |b| !b.nodes[0].tx_pending());
+        assert!(done);
+        assert!(
+            bus.log.iter().any(|l| l.node == 1 && l.event == Event::Received { frame: f, own: false }),
+            "offset {offset} clocks: {:?}",
+            bus.log
+        );
+        assert!(bus.log.iter().all(|l| !matches!(l.event, Event::BusError { .. })));
+        // Both sample the SOF within one quantum of each other: node 1's
+        // bit now starts at the edge, whatever its phase before.
+        let sof = |k: usize| bus.samples[k].iter().find(|&&(t, l)| t > t_req && !l).unwrap().0;
+        let cpt = timing.clocks_per_tq() as u64;
+        assert!(sof(1).abs_diff(sof(0)) <= cpt, "offset {offset}: SOF sampled at {} and {}", sof(0), sof(1));
+    }
+}
+
+/// Wake-up works on the clocked path too.
+#[test]
+fn wake_up_on_clocked_path() {
+    let mut e = Engine::new(TIMING, Options::default());
+    e.set_sleep(true);
+    for _ in 0..TIMING.clocks_per_bit() * 5 {
+        e.clock(RECESSIVE);
+    }
+    assert!(!e.has_events());
+    for _ in 0..TIMING.clocks_per_bit() {
+        e.clock(DOMINANT);
+    }
+    assert_eq!(e.take_events().collect::<Vec<_>>(), vec![Event::WakeUp]);
+    assert!(!e.is_sleeping());
 }
