@@ -119,6 +119,7 @@ module bench_tb;
             wr(1, 8'h10);                  // CMR: self reception request
             ir = 8'h00;
             wait_irq;
+            idle(2 * 40);                  // SETTLE_BITS
             rd(3, q);
             ir = ir | q;
             while ((ir & 8'h03) != 8'h03) begin

@@ -139,6 +139,7 @@ int main(int argc, char** argv) {
         uint8_t ir = 0;
         for (;;) {
             wait_irq();
+            idle(2 * 40);  // SETTLE_BITS
             ir |= rd(3);
             if ((ir & 0x03) == 0x03) break;
             idle(40);

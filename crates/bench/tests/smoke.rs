@@ -1,0 +1,48 @@
+//! The CI-sized bench run: every workload runs (tiny counts) and the report
+//! is complete, every figure finite and positive. Not a timing assertion.
+
+use bench::{BenchOptions, NODE_COUNTS, run};
+
+#[test]
+fn smoke_run_reports_every_figure_finite_and_positive() {
+    let opts = BenchOptions { work_dir: Some(std::env::temp_dir().join("cancosim-bench-test")), ..BenchOptions::smoke() };
+    let r = run(&opts).unwrap_or_else(|e| panic!("{e}"));
+    assert!(r.options.smoke && r.options.frames == BenchOptions::SMOKE_FRAMES);
+
+    let nodes: Vec<usize> = r.scaling.iter().map(|s| s.nodes).collect();
+    assert_eq!(nodes, NODE_COUNTS);
+    let names: Vec<&str> = r.selftest.iter().map(|s| s.name.as_str()).collect();
+    assert_eq!(names, ["model", "cosim", "cosim-no-lockstep", "verilator-raw", "icarus"]);
+    assert_eq!(r.targets.len(), 4);
+
+    // Every self-test simulator sent the same frames through the same sequence.
+    for s in &r.selftest {
+        assert_eq!(s.errors, 0, "{}", s.name);
+        let want = if s.name == "icarus" { r.options.icarus_frames } else { r.options.frames };
+        assert_eq!(s.frames, want as u64, "{}", s.name);
+    }
+    // The raw harness and Icarus run the same stimulus on the same RTL: with
+    // one frame each, the Icarus cycle count is a prefix of the harness run.
+    let cyc = |n: &str| r.selftest.iter().find(|s| s.name == n).unwrap().cycles;
+    assert!(cyc("icarus") <= cyc("verilator-raw"));
+    // The co-simulation runs the same workload: within 10 % of the harness's cycles.
+    let (c, h) = (cyc("cosim") as f64, cyc("verilator-raw") as f64);
+    assert!((c - h).abs() / h < 0.10, "co-sim {c} cycles vs harness {h}");
+
+    let figures = r.figures();
+    assert!(figures.len() >= 4 * 5 + 5 * 6 + 4);
+    for (name, v) in &figures {
+        assert!(v.is_finite() && *v > 0.0, "{name} = {v}");
+    }
+
+    let table = r.to_table();
+    for s in &r.selftest {
+        assert!(table.contains(&s.name), "table lacks {}:\n{table}", s.name);
+    }
+    for t in &r.targets {
+        assert!(table.contains(&t.name), "table lacks {}:\n{table}", t.name);
+    }
+    let json: serde_json::Value = serde_json::from_str(&r.to_json()).unwrap();
+    assert_eq!(json["selftest"].as_array().unwrap().len(), 5);
+    assert_eq!(json["scaling"].as_array().unwrap().len(), 4);
+}
