@@ -1,0 +1,166 @@
+//! Flows shared by the host tests: each drives the C driver through
+//! `CDriver` and checks the other end of the bus on a golden-model node.
+#![allow(dead_code)]
+
+use can_proto::CanFrame;
+use cdriver::{CDriver, Config, SimHost, View, Wiring, ecc_kind};
+use regmap::peli;
+use sja1000::Sja1000;
+
+pub fn std_frame(id: u16, data: &[u8]) -> CanFrame {
+    CanFrame::with_dlc(CanFrame::std_id(id).unwrap(), false, data.len() as u8, data).unwrap()
+}
+
+pub fn ext_frame(id: u32, data: &[u8]) -> CanFrame {
+    CanFrame::with_dlc(CanFrame::ext_id(id).unwrap(), false, data.len() as u8, data).unwrap()
+}
+
+pub fn remote(id: u16, dlc: u8) -> CanFrame {
+    CanFrame::with_dlc(CanFrame::std_id(id).unwrap(), true, dlc, &[]).unwrap()
+}
+
+fn node_has_frame(n: &Sja1000) -> bool {
+    n.peek(peli::SR) & peli::sr::RBS != 0
+}
+
+/// Runs the bus until model node `i` holds a frame, then reads it from the
+/// node's RX buffer through its registers (and releases it).
+pub fn node_receive<W>(drv: &mut CDriver<W>, i: usize, max_bits: u64) -> CanFrame
+where
+    W: Wiring,
+    W::Host: SimHost,
+{
+    let mut waited = 0;
+    while !node_has_frame(drv.host_mut().node(i)) {
+        assert!(waited < max_bits, "model node {i} received nothing within {max_bits} bit times");
+        drv.host_mut().run_bits(4);
+        waited += 4;
+    }
+    sja1000::host::receive(drv.host_mut().node(i)).expect("RBS = 1, so a frame is there")
+}
+
+/// The model node transmits `f` (loads its TX buffer, CMR.TR).
+pub fn node_transmit<W>(drv: &mut CDriver<W>, i: usize, f: &CanFrame)
+where
+    W: Wiring,
+    W::Host: SimHost,
+{
+    sja1000::host::transmit(drv.host_mut().node(i), f, peli::cmr::TR).expect("model node TX buffer free");
+}
+
+/// Polls the driver until its transmission is complete (SR.TCS = 1).
+fn driver_tx_complete<W: Wiring>(drv: &mut CDriver<W>) -> u8
+where
+    W::Host: SimHost,
+{
+    for _ in 0..400 {
+        let e = drv.read_errors().unwrap();
+        if e.sr & peli::sr::TCS != 0 {
+            return e.sr;
+        }
+        drv.host_mut().run_bits(2);
+    }
+    panic!("the driver's controller never reported SR.TCS");
+}
+
+/// `init` in `view`, then: the driver transmits and the model node
+/// receives; the model node transmits and the driver receives; in PeliCAN
+/// also an extended frame and a remote frame both ways.
+pub fn exchange<W>(drv: &mut CDriver<W>, view: View)
+where
+    W: Wiring,
+    W::Host: SimHost,
+{
+    drv.init(view, &Config::accept_all()).unwrap();
+    assert_eq!(drv.view(), Some(view));
+    // Bus integration: 11 recessive bits before the controller may start.
+    drv.host_mut().run_bits(16);
+
+    let mut frames = vec![(std_frame(0x123, &[0x11, 0x22, 0x33]), std_frame(0x2A5, &[0xDE, 0xAD, 0xBE, 0xEF, 0x55, 0xAA, 0x01, 0x80]))];
+    frames.push((std_frame(0x7FF, &[]), remote(0x001, 4)));
+    if view == View::Peli {
+        frames.push((ext_frame(0x1ABC_DE01, &[9, 8, 7, 6, 5]), ext_frame(0x0000_0155, &[0xC3; 8])));
+    }
+    for (to_node, to_driver) in frames {
+        drv.transmit(&to_node).unwrap();
+        let got = node_receive(drv, 0, 400);
+        assert_eq!(got, to_node, "model node's RX buffer");
+        driver_tx_complete(drv);
+
+        node_transmit(drv, 0, &to_driver);
+        let got = drv.receive_polling(50_000).unwrap();
+        assert_eq!(got, to_driver, "frame returned by can_receive");
+        // can_receive released the buffer: nothing is left.
+        assert_eq!(drv.receive().unwrap(), None);
+    }
+    assert_eq!(drv.overruns(), 0);
+}
+
+/// BasicCAN cannot carry an extended identifier: the driver refuses it
+/// before touching the TX buffer.
+pub fn basic_rejects_extended<W: Wiring>(drv: &mut CDriver<W>) {
+    drv.init(View::Basic, &Config::accept_all()).unwrap();
+    assert_eq!(drv.transmit(&ext_frame(0x100, &[1])), Err(cdriver::CDriverError::Invalid(View::Basic)));
+}
+
+/// Nobody acknowledges: the driver reads a bus error captured in the ACK
+/// slot (ECC = other, TX, segment 11001) and a rising TX error counter.
+pub fn no_ack<W>(drv: &mut CDriver<W>)
+where
+    W: Wiring,
+    W::Host: SimHost,
+{
+    let cfg = Config { irq_enable: peli::ier::BEIE | peli::ier::EPIE, ..Config::accept_all() };
+    drv.init(View::Peli, &cfg).unwrap();
+    drv.host_mut().run_bits(16);
+    drv.transmit(&std_frame(0x0F0, &[0xA5])).unwrap();
+    // One frame up to the ACK slot is about 40 bits; let a few attempts pass.
+    drv.host_mut().run_bits(120);
+    let e = drv.read_errors().unwrap();
+    let c = e.capture.expect("PeliCAN has ECC/ALC");
+    assert_eq!(c.ecc & 0x1F, 0x19, "ECC segment = ACK slot (11001), ecc 0x{:02X}", c.ecc);
+    assert_eq!(c.ecc & 0x20, 0, "ECC.DIR = transmission");
+    assert_eq!(ecc_kind(c.ecc), "other");
+    assert!(c.txerr >= 8, "TXERR {} after failed attempts", c.txerr);
+    assert!(e.ir & peli::ir::BEI != 0, "IR.BEI (enabled) after a bus error, IR 0x{:02X}", e.ir);
+    assert!(!e.bus_off, "an unacknowledged transmitter stays error passive, never bus-off");
+    assert_eq!(e.sr & peli::sr::TCS, 0, "no transmission completed");
+    // Keep going to error passive: TXERR stops at 128 (ACK errors while
+    // error passive do not count, CAN 2.0B 7.2 rule 3 exception 1).
+    drv.host_mut().run_bits(16 * 80 + 200);
+    let e = drv.read_errors().unwrap();
+    let c = e.capture.unwrap();
+    assert_eq!(c.txerr, 128, "TXERR when error passive without acknowledge");
+    assert!(e.ir & peli::ir::EPI != 0, "IR.EPI on the way to error passive (IR 0x{:02X})", e.ir);
+}
+
+/// The driver's frame loses arbitration against model node 1 (both start
+/// after model node 0's frame): ALC says at which identifier bit.
+pub fn arbitration_lost<W>(drv: &mut CDriver<W>)
+where
+    W: Wiring,
+    W::Host: SimHost,
+{
+    let cfg = Config { irq_enable: peli::ier::ALIE, ..Config::accept_all() };
+    drv.init(View::Peli, &cfg).unwrap();
+    drv.host_mut().run_bits(16);
+    // Node 0 occupies the bus so the two requests below wait for the same
+    // end of intermission.
+    node_transmit(drv, 0, &std_frame(0x050, &[0; 8]));
+    drv.host_mut().run_bits(4);
+    // 0x100 = 001 0000 0000 and 0x0FF = 000 1111 1111 differ first at
+    // ID.8, the third identifier bit (ALC bit number 2): the driver's
+    // recessive 1 loses against the dominant 0.
+    drv.transmit(&std_frame(0x100, &[1, 2])).unwrap();
+    node_transmit(drv, 1, &std_frame(0x0FF, &[3, 4]));
+    let first = node_receive(drv, 1, 400);
+    assert_eq!(first, std_frame(0x050, &[0; 8]));
+    let second = node_receive(drv, 0, 400);
+    assert_eq!(second, std_frame(0x0FF, &[3, 4]), "the winner's frame comes first");
+    let e = drv.read_errors().unwrap();
+    assert!(e.ir & peli::ir::ALI != 0, "IR.ALI (enabled), IR 0x{:02X}", e.ir);
+    assert_eq!(e.capture.unwrap().alc, 2, "ALC bit number");
+    // The controller retransmits on its own after losing.
+    let third = node_receive(drv, 0, 400);
+    assert_eq!(third, std_frame(0x100, &[1, 2]));
+}
