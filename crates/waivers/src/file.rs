@@ -1,0 +1,468 @@
+//! The waiver file: TOML read through serde, unknown keys rejected, every
+//! error located as `file:line: key: message`.
+//!
+//! ```toml
+//! [[waiver]]
+//! id = "tec-after-error-passive"
+//! kind = "tx-bit"                  # tx-bit | register-read | irq | bus-off
+//! fields = ["ActiveErrorFlag"]     # tx-bit only: field the model was in
+//! dut = ["opencores-can*"]         # DUT name globs (at least one)
+//! revisions = ["r3..r7"]           # optional; inclusive ranges
+//! explanation = "why this deviation is accepted"
+//! late-bits = 1                    # optional bound
+//! resync = ["skip-bits 1", "adopt-dut-tec"]
+//! ```
+
+use std::fmt;
+use std::str::FromStr;
+
+use can_proto::Field;
+use diagnose::DivergenceKind;
+use diagnose::named::Named;
+use serde::{Deserialize, Serialize};
+use toml::Spanned;
+
+/// A waiver file could not be read or is malformed.
+#[derive(Debug, thiserror::Error)]
+pub enum WaiverError {
+    /// The file could not be read.
+    #[error("{file}: {source}")]
+    Io {
+        /// File name.
+        file: String,
+        /// Cause.
+        source: std::io::Error,
+    },
+    /// A key is missing, unknown, or has a bad value.
+    #[error("{file}:{line}: {key}: {message}")]
+    Invalid {
+        /// File name.
+        file: String,
+        /// 1-based line.
+        line: usize,
+        /// The key at fault (or the table, e.g. `waiver`).
+        key: String,
+        /// What is wrong.
+        message: String,
+    },
+}
+
+/// The divergence kinds a waiver can name, spelled as in the file.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "kebab-case")]
+pub enum KindName {
+    /// `DivergenceKind::TxBit`.
+    TxBit,
+    /// `DivergenceKind::RegisterRead`.
+    RegisterRead,
+    /// `DivergenceKind::Irq`.
+    Irq,
+    /// `DivergenceKind::BusOff`.
+    BusOff,
+}
+
+impl KindName {
+    /// The comparator's kind.
+    pub fn kind(self) -> DivergenceKind {
+        match self {
+            KindName::TxBit => DivergenceKind::TxBit,
+            KindName::RegisterRead => DivergenceKind::RegisterRead,
+            KindName::Irq => DivergenceKind::Irq,
+            KindName::BusOff => DivergenceKind::BusOff,
+        }
+    }
+
+    /// The file spelling of a comparator kind.
+    pub fn of(k: DivergenceKind) -> KindName {
+        match k {
+            DivergenceKind::TxBit => KindName::TxBit,
+            DivergenceKind::RegisterRead => KindName::RegisterRead,
+            DivergenceKind::Irq => KindName::Irq,
+            DivergenceKind::BusOff => KindName::BusOff,
+        }
+    }
+
+    /// `tx-bit`, `register-read`, ...
+    pub fn as_str(self) -> &'static str {
+        match self {
+            KindName::TxBit => "tx-bit",
+            KindName::RegisterRead => "register-read",
+            KindName::Irq => "irq",
+            KindName::BusOff => "bus-off",
+        }
+    }
+}
+
+/// A revision such as `r5` or `v1.2`: a letter prefix and dotted numbers,
+/// compared number by number.
+#[derive(Clone, Debug, PartialEq, Eq, PartialOrd, Ord)]
+pub struct Revision {
+    prefix: String,
+    numbers: Vec<u64>,
+}
+
+impl FromStr for Revision {
+    type Err = String;
+    fn from_str(s: &str) -> Result<Self, String> {
+        let s = s.trim();
+        let digits = s.find(|c: char| c.is_ascii_digit()).ok_or_else(|| format!("revision `{s}` has no number"))?;
+        let (prefix, rest) = s.split_at(digits);
+        if !prefix.chars().all(|c| c.is_ascii_alphabetic()) {
+            return Err(format!("revision `{s}`: expected letters then dotted numbers, e.g. `r5` or `v1.2`"));
+        }
+        let numbers = rest
+            .split('.')
+            .map(|n| n.parse::<u64>().map_err(|_| format!("revision `{s}`: `{n}` is not a number")))
+            .collect::<Result<Vec<_>, _>>()?;
+        Ok(Revision { prefix: prefix.to_ascii_lowercase(), numbers })
+    }
+}
+
+impl fmt::Display for Revision {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        let n: Vec<String> = self.numbers.iter().map(u64::to_string).collect();
+        write!(f, "{}{}", self.prefix, n.join("."))
+    }
+}
+
+/// An inclusive revision range: `r3..r7` (both ends included, like
+/// `r3..=r7`), `r3..`, `..r7` or a single `r5`.
+#[derive(Clone, Debug, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(try_from = "String", into = "String")]
+pub struct RevRange {
+    from: Option<Revision>,
+    to: Option<Revision>,
+}
+
+impl RevRange {
+    /// True if `rev` lies in the range (same prefix, numbers within bounds).
+    pub fn contains(&self, rev: &Revision) -> bool {
+        let same = |r: &Revision| r.prefix == rev.prefix;
+        self.from.as_ref().is_none_or(|f| same(f) && f <= rev) && self.to.as_ref().is_none_or(|t| same(t) && rev <= t)
+    }
+}
+
+impl TryFrom<String> for RevRange {
+    type Error = String;
+    fn try_from(s: String) -> Result<Self, String> {
+        let opt = |p: &str| if p.trim().is_empty() { Ok(None) } else { p.parse().map(Some) };
+        let r = if let Some((a, b)) = s.split_once("..") {
+            let b = b.strip_prefix('=').unwrap_or(b);
+            RevRange { from: opt(a)?, to: opt(b)? }
+        } else {
+            let r: Revision = s.parse()?;
+            RevRange { from: Some(r.clone()), to: Some(r) }
+        };
+        match (&r.from, &r.to) {
+            (None, None) => Err(format!("revision range `{s}` has no bound")),
+            (Some(a), Some(b)) if a.prefix != b.prefix => Err(format!("revision range `{s}` mixes prefixes")),
+            (Some(a), Some(b)) if a > b => Err(format!("revision range `{s}` is empty (start after end)")),
+            _ => Ok(r),
+        }
+    }
+}
+
+impl From<RevRange> for String {
+    fn from(r: RevRange) -> String {
+        r.to_string()
+    }
+}
+
+impl fmt::Display for RevRange {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        match (&self.from, &self.to) {
+            (Some(a), Some(b)) if a == b => write!(f, "{a}"),
+            (a, b) => {
+                if let Some(a) = a {
+                    write!(f, "{a}")?;
+                }
+                f.write_str("..")?;
+                if let Some(b) = b {
+                    write!(f, "{b}")?;
+                }
+                Ok(())
+            }
+        }
+    }
+}
+
+/// A DUT name glob (`*`, `?`, `[..]`), as the `glob` crate reads it.
+#[derive(Clone, Debug, PartialEq, Eq, PartialOrd, Ord, Serialize, Deserialize)]
+#[serde(try_from = "String", into = "String")]
+pub struct DutGlob(glob::Pattern);
+
+impl DutGlob {
+    /// True if `name` matches.
+    pub fn matches(&self, name: &str) -> bool {
+        self.0.matches(name)
+    }
+}
+
+impl TryFrom<String> for DutGlob {
+    type Error = String;
+    fn try_from(s: String) -> Result<Self, String> {
+        if s.trim().is_empty() {
+            return Err("empty DUT glob".into());
+        }
+        glob::Pattern::new(&s).map(DutGlob).map_err(|e| format!("bad DUT glob `{s}`: {e}"))
+    }
+}
+
+impl From<DutGlob> for String {
+    fn from(g: DutGlob) -> String {
+        g.0.as_str().to_string()
+    }
+}
+
+/// A CAN field named as `can_proto::Field`'s variant (`ActiveErrorFlag`).
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(try_from = "String", into = "String")]
+pub struct FieldName(pub Field);
+
+impl TryFrom<String> for FieldName {
+    type Error = String;
+    fn try_from(s: String) -> Result<Self, String> {
+        Field::from_name(&s).map(FieldName).ok_or_else(|| {
+            let all: Vec<String> = Field::ALL.iter().map(|f| f.name()).collect();
+            format!("unknown field `{s}`, expected one of {}", all.join(", "))
+        })
+    }
+}
+
+impl From<FieldName> for String {
+    fn from(f: FieldName) -> String {
+        f.0.name()
+    }
+}
+
+/// An inclusive frame-number range `a..b`, `a..`, `..b` or `n`.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(try_from = "String", into = "String")]
+pub struct FrameRange {
+    /// First frame (inclusive).
+    pub from: u32,
+    /// Last frame (inclusive).
+    pub to: u32,
+}
+
+impl FrameRange {
+    /// True if `n` is in the range.
+    pub fn contains(&self, n: u32) -> bool {
+        (self.from..=self.to).contains(&n)
+    }
+}
+
+impl TryFrom<String> for FrameRange {
+    type Error = String;
+    fn try_from(s: String) -> Result<Self, String> {
+        let num = |p: &str, dflt: u32| {
+            let p = p.trim();
+            if p.is_empty() { Ok(dflt) } else { p.parse::<u32>().map_err(|_| format!("frame range `{s}`: `{p}` is not a number")) }
+        };
+        let (from, to) = match s.split_once("..") {
+            Some((a, b)) => (num(a, 0)?, num(b.strip_prefix('=').unwrap_or(b), u32::MAX)?),
+            None => {
+                let n = num(&s, 0)?;
+                (n, n)
+            }
+        };
+        if from > to {
+            return Err(format!("frame range `{s}` is empty"));
+        }
+        Ok(FrameRange { from, to })
+    }
+}
+
+impl From<FrameRange> for String {
+    fn from(r: FrameRange) -> String {
+        match (r.from, r.to) {
+            (a, b) if a == b => a.to_string(),
+            (a, u32::MAX) => format!("{a}.."),
+            (a, b) => format!("{a}..{b}"),
+        }
+    }
+}
+
+/// The re-synchronisation a waiver allows, as written in the file.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(try_from = "String", into = "String")]
+pub enum ResyncSpec {
+    /// `none`: keep comparing, nothing adopted.
+    None,
+    /// `adopt-dut-tec`: the model takes the DUT's transmit error counter.
+    AdoptDutTec,
+    /// `adopt-dut-rec`: the model takes the DUT's receive error counter.
+    AdoptDutRec,
+    /// `adopt-dut-register`: the model takes the value the DUT returned for
+    /// the register read that diverged (needs `address`).
+    AdoptDutRegister,
+    /// `skip-bits N`: no comparison for N bit times from the divergence.
+    SkipBits(u32),
+}
+
+impl TryFrom<String> for ResyncSpec {
+    type Error = String;
+    fn try_from(s: String) -> Result<Self, String> {
+        let mut w = s.split_whitespace();
+        let r = match (w.next(), w.next(), w.next()) {
+            (Some("none"), None, _) => ResyncSpec::None,
+            (Some("adopt-dut-tec"), None, _) => ResyncSpec::AdoptDutTec,
+            (Some("adopt-dut-rec"), None, _) => ResyncSpec::AdoptDutRec,
+            (Some("adopt-dut-register"), None, _) => ResyncSpec::AdoptDutRegister,
+            (Some("skip-bits"), Some(n), None) => match n.parse::<u32>() {
+                Ok(n) if n > 0 => ResyncSpec::SkipBits(n),
+                _ => return Err(format!("`{s}`: skip-bits takes a positive number of bits")),
+            },
+            _ => {
+                return Err(format!(
+                    "unknown resync `{s}`, expected one of: none, adopt-dut-tec, adopt-dut-rec, adopt-dut-register, skip-bits N"
+                ));
+            }
+        };
+        Ok(r)
+    }
+}
+
+impl From<ResyncSpec> for String {
+    fn from(r: ResyncSpec) -> String {
+        match r {
+            ResyncSpec::None => "none".into(),
+            ResyncSpec::AdoptDutTec => "adopt-dut-tec".into(),
+            ResyncSpec::AdoptDutRec => "adopt-dut-rec".into(),
+            ResyncSpec::AdoptDutRegister => "adopt-dut-register".into(),
+            ResyncSpec::SkipBits(n) => format!("skip-bits {n}"),
+        }
+    }
+}
+
+/// One `[[waiver]]` table as written (see the module doc for the keys).
+#[derive(Debug, Deserialize)]
+#[serde(deny_unknown_fields, rename_all = "kebab-case")]
+pub(crate) struct RawWaiver {
+    pub id: Spanned<String>,
+    pub kind: KindName,
+    pub explanation: Spanned<String>,
+    pub dut: Spanned<Vec<DutGlob>>,
+    #[serde(default)]
+    pub revisions: Vec<RevRange>,
+    #[serde(default)]
+    pub fields: Option<Spanned<Vec<FieldName>>>,
+    pub register: Option<Spanned<String>>,
+    pub address: Option<u8>,
+    pub bits: Option<Spanned<Vec<u8>>>,
+    pub expected: Option<Vec<u32>>,
+    pub seen: Option<Vec<u32>>,
+    pub dut_tec: Option<Vec<u16>>,
+    pub dut_rec: Option<Vec<u16>>,
+    pub frames: Option<FrameRange>,
+    pub context: Option<String>,
+    pub late_bits: Option<Spanned<u32>>,
+    pub max_hits: Option<Spanned<u32>>,
+    pub resync: Spanned<Vec<ResyncSpec>>,
+}
+
+#[derive(Debug, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub(crate) struct RawFile {
+    #[serde(default)]
+    pub waiver: Vec<RawWaiver>,
+}
+
+/// Suggested entry, written by [`crate::suggest`] (same keys as the file).
+#[derive(Debug, Serialize)]
+#[serde(rename_all = "kebab-case")]
+pub(crate) struct OutWaiver {
+    pub id: String,
+    pub kind: KindName,
+    pub explanation: String,
+    pub dut: Vec<String>,
+    #[serde(skip_serializing_if = "Vec::is_empty")]
+    pub revisions: Vec<String>,
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub fields: Option<Vec<FieldName>>,
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub register: Option<String>,
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub address: Option<u8>,
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub bits: Option<Vec<u8>>,
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub expected: Option<Vec<u32>>,
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub seen: Option<Vec<u32>>,
+    pub resync: Vec<ResyncSpec>,
+}
+
+#[derive(Debug, Serialize)]
+pub(crate) struct OutFile {
+    pub waiver: Vec<OutWaiver>,
+}
+
+/// 1-based line of byte offset `at` in `src`.
+pub(crate) fn line_of(src: &str, at: usize) -> usize {
+    src[..at.min(src.len())].bytes().filter(|b| *b == b'\n').count() + 1
+}
+
+/// Turns a toml error into `file:line: key: message`: the key is the one
+/// the message names (missing/unknown field), else the key written on the
+/// line the error points at.
+pub(crate) fn from_toml(file: &str, src: &str, e: &toml::de::Error) -> WaiverError {
+    let message = e.message().trim().to_string();
+    let span = e.span().unwrap_or(0..0);
+    let line = line_of(src, span.start);
+    let quoted = |m: &str| m.split('`').nth(1).map(str::to_string);
+    let key = if message.starts_with("missing field") || message.starts_with("unknown field") {
+        quoted(&message)
+    } else {
+        None
+    }
+    .or_else(|| {
+        let text = src.lines().nth(line - 1).unwrap_or("");
+        text.split_once('=').map(|(k, _)| k.trim().trim_matches('"').to_string()).filter(|k| !k.is_empty())
+    })
+    .or_else(|| {
+        let text = src.lines().nth(line - 1).unwrap_or("").trim();
+        text.strip_prefix("[[").and_then(|t| t.strip_suffix("]]")).or_else(|| text.strip_prefix('[').and_then(|t| t.strip_suffix(']'))).map(str::to_string)
+    })
+    .unwrap_or_else(|| "waiver".into());
+    WaiverError::Invalid { file: file.into(), line, key, message }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn rev(s: &str) -> Revision {
+        s.parse().unwrap()
+    }
+
+    #[test]
+    fn revision_ranges_are_inclusive_and_prefix_bound() {
+        let r = RevRange::try_from("r3..r7".to_string()).unwrap();
+        assert!(!r.contains(&rev("r2")));
+        assert!(r.contains(&rev("r3")) && r.contains(&rev("r5")) && r.contains(&rev("r7")));
+        assert!(!r.contains(&rev("r8")));
+        assert!(!r.contains(&rev("v5")), "another prefix is another numbering");
+        assert!(!r.contains(&rev("r10")) && RevRange::try_from("r3..".to_string()).unwrap().contains(&rev("r10")));
+        let v = RevRange::try_from("v1.2..=v1.10".to_string()).unwrap();
+        assert!(v.contains(&rev("v1.9")) && v.contains(&rev("v1.10")) && !v.contains(&rev("v1.11")));
+        assert!(RevRange::try_from("..r4".to_string()).unwrap().contains(&rev("r0")));
+        assert!(RevRange::try_from("r5".to_string()).unwrap().contains(&rev("R5")));
+        for bad in ["..", "r7..r3", "r1..v2", "rx", "r1.a"] {
+            assert!(RevRange::try_from(bad.to_string()).is_err(), "{bad} must be rejected");
+        }
+        assert_eq!(String::from(RevRange::try_from("r3..=r7".to_string()).unwrap()), "r3..r7");
+    }
+
+    #[test]
+    fn resync_and_frames_spelling() {
+        assert_eq!(ResyncSpec::try_from("skip-bits 3".to_string()), Ok(ResyncSpec::SkipBits(3)));
+        assert!(ResyncSpec::try_from("skip-bits 0".to_string()).is_err());
+        assert!(ResyncSpec::try_from("skip-bits".to_string()).is_err());
+        assert!(ResyncSpec::try_from("adopt-tec".to_string()).is_err());
+        assert_eq!(String::from(ResyncSpec::SkipBits(2)), "skip-bits 2");
+        let f = FrameRange::try_from("2..4".to_string()).unwrap();
+        assert!(f.contains(2) && f.contains(4) && !f.contains(5) && !f.contains(1));
+        assert!(FrameRange::try_from("5..2".to_string()).is_err());
+    }
+}

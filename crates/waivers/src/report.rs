@@ -1,0 +1,251 @@
+//! What a run did with its divergences: waived ones apart from failures,
+//! stale waivers as warnings, in text, JSON and JUnit XML.
+
+use std::fmt::Write as _;
+
+use diagnose::{Divergence, DivergenceKind};
+use quick_xml::Writer;
+use quick_xml::events::BytesText;
+use serde::{Deserialize, Serialize};
+
+use crate::file::KindName;
+use crate::set::{DutInfo, WaiverSet};
+
+/// A divergence a waiver covered.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub struct Waived {
+    /// The divergence.
+    pub divergence: Divergence,
+    /// The waiver that covered it.
+    pub waiver_id: String,
+}
+
+/// A waiver that never matched during the run.
+#[derive(Clone, Debug, PartialEq, Eq, Serialize, Deserialize)]
+pub struct Stale {
+    /// Waiver id.
+    pub waiver_id: String,
+    /// Where it is written (`file:line`).
+    pub location: String,
+}
+
+/// The divergences of one run, sorted into waived and failures.
+///
+/// A run passes when there is no failure; stale waivers are warnings.
+#[derive(Clone, Debug, Default, PartialEq, Serialize, Deserialize)]
+pub struct WaiverReport {
+    /// DUT name.
+    pub dut: String,
+    /// DUT revision.
+    pub revision: Option<String>,
+    /// Waiver file (empty if none).
+    pub waiver_file: String,
+    /// Divergences covered by a waiver, in the order seen.
+    pub waived: Vec<Waived>,
+    /// Divergences no waiver covered, in the order seen.
+    pub failures: Vec<Divergence>,
+    /// Why nearby waivers did not cover a failure, one line each.
+    pub notes: Vec<String>,
+    /// Waivers that never matched.
+    pub stale: Vec<Stale>,
+    /// The comparator stopped at the first failure (`--stop-at-first`).
+    pub stopped_early: bool,
+}
+
+/// Counts for summaries.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize, Deserialize)]
+pub struct Counts {
+    /// Waived divergences.
+    pub waived: usize,
+    /// Failures.
+    pub failures: usize,
+    /// Stale waivers.
+    pub stale: usize,
+}
+
+/// One line describing a divergence: kind, where, values, context.
+pub fn describe(d: &Divergence) -> String {
+    let mut s = String::from(KindName::of(d.kind).as_str());
+    if let Some(r) = &d.register {
+        let _ = write!(s, " {r}");
+    }
+    if let Some(b) = d.bit {
+        let _ = write!(s, " at bit {b}");
+    }
+    let _ = write!(s, " ({} ps", d.time_ps);
+    if let Some(f) = d.frame {
+        let _ = write!(s, ", frame {f}");
+    }
+    if let Some(f) = d.field {
+        let _ = write!(s, ", {f:?}");
+    }
+    s.push(')');
+    match d.kind {
+        DivergenceKind::RegisterRead => {
+            let _ = write!(s, ": model 0x{:02X}, DUT 0x{:02X}", d.expected, d.seen);
+        }
+        _ => {
+            let _ = write!(s, ": model {}, DUT {}", d.expected, d.seen);
+        }
+    }
+    if !d.context.is_empty() {
+        let _ = write!(s, "; {}", d.context);
+    }
+    s
+}
+
+impl WaiverReport {
+    /// An empty report for `dut` checked against `set`.
+    pub fn new(set: &WaiverSet, dut: &DutInfo) -> Self {
+        WaiverReport { dut: dut.name.clone(), revision: dut.revision.clone(), waiver_file: set.name.clone(), ..Default::default() }
+    }
+
+    /// Fills `stale` from the set's hit counts (call at the end of the run).
+    pub fn finish(&mut self, set: &WaiverSet) {
+        self.stale = set
+            .stale()
+            .into_iter()
+            .map(|w| Stale { waiver_id: w.id.clone(), location: format!("{}:{}", set.name, w.line) })
+            .collect();
+    }
+
+    /// Counts.
+    pub fn counts(&self) -> Counts {
+        Counts { waived: self.waived.len(), failures: self.failures.len(), stale: self.stale.len() }
+    }
+
+    /// No unwaived divergence.
+    pub fn passed(&self) -> bool {
+        self.failures.is_empty()
+    }
+
+    /// One warning per stale waiver.
+    pub fn warnings(&self) -> Vec<String> {
+        self.stale
+            .iter()
+            .map(|s| format!("stale waiver `{}` ({}) never matched: remove it or check it still applies", s.waiver_id, s.location))
+            .collect()
+    }
+
+    fn dut_label(&self) -> String {
+        match &self.revision {
+            Some(r) => format!("{} {r}", self.dut),
+            None => self.dut.clone(),
+        }
+    }
+
+    /// Plain text: summary line, failures, waived, warnings, verdict.
+    pub fn to_text(&self) -> String {
+        let c = self.counts();
+        let mut s = String::new();
+        let file = if self.waiver_file.is_empty() { "no waiver file".into() } else { self.waiver_file.clone() };
+        let _ = writeln!(s, "waivers: {} against {file}", self.dut_label());
+        let _ = writeln!(
+            s,
+            "{} divergence(s): {} failure(s), {} waived; {} stale waiver(s){}",
+            c.failures + c.waived,
+            c.failures,
+            c.waived,
+            c.stale,
+            if self.stopped_early { "; stopped at the first failure (--stop-at-first)" } else { "" }
+        );
+        for d in &self.failures {
+            let _ = writeln!(s, "FAIL   {}", describe(d));
+        }
+        for n in &self.notes {
+            let _ = writeln!(s, "       note: {n}");
+        }
+        for w in &self.waived {
+            let _ = writeln!(s, "WAIVED [{}] {}", w.waiver_id, describe(&w.divergence));
+        }
+        for w in self.warnings() {
+            let _ = writeln!(s, "WARNING {w}");
+        }
+        let verdict = match (self.passed(), c.stale) {
+            (false, _) => "FAIL".to_string(),
+            (true, 0) => "PASS".to_string(),
+            (true, n) => format!("PASS with {n} warning(s)"),
+        };
+        let _ = writeln!(s, "result: {verdict}");
+        s
+    }
+
+    /// Pretty JSON of the whole report.
+    pub fn to_json(&self) -> String {
+        serde_json::to_string_pretty(self).expect("a WaiverReport always serialises")
+    }
+
+    /// A JUnit `<testsuite>`: one `<testcase>` per divergence, failures with
+    /// `<failure>`, waived ones with `<skipped message="waived by ID">`,
+    /// stale-waiver warnings in the suite's `<system-err>`. `suite` names it.
+    pub fn to_junit(&self, suite: &str) -> String {
+        let c = self.counts();
+        let mut w = Writer::new_with_indent(Vec::new(), b' ', 2);
+        let classname = format!("waivers.{}", self.dut);
+        let (tests, failures, skipped) = ((c.failures + c.waived).to_string(), c.failures.to_string(), c.waived.to_string());
+        w.create_element("testsuite")
+            .with_attributes([
+                ("name", suite),
+                ("tests", tests.as_str()),
+                ("failures", failures.as_str()),
+                ("errors", "0"),
+                ("skipped", skipped.as_str()),
+            ])
+            .write_inner_content(|w| {
+                let mut n = 0;
+                for d in &self.failures {
+                    n += 1;
+                    let name = format!("divergence {n}: {}", short(d));
+                    w.create_element("testcase")
+                        .with_attributes([("classname", classname.as_str()), ("name", name.as_str())])
+                        .write_inner_content(|w| {
+                            w.create_element("failure")
+                                .with_attributes([("message", describe(d).as_str()), ("type", KindName::of(d.kind).as_str())])
+                                .write_text_content(BytesText::new(&d.context))?;
+                            Ok(())
+                        })?;
+                }
+                for x in &self.waived {
+                    n += 1;
+                    let name = format!("divergence {n}: {}", short(&x.divergence));
+                    let msg = format!("waived by {}", x.waiver_id);
+                    w.create_element("testcase")
+                        .with_attributes([("classname", classname.as_str()), ("name", name.as_str())])
+                        .write_inner_content(|w| {
+                            w.create_element("skipped").with_attribute(("message", msg.as_str())).write_empty()?;
+                            w.create_element("system-out")
+                                .write_text_content(BytesText::new(&format!("{msg}: {}", describe(&x.divergence))))?;
+                            Ok(())
+                        })?;
+                }
+                let warnings = self.warnings();
+                if !warnings.is_empty() {
+                    let text = warnings.iter().map(|x| format!("warning: {x}")).collect::<Vec<_>>().join("\n");
+                    w.create_element("system-err").write_text_content(BytesText::new(&text))?;
+                }
+                Ok(())
+            })
+            .expect("writing XML to a Vec cannot fail");
+        String::from_utf8(w.into_inner()).expect("XML written from str is UTF-8")
+    }
+}
+
+/// Short name of a divergence for a JUnit test case.
+fn short(d: &Divergence) -> String {
+    let mut s = String::from(KindName::of(d.kind).as_str());
+    if let Some(r) = &d.register {
+        let _ = write!(s, " {r}");
+    }
+    if let Some(f) = d.field {
+        let _ = write!(s, " in {f:?}");
+    }
+    match d.bit {
+        Some(b) => {
+            let _ = write!(s, " at bit {b}");
+        }
+        None => {
+            let _ = write!(s, " at {} ps", d.time_ps);
+        }
+    }
+    s
+}

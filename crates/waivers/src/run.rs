@@ -1,0 +1,103 @@
+//! The comparator's side of the waivers: what to do after each divergence.
+
+use std::str::FromStr;
+
+use diagnose::Divergence;
+use serde::{Deserialize, Serialize};
+
+use crate::report::{WaiverReport, Waived};
+use crate::set::{DutInfo, Observed, Resync, Verdict, WaiverSet};
+
+/// What the comparator does with an unwaived divergence
+/// (`--stop-at-first` / `--collect`).
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize, Deserialize)]
+pub enum CollectMode {
+    /// Stop the comparison at the first unwaived divergence.
+    #[default]
+    StopAtFirst,
+    /// Record it and keep comparing, to see every divergence of the run.
+    Collect,
+}
+
+impl FromStr for CollectMode {
+    type Err = String;
+    fn from_str(s: &str) -> Result<Self, String> {
+        match s {
+            "stop-at-first" => Ok(CollectMode::StopAtFirst),
+            "collect" => Ok(CollectMode::Collect),
+            _ => Err(format!("unknown mode `{s}`: stop-at-first or collect")),
+        }
+    }
+}
+
+/// The comparator's next move after a divergence.
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub enum Action {
+    /// Waived: apply these steps (in order) and keep comparing.
+    Resync(Vec<Resync>),
+    /// Unwaived, collect mode: recorded as a failure; keep comparing.
+    Continue,
+    /// Unwaived, stop-at-first mode: recorded; end the comparison.
+    Stop,
+}
+
+/// One run's waiver bookkeeping: the set, the DUT, the mode and the report
+/// being built. The comparator calls [`Session::divergence`] for every
+/// divergence it finds and [`Session::finish`] at the end.
+#[derive(Debug)]
+pub struct Session {
+    set: WaiverSet,
+    dut: DutInfo,
+    mode: CollectMode,
+    report: WaiverReport,
+}
+
+impl Session {
+    /// A session for `dut` with these waivers (use [`WaiverSet::empty`] for none).
+    pub fn new(set: WaiverSet, dut: DutInfo, mode: CollectMode) -> Self {
+        let report = WaiverReport::new(&set, &dut);
+        Session { set, dut, mode, report }
+    }
+
+    /// The mode.
+    pub fn mode(&self) -> CollectMode {
+        self.mode
+    }
+
+    /// A divergence with nothing observed beyond it.
+    pub fn divergence(&mut self, d: Divergence) -> Action {
+        self.divergence_observed(d, &Observed::default())
+    }
+
+    /// A divergence, with what the comparator could observe of the DUT.
+    pub fn divergence_observed(&mut self, d: Divergence, obs: &Observed) -> Action {
+        match self.set.check_observed(&d, &self.dut, obs) {
+            Verdict::Waived { waiver_id, resync } => {
+                self.report.waived.push(Waived { divergence: d, waiver_id });
+                Action::Resync(resync)
+            }
+            Verdict::Failure => {
+                self.report.notes.extend(self.set.near_misses(&d, &self.dut, obs));
+                self.report.failures.push(d);
+                match self.mode {
+                    CollectMode::StopAtFirst => {
+                        self.report.stopped_early = true;
+                        Action::Stop
+                    }
+                    CollectMode::Collect => Action::Continue,
+                }
+            }
+        }
+    }
+
+    /// The report so far (stale waivers are filled in by `finish`).
+    pub fn report(&self) -> &WaiverReport {
+        &self.report
+    }
+
+    /// Ends the run: the report with stale waivers, and the set (hit counts).
+    pub fn finish(mut self) -> (WaiverReport, WaiverSet) {
+        self.report.finish(&self.set);
+        (self.report, self.set)
+    }
+}

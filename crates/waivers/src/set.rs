@@ -1,0 +1,477 @@
+//! A loaded waiver file and the matching of divergences against it.
+
+use std::collections::HashSet;
+use std::path::Path;
+
+use diagnose::{Divergence, DivergenceKind};
+use serde::{Deserialize, Serialize};
+
+use crate::file::{self, DutGlob, FrameRange, KindName, RawFile, RawWaiver, ResyncSpec, RevRange, Revision, WaiverError};
+
+/// The DUT a run compares: its name (as `RunRecord::dut`) and revision.
+#[derive(Clone, Debug, Default, PartialEq, Eq, Serialize, Deserialize)]
+pub struct DutInfo {
+    /// DUT name, matched against the waivers' `dut` globs.
+    pub name: String,
+    /// Revision (`r5`, `v1.2`), matched against `revisions`; a waiver with
+    /// revision ranges never matches a DUT of unknown revision.
+    pub revision: Option<String>,
+}
+
+impl DutInfo {
+    /// A DUT of unknown revision.
+    pub fn new(name: &str) -> Self {
+        DutInfo { name: name.into(), revision: None }
+    }
+
+    /// Sets the revision.
+    pub fn revision(mut self, rev: &str) -> Self {
+        self.revision = Some(rev.into());
+        self
+    }
+
+    fn label(&self) -> String {
+        match &self.revision {
+            Some(r) => format!("{} {r}", self.name),
+            None => self.name.clone(),
+        }
+    }
+}
+
+/// What the comparator can see of the DUT at the divergence, beyond the
+/// divergence itself. Used for the `dut-tec`/`dut-rec` bounds and to fill
+/// in the values to adopt; leave unknown what you cannot observe.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize, Deserialize)]
+pub struct Observed {
+    /// The DUT's transmit error counter (TXERR), if readable.
+    pub dut_tec: Option<u16>,
+    /// The DUT's receive error counter (RXERR), if readable.
+    pub dut_rec: Option<u16>,
+}
+
+/// A re-synchronisation step for the comparator, in the order given.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize)]
+pub enum Resync {
+    /// Set the model's TEC to the DUT's. `Some(v)`: the value (from the
+    /// diverging TXERR read or from [`Observed::dut_tec`]); `None`: the
+    /// comparator reads the DUT's TEC itself when it applies this.
+    AdoptTec(Option<u8>),
+    /// Set the model's REC to the DUT's (same convention as `AdoptTec`).
+    AdoptRec(Option<u8>),
+    /// Write `value` (what the DUT returned) into the model's register at `addr`.
+    AdoptRegister {
+        /// Register address in the view in force.
+        addr: u8,
+        /// The DUT's value.
+        value: u8,
+    },
+    /// Compare nothing for this many bit times from the divergence; the
+    /// adopt steps of the same verdict apply when comparison resumes.
+    SkipBits(u32),
+}
+
+/// The outcome of checking one divergence.
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub enum Verdict {
+    /// A waiver covers it: record it as waived, apply `resync`, go on.
+    Waived {
+        /// The waiver's `id`.
+        waiver_id: String,
+        /// Steps to apply, in order (empty for `resync = ["none"]`).
+        resync: Vec<Resync>,
+    },
+    /// No waiver covers it.
+    Failure,
+}
+
+/// One waiver, validated.
+#[derive(Clone, Debug)]
+pub struct Waiver {
+    /// Unique id (a rule name such as `tec-after-error-passive`).
+    pub id: String,
+    /// Divergence kind it covers.
+    pub kind: DivergenceKind,
+    /// Why the deviation is accepted.
+    pub explanation: String,
+    /// Line of the `id` key in the file.
+    pub line: usize,
+    /// DUT name globs.
+    pub dut: Vec<DutGlob>,
+    /// Revision ranges (empty: any revision, known or not).
+    pub revisions: Vec<RevRange>,
+    /// Fields the model may be in (tx-bit; empty: any).
+    pub fields: Vec<can_proto::Field>,
+    /// Register name (register-read), compared case-insensitively.
+    pub register: Option<String>,
+    /// Register address, needed by `adopt-dut-register`.
+    pub address: Option<u8>,
+    /// Register bits allowed to differ (register-read; `None`: any).
+    pub bits: Option<u8>,
+    /// Allowed model values.
+    pub expected: Option<Vec<u32>>,
+    /// Allowed DUT values.
+    pub seen: Option<Vec<u32>>,
+    /// Allowed DUT TEC values (needs [`Observed::dut_tec`]).
+    pub dut_tec: Option<Vec<u16>>,
+    /// Allowed DUT REC values (needs [`Observed::dut_rec`]).
+    pub dut_rec: Option<Vec<u16>>,
+    /// Frame numbers it applies to.
+    pub frames: Option<FrameRange>,
+    /// Text the divergence context must contain.
+    pub context: Option<String>,
+    /// The deviation may last at most this many bit times (see
+    /// [`WaiverSet::check`]).
+    pub late_bits: Option<u32>,
+    /// At most this many divergences are waived.
+    pub max_hits: Option<u32>,
+    /// Re-synchronisation allowed.
+    pub resync: Vec<ResyncSpec>,
+    /// Divergences waived so far.
+    pub hits: u32,
+    episode: Option<Episode>,
+}
+
+/// The current run of hits of one waiver, for the `late-bits` bound.
+#[derive(Clone, Copy, Debug)]
+struct Episode {
+    first_bit: u64,
+    covered_to: u64,
+}
+
+impl Waiver {
+    /// True if the waiver is for this DUT (name glob and revision range).
+    pub fn applies_to(&self, dut: &DutInfo) -> bool {
+        if !self.dut.iter().any(|g| g.matches(&dut.name)) {
+            return false;
+        }
+        if self.revisions.is_empty() {
+            return true;
+        }
+        match dut.revision.as_deref().map(str::parse::<Revision>) {
+            Some(Ok(r)) => self.revisions.iter().any(|rr| rr.contains(&r)),
+            _ => false,
+        }
+    }
+
+    /// Why the waiver does not cover `d` (bounds included, the `late-bits`
+    /// and `max-hits` history excluded), or `None` if it does.
+    pub fn mismatch(&self, d: &Divergence, dut: &DutInfo, obs: &Observed) -> Option<String> {
+        if d.kind != self.kind {
+            return Some("another kind".into());
+        }
+        if !self.applies_to(dut) {
+            return Some(format!("not for {}", dut.label()));
+        }
+        if !self.fields.is_empty() {
+            match d.field {
+                Some(f) if self.fields.contains(&f) => {}
+                f => return Some(format!("field {f:?} not in {:?}", self.fields)),
+            }
+        }
+        if let Some(r) = &self.register
+            && !d.register.as_deref().is_some_and(|x| x.eq_ignore_ascii_case(r))
+        {
+            return Some(format!("register {:?} is not {r}", d.register));
+        }
+        if let Some(mask) = self.bits {
+            let diff = d.expected ^ d.seen;
+            if diff & !(mask as u32) != 0 {
+                return Some(format!("bits 0x{diff:02X} differ, only 0x{mask:02X} allowed"));
+            }
+        }
+        if let Some(v) = &self.expected
+            && !v.contains(&d.expected)
+        {
+            return Some(format!("expected value {} not in {v:?}", d.expected));
+        }
+        if let Some(v) = &self.seen
+            && !v.contains(&d.seen)
+        {
+            return Some(format!("DUT value {} not in the allowed {v:?}", d.seen));
+        }
+        for (name, allowed, got) in [("TEC", &self.dut_tec, obs.dut_tec), ("REC", &self.dut_rec, obs.dut_rec)] {
+            if let Some(v) = allowed {
+                match got {
+                    Some(x) if v.contains(&x) => {}
+                    Some(x) => return Some(format!("DUT {name} {x} not in the allowed {v:?}")),
+                    None => return Some(format!("DUT {name} bound {v:?} but the comparator did not observe the DUT's {name}")),
+                }
+            }
+        }
+        if let Some(fr) = self.frames {
+            match d.frame {
+                Some(n) if fr.contains(n) => {}
+                n => return Some(format!("frame {n:?} outside {}", String::from(fr))),
+            }
+        }
+        if let Some(c) = &self.context
+            && !d.context.contains(c.as_str())
+        {
+            return Some(format!("context does not contain `{c}`"));
+        }
+        None
+    }
+
+    fn skip(&self) -> u64 {
+        self.resync.iter().map(|r| if let ResyncSpec::SkipBits(n) = r { *n as u64 } else { 0 }).max().unwrap_or(0)
+    }
+
+    fn resolve(&self, d: &Divergence, obs: &Observed) -> Vec<Resync> {
+        let read_of = |name: &str| {
+            (d.kind == DivergenceKind::RegisterRead && d.register.as_deref().is_some_and(|r| r.eq_ignore_ascii_case(name)))
+                .then(|| u8::try_from(d.seen).ok())
+                .flatten()
+        };
+        self.resync
+            .iter()
+            .filter_map(|r| match r {
+                ResyncSpec::None => None,
+                ResyncSpec::AdoptDutTec => {
+                    Some(Resync::AdoptTec(read_of("TXERR").or(obs.dut_tec.and_then(|t| u8::try_from(t).ok()))))
+                }
+                ResyncSpec::AdoptDutRec => {
+                    Some(Resync::AdoptRec(read_of("RXERR").or(obs.dut_rec.and_then(|t| u8::try_from(t).ok()))))
+                }
+                ResyncSpec::AdoptDutRegister => Some(Resync::AdoptRegister {
+                    addr: self.address.expect("validated at load: adopt-dut-register has an address"),
+                    value: d.seen as u8,
+                }),
+                ResyncSpec::SkipBits(n) => Some(Resync::SkipBits(*n)),
+            })
+            .collect()
+    }
+}
+
+/// The waivers of one file, with their hit counts.
+#[derive(Clone, Debug, Default)]
+pub struct WaiverSet {
+    /// File name (for messages).
+    pub name: String,
+    waivers: Vec<Waiver>,
+}
+
+impl WaiverSet {
+    /// An empty set: every divergence is a failure.
+    pub fn empty() -> Self {
+        WaiverSet::default()
+    }
+
+    /// Reads and validates a waiver file.
+    pub fn load(path: impl AsRef<Path>) -> Result<Self, WaiverError> {
+        let path = path.as_ref();
+        let name = path.display().to_string();
+        let src = std::fs::read_to_string(path).map_err(|source| WaiverError::Io { file: name.clone(), source })?;
+        Self::parse(&src, &name)
+    }
+
+    /// Parses waiver-file text; `name` is the file name used in errors.
+    pub fn parse(src: &str, name: &str) -> Result<Self, WaiverError> {
+        let raw: RawFile = toml::from_str(src).map_err(|e| file::from_toml(name, src, &e))?;
+        let mut ids = HashSet::new();
+        let mut waivers = Vec::with_capacity(raw.waiver.len());
+        for w in raw.waiver {
+            let line = file::line_of(src, w.id.span().start);
+            if !ids.insert(w.id.get_ref().clone()) {
+                return Err(invalid(name, line, "id", format!("duplicate waiver id `{}`", w.id.get_ref())));
+            }
+            waivers.push(validate(name, src, w)?);
+        }
+        Ok(WaiverSet { name: name.into(), waivers })
+    }
+
+    /// The waivers, in file order.
+    pub fn waivers(&self) -> &[Waiver] {
+        &self.waivers
+    }
+
+    /// The waiver with this id.
+    pub fn get(&self, id: &str) -> Option<&Waiver> {
+        self.waivers.iter().find(|w| w.id == id)
+    }
+
+    /// [`WaiverSet::check_observed`] with nothing observed beyond the divergence.
+    pub fn check(&mut self, d: &Divergence, dut: &DutInfo) -> Verdict {
+        self.check_observed(d, dut, &Observed::default())
+    }
+
+    /// Checks a divergence against the waivers in file order; the first
+    /// that covers it counts a hit and gives the verdict.
+    ///
+    /// `late-bits = N` bounds how long one deviation may last: hits of a
+    /// waiver at most max(N, its `skip-bits`) + 1 bits apart form one
+    /// episode, and a hit that would make the episode span more than N bit
+    /// times is not waived (nor is the rest of that episode). `max-hits`
+    /// bounds the total.
+    pub fn check_observed(&mut self, d: &Divergence, dut: &DutInfo, obs: &Observed) -> Verdict {
+        let bit = d.bit.unwrap_or(0);
+        for w in &mut self.waivers {
+            if w.mismatch(d, dut, obs).is_some() {
+                continue;
+            }
+            if w.max_hits.is_some_and(|m| w.hits >= m) {
+                continue;
+            }
+            if let Some(late) = w.late_bits {
+                let reach = w.skip().max(late as u64);
+                match w.episode {
+                    Some(e) if bit >= e.first_bit && bit <= e.covered_to + 1 => {
+                        // Same deviation still going on: it stays one episode
+                        // (even once rejected), so it cannot restart the count.
+                        w.episode = Some(Episode { first_bit: e.first_bit, covered_to: bit + reach });
+                        if bit - e.first_bit + 1 > late as u64 {
+                            continue;
+                        }
+                    }
+                    _ => w.episode = Some(Episode { first_bit: bit, covered_to: bit + reach }),
+                }
+            }
+            w.hits += 1;
+            return Verdict::Waived { waiver_id: w.id.clone(), resync: w.resolve(d, obs) };
+        }
+        Verdict::Failure
+    }
+
+    /// For a divergence no waiver covers: each waiver of the same kind for
+    /// this DUT and why it did not apply (a bound, the episode, max-hits),
+    /// so a near miss is reported rather than hidden.
+    pub fn near_misses(&self, d: &Divergence, dut: &DutInfo, obs: &Observed) -> Vec<String> {
+        self.waivers
+            .iter()
+            .filter(|w| w.kind == d.kind && w.applies_to(dut))
+            .map(|w| match w.mismatch(d, dut, obs) {
+                Some(why) => format!("waiver `{}` ({}:{}) does not apply: {why}", w.id, self.name, w.line),
+                None if w.max_hits.is_some_and(|m| w.hits >= m) => {
+                    format!("waiver `{}` ({}:{}) already used its max-hits = {}", w.id, self.name, w.line, w.hits)
+                }
+                None => format!(
+                    "waiver `{}` ({}:{}) does not apply: the deviation lasts longer than late-bits = {}",
+                    w.id,
+                    self.name,
+                    w.line,
+                    w.late_bits.unwrap_or(0)
+                ),
+            })
+            .collect()
+    }
+
+    /// Waivers that never matched (stale).
+    pub fn stale(&self) -> Vec<&Waiver> {
+        self.waivers.iter().filter(|w| w.hits == 0).collect()
+    }
+
+    /// Hit count of a waiver.
+    pub fn hits(&self, id: &str) -> Option<u32> {
+        self.get(id).map(|w| w.hits)
+    }
+
+    /// Forgets hit counts and episodes (a new run with the same file).
+    pub fn reset_hits(&mut self) {
+        for w in &mut self.waivers {
+            w.hits = 0;
+            w.episode = None;
+        }
+    }
+}
+
+fn invalid(file: &str, line: usize, key: &str, message: String) -> WaiverError {
+    WaiverError::Invalid { file: file.into(), line, key: key.into(), message }
+}
+
+/// Checks the keys against each other (the per-key checks ran in serde).
+fn validate(name: &str, src: &str, w: RawWaiver) -> Result<Waiver, WaiverError> {
+    let at = |span: std::ops::Range<usize>| file::line_of(src, span.start);
+    let id_line = at(w.id.span());
+    let id = w.id.into_inner();
+    let bad_id = id.is_empty() || !id.chars().all(|c| c.is_ascii_alphanumeric() || c == '-' || c == '_' || c == '.');
+    if bad_id {
+        return Err(invalid(name, id_line, "id", format!("`{id}`: use letters, digits, `-`, `_`, `.`")));
+    }
+    let explanation_line = at(w.explanation.span());
+    let explanation = w.explanation.into_inner();
+    let e = explanation.trim();
+    if e.len() < 10 || e.starts_with("TODO") {
+        return Err(invalid(
+            name,
+            explanation_line,
+            "explanation",
+            format!("waiver `{id}` needs a real explanation of why the deviation is accepted"),
+        ));
+    }
+    if w.dut.get_ref().is_empty() {
+        return Err(invalid(name, at(w.dut.span()), "dut", format!("waiver `{id}` names no DUT")));
+    }
+    let kind = w.kind.kind();
+    if let Some(f) = &w.fields
+        && w.kind != KindName::TxBit
+    {
+        return Err(invalid(name, at(f.span()), "fields", format!("`fields` is for kind tx-bit, not {}", w.kind.as_str())));
+    }
+    if let Some(r) = &w.register
+        && w.kind != KindName::RegisterRead
+    {
+        return Err(invalid(name, at(r.span()), "register", format!("`register` is for kind register-read, not {}", w.kind.as_str())));
+    }
+    let mut bits = None;
+    if let Some(b) = &w.bits {
+        if w.kind != KindName::RegisterRead {
+            return Err(invalid(name, at(b.span()), "bits", format!("`bits` is for kind register-read, not {}", w.kind.as_str())));
+        }
+        let mut mask = 0u8;
+        for &n in b.get_ref() {
+            if n > 7 {
+                return Err(invalid(name, at(b.span()), "bits", format!("register bit {n} out of 0..=7")));
+            }
+            mask |= 1 << n;
+        }
+        bits = Some(mask);
+    }
+    let resync_line = at(w.resync.span());
+    let resync = w.resync.into_inner();
+    if resync.is_empty() {
+        return Err(invalid(name, resync_line, "resync", "say what the comparator may do: e.g. [\"none\"]".into()));
+    }
+    if resync.len() > 1 && resync.contains(&ResyncSpec::None) {
+        return Err(invalid(name, resync_line, "resync", "`none` cannot be combined with other steps".into()));
+    }
+    if resync.contains(&ResyncSpec::AdoptDutRegister) && (w.kind != KindName::RegisterRead || w.address.is_none()) {
+        return Err(invalid(
+            name,
+            resync_line,
+            "resync",
+            "adopt-dut-register needs kind = \"register-read\" and the register's `address`".into(),
+        ));
+    }
+    if let Some(l) = &w.late_bits
+        && *l.get_ref() == 0
+    {
+        return Err(invalid(name, at(l.span()), "late-bits", "late-bits = 0 would never waive anything".into()));
+    }
+    if let Some(m) = &w.max_hits
+        && *m.get_ref() == 0
+    {
+        return Err(invalid(name, at(m.span()), "max-hits", "max-hits = 0 would never waive anything".into()));
+    }
+    Ok(Waiver {
+        id,
+        kind,
+        explanation,
+        line: id_line,
+        dut: w.dut.into_inner(),
+        revisions: w.revisions,
+        fields: w.fields.map(|f| f.into_inner().into_iter().map(|f| f.0).collect()).unwrap_or_default(),
+        register: w.register.map(|r| r.into_inner()),
+        address: w.address,
+        bits,
+        expected: w.expected,
+        seen: w.seen,
+        dut_tec: w.dut_tec,
+        dut_rec: w.dut_rec,
+        frames: w.frames,
+        context: w.context,
+        late_bits: w.late_bits.map(|l| l.into_inner()),
+        max_hits: w.max_hits.map(|m| m.into_inner()),
+        resync,
+        hits: 0,
+        episode: None,
+    })
+}
