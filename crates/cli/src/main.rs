@@ -26,6 +26,18 @@ enum Command {
     /// Write the Nios _regs.h, PIO header, Platform Designer _hw.tcl, register docs and Verilog include.
     #[command(after_help = "Examples:\n  cancosim gen --out out/gen\n  cancosim gen --out ip/can --prefix MY_CAN --spacing word")]
     Gen(cmd::generate::Args),
+    /// Play a scenario on its DUT in lockstep with the golden model and print the diagnosis.
+    #[command(after_help = "Examples:\n  cancosim run tb/de2-thesis.toml\n  cancosim run tb/de2-thesis.toml --dut model --vcd out/thesis.vcd\n  cancosim run tb/de2-with-ack-node.toml --external ~/can/rtl/verilog --define CAN_WISHBONE_IF --include ~/can/rtl/verilog")]
+    Run(cmd::run::Args),
+    /// Same as run, for an external core given by path (co-simulation against the golden model).
+    #[command(after_help = "Examples:\n  cancosim cosim tb/de2-with-ack-node.toml --external ~/can/rtl/verilog --top can_top --define CAN_WISHBONE_IF --include ~/can/rtl/verilog --vcd out/upstream.vcd")]
+    Cosim(cmd::run::Args),
+    /// Run every scenario of a list against one or more DUTs: table, JUnit, shards.
+    #[command(after_help = "Examples:\n  cancosim regress\n  cancosim regress tb/regression.list --dut rtl --dut model --junit out/junit.xml\n  cancosim regress --external upstream=/tmp/can/rtl/verilog --shard 1/2")]
+    Regress(cmd::regress::Args),
+    /// Explain a saved run record (from run --record).
+    #[command(after_help = "Examples:\n  cancosim run tb/de2-thesis.toml --record out/thesis.json\n  cancosim diagnose out/thesis.json --json")]
+    Diagnose(cmd::diagnose::Args),
 }
 
 fn main() {
@@ -34,6 +46,9 @@ fn main() {
         Command::Bittiming(a) => cmd::bittiming::run(a),
         Command::Decode(a) => cmd::decode::run(a),
         Command::Gen(a) => cmd::generate::run(a),
+        Command::Run(a) | Command::Cosim(a) => cmd::run::run_cmd(a),
+        Command::Regress(a) => cmd::regress::run(a),
+        Command::Diagnose(a) => cmd::diagnose::run(a),
     };
     match result {
         Ok(code) => std::process::exit(code),

@@ -1,6 +1,9 @@
 //! One module per subcommand.
 pub mod bittiming;
 pub mod decode;
+pub mod diagnose;
+pub mod regress;
+pub mod run;
 pub mod generate;
 
 /// Parses "24MHz", "16e6", "500k", "125000", "1M" into a number.

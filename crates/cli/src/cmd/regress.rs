@@ -1,0 +1,75 @@
+//! `regress`: every scenario of a list against one or more DUTs, in
+//! parallel; a DUT x scenario table, JUnit XML, shards for CI matrices.
+
+use anyhow::Context;
+use scenario::regress::{RegressOptions, parse_shard};
+use scenario::{DutSpec, regress};
+use std::path::PathBuf;
+
+/// Arguments of `cancosim regress`.
+#[derive(clap::Args)]
+pub struct Args {
+    /// Regression list (one scenario path per line) or scenario files.
+    #[arg(default_value = "tb/regression.list")]
+    inputs: Vec<PathBuf>,
+    /// Bundled DUTs to run against (repeatable): rtl, model.
+    #[arg(long = "dut", value_parser = ["rtl", "model"])]
+    duts: Vec<String>,
+    /// External core as NAME=DIR (repeatable; top `can_top`, define CAN_WISHBONE_IF, DIR as include dir).
+    #[arg(long = "external", value_name = "NAME=DIR")]
+    externals: Vec<String>,
+    /// Worker threads (0 = one per core).
+    #[arg(long, short, default_value_t = 0)]
+    jobs: usize,
+    /// Run only shard k of n (e.g. 2/4).
+    #[arg(long, value_parser = parse_shard)]
+    shard: Option<(usize, usize)>,
+    /// Write JUnit XML here.
+    #[arg(long)]
+    junit: Option<PathBuf>,
+    /// Override every scenario's run length, in bit times.
+    #[arg(long)]
+    max_bits: Option<u64>,
+}
+
+/// Runs the subcommand: exit 0 only when every pair passed.
+pub fn run(a: Args) -> anyhow::Result<i32> {
+    let mut scenarios = Vec::new();
+    for p in &a.inputs {
+        if p.extension().is_some_and(|e| e == "toml") {
+            scenarios.push(scenario::Scenario::load(p)?);
+        } else {
+            scenarios.extend(scenario::load_list(p)?);
+        }
+    }
+    let mut duts: Vec<DutSpec> = a
+        .duts
+        .iter()
+        .map(|d| if d == "model" { DutSpec::model() } else { DutSpec::rtl() })
+        .collect();
+    for e in &a.externals {
+        let (name, dir) = e.split_once('=').with_context(|| format!("--external {e}: expected NAME=DIR"))?;
+        let mut d = DutSpec::external(name, dir, "can_top");
+        if let scenario::DutKind::External { defines, includes, .. } = &mut d.kind {
+            defines.push("CAN_WISHBONE_IF".into());
+            includes.push(dir.into());
+        }
+        duts.push(d);
+    }
+    if duts.is_empty() {
+        duts.push(DutSpec::rtl());
+    }
+    let opts = RegressOptions {
+        jobs: a.jobs,
+        shard: a.shard,
+        progress: std::io::IsTerminal::is_terminal(&std::io::stderr()),
+        max_bits: a.max_bits,
+    };
+    let report = regress(&scenarios, &duts, &opts);
+    print!("{}", report.to_table());
+    if let Some(p) = &a.junit {
+        std::fs::write(p, report.to_junit()).with_context(|| format!("writing {}", p.display()))?;
+        println!("JUnit: {}", p.display());
+    }
+    Ok(report.exit_code())
+}

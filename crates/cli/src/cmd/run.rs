@@ -1,0 +1,106 @@
+//! `run` and `cosim`: play one scenario on a DUT in lockstep with the golden
+//! model, print the numbered steps' verdict and the diagnosis.
+
+use anyhow::Context;
+use scenario::{DutSpec, RunOptions, Scenario, run};
+use std::path::PathBuf;
+
+/// Which DUT to run against, when not the scenario's own.
+#[derive(clap::Args, Clone, Debug, Default)]
+pub struct DutArgs {
+    /// Bundled DUT instead of the scenario's: `rtl` (our can_top) or `model` (the golden model).
+    #[arg(long, value_parser = ["rtl", "model"], conflicts_with = "external")]
+    pub dut: Option<String>,
+    /// An external core's directory (Verilog files with the opencores can_top port list).
+    #[arg(long, value_name = "DIR")]
+    pub external: Option<PathBuf>,
+    /// Top module of the external core.
+    #[arg(long, default_value = "can_top", requires = "external")]
+    pub top: String,
+    /// Verilog define for the external core (repeatable), e.g. CAN_WISHBONE_IF.
+    #[arg(long = "define", value_name = "NAME[=VALUE]", requires = "external")]
+    pub defines: Vec<String>,
+    /// Include directory for the external core (repeatable).
+    #[arg(long = "include", value_name = "DIR", requires = "external")]
+    pub includes: Vec<PathBuf>,
+    /// Name of the external core in reports.
+    #[arg(long, requires = "external")]
+    pub name: Option<String>,
+}
+
+impl DutArgs {
+    /// The DUT these arguments select, if any.
+    pub fn spec(&self) -> Option<DutSpec> {
+        if let Some(dir) = &self.external {
+            let name = self.name.clone().unwrap_or_else(|| dir.display().to_string());
+            let mut d = DutSpec::external(&name, dir.clone(), &self.top);
+            if let scenario::DutKind::External { defines, includes, .. } = &mut d.kind {
+                defines.clone_from(&self.defines);
+                includes.clone_from(&self.includes);
+            }
+            return Some(d);
+        }
+        match self.dut.as_deref() {
+            Some("rtl") => Some(DutSpec::rtl()),
+            Some("model") => Some(DutSpec::model()),
+            _ => None,
+        }
+    }
+}
+
+/// Arguments of `cancosim run` / `cancosim cosim`.
+#[derive(clap::Args)]
+pub struct Args {
+    /// Scenario file (tb/*.toml).
+    scenario: PathBuf,
+    #[command(flatten)]
+    dut: DutArgs,
+    /// Write a VCD (DUT ports, model, bus, decoded fields) here.
+    #[arg(long)]
+    vcd: Option<PathBuf>,
+    /// Save the run record (JSON) for `cancosim diagnose`.
+    #[arg(long)]
+    record: Option<PathBuf>,
+    /// Print the diagnosis as JSON instead of text.
+    #[arg(long)]
+    json: bool,
+    /// Override the scenario's run length, in bit times.
+    #[arg(long)]
+    max_bits: Option<u64>,
+}
+
+/// Runs the subcommand: exit 0 when the outcome matches the scenario's `[expect]`.
+pub fn run_cmd(a: Args) -> anyhow::Result<i32> {
+    let s = Scenario::load(&a.scenario)?;
+    let opts = RunOptions { dut: a.dut.spec(), vcd: a.vcd.clone(), max_bits: a.max_bits };
+    if !a.json {
+        println!("{}", s.header());
+    }
+    let out = run(&s, &opts);
+    if let Some(p) = &a.record {
+        let json = serde_json::to_string_pretty(&out.record).context("serialising the run record")?;
+        std::fs::write(p, json).with_context(|| format!("writing {}", p.display()))?;
+    }
+    if a.json {
+        println!("{}", out.diagnosis.to_json());
+    } else {
+        println!("DUT: {}   wall time: {:.2} s", out.dut, out.wall.as_secs_f64());
+        for (node, n) in &out.received {
+            println!("node {node}: {n} frame(s) received");
+        }
+        println!();
+        println!("{}", out.diagnosis.to_text());
+        if let Some(p) = &a.vcd {
+            println!("waveform: {}", p.display());
+        }
+        if out.passed {
+            println!("scenario: PASS (outcome as expected)");
+        } else {
+            println!("scenario: FAIL");
+            for m in &out.mismatches {
+                println!("  - {m}");
+            }
+        }
+    }
+    Ok(if out.passed { 0 } else { 1 })
+}
