@@ -18,6 +18,9 @@
 //     bit error (ECC direction TX, TEC + 8), node 0 (receiver) an error with
 //     ECC direction RX; the retransmission succeeds (TEC 8 - 1 = 7); then a
 //     dominant first intermission bit: overload frame, counters unchanged.
+//  9. Listen only + single shot: node 0 in listen-only mode never drives the
+//     bus (no ACK), node 1's single-shot frame fails once with an ACK error
+//     (TEC + 8), is not repeated (TBS = 1, TCS = 0); node 0's RXERR frozen.
 //  7. PeliCAN single acceptance filter (ID + RTR + data byte 1), extended
 //     8-byte frames in the RX FIFO, FIFO overrun (DOS, DOI, RMC), RRB/RBSA.
 // Exits with $fatal on the first failure; prints "PASS" at the end.
@@ -211,6 +214,8 @@ module tb_can;
     endtask
 
     reg [7:0] q, rbsa0, rec0;
+    reg tx0_dom = 0, watch_tx0 = 0;
+    always @(posedge clk0) if (watch_tx0 && !tx0) tx0_dom <= 1;
     // glitch injector (test 8): one dominant bit on the bus, centred on
     // node 1's next sample point after the chosen position
     integer glitch_at = 0, ovl_seen = 0;
@@ -510,6 +515,24 @@ module tb_can;
         rd(0, 8'd14, q);
         if (q != rec0 - 8'd1 && !(rec0 == 0 && q == 0)) fail("node 0 RXERR: only the reception decrement expected");
         expect_reg(0, 8'd29, 8'd2, "node 0 received the second frame");
+
+        // ================= 9. listen only + single shot =================
+        $display("9. listen-only node, single-shot transmission");
+        while (q != 0) begin rd(0, 8'd29, q); if (q != 0) wr(0, 8'd1, 8'h04); end
+        wr(0, 8'd0, 8'h01); wr(0, 8'd14, 8'd5); wr(0, 8'd0, 8'h02);   // LOM, RXERR = 5
+        wr(1, 8'd0, 8'h01); wr(1, 8'd15, 8'd0); wr(1, 8'd0, 8'h00);
+        wait_bits(14);
+        tx0_dom = 0; watch_tx0 = 1;
+        wr(1, 8'd16, 8'h01); wr(1, 8'd17, 8'h24); wr(1, 8'd18, 8'h60); wr(1, 8'd19, 8'h11);
+        wr(1, 8'd1, 8'h03);                 // TR + AT: single shot
+        wait_bits(120);
+        watch_tx0 = 0;
+        if (tx0_dom) fail("listen-only node drove a dominant bit");
+        rd(1, 8'd2, q);
+        if (q[2] !== 1'b1 || q[3] !== 1'b0) fail("single shot: TBS = 1, TCS = 0 expected");
+        expect_reg(1, 8'd15, 8'd8, "node 1 TXERR: one attempt only");
+        expect_reg(0, 8'd14, 8'd5, "listen-only RXERR frozen");
+        expect_reg(0, 8'd29, 8'd0, "nothing received (the frame failed)");
 
         $display("PASS (Wishbone accesses %0d..%0d wb_clk_i cycles)", lat_min, lat_max);
         $finish;
