@@ -294,6 +294,7 @@ pub struct Bus {
     accounting: bool,
     external: bool,
     rx_scratch: Vec<bool>,
+    last_ctx: BusContext,
 }
 
 impl Bus {
@@ -442,6 +443,7 @@ impl Bus {
         self.tracker.step(self.clock, level, 1, cpb);
         let sub = ((self.clock - self.tracker.start) % cpb) as u32;
         let ctx = self.context(sub);
+        self.last_ctx = ctx;
         for i in 0..self.nodes.len() {
             let mut rx = self.rx_delay[i].push(level);
             for f in &mut self.faults {
@@ -452,6 +454,20 @@ impl Bus {
         self.clock += 1;
         self.collect();
         level
+    }
+
+    /// What an external participant receives for the clock just run by
+    /// [`Bus::clock_with`]: the bus level through the fault injectors, with
+    /// the participant as node index [`Bus::len`] (so `Target::All` and
+    /// `Target::Node(bus.len())` reach it).
+    pub fn external_rx(&mut self) -> bool {
+        let ctx = self.last_ctx;
+        let me = self.nodes.len();
+        let mut rx = self.level;
+        for f in &mut self.faults {
+            rx = f.apply(&ctx, me, rx);
+        }
+        rx
     }
 
     /// Runs `n` clocks.
