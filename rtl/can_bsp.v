@@ -267,7 +267,9 @@ module can_bsp (
             end else if (st == S_OFF) begin
                 st <= bus_off ? S_BUSOFF : S_INTEG; rcnt <= 4'd0;
             end else if (st == S_BUSOFF && !bus_off) begin
-                st <= S_IDLE;
+                // recovered: bus idle; a request written meanwhile starts now
+                if (can_tx) begin st <= S_SOF; txr <= 1'b1; end
+                else st <= S_IDLE;
             end else if (sample && (!bus_off || st == S_BUSOFF)) begin
                 if (err) begin
                     // ---- error detected: error flag from the next bit ----
