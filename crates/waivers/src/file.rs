@@ -296,7 +296,8 @@ pub enum ResyncSpec {
     /// `adopt-dut-register`: the model takes the value the DUT returned for
     /// the register read that diverged (needs `address`).
     AdoptDutRegister,
-    /// `skip-bits N`: no comparison for N bit times from the divergence.
+    /// `skip-bits N`: N bit times are not compared, the diverging one
+    /// included (`skip-bits 1` forgives that bit only).
     SkipBits(u32),
 }
 

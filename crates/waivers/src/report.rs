@@ -105,7 +105,7 @@ impl WaiverReport {
         self.stale = set
             .stale()
             .into_iter()
-            .map(|w| Stale { waiver_id: w.id.clone(), location: format!("{}:{}", set.name, w.line) })
+            .map(|w| Stale { waiver_id: w.id.clone(), location: format!("{}:{}", w.file, w.line) })
             .collect();
     }
 

@@ -65,7 +65,8 @@ pub enum Resync {
         /// The DUT's value.
         value: u8,
     },
-    /// Compare nothing for this many bit times from the divergence; the
+    /// Compare nothing for this many bit times, counting the diverging bit
+    /// as the first (`SkipBits(1)`: compare again from the next bit); the
     /// adopt steps of the same verdict apply when comparison resumes.
     SkipBits(u32),
 }
@@ -93,6 +94,8 @@ pub struct Waiver {
     pub kind: DivergenceKind,
     /// Why the deviation is accepted.
     pub explanation: String,
+    /// File it comes from.
+    pub file: String,
     /// Line of the `id` key in the file.
     pub line: usize,
     /// DUT name globs.
@@ -212,6 +215,12 @@ impl Waiver {
         None
     }
 
+    /// Same field (tx-bit) and register as `d`, where the waiver names them.
+    fn same_place(&self, d: &Divergence) -> bool {
+        (self.fields.is_empty() || d.field.is_some_and(|f| self.fields.contains(&f)))
+            && self.register.as_ref().is_none_or(|r| d.register.as_deref().is_some_and(|x| x.eq_ignore_ascii_case(r)))
+    }
+
     fn skip(&self) -> u64 {
         self.resync.iter().map(|r| if let ResyncSpec::SkipBits(n) = r { *n as u64 } else { 0 }).max().unwrap_or(0)
     }
@@ -279,6 +288,27 @@ impl WaiverSet {
         Ok(WaiverSet { name: name.into(), waivers })
     }
 
+    /// Adds the waivers of another file after these (`--waivers a --waivers b`).
+    pub fn merge(&mut self, other: WaiverSet) -> Result<(), WaiverError> {
+        for w in other.waivers {
+            if let Some(old) = self.get(&w.id) {
+                return Err(invalid(
+                    &w.file,
+                    w.line,
+                    "id",
+                    format!("waiver id `{}` already defined at {}:{}", w.id, old.file, old.line),
+                ));
+            }
+            self.waivers.push(w);
+        }
+        if self.name.is_empty() {
+            self.name = other.name;
+        } else if !other.name.is_empty() {
+            self.name = format!("{}, {}", self.name, other.name);
+        }
+        Ok(())
+    }
+
     /// The waivers, in file order.
     pub fn waivers(&self) -> &[Waiver] {
         &self.waivers
@@ -331,22 +361,22 @@ impl WaiverSet {
         Verdict::Failure
     }
 
-    /// For a divergence no waiver covers: each waiver of the same kind for
-    /// this DUT and why it did not apply (a bound, the episode, max-hits),
+    /// For a divergence no waiver covers: each waiver of the same kind,
+    /// field and register for this DUT and why it did not apply (a bound, the episode, max-hits),
     /// so a near miss is reported rather than hidden.
     pub fn near_misses(&self, d: &Divergence, dut: &DutInfo, obs: &Observed) -> Vec<String> {
         self.waivers
             .iter()
-            .filter(|w| w.kind == d.kind && w.applies_to(dut))
+            .filter(|w| w.kind == d.kind && w.applies_to(dut) && w.same_place(d))
             .map(|w| match w.mismatch(d, dut, obs) {
-                Some(why) => format!("waiver `{}` ({}:{}) does not apply: {why}", w.id, self.name, w.line),
+                Some(why) => format!("waiver `{}` ({}:{}) does not apply: {why}", w.id, w.file, w.line),
                 None if w.max_hits.is_some_and(|m| w.hits >= m) => {
-                    format!("waiver `{}` ({}:{}) already used its max-hits = {}", w.id, self.name, w.line, w.hits)
+                    format!("waiver `{}` ({}:{}) already used its max-hits = {}", w.id, w.file, w.line, w.hits)
                 }
                 None => format!(
                     "waiver `{}` ({}:{}) does not apply: the deviation lasts longer than late-bits = {}",
                     w.id,
-                    self.name,
+                    w.file,
                     w.line,
                     w.late_bits.unwrap_or(0)
                 ),
@@ -455,6 +485,7 @@ fn validate(name: &str, src: &str, w: RawWaiver) -> Result<Waiver, WaiverError> 
         id,
         kind,
         explanation,
+        file: name.into(),
         line: id_line,
         dut: w.dut.into_inner(),
         revisions: w.revisions,

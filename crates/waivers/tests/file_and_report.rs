@@ -1,0 +1,306 @@
+//! The waiver file (matching, errors), the report renderings and the
+//! suggestions.
+
+use can_proto::Field;
+use diagnose::{Divergence, DivergenceKind};
+use quick_xml::Reader;
+use quick_xml::events::Event;
+use waivers::{CollectMode, DutInfo, Resync, Session, Verdict, WaiverError, WaiverReport, WaiverSet, suggest};
+
+fn tx_div(bit: u64, field: Field) -> Divergence {
+    Divergence {
+        kind: DivergenceKind::TxBit,
+        bit: Some(bit),
+        field: Some(field),
+        expected: 1,
+        seen: 0,
+        context: "flag".into(),
+        ..Divergence::default()
+    }
+}
+
+fn read_div(reg: &str, expected: u32, seen: u32) -> Divergence {
+    Divergence { kind: DivergenceKind::RegisterRead, bit: Some(5), register: Some(reg.into()), expected, seen, ..Divergence::default() }
+}
+
+const GENERIC: &str = r#"
+[[waiver]]
+id = "flag"
+kind = "tx-bit"
+dut = ["*opencores-can*", "rtl-r?"]
+revisions = ["r3..r7", "v2.1.."]
+explanation = "an accepted deviation, for the tests"
+resync = ["skip-bits 2"]
+"#;
+
+#[test]
+fn dut_globs_and_revision_ranges() {
+    let mut set = WaiverSet::parse(GENERIC, "g.toml").unwrap();
+    let d = tx_div(10, Field::Crc);
+    let cases = [
+        (DutInfo::new("/x/opencores-can").revision("r3"), true),
+        (DutInfo::new("/x/opencores-can").revision("r7"), true),
+        (DutInfo::new("/x/opencores-can").revision("r8"), false),
+        (DutInfo::new("/x/opencores-can").revision("r2"), false),
+        (DutInfo::new("/x/opencores-can"), false), // revision unknown
+        (DutInfo::new("opencores-can-fork").revision("v2.1.4"), true),
+        (DutInfo::new("opencores-can-fork").revision("v2.0"), false),
+        (DutInfo::new("rtl-rb").revision("r4"), true),
+        (DutInfo::new("rtl-rbb").revision("r4"), false),
+        (DutInfo::new("rtl").revision("r4"), false),
+        (DutInfo::new("model").revision("r4"), false),
+    ];
+    for (dut, want) in cases {
+        let got = set.check(&d, &dut);
+        assert_eq!(matches!(got, Verdict::Waived { .. }), want, "{dut:?}: {got:?}");
+        if want {
+            assert_eq!(got, Verdict::Waived { waiver_id: "flag".into(), resync: vec![Resync::SkipBits(2)] });
+        }
+    }
+    // No revisions key: any revision, even unknown.
+    let mut any = WaiverSet::parse(&GENERIC.replace("revisions = [\"r3..r7\", \"v2.1..\"]\n", ""), "a.toml").unwrap();
+    assert!(matches!(any.check(&d, &DutInfo::new("/x/opencores-can")), Verdict::Waived { .. }));
+    // Kind must match.
+    assert_eq!(set.check(&read_div("SR", 0, 0x40), &DutInfo::new("/x/opencores-can").revision("r5")), Verdict::Failure);
+}
+
+#[test]
+fn register_bounds_bits_values_and_adopted_values() {
+    let src = r#"
+[[waiver]]
+id = "es-late"
+kind = "register-read"
+register = "sr"
+bits = [6]
+dut = ["*"]
+explanation = "ES is set a little late by this core"
+resync = ["none"]
+
+[[waiver]]
+id = "btr0-bit7"
+kind = "register-read"
+register = "address 4"
+address = 4
+expected = [0xFF]
+seen = [0x7F, 0x7E]
+dut = ["*"]
+explanation = "bit 7 of address 4 is not implemented"
+resync = ["adopt-dut-register"]
+
+[[waiver]]
+id = "txerr"
+kind = "register-read"
+register = "TXERR"
+seen = [136]
+dut = ["*"]
+explanation = "the TEC ends at 136 on this core"
+resync = ["adopt-dut-tec", "adopt-dut-rec"]
+"#;
+    let mut set = WaiverSet::parse(src, "r.toml").unwrap();
+    let dut = DutInfo::new("any");
+    assert_eq!(set.check(&read_div("SR", 0x0C, 0x4C), &dut), Verdict::Waived { waiver_id: "es-late".into(), resync: vec![] });
+    assert_eq!(set.check(&read_div("SR", 0x0C, 0xCC), &dut), Verdict::Failure, "BS differs too");
+    assert_eq!(
+        set.check(&read_div("address 4", 0xFF, 0x7F), &dut),
+        Verdict::Waived { waiver_id: "btr0-bit7".into(), resync: vec![Resync::AdoptRegister { addr: 4, value: 0x7F }] }
+    );
+    assert_eq!(set.check(&read_div("address 4", 0xFF, 0x3F), &dut), Verdict::Failure, "0x3F not allowed");
+    assert_eq!(set.check(&read_div("address 4", 0xFE, 0x7F), &dut), Verdict::Failure, "model value not allowed");
+    assert_eq!(
+        set.check(&read_div("TXERR", 128, 136), &dut),
+        Verdict::Waived { waiver_id: "txerr".into(), resync: vec![Resync::AdoptTec(Some(136)), Resync::AdoptRec(None)] }
+    );
+    assert_eq!(set.check(&read_div("TXERR", 128, 144), &dut), Verdict::Failure);
+    assert_eq!(set.hits("es-late"), Some(1));
+    assert_eq!(set.hits("btr0-bit7"), Some(1));
+    let notes = set.near_misses(&read_div("address 4", 0xFF, 0x3F), &dut, &Default::default());
+    assert_eq!(notes.len(), 1, "only the waiver for that register: {notes:?}");
+    assert!(notes[0].contains("btr0-bit7") && notes[0].contains("r.toml:12") && notes[0].contains("not in the allowed"), "{notes:?}");
+}
+
+#[test]
+fn fields_frames_context_and_max_hits_bound_a_tx_waiver() {
+    let src = r#"
+[[waiver]]
+id = "f"
+kind = "tx-bit"
+fields = ["ActiveErrorFlag"]
+frames = "2..3"
+context = "flag"
+max-hits = 2
+dut = ["d"]
+explanation = "bounded on purpose for the test"
+resync = ["none"]
+"#;
+    let mut set = WaiverSet::parse(src, "f.toml").unwrap();
+    let dut = DutInfo::new("d");
+    let at = |frame: u32, field: Field| Divergence { frame: Some(frame), ..tx_div(frame as u64 * 100, field) };
+    assert_eq!(set.check(&at(2, Field::Crc), &dut), Verdict::Failure, "field");
+    assert_eq!(set.check(&at(1, Field::ActiveErrorFlag), &dut), Verdict::Failure, "frame");
+    assert_eq!(set.check(&Divergence { context: "x".into(), ..at(2, Field::ActiveErrorFlag) }, &dut), Verdict::Failure, "context");
+    assert!(matches!(set.check(&at(2, Field::ActiveErrorFlag), &dut), Verdict::Waived { .. }));
+    assert!(matches!(set.check(&at(3, Field::ActiveErrorFlag), &dut), Verdict::Waived { .. }));
+    assert_eq!(set.check(&at(3, Field::ActiveErrorFlag), &dut), Verdict::Failure, "max-hits");
+}
+
+fn err(src: &str) -> (usize, String, String) {
+    match WaiverSet::parse(src, "bad.toml") {
+        Err(WaiverError::Invalid { file, line, key, message }) => {
+            assert_eq!(file, "bad.toml");
+            let e = WaiverSet::parse(src, "bad.toml").unwrap_err().to_string();
+            assert!(e.starts_with(&format!("bad.toml:{line}: {key}: ")), "{e}");
+            (line, key, message)
+        }
+        other => panic!("expected an error for\n{src}\ngot {other:?}"),
+    }
+}
+
+#[test]
+fn malformed_files_name_file_line_and_key() {
+    let base = GENERIC.trim_start();
+    // Unknown key.
+    let (line, key, msg) = err(&base.replace("resync =", "colour = \"red\"\nresync ="));
+    assert_eq!((line, key.as_str()), (7, "colour"), "{msg}");
+    // Bad values, each on its own line.
+    let (line, key, msg) = err(&base.replace("\"r3..r7\"", "\"r7..r3\""));
+    assert_eq!((line, key.as_str()), (5, "revisions"), "{msg}");
+    assert!(msg.contains("empty"), "{msg}");
+    let (line, key, msg) = err(&base.replace("skip-bits 2", "skip 2"));
+    assert_eq!((line, key.as_str()), (7, "resync"), "{msg}");
+    let (line, key, _) = err(&base.replace("tx-bit", "tx-bits"));
+    assert_eq!((line, key.as_str()), (3, "kind"));
+    let (line, key, _) = err(&base.replace("rtl-r?", "rtl-[r"));
+    assert_eq!((line, key.as_str()), (4, "dut"));
+    // Missing key.
+    let (_, key, _) = err(&base.replace("explanation = \"an accepted deviation, for the tests\"\n", ""));
+    assert_eq!(key, "explanation");
+    // Checks across keys.
+    let (line, key, _) = err(&base.replace("explanation = \"an accepted deviation, for the tests\"", "explanation = \"TODO\""));
+    assert_eq!((line, key.as_str()), (6, "explanation"));
+    let (line, key, _) = err(&base.replace("kind = \"tx-bit\"", "kind = \"tx-bit\"\nregister = \"SR\""));
+    assert_eq!((line, key.as_str()), (4, "register"));
+    let (line, key, _) = err(&base.replace("skip-bits 2", "adopt-dut-register"));
+    assert_eq!((line, key.as_str()), (7, "resync"));
+    let (line, key, _) = err(&format!("{base}\n{base}"));
+    assert_eq!((line, key.as_str()), (10, "id"), "duplicate id at the second entry");
+    let (_, key, _) = err("[[waivers]]\nid = \"x\"\n");
+    assert_eq!(key, "waivers");
+    // Syntax error.
+    let (line, _, _) = err(&base.replace("id = \"flag\"", "id = flag"));
+    assert_eq!(line, 2);
+    // Unreadable file.
+    assert!(matches!(WaiverSet::load("/nonexistent/w.toml"), Err(WaiverError::Io { .. })));
+}
+
+#[test]
+fn the_shipped_file_loads_from_disk_and_names_the_upstream_deviation() {
+    let path = concat!(env!("CARGO_MANIFEST_DIR"), "/../../tb/waivers/opencores-upstream.toml");
+    let set = WaiverSet::load(path).unwrap();
+    let w = set.get("tec-after-error-passive").unwrap();
+    assert!(w.explanation.contains("one bit after TEC reaches 128") && w.explanation.contains("136"));
+    assert!(w.applies_to(&DutInfo::new("/work/cores/opencores-can")));
+    assert!(!w.applies_to(&DutInfo::new("rtl")), "our own core is not waived");
+    assert!(!w.applies_to(&DutInfo::new("model")));
+}
+
+fn sample_report() -> WaiverReport {
+    let mut s = Session::new(WaiverSet::parse(GENERIC, "g.toml").unwrap(), DutInfo::new("/x/opencores-can").revision("r4"), CollectMode::Collect);
+    s.divergence(tx_div(7, Field::ActiveErrorFlag));
+    s.divergence(read_div("IR", 0x01, 0x00));
+    s.divergence(Divergence { context: "a <b> & \"c\"".into(), ..read_div("SR", 0x0C, 0x4C) });
+    let (mut r, _) = s.finish();
+    r.stale.push(waivers::Stale { waiver_id: "never".into(), location: "h.toml:2".into() });
+    r
+}
+
+#[test]
+fn report_counts_text_and_json() {
+    let r = sample_report();
+    let c = r.counts();
+    assert_eq!((c.waived, c.failures, c.stale), (1, 2, 1));
+    assert!(!r.passed());
+    let t = r.to_text();
+    assert!(t.contains("3 divergence(s): 2 failure(s), 1 waived; 1 stale waiver(s)"), "{t}");
+    assert!(t.contains("FAIL   register-read IR at bit 5"), "{t}");
+    assert!(t.contains("WAIVED [flag] tx-bit at bit 7"), "{t}");
+    assert!(t.ends_with("result: FAIL\n"), "{t}");
+    let back: WaiverReport = serde_json::from_str(&r.to_json()).unwrap();
+    assert_eq!(back, r);
+    let v: serde_json::Value = serde_json::from_str(&r.to_json()).unwrap();
+    assert_eq!(v["waived"][0]["waiver_id"], "flag");
+    assert_eq!(v["failures"][1]["register"], "SR");
+}
+
+#[test]
+fn junit_keeps_waived_apart_from_failures_and_parses_back() {
+    let r = sample_report();
+    let xml = r.to_junit("de2-loopback");
+    let mut reader = Reader::from_str(&xml);
+    let (mut failures, mut skipped, mut cases, mut suite_attrs, mut skip_msgs, mut err_text) = (0, 0, 0, None, vec![], String::new());
+    let mut in_err = false;
+    loop {
+        match reader.read_event().unwrap() {
+            Event::Start(e) | Event::Empty(e) => {
+                let attr = |k: &str| e.try_get_attribute(k).unwrap().map(|a| a.unescape_value().unwrap().into_owned());
+                match e.name().as_ref() {
+                    b"testsuite" => suite_attrs = Some((attr("tests"), attr("failures"), attr("skipped"))),
+                    b"testcase" => cases += 1,
+                    b"failure" => {
+                        failures += 1;
+                        assert!(attr("message").unwrap().starts_with("register-read"), "{xml}");
+                    }
+                    b"skipped" => {
+                        skipped += 1;
+                        skip_msgs.push(attr("message").unwrap());
+                    }
+                    b"system-err" => in_err = true,
+                    _ => {}
+                }
+            }
+            Event::Text(t) if in_err => err_text.push_str(&t.xml_content().unwrap()),
+            Event::End(e) if e.name().as_ref() == b"system-err" => in_err = false,
+            Event::Eof => break,
+            _ => {}
+        }
+    }
+    assert_eq!((cases, failures, skipped), (3, 2, 1), "{xml}");
+    assert_eq!(suite_attrs, Some((Some("3".into()), Some("2".into()), Some("1".into()))));
+    assert_eq!(skip_msgs, ["waived by flag"]);
+    assert!(err_text.contains("stale waiver `never`"), "{xml}");
+    assert!(xml.contains("a &lt;b&gt; &amp;"), "context escaped: {xml}");
+}
+
+#[test]
+fn suggestions_are_candidates_that_need_an_explanation() {
+    let dut = DutInfo::new("/x/opencores-can").revision("r5");
+    let divs = vec![
+        tx_div(100, Field::PassiveErrorFlag),
+        tx_div(101, Field::PassiveErrorFlag),
+        read_div("TXERR", 128, 136),
+        read_div("SR", 0x0C, 0x4C),
+        read_div("address 4", 0xFF, 0x7F),
+    ];
+    let text = suggest(&divs, &dut);
+    assert!(text.contains("NOT applied"), "{text}");
+    // Not usable as is: the TODO explanation is rejected.
+    let e = WaiverSet::parse(&text, "s.toml").unwrap_err();
+    assert!(matches!(&e, WaiverError::Invalid { key, .. } if key == "explanation"), "{e}");
+    // After an engineer writes why, every suggested entry covers its divergences.
+    let edited = text.replace("TODO: why is this deviation accepted?", "Accepted after review:");
+    let mut set = WaiverSet::parse(&edited, "s.toml").unwrap();
+    assert_eq!(set.waivers().len(), 4, "{edited}");
+    let mut resyncs = vec![];
+    for d in &divs {
+        match set.check(d, &dut) {
+            Verdict::Waived { resync, .. } => resyncs.push(resync),
+            Verdict::Failure => panic!("suggestion does not cover {d:?}:\n{edited}"),
+        }
+    }
+    assert_eq!(resyncs[0], [Resync::SkipBits(2)], "the two consecutive bits");
+    assert_eq!(resyncs[2], [Resync::AdoptTec(Some(136))]);
+    assert_eq!(resyncs[4], [Resync::AdoptRegister { addr: 4, value: 0x7F }]);
+    assert!(set.stale().is_empty());
+    // Bounded by what was seen: another SR bit is not covered.
+    assert_eq!(set.check(&read_div("SR", 0x0C, 0x8C), &dut), Verdict::Failure);
+    assert_eq!(set.check(&read_div("SR", 0x0C, 0x4C), &DutInfo::new("/x/opencores-can").revision("r6")), Verdict::Failure);
+}
