@@ -18,7 +18,10 @@ const BITS: u64 = 200_000;
 fn engines_only(seed: u64, bits: u64) -> u64 {
     let mut rng = StdRng::seed_from_u64(seed);
     let t = BusTiming::from_btr(0x41, 0x25);
-    let mut e = [Engine::new(t, Options::default()), Engine::new(t, Options::default())];
+    let mut e = [
+        Engine::new(t, Options::default()),
+        Engine::new(t, Options::default()),
+    ];
     for x in &mut e {
         x.set_reset_mode(false);
         x.request_tx(random_frame(&mut rng), false, false);
@@ -26,18 +29,18 @@ fn engines_only(seed: u64, bits: u64) -> u64 {
     let mut done = 0;
     for _ in 0..bits {
         let level = e[0].tx() & e[1].tx();
-        for i in 0..2 {
-            e[i].sample_bit(level);
-            if e[i].has_events() {
+        for x in &mut e {
+            x.sample_bit(level);
+            if x.has_events() {
                 let mut again = false;
-                for ev in e[i].take_events() {
+                for ev in x.take_events() {
                     if ev == Event::TxComplete {
                         again = true;
                         done += 1;
                     }
                 }
                 if again {
-                    e[i].request_tx(random_frame(&mut rng), false, false);
+                    x.request_tx(random_frame(&mut rng), false, false);
                 }
             }
         }

@@ -13,8 +13,8 @@ use std::fmt;
 use can_proto::{CanFrame, RECESSIVE};
 use rand::{RngExt, SeedableRng, rngs::StdRng};
 
-use crate::controller::{NodeEvent, RxOutcome, Sja1000};
 use crate::FaultState;
+use crate::controller::{NodeEvent, RxOutcome, Sja1000};
 
 /// Where the bus is, as a fault injector sees it.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
@@ -78,14 +78,23 @@ pub struct StuckAt {
 impl StuckAt {
     /// Stuck at `level` for `target`, from now on.
     pub fn forever(level: bool, target: Target) -> Self {
-        StuckAt { level, target, from: 0, until: None }
+        StuckAt {
+            level,
+            target,
+            from: 0,
+            until: None,
+        }
     }
 }
 
 impl FaultInjector for StuckAt {
     fn apply(&mut self, ctx: &BusContext, node: usize, level: bool) -> bool {
         let on = ctx.clock >= self.from && self.until.is_none_or(|u| ctx.clock < u);
-        if on && self.target.hits(node) { self.level } else { level }
+        if on && self.target.hits(node) {
+            self.level
+        } else {
+            level
+        }
     }
 }
 
@@ -104,7 +113,11 @@ impl FlipBit {
     /// A flip at a seeded random position: frame in `0..frames`, bit in `0..bits`.
     pub fn random(seed: u64, frames: u64, bits: u32, target: Target) -> Self {
         let mut rng = StdRng::seed_from_u64(seed);
-        FlipBit { frame: rng.random_range(0..frames.max(1)), bit: rng.random_range(0..bits.max(1)), target }
+        FlipBit {
+            frame: rng.random_range(0..frames.max(1)),
+            bit: rng.random_range(0..bits.max(1)),
+            target,
+        }
     }
 }
 
@@ -137,7 +150,14 @@ pub struct Glitch {
 impl Glitch {
     /// A glitch at a seeded random place: frame in `0..frames`, bit in
     /// `0..bits`, offset anywhere in a bit of `clocks_per_bit`, 1..=`max_width` clocks.
-    pub fn random(seed: u64, frames: u64, bits: u32, clocks_per_bit: u32, max_width: u32, target: Target) -> Self {
+    pub fn random(
+        seed: u64,
+        frames: u64,
+        bits: u32,
+        clocks_per_bit: u32,
+        max_width: u32,
+        target: Target,
+    ) -> Self {
         let mut rng = StdRng::seed_from_u64(seed);
         Glitch {
             frame: rng.random_range(0..frames.max(1)),
@@ -155,7 +175,11 @@ impl FaultInjector for Glitch {
             && ctx.frame_bit == self.bit
             && ctx.sub >= self.offset
             && ctx.sub < self.offset + self.width;
-        if inside && self.target.hits(node) { !level } else { level }
+        if inside && self.target.hits(node) {
+            !level
+        } else {
+            level
+        }
     }
 
     fn needs_clocks(&self) -> bool {
@@ -256,7 +280,9 @@ pub struct Accounting {
 #[derive(Clone, Debug, PartialEq, Eq, thiserror::Error)]
 pub enum AccountingError {
     /// A node on the bus neither received a completed frame nor signalled an error.
-    #[error("frame {frame:?} sent by node {sender} at clock {clock} never reached node {receiver}, which was on the bus and signalled no error")]
+    #[error(
+        "frame {frame:?} sent by node {sender} at clock {clock} never reached node {receiver}, which was on the bus and signalled no error"
+    )]
     Lost {
         /// The frame.
         frame: CanFrame,
@@ -268,7 +294,9 @@ pub enum AccountingError {
         clock: u64,
     },
     /// A node received a frame nobody sent.
-    #[error("node {receiver} received {frame:?} at clock {clock} but no node sent it and no error frame explains it")]
+    #[error(
+        "node {receiver} received {frame:?} at clock {clock} but no node sent it and no error frame explains it"
+    )]
     Phantom {
         /// The frame.
         frame: CanFrame,
@@ -300,7 +328,11 @@ pub struct Bus {
 impl Bus {
     /// An empty bus, accounting on.
     pub fn new() -> Self {
-        Bus { level: RECESSIVE, accounting: true, ..Default::default() }
+        Bus {
+            level: RECESSIVE,
+            accounting: true,
+            ..Default::default()
+        }
     }
 
     /// Adds a node (configured or not); returns its index.
@@ -308,7 +340,11 @@ impl Bus {
         let i = self.nodes.len();
         node.set_journal(self.accounting);
         if self.accounting {
-            self.ledger.push(Entry { clock: self.clock, node: i, event: NodeEvent::ResetMode(node.in_reset_mode()) });
+            self.ledger.push(Entry {
+                clock: self.clock,
+                node: i,
+                event: NodeEvent::ResetMode(node.in_reset_mode()),
+            });
         }
         self.nodes.push(node);
         self.tx_delay.push(DelayLine::new(0));
@@ -382,7 +418,9 @@ impl Bus {
 
     /// Clocks per bit of the reference timing (node 0).
     pub fn clocks_per_bit(&self) -> u32 {
-        self.nodes.first().map_or(1, |n| n.engine().timing().clocks_per_bit())
+        self.nodes
+            .first()
+            .map_or(1, |n| n.engine().timing().clocks_per_bit())
     }
 
     /// Bit times run so far (reference timing).
@@ -405,7 +443,9 @@ impl Bus {
             clock: self.clock,
             frame: self.tracker.frame,
             frame_bit: match self.tracker.frame {
-                Some(_) => ((self.clock - self.tracker.start) / self.clocks_per_bit() as u64) as u32,
+                Some(_) => {
+                    ((self.clock - self.tracker.start) / self.clocks_per_bit() as u64) as u32
+                }
                 None => 0,
             },
             sub,
@@ -416,7 +456,9 @@ impl Bus {
     /// True when [`Bus::run_bits`] can use the per-bit fast path: every
     /// node has the same timing, no propagation delay, no glitch.
     pub fn fast_path_ok(&self) -> bool {
-        let Some(first) = self.nodes.first() else { return false };
+        let Some(first) = self.nodes.first() else {
+            return false;
+        };
         let t = first.engine().timing();
         self.nodes.iter().all(|n| n.engine().timing() == t)
             && self.delays.iter().all(|&d| d == 0)
@@ -542,7 +584,12 @@ impl Bus {
         for (i, n) in self.nodes.iter_mut().enumerate() {
             if n.journal_pending() {
                 let clock = self.clock;
-                self.ledger.extend(n.take_journal().into_iter().map(|event| Entry { clock, node: i, event }));
+                self.ledger
+                    .extend(n.take_journal().into_iter().map(|event| Entry {
+                        clock,
+                        node: i,
+                        event,
+                    }));
             }
         }
     }
@@ -560,15 +607,23 @@ impl Bus {
         let mut acc = Accounting::default();
         let frame_start = |t: u64| -> u64 {
             let i = self.tracker.starts.partition_point(|&s| s <= t);
-            if i == 0 { 0 } else { self.tracker.starts[i - 1] }
+            if i == 0 {
+                0
+            } else {
+                self.tracker.starts[i - 1]
+            }
         };
         // The ledger is in time order: look only at entries near `t`.
         let near = |t: u64| {
             let lo = self.ledger.partition_point(|x| x.clock + window < t);
-            self.ledger[lo..].iter().take_while(move |x| x.clock <= t + window)
+            self.ledger[lo..]
+                .iter()
+                .take_while(move |x| x.clock <= t + window)
         };
         for e in &self.ledger {
-            let NodeEvent::Sent(frame) = e.event else { continue };
+            let NodeEvent::Sent(frame) = e.event else {
+                continue;
+            };
             acc.sent += 1;
             let start = frame_start(e.clock);
             for r in 0..self.nodes.len() {
@@ -585,16 +640,28 @@ impl Bus {
                         RxOutcome::Overrun => acc.overruns += 1,
                         RxOutcome::Filtered | RxOutcome::ExtendedInBasicCan => acc.filtered += 1,
                     },
-                    _ if self.off_bus(r, start.saturating_sub(11 * cpb), e.clock) => acc.off_bus += 1,
+                    _ if self.off_bus(r, start.saturating_sub(11 * cpb), e.clock) => {
+                        acc.off_bus += 1
+                    }
                     _ if self.has_error(r, start, e.clock + window) => acc.error_frames += 1,
                     _ => {
-                        return Err(AccountingError::Lost { frame, sender: e.node, receiver: r, clock: e.clock });
+                        return Err(AccountingError::Lost {
+                            frame,
+                            sender: e.node,
+                            receiver: r,
+                            clock: e.clock,
+                        });
                     }
                 }
             }
         }
         for e in &self.ledger {
-            let NodeEvent::Received { frame, own: false, .. } = e.event else { continue };
+            let NodeEvent::Received {
+                frame, own: false, ..
+            } = e.event
+            else {
+                continue;
+            };
             let sent = near(e.clock).any(|x| x.node != e.node && x.event == NodeEvent::Sent(frame));
             if sent {
                 continue;
@@ -603,10 +670,12 @@ impl Bus {
             // not (an error at its last EOF bit, or an ACK error while error
             // passive: its passive flag is recessive): it retransmits.
             let start = frame_start(e.clock);
-            let dup = (0..self.nodes.len()).any(|s| s != e.node && self.has_error(s, start, e.clock + window));
+            let dup = (0..self.nodes.len())
+                .any(|s| s != e.node && self.has_error(s, start, e.clock + window));
             // The sender left the bus (reset mode, sleep, bus-off) after the
             // receivers took the frame and before its own last EOF bit.
-            let cut = (0..self.nodes.len()).any(|s| s != e.node && self.off_bus(s, e.clock, e.clock + window));
+            let cut = (0..self.nodes.len())
+                .any(|s| s != e.node && self.off_bus(s, e.clock, e.clock + window));
             if e.clock + window > self.clock {
                 // The sender completes one bit after the receivers (EOF):
                 // the run stopped in between.
@@ -618,7 +687,11 @@ impl Bus {
             } else if self.external {
                 acc.external += 1;
             } else {
-                return Err(AccountingError::Phantom { frame, receiver: e.node, clock: e.clock });
+                return Err(AccountingError::Phantom {
+                    frame,
+                    receiver: e.node,
+                    clock: e.clock,
+                });
             }
         }
         Ok(acc)
@@ -630,12 +703,24 @@ impl Bus {
         let mut carry = vec![];
         for r in 0..self.nodes.len() {
             let n = &self.nodes[r];
-            carry.push(Entry { clock: self.clock, node: r, event: NodeEvent::ResetMode(n.in_reset_mode()) });
+            carry.push(Entry {
+                clock: self.clock,
+                node: r,
+                event: NodeEvent::ResetMode(n.in_reset_mode()),
+            });
             if n.is_sleeping() {
-                carry.push(Entry { clock: self.clock, node: r, event: NodeEvent::Sleep(true) });
+                carry.push(Entry {
+                    clock: self.clock,
+                    node: r,
+                    event: NodeEvent::Sleep(true),
+                });
             }
             if n.bus_off() {
-                carry.push(Entry { clock: self.clock, node: r, event: NodeEvent::FaultState(FaultState::BusOff) });
+                carry.push(Entry {
+                    clock: self.clock,
+                    node: r,
+                    event: NodeEvent::FaultState(FaultState::BusOff),
+                });
             }
         }
         self.ledger = carry;

@@ -11,7 +11,9 @@ use can_proto::timing::BusTiming;
 use can_proto::{CanFrame, FrameTrait, Id};
 use std::sync::OnceLock;
 
-use regmap::{Access, Mode, OpMode, RegError, Register, RegisterView, ResetValue, Target, basic, peli};
+use regmap::{
+    Access, Mode, OpMode, RegError, Register, RegisterView, ResetValue, Target, basic, peli,
+};
 
 use crate::fifo::RxFifo;
 use crate::filter::{self, FilterMode};
@@ -84,25 +86,41 @@ impl std::fmt::Display for WriteOutcome {
         match *self {
             WriteOutcome::Applied => write!(f, "write applied"),
             WriteOutcome::IgnoredNotInResetMode { reg } => {
-                write!(f, "{reg} written outside reset mode: it is writable in reset mode only, the write was ignored")
+                write!(
+                    f,
+                    "{reg} written outside reset mode: it is writable in reset mode only, the write was ignored"
+                )
             }
             WriteOutcome::BitsIgnoredNotInResetMode { reg, bits } => write!(
                 f,
                 "{reg} bits {bits:#04x} written outside reset mode: they are writable in reset mode only and kept their value"
             ),
             WriteOutcome::BitsIgnoredInResetMode { reg, bits } => {
-                write!(f, "{reg} bits {bits:#04x} cannot be set in reset mode and kept their value")
+                write!(
+                    f,
+                    "{reg} bits {bits:#04x} cannot be set in reset mode and kept their value"
+                )
             }
             WriteOutcome::IgnoredInResetMode { reg } => {
-                write!(f, "{reg} written in reset mode: it is writable in operating mode only, the write was ignored")
+                write!(
+                    f,
+                    "{reg} written in reset mode: it is writable in operating mode only, the write was ignored"
+                )
             }
             WriteOutcome::IgnoredTxBufferLocked { reg } => write!(
                 f,
                 "{reg} written while the TX buffer is locked (SR.TBS = 0, a transmission is pending): the write was ignored"
             ),
-            WriteOutcome::IgnoredReadOnly { reg } => write!(f, "{reg} is read only: the write was ignored"),
-            WriteOutcome::IgnoredReserved => write!(f, "nothing is writable at this address: the write was ignored"),
-            WriteOutcome::CommandIgnored { command, reason } => write!(f, "command {command} ignored: {reason}"),
+            WriteOutcome::IgnoredReadOnly { reg } => {
+                write!(f, "{reg} is read only: the write was ignored")
+            }
+            WriteOutcome::IgnoredReserved => write!(
+                f,
+                "nothing is writable at this address: the write was ignored"
+            ),
+            WriteOutcome::CommandIgnored { command, reason } => {
+                write!(f, "command {command} ignored: {reason}")
+            }
         }
     }
 }
@@ -245,6 +263,12 @@ fn constant_bits(r: &Register) -> (u8, u8) {
     (mask, r.reset_hw.value & mask)
 }
 
+/// `mask` if `on`, else 0.
+#[inline]
+pub(crate) const fn bit(on: bool, mask: u8) -> u8 {
+    if on { mask } else { 0 }
+}
+
 fn reg_of(mode: Mode, name: &str) -> &'static Register {
     regmap::register(mode, name).expect("register present in regmap")
 }
@@ -280,7 +304,9 @@ fn decode_table() -> &'static [Option<Decoded>] {
             for op in OpMode::ALL {
                 for access in Access::ALL {
                     for addr in 0..ADDRS {
-                        let Some(view) = regmap::lookup(mode, op, access, addr as u8) else { continue };
+                        let Some(view) = regmap::lookup(mode, op, access, addr as u8) else {
+                            continue;
+                        };
                         let (r, (cmask, cval), fields) = match view.register() {
                             Some(reg) => (
                                 classify(reg),
@@ -289,7 +315,13 @@ fn decode_table() -> &'static [Option<Decoded>] {
                             ),
                             None => (R::Unknown, (0, 0), 0),
                         };
-                        t[index(mode, op, access, addr)] = Some(Decoded { view, r, cmask, cval, fields });
+                        t[index(mode, op, access, addr)] = Some(Decoded {
+                            view,
+                            r,
+                            cmask,
+                            cval,
+                            fields,
+                        });
                     }
                 }
             }
@@ -300,7 +332,11 @@ fn decode_table() -> &'static [Option<Decoded>] {
 
 #[inline]
 fn decoded(mode: Mode, op: OpMode, access: Access, addr: u8) -> Result<&'static Decoded, RegError> {
-    let d = if (addr as usize) < ADDRS { decode_table()[index(mode, op, access, addr as usize)].as_ref() } else { None };
+    let d = if (addr as usize) < ADDRS {
+        decode_table()[index(mode, op, access, addr as usize)].as_ref()
+    } else {
+        None
+    };
     d.ok_or(RegError::OutOfRange { addr, mode })
 }
 
@@ -512,11 +548,7 @@ impl Sja1000 {
             R::TxErr => self.engine.set_tec(v),
             R::Acr(i) => self.acr[i] = v,
             R::Amr(i) => self.amr[i] = v,
-            R::Rmc => {
-                if v == 0 {
-                    self.fifo.clear()
-                }
-            }
+            R::Rmc if v == 0 => self.fifo.clear(),
             R::Rbsa => self.fifo.set_rbsa(v),
             R::Cdr => {
                 self.cdr = v;
@@ -537,7 +569,11 @@ impl Sja1000 {
 
     /// Reset mode (MOD.RM / CR.RR) or operating mode.
     pub fn opmode(&self) -> OpMode {
-        if self.rm { OpMode::Reset } else { OpMode::Operating }
+        if self.rm {
+            OpMode::Reset
+        } else {
+            OpMode::Operating
+        }
     }
 
     /// True in reset mode.
@@ -615,12 +651,19 @@ impl Sja1000 {
 
     /// Keeps a journal of [`NodeEvent`]s (the bus turns it on for accounting).
     pub fn set_journal(&mut self, on: bool) {
-        self.journal = if on { Some(self.journal.take().unwrap_or_default()) } else { None };
+        self.journal = if on {
+            Some(self.journal.take().unwrap_or_default())
+        } else {
+            None
+        };
     }
 
     /// Drains the journal.
     pub fn take_journal(&mut self) -> Vec<NodeEvent> {
-        self.journal.as_mut().map(std::mem::take).unwrap_or_default()
+        self.journal
+            .as_mut()
+            .map(std::mem::take)
+            .unwrap_or_default()
     }
 
     /// True if the journal has entries (cheap check).
@@ -644,7 +687,11 @@ impl Sja1000 {
                 Id::Extended(_) => false,
             },
             Mode::PeliCan => {
-                let m = if self.afm { FilterMode::Single } else { FilterMode::Dual };
+                let m = if self.afm {
+                    FilterMode::Single
+                } else {
+                    FilterMode::Dual
+                };
                 filter::pelican_accepts(m, self.acr, self.amr, frame)
             }
         }
@@ -708,13 +755,13 @@ impl Sja1000 {
         let off = addr.wrapping_sub(r.addr) as usize;
         match kind {
             R::Mod => {
-                (self.rm as u8) * peli::r#mod::RM
-                    | (self.lom as u8) * peli::r#mod::LOM
-                    | (self.stm as u8) * peli::r#mod::STM
-                    | (self.afm as u8) * peli::r#mod::AFM
-                    | (self.sleeping as u8) * peli::r#mod::SM
+                bit(self.rm, peli::r#mod::RM)
+                    | bit(self.lom, peli::r#mod::LOM)
+                    | bit(self.stm, peli::r#mod::STM)
+                    | bit(self.afm, peli::r#mod::AFM)
+                    | bit(self.sleeping, peli::r#mod::SM)
             }
-            R::Cr => self.cr | (self.rm as u8) * basic::cr::RR,
+            R::Cr => self.cr | bit(self.rm, basic::cr::RR),
             R::Cmr => 0,
             R::Sr => self.sr(mode, r),
             R::Ir => {
@@ -761,14 +808,14 @@ impl Sja1000 {
 
     fn sr(&self, mode: Mode, r: &Register) -> u8 {
         use peli::sr;
-        let mut v = (self.bs as u8) * sr::BS
-            | (self.es as u8) * sr::ES
-            | (self.engine.is_transmitting() as u8) * sr::TS
-            | (self.engine.is_receiving() as u8) * sr::RS
-            | (self.tcs as u8) * sr::TCS
-            | (self.tbs as u8) * sr::TBS
-            | (self.dos as u8) * sr::DOS
-            | ((self.fifo.rmc() > 0) as u8) * sr::RBS;
+        let mut v = bit(self.bs, sr::BS)
+            | bit(self.es, sr::ES)
+            | bit(self.engine.is_transmitting(), sr::TS)
+            | bit(self.engine.is_receiving(), sr::RS)
+            | bit(self.tcs, sr::TCS)
+            | bit(self.tbs, sr::TBS)
+            | bit(self.dos, sr::DOS)
+            | bit(self.fifo.rmc() > 0, sr::RBS);
         if self.rm {
             // In reset mode the bits the reset defines hold their reset value
             // (PeliCAN: TS = RS = 1, waiting for bus-free).
@@ -790,7 +837,8 @@ impl Sja1000 {
     /// Host write.
     /// An address outside the view has no effect; see [`Sja1000::try_write`].
     pub fn write(&mut self, addr: u8, data: u8) -> WriteOutcome {
-        self.try_write(addr, data).unwrap_or(WriteOutcome::IgnoredReserved)
+        self.try_write(addr, data)
+            .unwrap_or(WriteOutcome::IgnoredReserved)
     }
 
     /// Host write; an address outside the view is an error.
@@ -814,13 +862,17 @@ impl Sja1000 {
             OpMode::Reset => OpMode::Operating,
             OpMode::Operating => OpMode::Reset,
         };
-        if let Some(r) = regmap::lookup(self.mode, other, Access::Write, addr).and_then(|v| v.register()) {
+        if let Some(r) =
+            regmap::lookup(self.mode, other, Access::Write, addr).and_then(|v| v.register())
+        {
             return match op {
                 OpMode::Operating => WriteOutcome::IgnoredNotInResetMode { reg: r.name },
                 OpMode::Reset => WriteOutcome::IgnoredInResetMode { reg: r.name },
             };
         }
-        if let Some(r) = regmap::lookup(self.mode, op, Access::Read, addr).and_then(|v| v.register()) {
+        if let Some(r) =
+            regmap::lookup(self.mode, op, Access::Read, addr).and_then(|v| v.register())
+        {
             return WriteOutcome::IgnoredReadOnly { reg: r.name };
         }
         WriteOutcome::IgnoredReserved
@@ -839,7 +891,11 @@ impl Sja1000 {
             OpMode::Reset => WriteOutcome::BitsIgnoredInResetMode { reg, bits: blocked },
         };
         let op = self.opmode();
-        let mut outcome = if blocked != 0 { partly(r.name, op) } else { WriteOutcome::Applied };
+        let mut outcome = if blocked != 0 {
+            partly(r.name, op)
+        } else {
+            WriteOutcome::Applied
+        };
         match d.r {
             R::Mod => {
                 use peli::r#mod as m;
@@ -925,7 +981,8 @@ impl Sja1000 {
     /// Sends configuration to the engine: timing, listen only, self test, EWL.
     fn push_engine_config(&mut self) {
         let peli = self.mode == Mode::PeliCan;
-        self.engine.set_timing(BusTiming::from_btr(self.btr0, self.btr1));
+        self.engine
+            .set_timing(BusTiming::from_btr(self.btr0, self.btr1));
         self.engine.set_options(Options {
             listen_only: peli && self.lom,
             self_test: peli && self.stm,
@@ -960,10 +1017,16 @@ impl Sja1000 {
         if tr || srr {
             let name = if srr { "SRR" } else { "TR" };
             if self.rm {
-                return WriteOutcome::CommandIgnored { command: name, reason: "reset mode" };
+                return WriteOutcome::CommandIgnored {
+                    command: name,
+                    reason: "reset mode",
+                };
             }
             if !self.tbs {
-                return WriteOutcome::CommandIgnored { command: name, reason: "a transmission is pending (TBS = 0)" };
+                return WriteOutcome::CommandIgnored {
+                    command: name,
+                    reason: "a transmission is pending (TBS = 0)",
+                };
             }
             let frame = self.tx_frame();
             self.tbs = false;
@@ -987,7 +1050,10 @@ impl Sja1000 {
                 let rtr = fi & peli::rxfi::RTR != 0;
                 let dlc = fi & peli::rxfi::DLC;
                 if fi & peli::rxfi::FF != 0 {
-                    let raw = (b[1] as u32) << 21 | (b[2] as u32) << 13 | (b[3] as u32) << 5 | (b[4] as u32) >> 3;
+                    let raw = (b[1] as u32) << 21
+                        | (b[2] as u32) << 13
+                        | (b[3] as u32) << 5
+                        | (b[4] as u32) >> 3;
                     (CanFrame::ext_id(raw).expect("29 bits"), rtr, dlc, &b[5..13])
                 } else {
                     let raw = (b[1] as u16) << 3 | (b[2] as u16) >> 5;
@@ -995,7 +1061,8 @@ impl Sja1000 {
                 }
             }
             Mode::BasicCan => {
-                let raw = (b[0] as u16) << 3 | ((b[1] & basic::txid2::ID) as u16) >> basic::txid2::lsb::ID;
+                let raw = (b[0] as u16) << 3
+                    | ((b[1] & basic::txid2::ID) as u16) >> basic::txid2::lsb::ID;
                 let rtr = b[1] & basic::txid2::RTR != 0;
                 let dlc = b[1] & basic::txid2::DLC;
                 (CanFrame::std_id(raw).expect("11 bits"), rtr, dlc, &b[2..10])
@@ -1017,12 +1084,13 @@ impl Sja1000 {
                     Id::Extended(e) => (e.as_raw() >> 18) as u16,
                 };
                 out[0] = (raw >> 3) as u8;
-                out[1] = ((raw as u8 & 7) << basic::txid2::lsb::ID) | (rtr as u8) * basic::txid2::RTR | dlc;
+                out[1] =
+                    ((raw as u8 & 7) << basic::txid2::lsb::ID) | bit(rtr, basic::txid2::RTR) | dlc;
                 2
             }
             (Mode::PeliCan, Id::Standard(s)) => {
                 let raw = s.as_raw();
-                out[0] = (rtr as u8) * peli::rxfi::RTR | dlc;
+                out[0] = bit(rtr, peli::rxfi::RTR) | dlc;
                 out[1] = (raw >> 3) as u8;
                 // ID.20..18 in bits 7..5, RTR copied in bit 4.
                 out[2] = ((raw as u8 & 7) << 5) | (rtr as u8) << 4;
@@ -1030,7 +1098,7 @@ impl Sja1000 {
             }
             (Mode::PeliCan, Id::Extended(e)) => {
                 let raw = e.as_raw();
-                out[0] = peli::rxfi::FF | (rtr as u8) * peli::rxfi::RTR | dlc;
+                out[0] = peli::rxfi::FF | bit(rtr, peli::rxfi::RTR) | dlc;
                 out[1] = (raw >> 21) as u8;
                 out[2] = (raw >> 13) as u8;
                 out[3] = (raw >> 5) as u8;
@@ -1048,10 +1116,16 @@ impl Sja1000 {
         if on && !self.sleeping {
             // §6.4.3: sleep is entered only with no interrupt pending and no bus activity.
             if self.irq() {
-                return Some(WriteOutcome::CommandIgnored { command, reason: "an interrupt is pending" });
+                return Some(WriteOutcome::CommandIgnored {
+                    command,
+                    reason: "an interrupt is pending",
+                });
             }
             if self.engine.is_receiving() || self.engine.is_transmitting() {
-                return Some(WriteOutcome::CommandIgnored { command, reason: "the bus is active" });
+                return Some(WriteOutcome::CommandIgnored {
+                    command,
+                    reason: "the bus is active",
+                });
             }
             self.sleeping = true;
             self.engine.set_sleep(true);
@@ -1176,7 +1250,11 @@ impl Sja1000 {
                         RxOutcome::Overrun
                     }
                 };
-                self.log(NodeEvent::Received { frame, own, outcome });
+                self.log(NodeEvent::Received {
+                    frame,
+                    own,
+                    outcome,
+                });
             }
             Event::TxComplete => {
                 if let Some(f) = self.pending_tx {
@@ -1252,7 +1330,12 @@ mod tests {
     fn every_regmap_register_is_handled() {
         for mode in Mode::ALL {
             for r in regmap::registers(mode) {
-                assert_ne!(classify(r), R::Unknown, "{mode} {} has no behaviour", r.name);
+                assert_ne!(
+                    classify(r),
+                    R::Unknown,
+                    "{mode} {} has no behaviour",
+                    r.name
+                );
             }
         }
     }

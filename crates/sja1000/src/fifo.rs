@@ -21,7 +21,14 @@ pub struct RxFifo {
 
 impl Default for RxFifo {
     fn default() -> Self {
-        RxFifo { ram: [0; FIFO_LEN], rbsa: 0, used: 0, lens: [0; MAX_MSGS], head: 0, count: 0 }
+        RxFifo {
+            ram: [0; FIFO_LEN],
+            rbsa: 0,
+            used: 0,
+            lens: [0; MAX_MSGS],
+            head: 0,
+            count: 0,
+        }
     }
 }
 

@@ -52,7 +52,13 @@ impl Seen {
         let mut data = [0u8; 2];
         let n = d.len().min(2);
         data[..n].copy_from_slice(&d[..n]);
-        Seen { ext, id, rtr: frame.is_remote_frame(), data, n }
+        Seen {
+            ext,
+            id,
+            rtr: frame.is_remote_frame(),
+            data,
+            n,
+        }
     }
 }
 
@@ -79,7 +85,11 @@ pub fn pelican_accepts(mode: FilterMode, acr: [u8; 4], amr: [u8; 4], frame: &Can
             bits_match((id >> 21) as u8, acr[0], amr[0])
                 && bits_match((id >> 13) as u8, acr[1], amr[1])
                 && bits_match((id >> 5) as u8, acr[2], amr[2])
-                && bits_match((((id & 0x1F) << 3) as u8) | (rtr << 2), acr[3], amr[3] | 0x03)
+                && bits_match(
+                    (((id & 0x1F) << 3) as u8) | (rtr << 2),
+                    acr[3],
+                    amr[3] | 0x03,
+                )
         }
         // Figure 12. Filter 1: ACR0 = ID.28..21, ACR1.7..5 = ID.20..18,
         // ACR1.4 = RTR, ACR1.3..0 = data byte 1 bits 7..4, ACR3.3..0 = data
@@ -91,7 +101,11 @@ pub fn pelican_accepts(mode: FilterMode, acr: [u8; 4], amr: [u8; 4], frame: &Can
             let lo = (((id & 7) << 5) as u8) | (rtr << 4);
             let f1 = bits_match(hi, acr[0], amr[0])
                 && bits_match(lo, acr[1], amr[1] | 0x0F)
-                && data_ok(0, (acr[1] << 4) | (acr[3] & 0x0F), (amr[1] << 4) | (amr[3] & 0x0F));
+                && data_ok(
+                    0,
+                    (acr[1] << 4) | (acr[3] & 0x0F),
+                    (amr[1] << 4) | (amr[3] & 0x0F),
+                );
             let f2 = bits_match(hi, acr[2], amr[2]) && bits_match(lo, acr[3], amr[3] | 0x0F);
             f1 || f2
         }
@@ -155,10 +169,10 @@ mod tests {
     fn single_std() -> Vec<(Src, usize, u8)> {
         let mut m = vec![];
         for k in 0..8 {
-            m.push((Src::Id(10 - k), 0, 7 - k as u8));
+            m.push((Src::Id(10 - k), 0, 7 - k));
         }
         for k in 0..3 {
-            m.push((Src::Id(2 - k), 1, 7 - k as u8));
+            m.push((Src::Id(2 - k), 1, 7 - k));
         }
         m.push((Src::Rtr, 1, 4));
         for b in 0..8 {
@@ -183,12 +197,12 @@ mod tests {
         let mut f1 = vec![];
         let mut f2 = vec![];
         for k in 0..8 {
-            f1.push((Src::Id(10 - k), 0, 7 - k as u8));
-            f2.push((Src::Id(10 - k), 2, 7 - k as u8));
+            f1.push((Src::Id(10 - k), 0, 7 - k));
+            f2.push((Src::Id(10 - k), 2, 7 - k));
         }
         for k in 0..3 {
-            f1.push((Src::Id(2 - k), 1, 7 - k as u8));
-            f2.push((Src::Id(2 - k), 3, 7 - k as u8));
+            f1.push((Src::Id(2 - k), 1, 7 - k));
+            f2.push((Src::Id(2 - k), 3, 7 - k));
         }
         f1.push((Src::Rtr, 1, 4));
         f2.push((Src::Rtr, 3, 4));
@@ -212,20 +226,25 @@ mod tests {
 
     fn frame(rng: &mut StdRng, ext: bool) -> CanFrame {
         let id: Id = if ext {
-            ExtendedId::new(rng.random_range(0..0x2000_0000)).unwrap().into()
+            ExtendedId::new(rng.random_range(0..0x2000_0000))
+                .unwrap()
+                .into()
         } else {
             StandardId::new(rng.random_range(0..0x800)).unwrap().into()
         };
         let rtr = rng.random_bool(0.2);
         let dlc = rng.random_range(0..=8u8);
-        let data: Vec<u8> = (0..if rtr { 0 } else { dlc }).map(|_| rng.random()).collect();
+        let data: Vec<u8> = (0..if rtr { 0 } else { dlc })
+            .map(|_| rng.random())
+            .collect();
         CanFrame::with_dlc(id, rtr, dlc, &data).unwrap()
     }
 
     /// Codes and masks biased so that matches happen often: the mask is
     /// mostly ones, the code is taken from a frame.
     fn check(mode: FilterMode, ext: bool, n: usize) {
-        let mut rng = StdRng::seed_from_u64(0x5a1000 + ext as u64 + 2 * (mode == FilterMode::Single) as u64);
+        let mut rng =
+            StdRng::seed_from_u64(0x5a1000 + ext as u64 + 2 * (mode == FilterMode::Single) as u64);
         let (mut accepted, mut rejected) = (0, 0);
         for _ in 0..n {
             let f = frame(&mut rng, ext);
@@ -244,10 +263,17 @@ mod tests {
                 (FilterMode::Dual, false) => dual_std().iter().any(|m| reference(m, acr, amr, &f)),
                 (FilterMode::Dual, true) => dual_ext().iter().any(|m| reference(m, acr, amr, &f)),
             };
-            assert_eq!(pelican_accepts(mode, acr, amr, &f), want, "{mode:?} {f:?} acr {acr:02x?} amr {amr:02x?}");
+            assert_eq!(
+                pelican_accepts(mode, acr, amr, &f),
+                want,
+                "{mode:?} {f:?} acr {acr:02x?} amr {amr:02x?}"
+            );
             if want { accepted += 1 } else { rejected += 1 }
         }
-        assert!(accepted > n / 20 && rejected > n / 20, "both outcomes exercised: {accepted}/{rejected}");
+        assert!(
+            accepted > n / 20 && rejected > n / 20,
+            "both outcomes exercised: {accepted}/{rejected}"
+        );
     }
 
     #[test]
@@ -280,7 +306,10 @@ mod tests {
         for id in 0u16..2048 {
             for rtr in [false, true] {
                 let f = CanFrame::with_dlc(StandardId::new(id).unwrap(), rtr, 0, &[]).unwrap();
-                assert_eq!(pelican_accepts(FilterMode::Single, acr, amr, &f), id == target);
+                assert_eq!(
+                    pelican_accepts(FilterMode::Single, acr, amr, &f),
+                    id == target
+                );
             }
         }
     }

@@ -5,7 +5,7 @@
 use can_proto::{CanFrame, FrameTrait, Id};
 use regmap::{Mode, basic, peli};
 
-use crate::controller::{Sja1000, WriteOutcome};
+use crate::controller::{Sja1000, WriteOutcome, bit};
 
 /// A node configuration (applied in reset mode, then reset mode is left).
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -49,7 +49,12 @@ impl Config {
 
     /// BasicCAN with one ACR/AMR pair, same timing as [`Config::pelican`].
     pub fn basic(acr: u8, amr: u8) -> Self {
-        Config { mode: Mode::BasicCan, acr: [acr, 0, 0, 0], amr: [amr, 0xFF, 0xFF, 0xFF], ..Config::pelican() }
+        Config {
+            mode: Mode::BasicCan,
+            acr: [acr, 0, 0, 0],
+            amr: [amr, 0xFF, 0xFF, 0xFF],
+            ..Config::pelican()
+        }
     }
 }
 
@@ -67,9 +72,9 @@ pub fn configure(node: &mut Sja1000, cfg: &Config) {
             }
             node.write(peli::IER, cfg.interrupts);
             let m = peli::r#mod::RM
-                | (cfg.listen_only as u8) * peli::r#mod::LOM
-                | (cfg.self_test as u8) * peli::r#mod::STM
-                | (cfg.single_filter as u8) * peli::r#mod::AFM;
+                | bit(cfg.listen_only, peli::r#mod::LOM)
+                | bit(cfg.self_test, peli::r#mod::STM)
+                | bit(cfg.single_filter, peli::r#mod::AFM);
             node.write(peli::MOD, m);
             node.write(peli::MOD, m & !peli::r#mod::RM);
         }
@@ -125,7 +130,7 @@ pub fn transmit(node: &mut Sja1000, frame: &CanFrame, cmd: u8) -> Result<(), Wri
 
 /// PeliCAN buffer layout: frame information, 2 or 4 ID bytes, data.
 pub fn encode_peli(frame: &CanFrame, out: &mut [u8; 13]) -> usize {
-    let rtr = frame.is_remote_frame() as u8 * peli::rxfi::RTR;
+    let rtr = bit(frame.is_remote_frame(), peli::rxfi::RTR);
     let data = frame.data();
     let head = match frame.id() {
         Id::Standard(s) => {
@@ -158,7 +163,7 @@ pub fn encode_basic(frame: &CanFrame, out: &mut [u8; 13]) -> usize {
     };
     out[0] = (id >> 3) as u8;
     out[1] = ((id as u8 & 7) << basic::txid2::lsb::ID)
-        | frame.is_remote_frame() as u8 * basic::txid2::RTR
+        | bit(frame.is_remote_frame(), basic::txid2::RTR)
         | frame.dlc_raw();
     let data = frame.data();
     out[2..2 + data.len()].copy_from_slice(data);

@@ -17,8 +17,8 @@
 pub mod bus;
 mod controller;
 pub mod fifo;
-pub mod host;
 pub mod filter;
+pub mod host;
 pub mod workload;
 
 pub use bus::*;

@@ -40,7 +40,10 @@ pub fn pelican_bus(n: usize) -> Bus {
     let mut bus = Bus::new();
     for _ in 0..n {
         let mut node = Sja1000::new();
-        let cfg = Config { interrupts: peli::ier::RIE | peli::ier::TIE, ..Config::pelican() };
+        let cfg = Config {
+            interrupts: peli::ier::RIE | peli::ier::TIE,
+            ..Config::pelican()
+        };
         host::configure(&mut node, &cfg);
         bus.add_node(node);
     }

@@ -36,7 +36,10 @@ fn drain(node: &mut Sja1000) -> Vec<CanFrame> {
 /// unchanged, in order; TCS/TI at the sender, RI at the receiver.
 #[test]
 fn two_nodes_deliver_every_frame_shape() {
-    let cfg = Config { interrupts: peli::ier::RIE | peli::ier::TIE, ..Config::pelican() };
+    let cfg = Config {
+        interrupts: peli::ier::RIE | peli::ier::TIE,
+        ..Config::pelican()
+    };
     let mut bus = bus_of(&[cfg, cfg]);
     let frames = [
         std_frame(0x123, &[1, 2, 3]),
@@ -50,12 +53,18 @@ fn two_nodes_deliver_every_frame_shape() {
         host::transmit(bus.node_mut(0), f, peli::cmr::TR).unwrap();
         settle(&mut bus, 400);
         let sr = bus.node_mut(0).read(peli::SR);
-        assert_eq!(sr & (peli::sr::TCS | peli::sr::TBS), peli::sr::TCS | peli::sr::TBS);
+        assert_eq!(
+            sr & (peli::sr::TCS | peli::sr::TBS),
+            peli::sr::TCS | peli::sr::TBS
+        );
         assert_eq!(bus.node_mut(0).read(peli::IR) & peli::ir::TI, peli::ir::TI);
         assert!(bus.node(1).irq());
         assert_eq!(bus.node_mut(1).read(peli::IR) & peli::ir::RI, peli::ir::RI);
         got.extend(drain(bus.node_mut(1)));
-        assert!(!bus.node(1).irq(), "RI cleared by RRB once the FIFO is empty");
+        assert!(
+            !bus.node(1).irq(),
+            "RI cleared by RRB once the FIFO is empty"
+        );
     }
     assert_eq!(got, frames);
     assert_eq!(bus.node(0).engine().tec(), 0);
@@ -78,7 +87,9 @@ fn two_nodes_basiccan() {
 }
 
 /// Seed 002: IDs of the parking network (PLACE 1..8, LCD, controller).
-const PARKING_IDS: [u16; 10] = [0x00F, 0x017, 0x01F, 0x027, 0x02F, 0x037, 0x03F, 0x047, 0x04F, 0x057];
+const PARKING_IDS: [u16; 10] = [
+    0x00F, 0x017, 0x01F, 0x027, 0x02F, 0x037, 0x03F, 0x047, 0x04F, 0x057,
+];
 
 /// Seed 002's intent, written with the data sheet's mask polarity (AMR bit
 /// 1 = don't care): nodes 1..9 compare ID.6..ID.3 with their number, node
@@ -105,14 +116,21 @@ fn run_parking(filters: &[(u8, u8)]) -> [Vec<Vec<u16>>; 2] {
     // Seed 002 timing: BTR0 = 0x03, BTR1 = 0xBB (136 clocks per bit, SAM).
     let cfgs: Vec<Config> = filters
         .iter()
-        .map(|&(acr, amr)| Config { btr0: 0x03, btr1: 0xBB, ..Config::basic(acr, amr) })
+        .map(|&(acr, amr)| Config {
+            btr0: 0x03,
+            btr1: 0xBB,
+            ..Config::basic(acr, amr)
+        })
         .collect();
     let mut bus = bus_of(&cfgs);
     assert!(bus.fast_path_ok());
     let read_all = |bus: &mut Bus| -> Vec<Vec<u16>> {
         (0..10)
             .map(|i| {
-                let mut v: Vec<u16> = drain(bus.node_mut(i)).iter().map(|f| f.raw_id() as u16).collect();
+                let mut v: Vec<u16> = drain(bus.node_mut(i))
+                    .iter()
+                    .map(|f| f.raw_id() as u16)
+                    .collect();
                 v.sort();
                 v
             })
@@ -136,7 +154,12 @@ fn run_parking(filters: &[(u8, u8)]) -> [Vec<Vec<u16>>; 2] {
 
 /// Who should get what, from seed 002's tables (independent of the filter code).
 fn intended_receivers(sender: usize, id: u16, node: usize) -> bool {
-    sender != node && if node < 9 { (id >> 3) & 0xF == node as u16 + 1 } else { id >> 7 == 0 }
+    sender != node
+        && if node < 9 {
+            (id >> 3) & 0xF == node as u16 + 1
+        } else {
+            id >> 7 == 0
+        }
 }
 
 #[test]
@@ -148,8 +171,11 @@ fn parking_network_seed_002_intended_masks() {
             .map(|s| PARKING_IDS[s])
             .collect();
         assert_eq!(round1[node], want1, "round 1, node {}", node + 1);
-        let want2: Vec<u16> =
-            PARKING_IDS[..9].iter().copied().filter(|&id| intended_receivers(9, id, node)).collect();
+        let want2: Vec<u16> = PARKING_IDS[..9]
+            .iter()
+            .copied()
+            .filter(|&id| intended_receivers(9, id, node))
+            .collect();
         assert_eq!(round2[node], want2, "round 2, node {}", node + 1);
     }
     // What that means: the controller hears all 9 places; each place hears
@@ -166,8 +192,18 @@ fn parking_network_seed_002_intended_masks() {
 fn parking_network_seed_002_literal_masks_invert_the_intent() {
     let [round1, round2] = run_parking(&parking_filters_literal());
     for k in 0..9 {
-        assert_eq!(round1[k].len(), 9, "place node {} accepts all 9 other frames", k + 1);
-        assert_eq!(round2[k].len(), 9, "place node {} accepts every command", k + 1);
+        assert_eq!(
+            round1[k].len(),
+            9,
+            "place node {} accepts all 9 other frames",
+            k + 1
+        );
+        assert_eq!(
+            round2[k].len(),
+            9,
+            "place node {} accepts every command",
+            k + 1
+        );
     }
     assert!(round1[9].is_empty(), "the controller accepts nothing");
 }
@@ -180,23 +216,41 @@ fn parking_network_seed_002_literal_masks_invert_the_intent() {
 /// frees room again. Accounting counts the overrun, not a loss.
 #[test]
 fn fifo_overrun_with_rmc() {
-    let rx = Config { interrupts: peli::ier::DOIE | peli::ier::RIE, ..Config::pelican() };
+    let rx = Config {
+        interrupts: peli::ier::DOIE | peli::ier::RIE,
+        ..Config::pelican()
+    };
     let mut bus = bus_of(&[Config::pelican(), rx]);
     for k in 0..6u8 {
-        host::transmit(bus.node_mut(0), &std_frame(0x100 + k as u16, &[k; 8]), peli::cmr::TR).unwrap();
+        host::transmit(
+            bus.node_mut(0),
+            &std_frame(0x100 + k as u16, &[k; 8]),
+            peli::cmr::TR,
+        )
+        .unwrap();
         settle(&mut bus, 400);
         let rmc = bus.node_mut(1).read(peli::RMC);
         assert_eq!(rmc, (k + 1).min(5), "after frame {k}");
     }
     let n = bus.node_mut(1);
     let sr = n.read(peli::SR);
-    assert_eq!(sr & (peli::sr::DOS | peli::sr::RBS), peli::sr::DOS | peli::sr::RBS);
+    assert_eq!(
+        sr & (peli::sr::DOS | peli::sr::RBS),
+        peli::sr::DOS | peli::sr::RBS
+    );
     assert_eq!(n.read(peli::IR), peli::ir::DOI | peli::ir::RI);
-    assert_eq!(n.read(peli::IR), peli::ir::RI, "DOI cleared by the read, RI stays");
+    assert_eq!(
+        n.read(peli::IR),
+        peli::ir::RI,
+        "DOI cleared by the read, RI stays"
+    );
     n.write(peli::CMR, peli::cmr::CDO);
     assert_eq!(n.read(peli::SR) & peli::sr::DOS, 0);
     let got = drain(n);
-    assert_eq!(got.iter().map(|f| f.raw_id()).collect::<Vec<_>>(), [0x100, 0x101, 0x102, 0x103, 0x104]);
+    assert_eq!(
+        got.iter().map(|f| f.raw_id()).collect::<Vec<_>>(),
+        [0x100, 0x101, 0x102, 0x103, 0x104]
+    );
     assert_eq!(n.read(peli::RMC), 0);
     // RBSA moved by 5 x 11 bytes.
     assert_eq!(n.read(peli::RBSA), 55);
@@ -212,7 +266,10 @@ fn fifo_overrun_with_rmc() {
 /// The loser captures ALC once, raises ALI, and re-arms only after ALC is read.
 #[test]
 fn arbitration_lost_capture_and_rearm() {
-    let cfg = Config { interrupts: peli::ier::ALIE, ..Config::pelican() };
+    let cfg = Config {
+        interrupts: peli::ier::ALIE,
+        ..Config::pelican()
+    };
     let mut bus = bus_of(&[cfg, cfg]);
     host::transmit(bus.node_mut(0), &std_frame(0x100, &[1]), peli::cmr::TR).unwrap();
     host::transmit(bus.node_mut(1), &std_frame(0x180, &[2]), peli::cmr::TR).unwrap();
@@ -226,14 +283,26 @@ fn arbitration_lost_capture_and_rearm() {
     host::transmit(bus.node_mut(1), &std_frame(0x101, &[2]), peli::cmr::TR).unwrap();
     settle(&mut bus, 600);
     let n1 = bus.node_mut(1);
-    assert_eq!(n1.read(peli::IR) & peli::ir::ALI, 0, "no new ALI before ALC is read");
+    assert_eq!(
+        n1.read(peli::IR) & peli::ir::ALI,
+        0,
+        "no new ALI before ALC is read"
+    );
     assert_eq!(n1.read(peli::ALC) & 0x1F, 3, "first capture kept");
     host::transmit(bus.node_mut(0), &std_frame(0x100, &[1]), peli::cmr::TR).unwrap();
     host::transmit(bus.node_mut(1), &std_frame(0x101, &[2]), peli::cmr::TR).unwrap();
     settle(&mut bus, 600);
     let n1 = bus.node_mut(1);
-    assert_eq!(n1.read(peli::IR) & peli::ir::ALI, peli::ir::ALI, "re-armed by the ALC read");
-    assert_eq!(n1.read(peli::ALC) & 0x1F, 10, "lost at ID.18 (the last ID bit)");
+    assert_eq!(
+        n1.read(peli::IR) & peli::ir::ALI,
+        peli::ir::ALI,
+        "re-armed by the ALC read"
+    );
+    assert_eq!(
+        n1.read(peli::ALC) & 0x1F,
+        10,
+        "lost at ID.18 (the last ID bit)"
+    );
     bus.check_accounting().unwrap();
 }
 
@@ -245,15 +314,31 @@ fn arbitration_lost_capture_and_rearm() {
 /// the frame is retransmitted and delivered once.
 #[test]
 fn bus_error_capture_and_rearm() {
-    let cfg = Config { interrupts: peli::ier::BEIE, ..Config::pelican() };
+    let cfg = Config {
+        interrupts: peli::ier::BEIE,
+        ..Config::pelican()
+    };
     let mut bus = bus_of(&[cfg, cfg]);
-    bus.add_fault(FlipBit { frame: 0, bit: 25, target: Target::Node(1) });
-    host::transmit(bus.node_mut(0), &std_frame(0x555, &[0x33, 0x33]), peli::cmr::TR).unwrap();
+    bus.add_fault(FlipBit {
+        frame: 0,
+        bit: 25,
+        target: Target::Node(1),
+    });
+    host::transmit(
+        bus.node_mut(0),
+        &std_frame(0x555, &[0x33, 0x33]),
+        peli::cmr::TR,
+    )
+    .unwrap();
     settle(&mut bus, 800);
     let n1 = bus.node_mut(1);
     assert_eq!(n1.read(peli::IR) & peli::ir::BEI, peli::ir::BEI);
     let ecc = n1.read(peli::ECC);
-    assert_eq!(ecc & peli::ecc::DIR, peli::ecc::DIR, "error during reception");
+    assert_eq!(
+        ecc & peli::ecc::DIR,
+        peli::ecc::DIR,
+        "error during reception"
+    );
     assert_eq!(drain(bus.node_mut(1)), [std_frame(0x555, &[0x33, 0x33])]);
     assert!(bus.frames_seen() >= 2, "retransmitted");
     let acc = bus.check_accounting().unwrap();
@@ -274,7 +359,11 @@ fn error_warning_interrupt() {
     let mut bus = Bus::new();
     bus.add_node(n);
     bus.add_node(pelican_operating(0));
-    bus.add_fault(FlipBit { frame: 0, bit: 20, target: Target::Node(0) });
+    bus.add_fault(FlipBit {
+        frame: 0,
+        bit: 20,
+        target: Target::Node(0),
+    });
     host::transmit(bus.node_mut(1), &std_frame(0x0AA, &[0xF0]), peli::cmr::TR).unwrap();
     settle(&mut bus, 800);
     let n = bus.node_mut(0);
@@ -303,7 +392,10 @@ fn error_warning_interrupt() {
 /// and TXERR reads 127 (data sheet §6.4.14).
 #[test]
 fn transmitter_alone_rx_stuck_recessive_reaches_bus_off() {
-    let cfg = Config { interrupts: peli::ier::EIE | peli::ier::EPIE, ..Config::pelican() };
+    let cfg = Config {
+        interrupts: peli::ier::EIE | peli::ier::EPIE,
+        ..Config::pelican()
+    };
     let mut bus = bus_of(&[cfg]);
     bus.add_fault(StuckAt::forever(RECESSIVE, Target::Node(0)));
     host::transmit(bus.node_mut(0), &std_frame(0x123, &[0xAB]), peli::cmr::TR).unwrap();
@@ -323,7 +415,11 @@ fn transmitter_alone_rx_stuck_recessive_reaches_bus_off() {
     });
     assert!(ok, "bus-off reached");
     let want: Vec<u8> = (1..=31).map(|k| 8 * k as u8).collect();
-    assert_eq!(&trace[1..], &want[..], "TEC trace (first entry is the initial 0)");
+    assert_eq!(
+        &trace[1..],
+        &want[..],
+        "TEC trace (first entry is the initial 0)"
+    );
     // Sampled just after each SOF's bit error: attempt 2's entry less 8
     // is the TEC attempt 1 ended with.
     assert_eq!(tec_at_sof[0], 8);
@@ -334,7 +430,12 @@ fn transmitter_alone_rx_stuck_recessive_reaches_bus_off() {
     // makes it 256: bus-off, TXERR = 127.
     let (last, rest) = tec_at_sof.split_last().unwrap();
     assert_eq!(*last, 127, "{tec_at_sof:?}");
-    assert!(rest.windows(2).skip(1).all(|w| w[1] as u16 == w[0] as u16 + 8), "{tec_at_sof:?}");
+    assert!(
+        rest.windows(2)
+            .skip(1)
+            .all(|w| w[1] as u16 == w[0] as u16 + 8),
+        "{tec_at_sof:?}"
+    );
     assert_eq!(*rest.last().unwrap(), 248);
     let n = bus.node_mut(0);
     assert!(n.in_reset_mode());
@@ -344,7 +445,10 @@ fn transmitter_alone_rx_stuck_recessive_reaches_bus_off() {
     assert_eq!(n.read(peli::TXERR), 127);
     assert_eq!(n.read(peli::RXERR), 0);
     let ir = n.read(peli::IR);
-    assert_eq!(ir & (peli::ir::EI | peli::ir::EPI), peli::ir::EI | peli::ir::EPI);
+    assert_eq!(
+        ir & (peli::ir::EI | peli::ir::EPI),
+        peli::ir::EI | peli::ir::EPI
+    );
     assert!(n.bus_off());
 }
 
@@ -353,7 +457,10 @@ fn transmitter_alone_rx_stuck_recessive_reaches_bus_off() {
 /// BS = 0, TEC = REC = 0, EI.
 #[test]
 fn bus_off_recovery_timing() {
-    let cfg = Config { interrupts: peli::ier::EIE, ..Config::pelican() };
+    let cfg = Config {
+        interrupts: peli::ier::EIE,
+        ..Config::pelican()
+    };
     let mut bus = bus_of(&[cfg]);
     bus.add_fault(StuckAt::forever(RECESSIVE, Target::Node(0)));
     host::transmit(bus.node_mut(0), &std_frame(0x123, &[]), peli::cmr::TR).unwrap();
@@ -365,7 +472,10 @@ fn bus_off_recovery_timing() {
     let start = bus.bit_times();
     assert!(bus.run_until(5_000, |b| !b.node(0).bus_off()));
     let took = bus.bit_times() - start;
-    assert!((128 * 11..=128 * 11 + 2).contains(&took), "recovery took {took} bit times");
+    assert!(
+        (128 * 11..=128 * 11 + 2).contains(&took),
+        "recovery took {took} bit times"
+    );
     let n = bus.node_mut(0);
     assert_eq!(n.read(peli::SR) & (peli::sr::BS | peli::sr::ES), 0);
     assert_eq!((n.read(peli::TXERR), n.read(peli::RXERR)), (0, 0));
@@ -389,7 +499,11 @@ fn loopback_without_receiver_sticks_at_tec_128() {
     assert_eq!(bus.node(0).engine().tec(), 128);
     assert!(bus.run_until(200, |b| b.node(0).engine().is_transmitting()));
     let sr = bus.node_mut(0).read(peli::SR);
-    assert_eq!(sr & (peli::sr::TS | peli::sr::TBS | peli::sr::BS), peli::sr::TS, "SR {sr:#04x}");
+    assert_eq!(
+        sr & (peli::sr::TS | peli::sr::TBS | peli::sr::BS),
+        peli::sr::TS,
+        "SR {sr:#04x}"
+    );
     assert_eq!(sr & peli::sr::ES, peli::sr::ES);
 }
 
@@ -398,7 +512,11 @@ fn loopback_without_receiver_sticks_at_tec_128() {
 /// itself.
 #[test]
 fn self_test_with_self_reception_succeeds_once() {
-    let cfg = Config { self_test: true, interrupts: peli::ier::RIE | peli::ier::TIE, ..Config::pelican() };
+    let cfg = Config {
+        self_test: true,
+        interrupts: peli::ier::RIE | peli::ier::TIE,
+        ..Config::pelican()
+    };
     let mut bus = bus_of(&[cfg]);
     let f = std_frame(0x3C1, &[0xDE, 0xAD]);
     host::transmit(bus.node_mut(0), &f, peli::cmr::SRR).unwrap();
@@ -406,7 +524,10 @@ fn self_test_with_self_reception_succeeds_once() {
     assert_eq!(bus.frames_seen(), 1, "sent once");
     let n = bus.node_mut(0);
     let sr = n.read(peli::SR);
-    assert_eq!(sr & (peli::sr::TCS | peli::sr::TBS | peli::sr::RBS), peli::sr::TCS | peli::sr::TBS | peli::sr::RBS);
+    assert_eq!(
+        sr & (peli::sr::TCS | peli::sr::TBS | peli::sr::RBS),
+        peli::sr::TCS | peli::sr::TBS | peli::sr::RBS
+    );
     assert_eq!(n.read(peli::IR), peli::ir::RI | peli::ir::TI);
     assert_eq!(drain(n), [f]);
     assert_eq!(n.read(peli::TXERR), 0);
@@ -418,14 +539,20 @@ fn self_test_with_self_reception_succeeds_once() {
 /// frame (self reception is what SRR asks for; data sheet CMR.4).
 #[test]
 fn self_test_with_plain_tr_completes_without_self_reception() {
-    let cfg = Config { self_test: true, ..Config::pelican() };
+    let cfg = Config {
+        self_test: true,
+        ..Config::pelican()
+    };
     let mut bus = bus_of(&[cfg]);
     host::transmit(bus.node_mut(0), &std_frame(0x3C2, &[1]), peli::cmr::TR).unwrap();
     bus.run_bits(1_000);
     assert_eq!(bus.frames_seen(), 1);
     let n = bus.node_mut(0);
     let sr = n.read(peli::SR);
-    assert_eq!(sr & (peli::sr::TCS | peli::sr::TBS | peli::sr::RBS), peli::sr::TCS | peli::sr::TBS);
+    assert_eq!(
+        sr & (peli::sr::TCS | peli::sr::TBS | peli::sr::RBS),
+        peli::sr::TCS | peli::sr::TBS
+    );
     assert_eq!(n.read(peli::TXERR), 0);
 }
 
@@ -433,11 +560,23 @@ fn self_test_with_plain_tr_completes_without_self_reception() {
 /// sender sees ACK errors; the listener's counters do not move.
 #[test]
 fn listen_only_receives_without_acknowledging() {
-    let lom = Config { listen_only: true, ..Config::pelican() };
+    let lom = Config {
+        listen_only: true,
+        ..Config::pelican()
+    };
     let mut bus = bus_of(&[Config::pelican(), lom]);
-    host::transmit(bus.node_mut(0), &std_frame(0x11, &[7]), peli::cmr::TR | peli::cmr::AT).unwrap();
+    host::transmit(
+        bus.node_mut(0),
+        &std_frame(0x11, &[7]),
+        peli::cmr::TR | peli::cmr::AT,
+    )
+    .unwrap();
     settle(&mut bus, 500);
-    assert_eq!(bus.node_mut(0).read(peli::TXERR), 8, "ACK error at the sender (single shot: one attempt)");
+    assert_eq!(
+        bus.node_mut(0).read(peli::TXERR),
+        8,
+        "ACK error at the sender (single shot: one attempt)"
+    );
     assert_eq!(bus.node_mut(0).read(peli::SR) & peli::sr::TCS, 0);
     let n1 = bus.node_mut(1);
     assert_eq!((n1.read(peli::TXERR), n1.read(peli::RXERR)), (0, 0));
@@ -447,13 +586,24 @@ fn listen_only_receives_without_acknowledging() {
 /// retransmitting; TBS = 1, TCS = 0.
 #[test]
 fn single_shot_not_retransmitted() {
-    let cfg = Config { interrupts: peli::ier::TIE, ..Config::pelican() };
+    let cfg = Config {
+        interrupts: peli::ier::TIE,
+        ..Config::pelican()
+    };
     let mut bus = bus_of(&[cfg]);
-    host::transmit(bus.node_mut(0), &std_frame(0x42, &[]), peli::cmr::TR | peli::cmr::AT).unwrap();
+    host::transmit(
+        bus.node_mut(0),
+        &std_frame(0x42, &[]),
+        peli::cmr::TR | peli::cmr::AT,
+    )
+    .unwrap();
     bus.run_bits(1_000);
     assert_eq!(bus.frames_seen(), 1);
     let n = bus.node_mut(0);
-    assert_eq!(n.read(peli::SR) & (peli::sr::TBS | peli::sr::TCS), peli::sr::TBS);
+    assert_eq!(
+        n.read(peli::SR) & (peli::sr::TBS | peli::sr::TCS),
+        peli::sr::TBS
+    );
     assert_eq!(n.read(peli::IR) & peli::ir::TI, peli::ir::TI);
     assert_eq!(n.read(peli::TXERR), 8);
 }
@@ -461,10 +611,14 @@ fn single_shot_not_retransmitted() {
 /// Wake-up: a sleeping node is woken by bus activity; WUI is raised.
 #[test]
 fn wake_up_interrupt_on_bus_activity() {
-    let cfg = Config { interrupts: peli::ier::WUIE, ..Config::pelican() };
+    let cfg = Config {
+        interrupts: peli::ier::WUIE,
+        ..Config::pelican()
+    };
     let mut bus = bus_of(&[cfg, Config::pelican()]);
     bus.run_bits(20);
-    bus.node_mut(0).write(peli::MOD, peli::r#mod::SM | peli::r#mod::AFM);
+    bus.node_mut(0)
+        .write(peli::MOD, peli::r#mod::SM | peli::r#mod::AFM);
     assert!(bus.node(0).is_sleeping());
     host::transmit(bus.node_mut(1), &std_frame(0x01, &[]), peli::cmr::TR).unwrap();
     bus.run_bits(300);
@@ -490,7 +644,13 @@ fn propagation_delay_on_the_clock_path() {
     host::transmit(bus.node_mut(0), &std_frame(0x200, &[1]), peli::cmr::TR).unwrap();
     host::transmit(bus.node_mut(2), &std_frame(0x100, &[2]), peli::cmr::TR).unwrap();
     settle(&mut bus, 600);
-    assert_eq!(drain(bus.node_mut(1)).iter().map(|f| f.raw_id()).collect::<Vec<_>>(), [0x100, 0x200]);
+    assert_eq!(
+        drain(bus.node_mut(1))
+            .iter()
+            .map(|f| f.raw_id())
+            .collect::<Vec<_>>(),
+        [0x100, 0x200]
+    );
     let acc = bus.check_accounting().unwrap();
     assert_eq!(acc.sent, 2);
 }
@@ -502,13 +662,35 @@ fn glitch_inside_a_bit() {
     let cfg = Config::pelican();
     // 40 clocks per bit, sample point at 7/10 (28 clocks).
     let mut bus = bus_of(&[cfg, cfg]);
-    bus.add_fault(Glitch { frame: 0, bit: 30, offset: 10, width: 2, target: Target::Node(1) });
-    host::transmit(bus.node_mut(0), &std_frame(0x2AA, &[0x55; 4]), peli::cmr::TR).unwrap();
+    bus.add_fault(Glitch {
+        frame: 0,
+        bit: 30,
+        offset: 10,
+        width: 2,
+        target: Target::Node(1),
+    });
+    host::transmit(
+        bus.node_mut(0),
+        &std_frame(0x2AA, &[0x55; 4]),
+        peli::cmr::TR,
+    )
+    .unwrap();
     settle(&mut bus, 600);
     assert_eq!(bus.frames_seen(), 1, "no error frame, no retransmission");
     let mut bus = bus_of(&[cfg, cfg]);
-    bus.add_fault(Glitch { frame: 0, bit: 30, offset: 24, width: 8, target: Target::Node(1) });
-    host::transmit(bus.node_mut(0), &std_frame(0x2AA, &[0x55; 4]), peli::cmr::TR).unwrap();
+    bus.add_fault(Glitch {
+        frame: 0,
+        bit: 30,
+        offset: 24,
+        width: 8,
+        target: Target::Node(1),
+    });
+    host::transmit(
+        bus.node_mut(0),
+        &std_frame(0x2AA, &[0x55; 4]),
+        peli::cmr::TR,
+    )
+    .unwrap();
     settle(&mut bus, 600);
     assert!(bus.frames_seen() >= 2, "error frame and retransmission");
     assert_eq!(drain(bus.node_mut(1)).len(), 1);
@@ -521,11 +703,17 @@ fn glitch_inside_a_bit() {
 fn random_traffic_with_flips_accounts_for_every_frame() {
     for seed in 0..4u64 {
         let mut bus = workload::pelican_bus(2);
-        bus.add_fault(FlipBit::random(seed, 10, 120, Target::Node((seed % 2) as usize)));
+        bus.add_fault(FlipBit::random(
+            seed,
+            10,
+            120,
+            Target::Node((seed % 2) as usize),
+        ));
         let mut rng = StdRng::seed_from_u64(seed);
         let st = workload::exchange(&mut bus, &mut rng, 5_000);
         assert!(st.frames_received > 10, "seed {seed}: {st:?}");
-        bus.check_accounting().unwrap_or_else(|e| panic!("seed {seed}: {e}"));
+        bus.check_accounting()
+            .unwrap_or_else(|e| panic!("seed {seed}: {e}"));
     }
 }
 
@@ -559,7 +747,11 @@ fn external_participant_hook() {
     }
     assert!(!ext_seen_dominant, "its rx is stuck recessive by the fault");
     let n = bus.node_mut(0);
-    assert_eq!(n.read(peli::SR) & peli::sr::TCS, peli::sr::TCS, "acknowledged by the external participant");
+    assert_eq!(
+        n.read(peli::SR) & peli::sr::TCS,
+        peli::sr::TCS,
+        "acknowledged by the external participant"
+    );
     assert_eq!(n.read(peli::TXERR), 0);
     assert_eq!(bus.frames_seen(), 1);
 }

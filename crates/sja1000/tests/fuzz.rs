@@ -8,8 +8,8 @@ use common::*;
 
 use proptest::prelude::*;
 use regmap::peli;
-use sja1000::host::{self, Config};
 use sja1000::Bus;
+use sja1000::host::{self, Config};
 
 #[derive(Clone, Debug)]
 enum Op {
@@ -88,9 +88,24 @@ proptest! {
 
 #[derive(Clone, Debug)]
 enum Fault {
-    Flip { frame: u64, bit: u32, node: Option<usize> },
-    Glitch { frame: u64, bit: u32, offset: u32, width: u32, node: Option<usize> },
-    Stuck { level: bool, node: Option<usize>, from_bit: u64, bits: u64 },
+    Flip {
+        frame: u64,
+        bit: u32,
+        node: Option<usize>,
+    },
+    Glitch {
+        frame: u64,
+        bit: u32,
+        offset: u32,
+        width: u32,
+        node: Option<usize>,
+    },
+    Stuck {
+        level: bool,
+        node: Option<usize>,
+        from_bit: u64,
+        bits: u64,
+    },
 }
 
 fn fault(nodes: usize) -> impl Strategy<Value = Fault> {

@@ -39,7 +39,13 @@ fn ti_needs_its_enable() {
 #[test]
 fn basic_ti_uses_cr_enable() {
     let mut n = Sja1000::new();
-    host::configure(&mut n, &Config { interrupts: basic::cr::TIE, ..Config::basic(0, 0xFF) });
+    host::configure(
+        &mut n,
+        &Config {
+            interrupts: basic::cr::TIE,
+            ..Config::basic(0, 0xFF)
+        },
+    );
     host::transmit(&mut n, &std_frame(0x10, &[]), basic::cmr::TR).unwrap();
     n.write(basic::CMR, basic::cmr::AT);
     assert_eq!(n.read(basic::IR), 0xE0 | basic::ir::TI);
@@ -65,10 +71,16 @@ fn sleep_refused_with_interrupt_pending() {
     host::transmit(&mut n, &std_frame(0x10, &[]), peli::cmr::TR).unwrap();
     n.write(peli::CMR, peli::cmr::AT);
     let out = n.write(peli::MOD, peli::r#mod::SM | peli::r#mod::AFM);
-    assert!(matches!(out, WriteOutcome::CommandIgnored { command: "SM", .. }), "{out:?}");
+    assert!(
+        matches!(out, WriteOutcome::CommandIgnored { command: "SM", .. }),
+        "{out:?}"
+    );
     assert!(!n.is_sleeping());
     n.read(peli::IR);
-    assert_eq!(n.write(peli::MOD, peli::r#mod::SM | peli::r#mod::AFM), WriteOutcome::Applied);
+    assert_eq!(
+        n.write(peli::MOD, peli::r#mod::SM | peli::r#mod::AFM),
+        WriteOutcome::Applied
+    );
     assert!(n.is_sleeping());
     assert_eq!(n.read(peli::MOD) & peli::r#mod::SM, peli::r#mod::SM);
     // The host wakes it by clearing SM.
@@ -116,7 +128,11 @@ fn clkout_divider_and_clock_off() {
     for cd in 0..7u8 {
         let mut n = pelican_reset();
         n.write(peli::CDR, peli::cdr::CANMODE | cd);
-        assert_eq!(clkout_period(&mut n, 200), Some(2 * (cd as usize + 1)), "CD = {cd}");
+        assert_eq!(
+            clkout_period(&mut n, 200),
+            Some(2 * (cd as usize + 1)),
+            "CD = {cd}"
+        );
     }
     let mut n = pelican_reset();
     n.write(peli::CDR, peli::cdr::CANMODE | peli::cdr::CLKOFF);
@@ -132,7 +148,11 @@ fn reset_kinds() {
     let mut n = pelican_operating(peli::ier::TIE);
     n.reset(ResetKind::ResetMode);
     assert!(n.in_reset_mode());
-    assert_eq!(n.read(peli::IER), peli::ier::TIE, "IER kept on reset-mode entry");
+    assert_eq!(
+        n.read(peli::IER),
+        peli::ier::TIE,
+        "IER kept on reset-mode entry"
+    );
     n.write(peli::EWLR, 5);
     n.reset(ResetKind::Hardware);
     assert_eq!(n.mode(), regmap::Mode::BasicCan);

@@ -16,20 +16,36 @@ use sja1000::{RegError, Sja1000, WriteOutcome};
 #[test]
 fn hardware_reset_values_from_the_map() {
     for mode in Mode::ALL {
-        let n = if mode == Mode::PeliCan { pelican_reset() } else { basic_reset() };
+        let n = if mode == Mode::PeliCan {
+            pelican_reset()
+        } else {
+            basic_reset()
+        };
         for r in regmap::registers(mode) {
             if r.len != 1 || r.reset_hw.defined == 0 {
                 continue;
             }
-            let Some(v) = regmap::lookup(mode, OpMode::Reset, Access::Read, r.addr) else { continue };
+            let Some(v) = regmap::lookup(mode, OpMode::Reset, Access::Read, r.addr) else {
+                continue;
+            };
             if !matches!(v.target, Target::Register(x) if std::ptr::eq(x, *r)) {
                 continue;
             }
             let got = n.peek(r.addr);
             let want = r.reset_hw.value;
             // CDR: we switched to PeliCAN to see this view.
-            let defined = if r.name == "CDR" { r.reset_hw.defined & 0x7F } else { r.reset_hw.defined };
-            assert_eq!(got & defined, want & defined, "{mode} {} reads {got:#04x}, reset {}", r.name, r.reset_hw.notation());
+            let defined = if r.name == "CDR" {
+                r.reset_hw.defined & 0x7F
+            } else {
+                r.reset_hw.defined
+            };
+            assert_eq!(
+                got & defined,
+                want & defined,
+                "{mode} {} reads {got:#04x}, reset {}",
+                r.name,
+                r.reset_hw.notation()
+            );
         }
     }
 }
@@ -46,7 +62,11 @@ fn hardware_reset_values_spelled_out() {
     let mut p = pelican_reset();
     assert_eq!(p.read(peli::MOD), 0x01);
     assert_eq!(p.read(peli::CMR), 0x00);
-    assert_eq!(p.read(peli::SR), 0x3C, "SR: TS = RS = 1 (waiting for bus-free), TBS = TCS = 1");
+    assert_eq!(
+        p.read(peli::SR),
+        0x3C,
+        "SR: TS = RS = 1 (waiting for bus-free), TBS = TCS = 1"
+    );
     assert_eq!(p.read(peli::IR), 0x00);
     assert_eq!(p.read(peli::EWLR), 96);
     assert_eq!(p.read(peli::ALC), 0);
@@ -64,7 +84,10 @@ fn hardware_reset_values_spelled_out() {
 #[test]
 fn reset_mode_entry_keeps_x_bits() {
     let mut n = pelican_reset();
-    n.write(peli::MOD, peli::r#mod::RM | peli::r#mod::AFM | peli::r#mod::LOM);
+    n.write(
+        peli::MOD,
+        peli::r#mod::RM | peli::r#mod::AFM | peli::r#mod::LOM,
+    );
     n.write(peli::IER, 0xA5);
     n.write(peli::EWLR, 77);
     n.write(peli::ACR0 + 2, 0x12);
@@ -74,7 +97,10 @@ fn reset_mode_entry_keeps_x_bits() {
     host::leave_reset(&mut n);
     assert!(!n.in_reset_mode());
     host::enter_reset(&mut n);
-    assert_eq!(n.read(peli::MOD), peli::r#mod::RM | peli::r#mod::AFM | peli::r#mod::LOM);
+    assert_eq!(
+        n.read(peli::MOD),
+        peli::r#mod::RM | peli::r#mod::AFM | peli::r#mod::LOM
+    );
     assert_eq!(n.read(peli::IER), 0xA5);
     assert_eq!(n.read(peli::EWLR), 77);
     assert_eq!(n.read(peli::ACR0 + 2), 0x12);
@@ -83,7 +109,10 @@ fn reset_mode_entry_keeps_x_bits() {
     assert_eq!(n.read(peli::RBSA), 10);
     assert_eq!(n.read(peli::RMC), 0);
     let sr = n.read(peli::SR);
-    assert_eq!(sr & (peli::sr::TBS | peli::sr::DOS | peli::sr::RBS), peli::sr::TBS);
+    assert_eq!(
+        sr & (peli::sr::TBS | peli::sr::DOS | peli::sr::RBS),
+        peli::sr::TBS
+    );
 }
 
 // ---------------------------------------------------------------------------
@@ -93,7 +122,13 @@ fn reset_mode_entry_keeps_x_bits() {
 #[test]
 fn basic_configuration_registers_locked_in_operating_mode() {
     let mut n = basic_reset();
-    let regs = [(basic::ACR, 0x11), (basic::AMR, 0x22), (basic::BTR0, 0x41), (basic::BTR1, 0x25), (basic::OCR, 0x1A)];
+    let regs = [
+        (basic::ACR, 0x11),
+        (basic::AMR, 0x22),
+        (basic::BTR0, 0x41),
+        (basic::BTR1, 0x25),
+        (basic::OCR, 0x1A),
+    ];
     for (a, v) in regs {
         assert_eq!(n.write(a, v), WriteOutcome::Applied);
         assert_eq!(n.read(a), v);
@@ -101,7 +136,10 @@ fn basic_configuration_registers_locked_in_operating_mode() {
     host::leave_reset(&mut n);
     for (a, v) in regs {
         assert_eq!(n.read(a), 0xFF, "addr {a} reads FFH in operating mode");
-        assert!(matches!(n.write(a, !v), WriteOutcome::IgnoredNotInResetMode { .. }), "addr {a}");
+        assert!(
+            matches!(n.write(a, !v), WriteOutcome::IgnoredNotInResetMode { .. }),
+            "addr {a}"
+        );
     }
     host::enter_reset(&mut n);
     for (a, v) in regs {
@@ -114,7 +152,10 @@ fn basic_configuration_registers_locked_in_operating_mode() {
 fn basic_tx_buffer_operating_mode_only() {
     let mut n = basic_reset();
     assert_eq!(n.read(basic::TXID1), 0xFF);
-    assert_eq!(n.write(basic::TXID1, 0x12), WriteOutcome::IgnoredInResetMode { reg: "TXID1" });
+    assert_eq!(
+        n.write(basic::TXID1, 0x12),
+        WriteOutcome::IgnoredInResetMode { reg: "TXID1" }
+    );
     host::leave_reset(&mut n);
     for a in basic::TXID1..basic::TXID1 + 10 {
         assert_eq!(n.write(a, a * 3), WriteOutcome::Applied);
@@ -128,8 +169,14 @@ fn basic_cmr_sr_ir() {
     let mut n = basic_reset();
     host::leave_reset(&mut n);
     assert_eq!(n.read(basic::CMR), 0xFF);
-    assert_eq!(n.write(basic::SR, 0), WriteOutcome::IgnoredReadOnly { reg: "SR" });
-    assert_eq!(n.write(basic::IR, 0xFF), WriteOutcome::IgnoredReadOnly { reg: "IR" });
+    assert_eq!(
+        n.write(basic::SR, 0),
+        WriteOutcome::IgnoredReadOnly { reg: "SR" }
+    );
+    assert_eq!(
+        n.write(basic::IR, 0xFF),
+        WriteOutcome::IgnoredReadOnly { reg: "IR" }
+    );
     assert_eq!(n.read(basic::IR), 0xE0);
 }
 
@@ -148,12 +195,24 @@ fn basic_cr_bits() {
 #[test]
 fn out_of_range_addresses_are_errors() {
     let mut b = basic_reset();
-    assert_eq!(b.try_read(32), Err(RegError::OutOfRange { addr: 32, mode: Mode::BasicCan }));
+    assert_eq!(
+        b.try_read(32),
+        Err(RegError::OutOfRange {
+            addr: 32,
+            mode: Mode::BasicCan
+        })
+    );
     assert!(b.try_write(200, 1).is_err());
     assert_eq!(b.read(32), 0);
     let mut p = pelican_reset();
     assert!(p.try_read(127).is_ok());
-    assert_eq!(p.try_read(128), Err(RegError::OutOfRange { addr: 128, mode: Mode::PeliCan }));
+    assert_eq!(
+        p.try_read(128),
+        Err(RegError::OutOfRange {
+            addr: 128,
+            mode: Mode::PeliCan
+        })
+    );
     assert_eq!(p.write(255, 1), WriteOutcome::IgnoredReserved);
 }
 
@@ -173,7 +232,10 @@ fn pelican_acceptance_registers_and_buffer_window() {
     }
     for a in 24..=28 {
         assert_eq!(n.read(a), 0);
-        assert_eq!(n.write(a, 1), WriteOutcome::IgnoredInResetMode { reg: "TXB" });
+        assert_eq!(
+            n.write(a, 1),
+            WriteOutcome::IgnoredInResetMode { reg: "TXB" }
+        );
     }
     host::leave_reset(&mut n);
     // Writes go to the TX buffer, visible at 96..108; 16.. reads the RX window.
@@ -185,7 +247,11 @@ fn pelican_acceptance_registers_and_buffer_window() {
     }
     host::enter_reset(&mut n);
     for i in 0..8 {
-        assert_eq!(n.read(peli::ACR0 + i), 0x10 + i, "filter survived operating-mode writes");
+        assert_eq!(
+            n.read(peli::ACR0 + i),
+            0x10 + i,
+            "filter survived operating-mode writes"
+        );
     }
 }
 
@@ -197,7 +263,10 @@ fn pelican_mod_configuration_bits_reset_mode_only() {
     let out = n.write(peli::MOD, peli::r#mod::AFM | peli::r#mod::LOM);
     assert_eq!(
         out,
-        WriteOutcome::BitsIgnoredNotInResetMode { reg: "MOD", bits: peli::r#mod::LOM }
+        WriteOutcome::BitsIgnoredNotInResetMode {
+            reg: "MOD",
+            bits: peli::r#mod::LOM
+        }
     );
     // Config::pelican() sets AFM; LOM stayed 0.
     assert_eq!(n.read(peli::MOD), peli::r#mod::AFM);
@@ -208,14 +277,28 @@ fn pelican_mod_configuration_bits_reset_mode_only() {
 fn pelican_sm_not_in_reset_mode() {
     let mut n = pelican_reset();
     let out = n.write(peli::MOD, peli::r#mod::RM | peli::r#mod::SM);
-    assert_eq!(out, WriteOutcome::BitsIgnoredInResetMode { reg: "MOD", bits: peli::r#mod::SM });
+    assert_eq!(
+        out,
+        WriteOutcome::BitsIgnoredInResetMode {
+            reg: "MOD",
+            bits: peli::r#mod::SM
+        }
+    );
     assert_eq!(n.read(peli::MOD), peli::r#mod::RM);
 }
 
 /// BTR0/1, OCR, EWLR, RXERR, TXERR, RBSA: readable always, writable in reset mode only.
 #[test]
 fn pelican_reset_mode_only_registers() {
-    let regs = [peli::BTR0, peli::BTR1, peli::OCR, peli::EWLR, peli::RXERR, peli::TXERR, peli::RBSA];
+    let regs = [
+        peli::BTR0,
+        peli::BTR1,
+        peli::OCR,
+        peli::EWLR,
+        peli::RXERR,
+        peli::TXERR,
+        peli::RBSA,
+    ];
     let mut n = pelican_reset();
     for (k, &a) in regs.iter().enumerate() {
         let v = 0x21 + k as u8;
@@ -230,7 +313,13 @@ fn pelican_reset_mode_only_registers() {
     host::leave_reset(&mut n);
     for &a in &regs {
         let before = n.read(a);
-        assert!(matches!(n.write(a, before ^ 0x0F), WriteOutcome::IgnoredNotInResetMode { .. }), "addr {a}");
+        assert!(
+            matches!(
+                n.write(a, before ^ 0x0F),
+                WriteOutcome::IgnoredNotInResetMode { .. }
+            ),
+            "addr {a}"
+        );
         assert_eq!(n.read(a), before, "addr {a}");
     }
 }
@@ -240,7 +329,13 @@ fn pelican_reset_mode_only_registers() {
 fn pelican_cdr_mode_bit_locked_in_operating_mode() {
     let mut n = pelican_operating(0);
     let out = n.write(peli::CDR, 0x05);
-    assert_eq!(out, WriteOutcome::BitsIgnoredNotInResetMode { reg: "CDR", bits: peli::cdr::CANMODE });
+    assert_eq!(
+        out,
+        WriteOutcome::BitsIgnoredNotInResetMode {
+            reg: "CDR",
+            bits: peli::cdr::CANMODE
+        }
+    );
     assert_eq!(n.mode(), Mode::PeliCan);
     assert_eq!(n.read(peli::CDR), 0x85);
 }
@@ -250,8 +345,17 @@ fn pelican_cdr_mode_bit_locked_in_operating_mode() {
 fn pelican_read_only_and_reserved() {
     let mut n = pelican_operating(0);
     assert_eq!(n.read(peli::CMR), 0);
-    for (a, name) in [(peli::SR, "SR"), (peli::IR, "IR"), (peli::ALC, "ALC"), (peli::ECC, "ECC"), (peli::RMC, "RMC")] {
-        assert_eq!(n.write(a, 0x55), WriteOutcome::IgnoredReadOnly { reg: name });
+    for (a, name) in [
+        (peli::SR, "SR"),
+        (peli::IR, "IR"),
+        (peli::ALC, "ALC"),
+        (peli::ECC, "ECC"),
+        (peli::RMC, "RMC"),
+    ] {
+        assert_eq!(
+            n.write(a, 0x55),
+            WriteOutcome::IgnoredReadOnly { reg: name }
+        );
     }
     assert_eq!(n.write(5, 1), WriteOutcome::IgnoredReserved);
     assert_eq!(n.read(5), 0);
@@ -270,7 +374,10 @@ fn pelican_rx_fifo_ram_access() {
     for i in 0..64 {
         assert_eq!(n.read(peli::RXFIFO + i), i ^ 0x5A);
     }
-    assert!(matches!(n.write(peli::RXFIFO, 0), WriteOutcome::IgnoredNotInResetMode { .. }));
+    assert!(matches!(
+        n.write(peli::RXFIFO, 0),
+        WriteOutcome::IgnoredNotInResetMode { .. }
+    ));
     // The receive window shows the RAM from RBSA (0) on.
     assert_eq!(n.read(peli::RXFI), 0x5A);
     assert_eq!(n.read(peli::RXFI + 12), 12 ^ 0x5A);
@@ -299,10 +406,16 @@ fn tx_buffer_locked_while_pending() {
     let f = std_frame(0x123, &[1, 2]);
     host::transmit(&mut n, &f, peli::cmr::TR).unwrap();
     assert_eq!(n.read(peli::SR) & peli::sr::TBS, 0);
-    assert_eq!(n.write(peli::TXFI + 3, 9), WriteOutcome::IgnoredTxBufferLocked { reg: "TXB" });
+    assert_eq!(
+        n.write(peli::TXFI + 3, 9),
+        WriteOutcome::IgnoredTxBufferLocked { reg: "TXB" }
+    );
     assert_eq!(n.read(peli::TXBUF + 3), 1, "buffer unchanged");
     // A second TR is refused too.
-    assert!(matches!(n.write(peli::CMR, peli::cmr::TR), WriteOutcome::CommandIgnored { command: "TR", .. }));
+    assert!(matches!(
+        n.write(peli::CMR, peli::cmr::TR),
+        WriteOutcome::CommandIgnored { command: "TR", .. }
+    ));
 }
 
 /// TR in reset mode is ignored.
@@ -311,7 +424,10 @@ fn tr_ignored_in_reset_mode() {
     let mut n = pelican_reset();
     assert_eq!(
         n.write(peli::CMR, peli::cmr::TR),
-        WriteOutcome::CommandIgnored { command: "TR", reason: "reset mode" }
+        WriteOutcome::CommandIgnored {
+            command: "TR",
+            reason: "reset mode"
+        }
     );
     assert_eq!(n.read(peli::SR) & peli::sr::TBS, peli::sr::TBS);
 }
@@ -323,8 +439,10 @@ fn tx_buffer_layouts() {
     let cases = [
         std_frame(0x7FF, &[1, 2, 3, 4, 5, 6, 7, 8]),
         ext_frame(0x1ABC_DEF0, &[0xAA]),
-        can_proto::CanFrame::with_dlc(can_proto::CanFrame::std_id(0x001).unwrap(), true, 5, &[]).unwrap(),
-        can_proto::CanFrame::with_dlc(can_proto::CanFrame::ext_id(7).unwrap(), false, 12, &[9; 8]).unwrap(),
+        can_proto::CanFrame::with_dlc(can_proto::CanFrame::std_id(0x001).unwrap(), true, 5, &[])
+            .unwrap(),
+        can_proto::CanFrame::with_dlc(can_proto::CanFrame::ext_id(7).unwrap(), false, 12, &[9; 8])
+            .unwrap(),
     ];
     for f in cases {
         let mut n = pelican_operating(0);

@@ -1,9 +1,9 @@
 //! Fixtures shared by the integration tests.
 #![allow(dead_code)]
 
+use regmap::peli;
 use sja1000::host::{self, Config};
 use sja1000::{Bus, Sja1000};
-use regmap::peli;
 
 /// After a hardware reset: BasicCAN, reset mode.
 pub fn basic_reset() -> Sja1000 {
@@ -20,7 +20,13 @@ pub fn pelican_reset() -> Sja1000 {
 /// PeliCAN, accept all, operating mode, with `ier` enabled.
 pub fn pelican_operating(ier: u8) -> Sja1000 {
     let mut n = Sja1000::new();
-    host::configure(&mut n, &Config { interrupts: ier, ..Config::pelican() });
+    host::configure(
+        &mut n,
+        &Config {
+            interrupts: ier,
+            ..Config::pelican()
+        },
+    );
     n
 }
 
