@@ -70,6 +70,30 @@ fn check_arbitration(frames: Vec<CanFrame>) {
     // All contend in every round: round r has n - r contenders.
     assert_eq!(losses, n * (n - 1) / 2);
 
+    // The independent bus decoder of can-proto sees the same frames, all
+    // acknowledged, no error, and the fields where node 0 says they are.
+    let decoded = can_proto::decode::Decoder::decode(bus.bits.iter().copied());
+    let frames_seen: Vec<CanFrame> = decoded
+        .iter()
+        .filter_map(|e| match e {
+            can_proto::decode::DecodeEvent::Frame(d) => {
+                assert!(d.ack);
+                Some(d.frame)
+            }
+            can_proto::decode::DecodeEvent::Error { .. } => panic!("decoder error {e}"),
+            _ => None,
+        })
+        .collect();
+    assert_eq!(frames_seen, want.iter().map(|&k| frames[k]).collect::<Vec<_>>());
+    for e in &decoded {
+        if let can_proto::decode::DecodeEvent::FieldStart { field, bit } = *e {
+            // A receiver knows a bit is SOF only once it has sampled it.
+            if field != Field::BusIdle && !(field == Field::Sof && bus.fields[bit as usize] == Field::BusIdle) {
+                assert_eq!(bus.fields[bit as usize], field, "bit {bit}");
+            }
+        }
+    }
+
     // Every frame reaches every other node exactly once; no errors.
     for k in 0..n {
         let got: Vec<CanFrame> = bus

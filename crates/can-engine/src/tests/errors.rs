@@ -31,6 +31,32 @@ fn first_error(bus: &TestBus, node: usize) -> Event {
     bus.log.iter().find(|l| l.node == node && matches!(l.event, Event::BusError { .. })).unwrap().event.clone()
 }
 
+/// A receiver that sees the bus as it is is a bus observer, like the
+/// can-proto decoder: its first error must be the decoder's first error
+/// (same bit, kind and field).
+fn assert_receiver_matches_decoder(bus: &TestBus, node: usize) {
+    use can_proto::decode::{BusError, DecodeEvent, Decoder};
+    // The decoder integrates first: 11 recessive bits before the recording.
+    let levels = std::iter::repeat_n(RECESSIVE, 11).chain(bus.bits.iter().copied());
+    let (bit, kind, field) = Decoder::decode(levels)
+        .into_iter()
+        .find_map(|e| match e {
+            DecodeEvent::Error { error, field, bit } => Some((bit as usize - 11, error, field)),
+            _ => None,
+        })
+        .expect("the decoder sees an error");
+    let mine = bus.log.iter().find(|l| l.node == node && matches!(l.event, Event::BusError { .. })).unwrap();
+    let Event::BusError { kind: k, field: f, .. } = mine.event else { unreachable!() };
+    let k2 = match k {
+        ErrorKind::Stuff => BusError::Stuff,
+        ErrorKind::Crc => BusError::Crc,
+        ErrorKind::Form => BusError::Form,
+        ErrorKind::Ack => BusError::Acknowledge,
+        ErrorKind::Bit => panic!("a receiver has no bit error outside its own flags"),
+    };
+    assert_eq!((mine.bit, k2, f), (bit, kind, field));
+}
+
 fn bus_error(kind: ErrorKind, ecc: u8, field: Field) -> Event {
     Event::BusError { kind, ecc, field }
 }
@@ -44,6 +70,7 @@ fn bit_error_in_data_field() {
     bus.force.push((i, DOMINANT));
     bus.run(250);
     assert_eq!(first_error(&bus, 0), bus_error(ErrorKind::Bit, 0x0A, Field::Data));
+    assert_receiver_matches_decoder(&bus, 1);
     assert_eq!(bus.log.iter().find(|l| l.node == 0 && matches!(l.event, Event::BusError { .. })).unwrap().bit, i);
     // Retransmitted and delivered once to each receiver.
     assert_eq!(bus.count(0, |e| *e == Event::TxComplete), 1);
@@ -104,6 +131,7 @@ fn form_error_at_crc_delimiter() {
     assert_eq!(first_error(&bus, 0), bus_error(ErrorKind::Form, 0x58, Field::CrcDelim));
     assert_eq!(first_error(&bus, 1), bus_error(ErrorKind::Form, 0x78, Field::CrcDelim));
     assert_eq!(first_error(&bus, 2), bus_error(ErrorKind::Form, 0x78, Field::CrcDelim));
+    assert_receiver_matches_decoder(&bus, 1);
     assert_eq!(bus.count(1, |e| matches!(e, Event::Received { .. })), 1);
 }
 
@@ -119,6 +147,7 @@ fn form_error_at_ack_delimiter_then_overload_at_delimiter_end() {
     bus.run(d + 16);
     assert_eq!(first_error(&bus, 0), bus_error(ErrorKind::Form, 0x5B, Field::AckDelim));
     assert_eq!(first_error(&bus, 1), bus_error(ErrorKind::Form, 0x7B, Field::AckDelim));
+    assert_receiver_matches_decoder(&bus, 2);
     assert_eq!(bus.fields[d + 14], Field::ErrorDelimiter);
     assert_eq!(bus.fields[d + 15], Field::OverloadFlag);
     assert_eq!((bus.nodes[0].tec(), bus.nodes[1].rec()), (8, 1));
@@ -229,6 +258,7 @@ fn stuff_error_in_arbitration_leaves_tec() {
     bus.run(sof + 6);
     assert_eq!(first_error(&bus, 0), bus_error(ErrorKind::Stuff, 0x82, Field::BaseId));
     assert_eq!(first_error(&bus, 1), bus_error(ErrorKind::Stuff, 0xA2, Field::BaseId));
+    assert_receiver_matches_decoder(&bus, 2);
     assert_eq!((bus.nodes[0].tec(), bus.nodes[1].rec(), bus.nodes[2].rec()), (0, 1, 1));
     bus.run(200);
     assert_eq!(bus.count(0, |e| *e == Event::TxComplete), 1);
