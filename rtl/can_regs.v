@@ -68,7 +68,8 @@ module can_regs (
     output wire        wr_rec,
     input  wire        rx_i,        // raw bus level, for wake-up
     output wire        irq,
-    output reg         clkout
+    output reg         clkout,
+    output wire        clkout_fosc  // CDR selects fosc: can_top outputs clk_i itself
 );
     // the include lists the whole register map; not every address is used here
     /* verilator lint_off UNUSEDPARAM */
@@ -212,6 +213,7 @@ module can_regs (
     wire wake_bus  = sleep && !rx_i;
 
     // ---- clock divider (CDR.2..0: fosc/2,4,...,14, 7 = fosc; CDR.3 = off) ----
+    assign clkout_fosc = (cdr[2:0] == 3'd7) && !cdr[3] && !sleep;
     reg [2:0] cdiv;
     always @(posedge clk) begin
         if (rst) begin
@@ -219,7 +221,7 @@ module can_regs (
         end else if (cdr[3] || sleep) begin
             cdiv <= 3'd0; clkout <= 1'b0;
         end else if (cdr[2:0] == 3'd7) begin
-            cdiv <= 3'd0; clkout <= ~clkout;           // see README: fosc shown as fosc/2
+            cdiv <= 3'd0; clkout <= 1'b0;              // fosc: see clkout_fosc
         end else if (cdiv == cdr[2:0]) begin
             cdiv <= 3'd0; clkout <= ~clkout;
         end else begin

@@ -55,6 +55,7 @@ module can_top (
     wire [7:0]  tec, rec;
     wire        bus_off, passive, warn, epi_evt, wr_tec, wr_rec;
     wire        irq;
+    wire        clkout_div, clkout_fosc;
     wire        tec_add8, tec_sub1, rec_add1, rec_add8, rec_sub1, recov_tick;
     wire        sample, rx_bit, tx_next, hard_en;
     wire [28:0] rx_id;
@@ -77,7 +78,8 @@ module can_top (
         .tx_done(tx_done), .tx_drop(tx_drop), .alc_evt(alc_evt), .alc_val(alc_val),
         .err_evt(err_evt), .ecc_val(ecc_val), .rs(rs), .ts(ts), .bus_idle(bus_idle),
         .tec(tec), .rec(rec), .bus_off(bus_off), .warn(warn), .epi_evt(epi_evt),
-        .wr_tec(wr_tec), .wr_rec(wr_rec), .rx_i(rx_i), .irq(irq), .clkout(clkout_o)
+        .wr_tec(wr_tec), .wr_rec(wr_rec), .rx_i(rx_i), .irq(irq), .clkout(clkout_div),
+        .clkout_fosc(clkout_fosc)
     );
 
     can_btl u_btl (
@@ -123,6 +125,10 @@ module can_top (
         .rmc(rmc), .rbsa(rbsa), .rbs(rbs), .dos(dos), .dos_set(dos_set)
     );
 
+    // CLKOUT: the divided clock, or clk_i itself when CDR selects fosc
+    // (a clock multiplexer; the switch may glitch, as on the SJA1000 when
+    // CDR is rewritten)
+    assign clkout_o   = clkout_fosc ? clk_i : clkout_div;
     assign bus_off_on = !bus_off;
     assign irq_on     = !irq;
 endmodule

@@ -214,6 +214,16 @@ module tb_can;
     endtask
 
     reg [7:0] q, rbsa0, rec0;
+    // rising CLKOUT edges of node 0 during n clk_i cycles
+    integer ck_edges = 0; reg ck_count = 0;
+    always @(posedge ck0) if (ck_count) ck_edges = ck_edges + 1;
+    task count_ck(input integer n, output integer e);
+        begin
+            @(posedge clk0); #1; ck_edges = 0; ck_count = 1;
+            repeat (n) @(posedge clk0);
+            #1; ck_count = 0; e = ck_edges;
+        end
+    endtask
     reg tx0_dom = 0, watch_tx0 = 0;
     always @(posedge clk0) if (watch_tx0 && !tx0) tx0_dom <= 1;
     // glitch injector (test 8): one dominant bit on the bus, centred on
@@ -295,6 +305,15 @@ module tb_can;
             wr(k, 8'd4, 8'hFF);             // IER: all
         end
         expect_reg(0, 8'd0, 8'h05, "MOD");
+        count_ck(60, k);
+        if (k != 60) begin $display("FAIL: CLKOUT fosc: %0d edges in 60 clk", k); $fatal(1); end
+        wr(0, 8'd31, 8'h82);                // CLKOUT fosc/6
+        count_ck(60, k);
+        if (k < 9 || k > 11) begin $display("FAIL: CLKOUT fosc/6: %0d edges in 60 clk", k); $fatal(1); end
+        wr(0, 8'd31, 8'h88);                // clock off
+        count_ck(60, k);
+        if (k != 0) fail("CLKOUT must stop with CDR.3");
+        wr(0, 8'd31, 8'h87);
         expect_reg(0, 8'd13, 8'd96, "EWLR reset value");
         wr(0, 8'd0, 8'h04);                 // node 0: operating, self test
         wait_bits(12);
