@@ -37,6 +37,35 @@ pub mod sr {
     }
 }
 
+/// The field named by the segment code of an ECC value (bits 4:0, SJA1000
+/// data sheet, error code capture register), or `None` for codes that name
+/// no single field of ours.
+pub fn field_from_ecc(ecc: u8) -> Option<Field> {
+    Some(match ecc & 0x1F {
+        0x03 => Field::Sof,
+        0x02 | 0x06 => Field::BaseId,
+        0x04 => Field::SrrRtr,
+        0x05 => Field::Ide,
+        0x07 | 0x0F | 0x0E => Field::ExtId,
+        0x0C => Field::Rtr,
+        0x0D => Field::R1,
+        0x09 => Field::R0,
+        0x0B => Field::Dlc,
+        0x0A => Field::Data,
+        0x08 => Field::Crc,
+        0x18 => Field::CrcDelim,
+        0x19 => Field::AckSlot,
+        0x1B => Field::AckDelim,
+        0x1A => Field::Eof,
+        0x12 => Field::Intermission,
+        0x11 => Field::ActiveErrorFlag,
+        0x16 => Field::PassiveErrorFlag,
+        0x17 => Field::ErrorDelimiter,
+        0x1C => Field::OverloadFlag,
+        _ => return None,
+    })
+}
+
 /// The SJA1000 register view in use.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize, Default)]
 pub enum CanMode {
@@ -606,10 +635,11 @@ impl RunRecord {
         self.events.iter().filter(move |e| e.node == side)
     }
 
-    /// The first bus error of `side`.
+    /// The first bus error of `side`, with the field of detection (from the
+    /// ECC segment code when it names one, else the recorded field).
     pub fn first_bus_error(&self, side: Side) -> Option<(&EngineEvent, ErrorKind, Field)> {
         self.events_of(side).find_map(|e| match e.kind {
-            EventKind::BusError { kind, field, .. } => Some((e, kind, field)),
+            EventKind::BusError { kind, field, ecc } => Some((e, kind, field_from_ecc(ecc).unwrap_or(field))),
             _ => None,
         })
     }

@@ -19,9 +19,9 @@ pub fn all(r: &RunRecord) -> Vec<Finding> {
         }
     });
     let mut rules: Vec<fn(&RunRecord) -> Option<Finding>> = vec![
-        run_error,
         host_bus_timeout,
         host_bus_violation,
+        run_error,
         address_mode_confusion,
         config_write_outside_reset,
         tx_buffer_write_while_locked,
@@ -39,7 +39,12 @@ pub fn all(r: &RunRecord) -> Vec<Finding> {
 
 /// Figures every finding starts from: final DUT status and the TEC trace.
 pub fn base_figures(r: &RunRecord) -> Figures {
-    let dut = r.tec_of(Side::Dut);
+    // The DUT's own counters when known, else the model's (in lockstep they
+    // agree up to the first divergence).
+    let dut = {
+        let d = r.tec_of(Side::Dut);
+        if d.is_empty() { r.tec_of(Side::Model) } else { d }
+    };
     let mut f = Figures::default();
     if let Some(fr) = r.final_dut {
         f.tec = Some(fr.tec);
@@ -312,8 +317,14 @@ pub fn rx_not_following_tx(r: &RunRecord) -> Option<Finding> {
         _ => "tx_o does not reach the bus that rx_i reads (no transceiver loopback)",
     };
     let field = f.field.unwrap_or(Field::Sof);
+    let trace: Vec<u16> = {
+        let d = r.tec_of(Side::Dut);
+        let t = if d.is_empty() { r.tec_of(Side::Model) } else { d };
+        t.iter().map(|t| t.tec).collect()
+    };
+    let counts = explain_tied_counts(&trace).map(|e| format!(" {e}")).unwrap_or_default();
     let what = format!(
-        "frame 1: the DUT sent {} in the {field} at bit {} and read {} back on rx_i: bit error (CAN 2.0B §7.1, bit monitoring). Its active error flag (six dominant bits) reads back recessive too, so every flag bit is another bit error (+8 each).{}",
+        "frame 1: the DUT sent {} in the {field} at bit {} and read {} back on rx_i: bit error (CAN 2.0B §7.1, bit monitoring). Its active error flag (six dominant bits) reads back recessive too, so every flag bit is another bit error (+8 each).{}{counts}",
         level(false),
         f.bit.map(|b| b.to_string()).unwrap_or_else(|| "?".into()),
         level(true),
@@ -518,17 +529,22 @@ pub fn stuck_transfer(r: &RunRecord) -> Option<Finding> {
     ))
 }
 
-/// The strict CAN 2.0B TEC after each attempt when rx reads recessive only:
+/// The CAN 2.0B TEC after each attempt when rx reads recessive only:
 /// +8 for the bit error in SOF (rule 3), +8 for each bit error while sending
-/// the active error flag (rule 4) until TEC >= 128 (error passive, §8); after
-/// that the passive error flag is recessive (no bit error) and each attempt
-/// adds only the +8 of its SOF bit error; bus-off when TEC > 255.
+/// an active error flag (rule 4). CAN 2.0B §8: "an error condition letting a
+/// node become error passive causes the node to send an active error flag",
+/// so the error that takes TEC to 128 still starts an active flag, whose
+/// first bit fails once more: 136 after attempt 1. From then on the flags
+/// are passive (recessive, no bit error): +8 per attempt, bus-off
+/// (TEC > 255) during attempt 16.
 pub fn strict_tied_recessive_trace() -> Vec<u16> {
     let mut v = Vec::new();
     let mut tec: u16 = 0;
     loop {
-        tec += 8; // rule 3: bit error in SOF, error flag sent
-        while tec < 128 {
+        let mut active = tec < 128; // state before the error picks the flag
+        tec += 8; // rule 3: bit error in SOF
+        while active && tec <= 255 {
+            active = tec < 128;
             tec += 8; // rule 4: the active flag bit reads back recessive
         }
         v.push(tec);
@@ -536,6 +552,25 @@ pub fn strict_tied_recessive_trace() -> Vec<u16> {
             return v;
         }
     }
+}
+
+/// Why the first attempt of a transmitter with rx held recessive ends at 136
+/// and bus-off comes in attempt 16, in words, from a TEC trace.
+pub fn explain_tied_counts(trace: &[u16]) -> Option<String> {
+    let first = *trace.first()?;
+    let off = trace.iter().position(|&t| t > 255).map(|p| p + 1);
+    let mut s = format!(
+        "TEC {first} after attempt 1: +8 for the bit error in SOF (CAN 2.0B §8 rule 3), +8 for each active error flag bit that reads back recessive (rule 4)"
+    );
+    if first == 136 {
+        s += "; the error that takes TEC to 128 (error passive) still starts an active error flag (§8: \"an error condition letting a node become error passive causes the node to send an active error flag\"), whose first bit fails once more: 128 + 8 = 136";
+    }
+    s += ". Later attempts send passive (recessive) error flags: +8 per attempt";
+    if let Some(o) = off {
+        s += &format!(", bus-off (TEC > 255) during attempt {o}");
+    }
+    s.push('.');
+    Some(s)
 }
 
 /// Where the DUT's TEC counts differ from the strict CAN 2.0B counts, which
@@ -563,10 +598,12 @@ pub fn counts_note(r: &RunRecord) -> Option<String> {
     if let Some(i) = i {
         s += &format!("attempt {}: DUT TEC {}, model (CAN 2.0B) TEC {}. ", i + 1, dut[i], model[i]);
         let prev_equal = i == 0 || dut[i - 1] == model[i - 1];
-        if prev_equal && model[i] == 128 && dut[i] > 128 {
+        if prev_equal && model[i] == 136 && dut[i] == 128 {
+            s += "CAN 2.0B §8: \"an error condition letting a node become error passive causes the node to send an active error flag\"; the DUT switched to a passive error flag as soon as TEC reached 128, so it missed the last +8 (rule 4: bit error while sending an active error flag). ";
+        } else if prev_equal && model[i] == 136 && dut[i] > 136 {
             s += &format!(
-                "CAN 2.0B §8: a node is error passive as soon as TEC >= 128, and an error-passive node sends a passive error flag (recessive), which cannot produce a bit error while rx reads recessive; rule 4 (+8 for a bit error while sending an active error flag) therefore stops at 128. The DUT counted {} more bit error(s) after reaching 128: it kept sending the active error flag after becoming error passive. ",
-                (dut[i] - 128) / 8
+                "CAN 2.0B §8: a node is error passive once TEC >= 128 and sends passive (recessive) error flags after the one active flag that the error reaching 128 starts; the DUT counted {} more bit error(s): it kept sending active error flags while error passive. ",
+                (dut[i] - 136) / 8
             );
         } else if r.wiring.ack_nodes() == 0 && !r.wiring.self_test && dut[i] > 128 && model[i] == 128 {
             s += "CAN 2.0B §8 rule 3, exception 1: an error-passive transmitter that detects an ACK error and no dominant bit while sending its passive error flag does not increment TEC; the DUT does. ";

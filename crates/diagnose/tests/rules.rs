@@ -37,11 +37,11 @@ fn thesis_record() -> RunRecord {
         .op(HostOp::write(0, 0x01).reg("CR").mode(CanMode::BasicCan, false))
         .op(HostOp::write(1, 0x01).reg("CMR").mode(CanMode::BasicCan, false))
         .event(
-            EngineEvent::new(412, Side::Dut, EventKind::BusError { kind: ErrorKind::Bit, ecc: 0x00, field: Field::Sof })
+            EngineEvent::new(412, Side::Dut, EventKind::BusError { kind: ErrorKind::Bit, ecc: 0x03, field: Field::Sof })
                 .tec(8),
         )
         .event(
-            EngineEvent::new(412, Side::Model, EventKind::BusError { kind: ErrorKind::Bit, ecc: 0x00, field: Field::Sof })
+            EngineEvent::new(412, Side::Model, EventKind::BusError { kind: ErrorKind::Bit, ecc: 0x03, field: Field::Sof })
                 .tec(8),
         );
     r.tec_trace = upstream_tied_trace(Side::Dut);
@@ -52,12 +52,12 @@ fn thesis_record() -> RunRecord {
 }
 
 #[test]
-fn strict_trace_is_128_then_8_per_attempt_busoff_in_17th() {
+fn strict_trace_is_136_then_8_per_attempt_busoff_in_16th() {
     let t = rules::strict_tied_recessive_trace();
-    assert_eq!(t[0], 128);
-    assert_eq!(t[1], 136);
-    assert_eq!(t.len(), 17);
-    assert!(t[16] > 255 && t[15] <= 255);
+    assert_eq!(t[0], 136);
+    assert_eq!(t[1], 144);
+    assert_eq!(t.len(), 16);
+    assert!(t[15] > 255 && t[14] <= 255);
 }
 
 #[test]
@@ -73,32 +73,75 @@ fn rx_tied_recessive_is_diagnosed_with_sof_bit_error() {
     assert_eq!(d.figures.sr, Some(0xD4));
     assert!(d.root_cause.contains("tied to 1"));
     assert!(d.fix.contains("transceiver"));
+    // the 136 is explained by the CAN 2.0B rule that makes it
+    assert!(d.what_happened.contains("128 + 8 = 136"), "{}", d.what_happened);
+    assert!(d.what_happened.contains("during attempt 16"), "{}", d.what_happened);
+    // upstream counts equal the CAN 2.0B counts: no difference to explain
+    assert_eq!(d.counts_note, None);
+}
+
+/// A DUT that switches to a passive flag as soon as TEC reaches 128.
+fn early_passive_trace(side: Side) -> Vec<TecStep> {
+    (1..=17u32)
+        .map(|a| {
+            let tec = 128 + 8 * (a as u16 - 1);
+            TecStep { node: side, attempt: a, bit: 25 * a as u64, tec, bus_off: tec > 255 }
+        })
+        .collect()
 }
 
 #[test]
-fn counts_note_names_the_error_passive_rule_for_upstream_counts() {
-    let d = diagnose(&thesis_record());
-    let n = d.counts_note.expect("upstream counts differ from CAN 2.0B");
-    assert!(n.contains("attempt 1: DUT TEC 136, model (CAN 2.0B) TEC 128"), "{n}");
-    assert!(n.contains("TEC >= 128"), "{n}");
+fn counts_note_names_the_rule_when_dut_goes_passive_early() {
+    let mut r = thesis_record();
+    r.tec_trace = early_passive_trace(Side::Dut);
+    r.tec_trace.extend(strict_trace(Side::Model));
+    let n = diagnose(&r).counts_note.expect("counts differ from CAN 2.0B");
+    assert!(n.contains("attempt 1: DUT TEC 128, model (CAN 2.0B) TEC 136"), "{n}");
+    assert!(n.contains("causes the node to send an active error flag"), "{n}");
+    assert!(n.contains("attempt 17 on the DUT, in attempt 16"), "{n}");
+}
+
+#[test]
+fn counts_note_names_extra_active_flags() {
+    let mut r = thesis_record();
+    r.tec_trace = (1..=15u32)
+        .map(|a| TecStep { node: Side::Dut, attempt: a, bit: 0, tec: 144 + 8 * (a as u16 - 1), bus_off: 144 + 8 * (a as u16 - 1) > 255 })
+        .collect();
+    r.tec_trace.extend(strict_trace(Side::Model));
+    let n = rules::counts_note(&r).unwrap();
     assert!(n.contains("1 more bit error"), "{n}");
-    assert!(n.contains("attempt 16 on the DUT, in attempt 17"), "{n}");
+    assert!(n.contains("while error passive"), "{n}");
 }
 
 #[test]
 fn counts_note_uses_analytic_counts_without_model_trace() {
     let mut r = thesis_record();
-    r.tec_trace.retain(|t| t.node == Side::Dut);
-    let n = rules::counts_note(&r).expect("analytic strict counts");
-    assert!(n.contains("model (CAN 2.0B) TEC 128"));
+    r.tec_trace = early_passive_trace(Side::Dut);
+    let n = rules::counts_note(&r).expect("analytic CAN 2.0B counts");
+    assert!(n.contains("model (CAN 2.0B) TEC 136"), "{n}");
 }
 
 #[test]
 fn no_counts_note_when_dut_matches_model() {
     let mut r = thesis_record();
-    r.tec_trace = strict_trace(Side::Dut);
-    r.tec_trace.extend(strict_trace(Side::Model));
+    r.tec_trace = upstream_tied_trace(Side::Dut);
+    r.tec_trace.extend(upstream_tied_trace(Side::Model));
     assert_eq!(rules::counts_note(&r), None);
+}
+
+#[test]
+fn ecc_segment_gives_the_field_of_detection() {
+    assert_eq!(field_from_ecc(0x03), Some(Field::Sof));
+    assert_eq!(field_from_ecc(0xD9), Some(Field::AckSlot));
+    assert_eq!(field_from_ecc(0x11), Some(Field::ActiveErrorFlag));
+    assert_eq!(field_from_ecc(0x00), None);
+    // the recorded field (drained late) is overridden by the ECC segment
+    let r = RunRecord::new("x", "y").event(EngineEvent::new(
+        14,
+        Side::Model,
+        EventKind::BusError { kind: ErrorKind::Bit, ecc: 0x03, field: Field::ActiveErrorFlag },
+    ));
+    assert_eq!(r.first_bus_error(Side::Model).unwrap().2, Field::Sof);
 }
 
 fn loopback_no_ack() -> RunRecord {
