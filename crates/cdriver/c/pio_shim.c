@@ -53,10 +53,14 @@ unsigned long cdriver_pio_timeout_polls(void)
     return CAN_SJA_PIO_TIMEOUT;
 }
 
+/* After an access timed out, the rest of the driver call fails fast
+ * instead of waiting out every timeout of its bounded loops again. */
 uint8_t cdriver_pio_read8(void *ctx, uintptr_t addr)
 {
     unsigned char v = 0xFF;
     (void)ctx;
+    if (pio_timeouts != 0)
+        return 0xFF;
     if (can_sja_pio_read_reg((unsigned char)(addr - pio_can_base), &v) != 0) {
         pio_timeouts++;
         return 0xFF;
@@ -67,6 +71,8 @@ uint8_t cdriver_pio_read8(void *ctx, uintptr_t addr)
 void cdriver_pio_write8(void *ctx, uintptr_t addr, uint8_t data)
 {
     (void)ctx;
+    if (pio_timeouts != 0)
+        return;
     if (can_sja_pio_write_reg((unsigned char)(addr - pio_can_base), data) != 0)
         pio_timeouts++;
 }

@@ -130,6 +130,13 @@ pub struct Direct<H> {
 }
 
 impl<H: Host> Direct<H> {
+    /// Moves the host's failure, if any, into this call's record.
+    fn collect(&mut self) {
+        if let Some(e) = self.host.take_error() {
+            record(&mut self.error, e);
+        }
+    }
+
     fn offset(&mut self, addr: usize) -> Option<u32> {
         match addr.checked_sub(self.base) {
             Some(o) if o < 256 => Some(o as u32),
@@ -145,23 +152,34 @@ unsafe extern "C" fn direct_rd8<H: Host>(ctx: *mut c_void, addr: usize) -> u8 {
     // SAFETY: ctx is the `Direct<H>` installed by `CDriver::call`, alive and
     // not otherwise borrowed for the duration of the C call.
     let d = unsafe { &mut *(ctx as *mut Direct<H>) };
+    // After a failed access the rest of the call fails fast (the driver's
+    // bounded loops would otherwise wait out every timeout again).
+    if d.error.is_some() {
+        return 0xFF;
+    }
     let Some(o) = d.offset(addr) else { return 0xFF };
-    match catch_unwind(AssertUnwindSafe(|| d.host.iord8(o))) {
+    let v = match catch_unwind(AssertUnwindSafe(|| d.host.iord8(o))) {
         Ok(v) => v,
         Err(p) => {
             record(&mut d.error, format!("host panicked reading offset {o}: {}", panic_text(p)));
             0xFF
         }
-    }
+    };
+    d.collect();
+    v
 }
 
 unsafe extern "C" fn direct_wr8<H: Host>(ctx: *mut c_void, addr: usize, v: u8) {
     // SAFETY: as in `direct_rd8`.
     let d = unsafe { &mut *(ctx as *mut Direct<H>) };
+    if d.error.is_some() {
+        return;
+    }
     let Some(o) = d.offset(addr) else { return };
     if let Err(p) = catch_unwind(AssertUnwindSafe(|| d.host.iowr8(o, v))) {
         record(&mut d.error, format!("host panicked writing offset {o}: {}", panic_text(p)));
     }
+    d.collect();
 }
 
 impl<H: Host> sealed::Wiring for Direct<H> {
@@ -172,9 +190,8 @@ impl<H: Host> sealed::Wiring for Direct<H> {
         self.base = base;
     }
     fn take_error(&mut self) -> Option<String> {
-        let mine = self.error.take();
-        let host = self.host.take_error();
-        mine.or(host)
+        self.collect();
+        self.error.take()
     }
 }
 impl<H: Host> Wiring for Direct<H> {
@@ -213,6 +230,9 @@ unsafe extern "C" fn pio_rd32<P: PioHost>(ctx: *mut c_void, addr: usize) -> u32 
     // SAFETY: ctx is the `ViaPio<P>` installed by `CDriver::call`; the C
     // 8-bit callbacks never touch it, so this is its only borrow.
     let d = unsafe { &mut *(ctx as *mut ViaPio<P>) };
+    if d.error.is_some() {
+        return 0xFFFF_FFFF;
+    }
     let Some((pio, reg)) = d.decode(addr) else { return 0xFFFF_FFFF };
     match catch_unwind(AssertUnwindSafe(|| d.host.pio_read(pio, reg))) {
         Ok(v) => v,
@@ -226,6 +246,9 @@ unsafe extern "C" fn pio_rd32<P: PioHost>(ctx: *mut c_void, addr: usize) -> u32 
 unsafe extern "C" fn pio_wr32<P: PioHost>(ctx: *mut c_void, addr: usize, v: u32) {
     // SAFETY: as in `pio_rd32`.
     let d = unsafe { &mut *(ctx as *mut ViaPio<P>) };
+    if d.error.is_some() {
+        return;
+    }
     let Some((pio, reg)) = d.decode(addr) else { return };
     if let Err(p) = catch_unwind(AssertUnwindSafe(|| d.host.pio_write(pio, reg, v))) {
         record(&mut d.error, format!("PIO host panicked writing {pio:?}[{reg}]: {}", panic_text(p)));
@@ -484,7 +507,7 @@ impl<W: Wiring> CDriver<W> {
 
     /// Data overruns the driver has seen and cleared.
     pub fn overruns(&self) -> u64 {
-        self.dev.overruns as u64
+        self.dev.overruns.into()
     }
 
     fn need_init(&self, call: &'static str) -> Result<View, CDriverError> {

@@ -170,6 +170,13 @@ pub struct PioBench<D: Dut> {
     acks: u64,
     /// GPIO accesses made by the CPU.
     gpio_accesses: u64,
+    /// Writes to the address PIO: one per register access of the driver.
+    register_accesses: u64,
+    /// Glue between the control PIO and the core: after `wb_ack_o`, hold
+    /// cyc/stb low until the CPU next writes the control PIO.
+    ack_gate: bool,
+    /// The gate is closed (an ack came since the last control write).
+    gated: bool,
     error: Option<String>,
 }
 
@@ -196,12 +203,25 @@ impl<D: Dut> PioBench<D> {
             host_cycles: 0,
             acks: 0,
             gpio_accesses: 0,
+            register_accesses: 0,
+            ack_gate: false,
+            gated: false,
             error: None,
         };
         b.dut.set_reset(true);
         b.dut.set_rx(true);
         b.run_host_cycles(16 + 64);
         b
+    }
+
+    /// Puts (or removes) a one-shot between the control PIO and the core's
+    /// `wb_cyc_i`/`wb_stb_i`: once `wb_ack_o` is seen they read low until
+    /// the CPU writes the control PIO again. Without it the thesis sequence
+    /// keeps cyc/stb high for the several cycles the CPU needs to notice the
+    /// ack, which Wishbone reads as a new transfer of the same access.
+    pub fn set_ack_gate(&mut self, on: bool) {
+        self.ack_gate = on;
+        self.gated = false;
     }
 
     /// The DUT.
@@ -217,6 +237,12 @@ impl<D: Dut> PioBench<D> {
     /// Wishbone transfers acknowledged by the DUT so far.
     pub fn acks(&self) -> u64 {
         self.acks
+    }
+
+    /// Register accesses of the driver so far (writes to the address PIO,
+    /// which `can_sja_pio.h` makes once per access).
+    pub fn register_accesses(&self) -> u64 {
+        self.register_accesses
     }
 
     /// PIO register accesses made by the CPU so far.
@@ -249,14 +275,16 @@ impl<D: Dut> PioBench<D> {
             // The PIO core samples its input at this edge: a pulse seen
             // here sets edge capture.
             self.ack_capture |= s.ack;
+            self.gated |= self.ack_gate && s.ack;
             self.slave = s;
             if self.reset_left > 0 {
                 self.reset_left -= 1;
             }
             self.dut.set_reset(self.reset_left > 0 || self.ctrl & bfm::CTL_RST != 0);
+            let open = !self.gated;
             self.dut.set_wb(&WbMasterOut {
-                cyc: self.ctrl & bfm::CTL_CYC != 0,
-                stb: self.ctrl & bfm::CTL_STB != 0,
+                cyc: open && self.ctrl & bfm::CTL_CYC != 0,
+                stb: open && self.ctrl & bfm::CTL_STB != 0,
                 we: self.ctrl & bfm::CTL_WE != 0,
                 adr: self.addr,
                 dat: self.dout,
@@ -308,9 +336,15 @@ impl<D: Dut> PioHost for PioBench<D> {
         self.gpio_accesses += 1;
         self.run_host_cycles(self.timing.iowr_cycles.max(1) as u64);
         match (pio, reg) {
-            (Pio::Addr, pio_reg::DATA) => self.addr = v as u8,
+            (Pio::Addr, pio_reg::DATA) => {
+                self.register_accesses += 1;
+                self.addr = v as u8;
+            }
             (Pio::Dout, pio_reg::DATA) => self.dout = v as u8,
-            (Pio::Ctrl, pio_reg::DATA) => self.ctrl = v as u8,
+            (Pio::Ctrl, pio_reg::DATA) => {
+                self.ctrl = v as u8;
+                self.gated = false;
+            }
             (Pio::Ack, pio_reg::EDGE_CAP) => {
                 if v & 1 != 0 {
                     self.ack_capture = false;

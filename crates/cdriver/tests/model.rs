@@ -55,3 +55,9 @@ fn no_acknowledge_is_read_through_ecc_and_txerr() {
 fn arbitration_loss_is_read_through_alc() {
     common::arbitration_lost(&mut driver_two_nodes(AVALON));
 }
+
+#[test]
+fn two_frames_queued_are_received_in_order() {
+    common::two_frames_queued(&mut driver(AVALON, View::Peli), View::Peli);
+    common::two_frames_queued(&mut driver(HostBfm::Wishbone, View::Basic), View::Basic);
+}

@@ -164,3 +164,23 @@ where
     let third = node_receive(drv, 0, 400);
     assert_eq!(third, std_frame(0x100, &[1, 2]));
 }
+
+/// Two frames wait in the RX FIFO: each `can_receive` returns one and
+/// releases exactly one (a duplicated CMR.RRB write would drop the second).
+pub fn two_frames_queued<W>(drv: &mut CDriver<W>, view: View)
+where
+    W: Wiring,
+    W::Host: SimHost,
+{
+    drv.init(view, &Config::accept_all()).unwrap();
+    drv.host_mut().run_bits(16);
+    let a = std_frame(0x301, &[1, 2, 3]);
+    let b = std_frame(0x302, &[4, 5, 6, 7]);
+    node_transmit(drv, 0, &a);
+    drv.host_mut().run_bits(160);
+    node_transmit(drv, 0, &b);
+    drv.host_mut().run_bits(160);
+    assert_eq!(drv.receive().unwrap(), Some(a));
+    assert_eq!(drv.receive().unwrap(), Some(b), "second frame still in the FIFO after the first release");
+    assert_eq!(drv.receive().unwrap(), None);
+}
