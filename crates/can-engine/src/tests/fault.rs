@@ -255,3 +255,42 @@ fn rule2_and_rule6_dominant_after_flag() {
     assert_eq!(bus.nodes[1].rec() as usize, 1 + 8 + 8 * (rx_after / 8));
     assert!(tx_after >= 16 && rx_after >= 16);
 }
+
+/// Error passive receiver: a stuff error gives +1 (rule 1) and a passive
+/// flag; then, seen only by this node, a dominant first bit after the flag
+/// gives +8 (rule 2) and the 8th and 16th consecutive dominant bits after
+/// the passive flag +8 each (rule 6).
+#[test]
+fn passive_receiver_rules_1_2_6() {
+    let mut bus = TestBus::idle(3);
+    bus.nodes[1] = node_error_passive(128, 0);
+    bus.nodes[0].request_tx(std_frame(0x0, &[0]), false, false);
+    // SOF at bit 1; ID 0: stuffed bit 6 (SOF + 5) is a recessive stuff bit.
+    let stuff = bus.bits.len() + 1 + 5;
+    bus.force_rx.push((stuff, 1, DOMINANT));
+    for k in 1..=6 {
+        bus.force_rx.push((stuff + k, 1, RECESSIVE)); // passive flag completes
+    }
+    for k in 7..7 + 17 {
+        bus.force_rx.push((stuff + k, 1, DOMINANT));
+    }
+    bus.run(stuff + 1 - bus.bits.len());
+    assert_eq!(bus.nodes[1].rec(), 129);
+    assert_eq!(bus.nodes[1].field(), Field::PassiveErrorFlag);
+    bus.run(6);
+    assert_eq!(bus.nodes[1].field(), Field::ErrorDelimiter);
+    bus.run(1);
+    assert_eq!(bus.nodes[1].rec(), 129 + 8, "rule 2");
+    bus.run(6);
+    assert_eq!(bus.nodes[1].rec(), 137);
+    bus.run(1);
+    assert_eq!(bus.nodes[1].rec(), 145, "rule 6 at the 8th dominant bit");
+    bus.run(8);
+    assert_eq!(bus.nodes[1].rec(), 153, "and at the 16th");
+    bus.run(1);
+    assert_eq!(bus.nodes[1].rec(), 153);
+    // The other nodes were not disturbed by the passive flag.
+    bus.run(200);
+    assert_eq!(bus.count(2, |e| matches!(e, Event::Received { .. })), 1);
+    assert_eq!(bus.count(0, |e| matches!(e, Event::BusError { .. })), 0);
+}
