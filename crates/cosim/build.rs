@@ -79,7 +79,7 @@ fn main() {
             Err(format!("no Verilog sources (*.v, *.sv) in {}", rtl_dir.display()))
         } else {
             let mut cmd = Command::new("verilator");
-            cmd.args(["--cc", "--trace", "-Wno-fatal", "-Wno-lint", "-Wno-style", "--top-module"])
+            cmd.args(["--cc", "--trace", "--no-timing", "-Wno-fatal", "-Wno-lint", "-Wno-style", "--top-module"])
                 .arg(&top.name)
                 .arg("--prefix")
                 .arg(format!("V{}", top.name))

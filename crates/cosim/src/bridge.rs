@@ -340,6 +340,10 @@ pub struct ExternalCore {
     pub defines: Vec<String>,
     /// Extra include directories (`dir` is always one).
     pub include_dirs: Vec<PathBuf>,
+    /// Extra Verilator arguments. `*.v` files are read as Verilog-2005
+    /// (`+1364-2005ext+v`, so identifiers such as `do` that SystemVerilog
+    /// reserves still parse); `*.sv` as SystemVerilog.
+    pub extra_args: Vec<String>,
 }
 
 /// A built external core: the loaded library and the symbol prefix.
@@ -415,10 +419,12 @@ impl ExternalCore {
     }
 
     fn verilator_args(&self, sources: &[PathBuf]) -> Vec<String> {
-        let mut a: Vec<String> = ["--cc", "--trace", "-Wno-fatal", "-Wno-lint", "-Wno-style", "--top-module"].iter().map(|s| s.to_string()).collect();
+        let mut a: Vec<String> = ["--cc", "--trace", "--no-timing", "-Wno-fatal", "-Wno-lint", "-Wno-style", "--top-module"].iter().map(|s| s.to_string()).collect();
         a.push(self.top.clone());
         a.push("--prefix".into());
         a.push(format!("V{}", self.top));
+        a.push("+1364-2005ext+v".into());
+        a.extend(self.extra_args.iter().cloned());
         for d in &self.defines {
             a.push(format!("-D{d}"));
         }

@@ -12,6 +12,7 @@ pub mod compare;
 pub mod dut;
 pub mod kernel;
 pub mod model;
+pub mod perf;
 pub mod shimgen;
 pub mod testbench;
 pub mod wave;
