@@ -9,7 +9,11 @@
 //! dut = ["opencores-can*"]         # DUT name globs (at least one)
 //! revisions = ["r3..r7"]           # optional; inclusive ranges
 //! explanation = "why this deviation is accepted"
-//! late-bits = 1                    # optional bound
+//! late-bits = 1                    # optional bound: the deviation lasts <= 1 bit
+//! dut-tec = [136]                  # optional bound on the DUT's TEC (see Waiver::dut_tec)
+//! # Other keys: register = "SR", address = 2, bits = [6] (register bits that
+//! # may differ), expected = [..] / seen = [..] (allowed model / DUT values),
+//! # dut-rec = [..], frames = "2..5", context = "text", max-hits = N.
 //! resync = ["skip-bits 1", "adopt-dut-tec"]
 //! ```
 

@@ -53,8 +53,9 @@ pub struct Observed {
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize)]
 pub enum Resync {
     /// Set the model's TEC to the DUT's. `Some(v)`: the value (from the
-    /// diverging TXERR read or from [`Observed::dut_tec`]); `None`: the
-    /// comparator reads the DUT's TEC itself when it applies this.
+    /// diverging TXERR read, else [`Observed::dut_tec`], else the waiver's
+    /// single-value `dut-tec`); `None`: the comparator must find the DUT's
+    /// TEC itself (e.g. at its next TXERR read).
     AdoptTec(Option<u8>),
     /// Set the model's REC to the DUT's (same convention as `AdoptTec`).
     AdoptRec(Option<u8>),
@@ -114,9 +115,11 @@ pub struct Waiver {
     pub expected: Option<Vec<u32>>,
     /// Allowed DUT values.
     pub seen: Option<Vec<u32>>,
-    /// Allowed DUT TEC values (needs [`Observed::dut_tec`]).
+    /// Allowed DUT TEC values, checked against [`Observed::dut_tec`]; when
+    /// the TEC was not observed a single value is taken as the measured TEC
+    /// (and is what `adopt-dut-tec` adopts), several values do not match.
     pub dut_tec: Option<Vec<u16>>,
-    /// Allowed DUT REC values (needs [`Observed::dut_rec`]).
+    /// Allowed DUT REC values (as `dut_tec`, with [`Observed::dut_rec`]).
     pub dut_rec: Option<Vec<u16>>,
     /// Frame numbers it applies to.
     pub frames: Option<FrameRange>,
@@ -197,6 +200,8 @@ impl Waiver {
                 match got {
                     Some(x) if v.contains(&x) => {}
                     Some(x) => return Some(format!("DUT {name} {x} not in the allowed {v:?}")),
+                    // A single value states the measured counter: assumed.
+                    None if v.len() == 1 => {}
                     None => return Some(format!("DUT {name} bound {v:?} but the comparator did not observe the DUT's {name}")),
                 }
             }
@@ -235,12 +240,12 @@ impl Waiver {
             .iter()
             .filter_map(|r| match r {
                 ResyncSpec::None => None,
-                ResyncSpec::AdoptDutTec => {
-                    Some(Resync::AdoptTec(read_of("TXERR").or(obs.dut_tec.and_then(|t| u8::try_from(t).ok()))))
-                }
-                ResyncSpec::AdoptDutRec => {
-                    Some(Resync::AdoptRec(read_of("RXERR").or(obs.dut_rec.and_then(|t| u8::try_from(t).ok()))))
-                }
+                ResyncSpec::AdoptDutTec => Some(Resync::AdoptTec(
+                    read_of("TXERR").or(obs.dut_tec.and_then(|t| u8::try_from(t).ok())).or(single(&self.dut_tec)),
+                )),
+                ResyncSpec::AdoptDutRec => Some(Resync::AdoptRec(
+                    read_of("RXERR").or(obs.dut_rec.and_then(|t| u8::try_from(t).ok())).or(single(&self.dut_rec)),
+                )),
                 ResyncSpec::AdoptDutRegister => Some(Resync::AdoptRegister {
                     addr: self.address.expect("validated at load: adopt-dut-register has an address"),
                     value: d.seen as u8,
@@ -248,6 +253,14 @@ impl Waiver {
                 ResyncSpec::SkipBits(n) => Some(Resync::SkipBits(*n)),
             })
             .collect()
+    }
+}
+
+/// The one value of a single-value counter bound.
+fn single(v: &Option<Vec<u16>>) -> Option<u8> {
+    match v.as_deref() {
+        Some([x]) => u8::try_from(*x).ok(),
+        _ => None,
     }
 }
 

@@ -304,3 +304,25 @@ fn suggestions_are_candidates_that_need_an_explanation() {
     assert_eq!(set.check(&read_div("SR", 0x0C, 0x8C), &dut), Verdict::Failure);
     assert_eq!(set.check(&read_div("SR", 0x0C, 0x4C), &DutInfo::new("/x/opencores-can").revision("r6")), Verdict::Failure);
 }
+
+#[test]
+fn an_unobserved_tec_is_assumed_only_from_a_single_measured_value() {
+    let path = concat!(env!("CARGO_MANIFEST_DIR"), "/../../tb/waivers/opencores-upstream.toml");
+    let mut set = WaiverSet::load(path).unwrap();
+    let dut = DutInfo::new("/cores/opencores-can");
+    // The comparator sees pins only: the measured 136 is what gets adopted.
+    assert_eq!(
+        set.check(&tx_div(900, Field::PassiveErrorFlag), &dut),
+        Verdict::Waived { waiver_id: "tec-after-error-passive".into(), resync: vec![Resync::SkipBits(1), Resync::AdoptTec(Some(136))] }
+    );
+    // Observed, the bound is checked.
+    let obs = waivers::Observed { dut_tec: Some(144), dut_rec: None };
+    assert_eq!(set.check_observed(&tx_div(5000, Field::PassiveErrorFlag), &dut, &obs), Verdict::Failure);
+    // Several allowed values and nothing observed: no match, said so.
+    let src = std::fs::read_to_string(path).unwrap().replacen("dut-tec = [136]", "dut-tec = [136, 144]", 1);
+    let mut set = WaiverSet::parse(&src, "two.toml").unwrap();
+    let d = tx_div(900, Field::PassiveErrorFlag);
+    assert_eq!(set.check(&d, &dut), Verdict::Failure);
+    let notes = set.near_misses(&d, &dut, &Default::default());
+    assert!(notes.iter().any(|n| n.contains("did not observe the DUT's TEC")), "{notes:?}");
+}
