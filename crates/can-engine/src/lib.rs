@@ -13,6 +13,22 @@
 //!
 //! Modules: `btl` bit timing, `bsp` frame state machine,
 //! `fault` confinement rules (CAN 2.0B §8), `ecc` ECC/ALC encodings.
+//!
+//! Readings of the sources where they leave a choice:
+//! - rule 9 of §8 is applied with its second sentence ("an error condition
+//!   letting a node become error passive causes the node to send an active
+//!   error flag"): the flag type is decided by the state before the
+//!   error's own increment. A lone transmitter with RX stuck recessive thus
+//!   ends its first attempt at TEC 136 and goes bus-off at the 16th;
+//! - rule 8 sets a REC above 127 back to 127 (the rule allows 119..=127);
+//! - a CRC error is detected at the ACK delimiter: ECC segment 11011;
+//! - transmitters report a dominant bit in a recessive fixed-form field
+//!   (delimiters, EOF) as a form error, not a bit error;
+//! - triple sampling votes over the last three quanta of TSEG1 (the
+//!   datasheet only says "sampled three times");
+//! - own frames (self reception) are reported when the transmission
+//!   succeeds (end of EOF); other frames at the last-but-one EOF bit;
+//! - error status (SR.ES) stays set while bus-off.
 #![warn(missing_docs)]
 // The workspace MSRV (1.85) has neither let chains nor `is_multiple_of`.
 #![allow(clippy::collapsible_if, clippy::manual_is_multiple_of)]
