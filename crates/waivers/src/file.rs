@@ -261,7 +261,11 @@ impl TryFrom<String> for FrameRange {
     fn try_from(s: String) -> Result<Self, String> {
         let num = |p: &str, dflt: u32| {
             let p = p.trim();
-            if p.is_empty() { Ok(dflt) } else { p.parse::<u32>().map_err(|_| format!("frame range `{s}`: `{p}` is not a number")) }
+            if p.is_empty() {
+                Ok(dflt)
+            } else {
+                p.parse::<u32>().map_err(|_| format!("frame range `{s}`: `{p}` is not a number"))
+            }
         };
         let (from, to) = match s.split_once("..") {
             Some((a, b)) => (num(a, 0)?, num(b.strip_prefix('=').unwrap_or(b), u32::MAX)?),
@@ -427,7 +431,10 @@ pub(crate) fn from_toml(file: &str, src: &str, e: &toml::de::Error) -> WaiverErr
     })
     .or_else(|| {
         let text = src.lines().nth(line - 1).unwrap_or("").trim();
-        text.strip_prefix("[[").and_then(|t| t.strip_suffix("]]")).or_else(|| text.strip_prefix('[').and_then(|t| t.strip_suffix(']'))).map(str::to_string)
+        text.strip_prefix("[[")
+            .and_then(|t| t.strip_suffix("]]"))
+            .or_else(|| text.strip_prefix('[').and_then(|t| t.strip_suffix(']')))
+            .map(str::to_string)
     })
     .unwrap_or_else(|| "waiver".into());
     WaiverError::Invalid { file: file.into(), line, key, message }

@@ -97,7 +97,12 @@ pub fn describe(d: &Divergence) -> String {
 impl WaiverReport {
     /// An empty report for `dut` checked against `set`.
     pub fn new(set: &WaiverSet, dut: &DutInfo) -> Self {
-        WaiverReport { dut: dut.name.clone(), revision: dut.revision.clone(), waiver_file: set.name.clone(), ..Default::default() }
+        WaiverReport {
+            dut: dut.name.clone(),
+            revision: dut.revision.clone(),
+            waiver_file: set.name.clone(),
+            ..Default::default()
+        }
     }
 
     /// Fills `stale` from the set's hit counts (call at the end of the run).
@@ -123,7 +128,12 @@ impl WaiverReport {
     pub fn warnings(&self) -> Vec<String> {
         self.stale
             .iter()
-            .map(|s| format!("stale waiver `{}` ({}) never matched: remove it or check it still applies", s.waiver_id, s.location))
+            .map(|s| {
+                format!(
+                    "stale waiver `{}` ({}) never matched: remove it or check it still applies",
+                    s.waiver_id, s.location
+                )
+            })
             .collect()
     }
 
@@ -182,7 +192,8 @@ impl WaiverReport {
         let c = self.counts();
         let mut w = Writer::new_with_indent(Vec::new(), b' ', 2);
         let classname = format!("waivers.{}", self.dut);
-        let (tests, failures, skipped) = ((c.failures + c.waived).to_string(), c.failures.to_string(), c.waived.to_string());
+        let (tests, failures, skipped) =
+            ((c.failures + c.waived).to_string(), c.failures.to_string(), c.waived.to_string());
         w.create_element("testsuite")
             .with_attributes([
                 ("name", suite),
@@ -200,7 +211,10 @@ impl WaiverReport {
                         .with_attributes([("classname", classname.as_str()), ("name", name.as_str())])
                         .write_inner_content(|w| {
                             w.create_element("failure")
-                                .with_attributes([("message", describe(d).as_str()), ("type", KindName::of(d.kind).as_str())])
+                                .with_attributes([
+                                    ("message", describe(d).as_str()),
+                                    ("type", KindName::of(d.kind).as_str()),
+                                ])
                                 .write_text_content(BytesText::new(&d.context))?;
                             Ok(())
                         })?;

@@ -5,7 +5,7 @@ use std::str::FromStr;
 use diagnose::Divergence;
 use serde::{Deserialize, Serialize};
 
-use crate::report::{WaiverReport, Waived};
+use crate::report::{Waived, WaiverReport};
 use crate::set::{DutInfo, Observed, Resync, Verdict, WaiverSet};
 
 /// What the comparator does with an unwaived divergence

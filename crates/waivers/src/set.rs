@@ -6,7 +6,9 @@ use std::path::Path;
 use diagnose::{Divergence, DivergenceKind};
 use serde::{Deserialize, Serialize};
 
-use crate::file::{self, DutGlob, FrameRange, KindName, RawFile, RawWaiver, ResyncSpec, RevRange, Revision, WaiverError};
+use crate::file::{
+    self, DutGlob, FrameRange, KindName, RawFile, RawWaiver, ResyncSpec, RevRange, Revision, WaiverError,
+};
 
 /// The DUT a run compares: its name (as `RunRecord::dut`) and revision.
 #[derive(Clone, Debug, Default, PartialEq, Eq, Serialize, Deserialize)]
@@ -202,7 +204,11 @@ impl Waiver {
                     Some(x) => return Some(format!("DUT {name} {x} not in the allowed {v:?}")),
                     // A single value states the measured counter: assumed.
                     None if v.len() == 1 => {}
-                    None => return Some(format!("DUT {name} bound {v:?} but the comparator did not observe the DUT's {name}")),
+                    None => {
+                        return Some(format!(
+                            "DUT {name} bound {v:?} but the comparator did not observe the DUT's {name}"
+                        ));
+                    }
                 }
             }
         }
@@ -232,9 +238,10 @@ impl Waiver {
 
     fn resolve(&self, d: &Divergence, obs: &Observed) -> Vec<Resync> {
         let read_of = |name: &str| {
-            (d.kind == DivergenceKind::RegisterRead && d.register.as_deref().is_some_and(|r| r.eq_ignore_ascii_case(name)))
-                .then(|| u8::try_from(d.seen).ok())
-                .flatten()
+            (d.kind == DivergenceKind::RegisterRead
+                && d.register.as_deref().is_some_and(|r| r.eq_ignore_ascii_case(name)))
+            .then(|| u8::try_from(d.seen).ok())
+            .flatten()
         };
         self.resync
             .iter()
@@ -447,17 +454,32 @@ fn validate(name: &str, src: &str, w: RawWaiver) -> Result<Waiver, WaiverError> 
     if let Some(f) = &w.fields
         && w.kind != KindName::TxBit
     {
-        return Err(invalid(name, at(f.span()), "fields", format!("`fields` is for kind tx-bit, not {}", w.kind.as_str())));
+        return Err(invalid(
+            name,
+            at(f.span()),
+            "fields",
+            format!("`fields` is for kind tx-bit, not {}", w.kind.as_str()),
+        ));
     }
     if let Some(r) = &w.register
         && w.kind != KindName::RegisterRead
     {
-        return Err(invalid(name, at(r.span()), "register", format!("`register` is for kind register-read, not {}", w.kind.as_str())));
+        return Err(invalid(
+            name,
+            at(r.span()),
+            "register",
+            format!("`register` is for kind register-read, not {}", w.kind.as_str()),
+        ));
     }
     let mut bits = None;
     if let Some(b) = &w.bits {
         if w.kind != KindName::RegisterRead {
-            return Err(invalid(name, at(b.span()), "bits", format!("`bits` is for kind register-read, not {}", w.kind.as_str())));
+            return Err(invalid(
+                name,
+                at(b.span()),
+                "bits",
+                format!("`bits` is for kind register-read, not {}", w.kind.as_str()),
+            ));
         }
         let mut mask = 0u8;
         for &n in b.get_ref() {

@@ -50,7 +50,11 @@ pub fn suggest(divergences: &[Divergence], dut: &DutInfo) -> String {
         expected.dedup();
         seen.sort_unstable();
         seen.dedup();
-        let address = first.register.as_deref().and_then(|r| r.strip_prefix("address ")).and_then(|a| a.trim().parse::<u8>().ok());
+        let address = first
+            .register
+            .as_deref()
+            .and_then(|r| r.strip_prefix("address "))
+            .and_then(|a| a.trim().parse::<u8>().ok());
         let (bits, resync) = match first.kind {
             DivergenceKind::RegisterRead => {
                 let diff = ds.iter().fold(0u32, |m, d| m | (d.expected ^ d.seen)) as u8;
@@ -107,7 +111,11 @@ pub fn suggest(divergences: &[Divergence], dut: &DutInfo) -> String {
 fn kebab(s: &str) -> String {
     let mut out = String::new();
     for (i, c) in s.chars().enumerate() {
-        if c.is_ascii_uppercase() && i > 0 && !out.ends_with('-') && s.chars().nth(i - 1).is_some_and(|p| p.is_ascii_lowercase()) {
+        if c.is_ascii_uppercase()
+            && i > 0
+            && !out.ends_with('-')
+            && s.chars().nth(i - 1).is_some_and(|p| p.is_ascii_lowercase())
+        {
             out.push('-');
         }
         if c.is_ascii_alphanumeric() {

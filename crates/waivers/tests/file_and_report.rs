@@ -20,7 +20,14 @@ fn tx_div(bit: u64, field: Field) -> Divergence {
 }
 
 fn read_div(reg: &str, expected: u32, seen: u32) -> Divergence {
-    Divergence { kind: DivergenceKind::RegisterRead, bit: Some(5), register: Some(reg.into()), expected, seen, ..Divergence::default() }
+    Divergence {
+        kind: DivergenceKind::RegisterRead,
+        bit: Some(5),
+        register: Some(reg.into()),
+        expected,
+        seen,
+        ..Divergence::default()
+    }
 }
 
 const GENERIC: &str = r#"
@@ -98,7 +105,10 @@ resync = ["adopt-dut-tec", "adopt-dut-rec"]
 "#;
     let mut set = WaiverSet::parse(src, "r.toml").unwrap();
     let dut = DutInfo::new("any");
-    assert_eq!(set.check(&read_div("SR", 0x0C, 0x4C), &dut), Verdict::Waived { waiver_id: "es-late".into(), resync: vec![] });
+    assert_eq!(
+        set.check(&read_div("SR", 0x0C, 0x4C), &dut),
+        Verdict::Waived { waiver_id: "es-late".into(), resync: vec![] }
+    );
     assert_eq!(set.check(&read_div("SR", 0x0C, 0xCC), &dut), Verdict::Failure, "BS differs too");
     assert_eq!(
         set.check(&read_div("address 4", 0xFF, 0x7F), &dut),
@@ -108,14 +118,20 @@ resync = ["adopt-dut-tec", "adopt-dut-rec"]
     assert_eq!(set.check(&read_div("address 4", 0xFE, 0x7F), &dut), Verdict::Failure, "model value not allowed");
     assert_eq!(
         set.check(&read_div("TXERR", 128, 136), &dut),
-        Verdict::Waived { waiver_id: "txerr".into(), resync: vec![Resync::AdoptTec(Some(136)), Resync::AdoptRec(None)] }
+        Verdict::Waived {
+            waiver_id: "txerr".into(),
+            resync: vec![Resync::AdoptTec(Some(136)), Resync::AdoptRec(None)]
+        }
     );
     assert_eq!(set.check(&read_div("TXERR", 128, 144), &dut), Verdict::Failure);
     assert_eq!(set.hits("es-late"), Some(1));
     assert_eq!(set.hits("btr0-bit7"), Some(1));
     let notes = set.near_misses(&read_div("address 4", 0xFF, 0x3F), &dut, &Default::default());
     assert_eq!(notes.len(), 1, "only the waiver for that register: {notes:?}");
-    assert!(notes[0].contains("btr0-bit7") && notes[0].contains("r.toml:12") && notes[0].contains("not in the allowed"), "{notes:?}");
+    assert!(
+        notes[0].contains("btr0-bit7") && notes[0].contains("r.toml:12") && notes[0].contains("not in the allowed"),
+        "{notes:?}"
+    );
 }
 
 #[test]
@@ -137,7 +153,11 @@ resync = ["none"]
     let at = |frame: u32, field: Field| Divergence { frame: Some(frame), ..tx_div(frame as u64 * 100, field) };
     assert_eq!(set.check(&at(2, Field::Crc), &dut), Verdict::Failure, "field");
     assert_eq!(set.check(&at(1, Field::ActiveErrorFlag), &dut), Verdict::Failure, "frame");
-    assert_eq!(set.check(&Divergence { context: "x".into(), ..at(2, Field::ActiveErrorFlag) }, &dut), Verdict::Failure, "context");
+    assert_eq!(
+        set.check(&Divergence { context: "x".into(), ..at(2, Field::ActiveErrorFlag) }, &dut),
+        Verdict::Failure,
+        "context"
+    );
     assert!(matches!(set.check(&at(2, Field::ActiveErrorFlag), &dut), Verdict::Waived { .. }));
     assert!(matches!(set.check(&at(3, Field::ActiveErrorFlag), &dut), Verdict::Waived { .. }));
     assert_eq!(set.check(&at(3, Field::ActiveErrorFlag), &dut), Verdict::Failure, "max-hits");
@@ -175,7 +195,8 @@ fn malformed_files_name_file_line_and_key() {
     let (_, key, _) = err(&base.replace("explanation = \"an accepted deviation, for the tests\"\n", ""));
     assert_eq!(key, "explanation");
     // Checks across keys.
-    let (line, key, _) = err(&base.replace("explanation = \"an accepted deviation, for the tests\"", "explanation = \"TODO\""));
+    let (line, key, _) =
+        err(&base.replace("explanation = \"an accepted deviation, for the tests\"", "explanation = \"TODO\""));
     assert_eq!((line, key.as_str()), (6, "explanation"));
     let (line, key, _) = err(&base.replace("kind = \"tx-bit\"", "kind = \"tx-bit\"\nregister = \"SR\""));
     assert_eq!((line, key.as_str()), (4, "register"));
@@ -204,7 +225,11 @@ fn the_shipped_file_loads_from_disk_and_names_the_upstream_deviation() {
 }
 
 fn sample_report() -> WaiverReport {
-    let mut s = Session::new(WaiverSet::parse(GENERIC, "g.toml").unwrap(), DutInfo::new("/x/opencores-can").revision("r4"), CollectMode::Collect);
+    let mut s = Session::new(
+        WaiverSet::parse(GENERIC, "g.toml").unwrap(),
+        DutInfo::new("/x/opencores-can").revision("r4"),
+        CollectMode::Collect,
+    );
     s.divergence(tx_div(7, Field::ActiveErrorFlag));
     s.divergence(read_div("IR", 0x01, 0x00));
     s.divergence(Divergence { context: "a <b> & \"c\"".into(), ..read_div("SR", 0x0C, 0x4C) });
@@ -236,7 +261,8 @@ fn junit_keeps_waived_apart_from_failures_and_parses_back() {
     let r = sample_report();
     let xml = r.to_junit("de2-loopback");
     let mut reader = Reader::from_str(&xml);
-    let (mut failures, mut skipped, mut cases, mut suite_attrs, mut skip_msgs, mut err_text) = (0, 0, 0, None, vec![], String::new());
+    let (mut failures, mut skipped, mut cases, mut suite_attrs, mut skip_msgs, mut err_text) =
+        (0, 0, 0, None, vec![], String::new());
     let mut in_err = false;
     loop {
         match reader.read_event().unwrap() {
@@ -302,7 +328,10 @@ fn suggestions_are_candidates_that_need_an_explanation() {
     assert!(set.stale().is_empty());
     // Bounded by what was seen: another SR bit is not covered.
     assert_eq!(set.check(&read_div("SR", 0x0C, 0x8C), &dut), Verdict::Failure);
-    assert_eq!(set.check(&read_div("SR", 0x0C, 0x4C), &DutInfo::new("/x/opencores-can").revision("r6")), Verdict::Failure);
+    assert_eq!(
+        set.check(&read_div("SR", 0x0C, 0x4C), &DutInfo::new("/x/opencores-can").revision("r6")),
+        Verdict::Failure
+    );
 }
 
 #[test]
@@ -313,7 +342,10 @@ fn an_unobserved_tec_is_assumed_only_from_a_single_measured_value() {
     // The comparator sees pins only: the measured 136 is what gets adopted.
     assert_eq!(
         set.check(&tx_div(900, Field::PassiveErrorFlag), &dut),
-        Verdict::Waived { waiver_id: "tec-after-error-passive".into(), resync: vec![Resync::SkipBits(1), Resync::AdoptTec(Some(136))] }
+        Verdict::Waived {
+            waiver_id: "tec-after-error-passive".into(),
+            resync: vec![Resync::SkipBits(1), Resync::AdoptTec(Some(136))]
+        }
     );
     // Observed, the bound is checked.
     let obs = waivers::Observed { dut_tec: Some(144), dut_rec: None };

@@ -284,7 +284,9 @@ fn without_any_resync_the_tec_difference_keeps_failing() {
     // Read-back waived once (max-hits = 1), then every later TXERR read fails.
     assert_eq!(o.report.waived.len(), 3);
     assert_eq!(o.report.failures.len(), (ATTEMPTS - 17) as usize);
-    assert!(o.report.failures.iter().all(|d| d.register.as_deref() == Some("TXERR") && d.seen == 136 && d.expected == 128));
+    assert!(
+        o.report.failures.iter().all(|d| d.register.as_deref() == Some("TXERR") && d.seen == 136 && d.expected == 128)
+    );
     assert!(o.report.notes.iter().any(|n| n.contains("max-hits")), "{:?}", o.report.notes);
 }
 
@@ -293,7 +295,8 @@ fn collect_mode_sees_every_divergence() {
     let o = lockstep(Node::strict(), Node::deviant(1), WaiverSet::empty(), CollectMode::Collect);
     assert!(o.completed);
     assert!(!o.report.stopped_early);
-    let kinds: Vec<(DivergenceKind, Option<&str>)> = o.report.failures.iter().map(|d| (d.kind, d.register.as_deref())).collect();
+    let kinds: Vec<(DivergenceKind, Option<&str>)> =
+        o.report.failures.iter().map(|d| (d.kind, d.register.as_deref())).collect();
     assert_eq!(kinds[0], (DivergenceKind::RegisterRead, Some("SR")));
     assert_eq!(kinds[1], (DivergenceKind::TxBit, None));
     assert_eq!(kinds.len(), 2 + (ATTEMPTS - 16) as usize, "plus one TXERR read per attempt from 17 on");
@@ -316,7 +319,12 @@ fn a_deviation_longer_than_late_bits_is_not_waived() {
 #[test]
 fn a_tec_outside_the_allowed_values_is_not_waived() {
     let tight = UPSTREAM.replacen("dut-tec = [136]", "dut-tec = [144]", 1);
-    let o = lockstep(Node::strict(), Node::deviant(1), WaiverSet::parse(&tight, "tight.toml").unwrap(), CollectMode::Collect);
+    let o = lockstep(
+        Node::strict(),
+        Node::deviant(1),
+        WaiverSet::parse(&tight, "tight.toml").unwrap(),
+        CollectMode::Collect,
+    );
     assert!(o.report.failures.iter().any(|d| d.kind == DivergenceKind::TxBit));
     assert!(o.report.notes.iter().any(|n| n.contains("DUT TEC 136 not in the allowed [144]")), "{:?}", o.report.notes);
 }
