@@ -143,6 +143,10 @@ pub struct Finding {
     pub fix: String,
     /// Key figures.
     pub figures: Figures,
+    /// A remark that does not make the run fail on its own (listed under
+    /// `also`, never the diagnosis).
+    #[serde(default)]
+    pub advisory: bool,
 }
 
 /// The diagnoser's report.
@@ -176,6 +180,9 @@ impl Diagnosis {
         let _ = writeln!(s, "{} on {}: {}", self.scenario, self.dut, self.category);
         if self.category == Category::Pass {
             let _ = writeln!(s, "  {}", self.what_happened);
+            for a in &self.also {
+                let _ = writeln!(s, "  Note ({}): {}", a.category, a.what_happened);
+            }
             return s;
         }
         let _ = writeln!(s, "What happened: {}", self.what_happened);
@@ -241,7 +248,7 @@ impl Diagnosis {
 pub fn diagnose(r: &RunRecord) -> Diagnosis {
     let mut findings = rules::all(r);
     let counts_note = rules::counts_note(r);
-    if findings.is_empty() {
+    let Some(primary) = findings.iter().position(|f| !f.advisory) else {
         return Diagnosis {
             scenario: r.scenario.clone(),
             dut: r.dut.clone(),
@@ -254,10 +261,10 @@ pub fn diagnose(r: &RunRecord) -> Diagnosis {
             fix: String::new(),
             figures: rules::base_figures(r),
             counts_note,
-            also: Vec::new(),
+            also: findings,
         };
-    }
-    let first = findings.remove(0);
+    };
+    let first = findings.remove(primary);
     Diagnosis {
         scenario: r.scenario.clone(),
         dut: r.dut.clone(),

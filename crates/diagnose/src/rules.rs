@@ -33,7 +33,7 @@ pub fn all(r: &RunRecord) -> Vec<Finding> {
     if !early_divergence {
         rules.push(dut_deviates);
     }
-    rules.extend([expectation_failed, stuck_transfer] as [fn(&RunRecord) -> Option<Finding>; 2]);
+    rules.extend([expectation_failed, stuck_transfer, pio_handshake_note] as [fn(&RunRecord) -> Option<Finding>; 3]);
     rules.iter().filter_map(|f| f(r)).collect()
 }
 
@@ -73,7 +73,7 @@ fn level(b: bool) -> String {
 }
 
 fn finding(category: Category, what: String, cause: &str, fix: &str, figures: Figures) -> Finding {
-    Finding { category, what_happened: what, root_cause: cause.into(), fix: fix.into(), figures }
+    Finding { category, what_happened: what, root_cause: cause.into(), fix: fix.into(), figures, advisory: false }
 }
 
 /// A sentence about attempts, TEC and bus-off from the figures.
@@ -131,9 +131,36 @@ pub fn host_bus_timeout(r: &RunRecord) -> Option<Finding> {
     ))
 }
 
+/// Wishbone monitor findings that PIO bit-banging causes on every access:
+/// the program leaves cyc/stb high long after ack (it polls ack through a
+/// GPIO), so a Wishbone slave sees a second transfer that the program then
+/// abandons.
+fn pio_handshake(r: &RunRecord, v: &Violation) -> bool {
+    r.host_bus == HostBus::Pio && (v.rule.ends_with("cyc_dropped_before_ack") || v.rule.ends_with("ack_without_request"))
+}
+
+/// PIO handshake remarks (advisory: the accesses completed).
+pub fn pio_handshake_note(r: &RunRecord) -> Option<Finding> {
+    let n = r.violations.iter().filter(|v| pio_handshake(r, v)).count();
+    let v = r.violations.iter().find(|v| pio_handshake(r, v))?;
+    let mut f = finding(
+        Category::HostBusViolation,
+        format!(
+            "{n} Wishbone handshake remark(s) from PIO bit-banging, first at host cycle {}: {} ({}); every access completed",
+            v.cycle, v.message, v.rule
+        ),
+        "through PIO the program raises cyc/stb, polls ack through a GPIO and drops cyc/stb later: the slave acks again meanwhile (a second transfer the program abandons)",
+        "harmless for plain registers; a repeated read of IR (read-clears) or write of CMR repeats its side effect. The Avalon wrapper avoids it",
+        base_figures(r),
+    );
+    f.advisory = true;
+    Some(f)
+}
+
 /// Host-bus protocol violations (Wishbone / Avalon / PIO monitors).
 pub fn host_bus_violation(r: &RunRecord) -> Option<Finding> {
-    let v = r.violations.first()?;
+    let n = r.violations.iter().filter(|v| !pio_handshake(r, v)).count();
+    let v = r.violations.iter().find(|v| !pio_handshake(r, v))?;
     let rule = v.rule.to_ascii_lowercase();
     let (cause, fix) = if rule.contains("begintransfer") || rule.contains("cyc") && rule.contains("stb") && r.host_bus == HostBus::Avalon {
         (
@@ -162,7 +189,7 @@ pub fn host_bus_violation(r: &RunRecord) -> Option<Finding> {
         Category::HostBusViolation,
         format!(
             "{} host-bus violation(s); the first at host cycle {}: {} ({})",
-            r.violations.len(),
+            n,
             v.cycle,
             v.message,
             v.rule

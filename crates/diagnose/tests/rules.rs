@@ -403,3 +403,22 @@ fn push_bit_keeps_last_n() {
     }
     assert_eq!(r.bus_bits.iter().map(|b| b.bit).collect::<Vec<_>>(), vec![6, 7, 8, 9]);
 }
+
+#[test]
+fn pio_handshake_remarks_are_advisory() {
+    let mut r = RunRecord::new("pio", "model");
+    r.host_bus = HostBus::Pio;
+    r.violations.push(Violation { cycle: 34, rule: "wb.cyc_dropped_before_ack".into(), message: "cyc fell".into() });
+    let d = diagnose(&r);
+    assert_eq!(d.category, Category::Pass, "{}", d.to_text());
+    assert!(d.also[0].advisory);
+    assert!(d.to_text().contains("Note (HostBusViolation)"));
+    // the same on a Wishbone master is a violation
+    r.host_bus = HostBus::Wishbone;
+    assert_eq!(diagnose(&r).category, Category::HostBusViolation);
+    // and on PIO with the rx wiring fault, the wiring is the diagnosis
+    let mut t = thesis_record();
+    t.host_bus = HostBus::Pio;
+    t.violations.push(Violation { cycle: 34, rule: "wb.ack_without_request".into(), message: "ack".into() });
+    assert_eq!(diagnose(&t).category, Category::RxNotFollowingTx);
+}
