@@ -507,7 +507,9 @@ impl<W: Wiring> CDriver<W> {
 
     /// Data overruns the driver has seen and cleared.
     pub fn overruns(&self) -> u64 {
-        self.dev.overruns.into()
+        // c_ulong is u32 on some targets.
+        #[allow(clippy::useless_conversion)]
+        u64::from(self.dev.overruns)
     }
 
     fn need_init(&self, call: &'static str) -> Result<View, CDriverError> {

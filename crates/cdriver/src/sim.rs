@@ -45,6 +45,9 @@ pub trait SimHost {
     fn node(&mut self, i: usize) -> &mut Sja1000;
     /// The DUT's interrupt line (`true` = interrupt pending).
     fn irq(&self) -> bool;
+    /// Why the last `run_bits` could not run (e.g. the lockstep comparator
+    /// stopped the bench), without consuming it.
+    fn stalled(&self) -> Option<&str>;
 }
 
 /// CAN clocks per bit at BTR0 = 0x41, BTR1 = 0x25.
@@ -64,28 +67,34 @@ impl BenchHost {
         Ok(BenchHost { tb: Testbench::new(cfg)?, error: None, accesses: 0 })
     }
 
+    /// A bench from `cfg` (its `nodes` are replaced) with `nodes` on the
+    /// bus, already configured (e.g. by [`model_node`]).
+    pub fn with_nodes(mut cfg: TbConfig, nodes: Vec<Sja1000>) -> Result<BenchHost, TbError> {
+        cfg.nodes = (0..nodes.len()).map(|i| cosim::NodeConfig { name: format!("model node {i}"), init: Vec::new() }).collect();
+        let mut h = BenchHost::new(cfg)?;
+        for (i, n) in nodes.into_iter().enumerate() {
+            *h.tb.bus_mut().node_mut(i) = n;
+        }
+        Ok(h)
+    }
+
+    /// The thesis clocks (50 MHz host, 24 MHz CAN) and bit timing, the
+    /// given DUT and BFM, nothing on the bus yet.
+    pub fn config(dut: cosim::DutChoice, host: cosim::HostBfm) -> TbConfig {
+        TbConfig { scenario: "cdriver".into(), dut, host, host_hz: HOST_HZ, can_hz: CAN_HZ, ..TbConfig::default() }
+    }
+
     /// A bench with the given DUT and BFM, the thesis clocks and timing,
     /// and one model node (`node_view`, configured by register writes) on
     /// the bus with the DUT.
     pub fn with_model_node(dut: cosim::DutChoice, host: cosim::HostBfm, node_view: crate::View) -> Result<BenchHost, TbError> {
-        let cfg = TbConfig {
-            scenario: "cdriver".into(),
-            dut,
-            host,
-            host_hz: HOST_HZ,
-            can_hz: CAN_HZ,
-            nodes: vec![cosim::NodeConfig { name: "model node".into(), init: Vec::new() }],
-            ..TbConfig::default()
-        };
-        let mut h = BenchHost::new(cfg)?;
-        *h.tb.bus_mut().node_mut(0) = model_node(node_view);
-        Ok(h)
+        BenchHost::with_nodes(BenchHost::config(dut, host), vec![model_node(node_view)])
     }
 
     /// A bench with the given DUT and BFM and nothing else on the bus (no
     /// node to acknowledge).
     pub fn alone(dut: cosim::DutChoice, host: cosim::HostBfm) -> Result<BenchHost, TbError> {
-        BenchHost::new(TbConfig { scenario: "cdriver alone".into(), dut, host, host_hz: HOST_HZ, can_hz: CAN_HZ, ..TbConfig::default() })
+        BenchHost::new(BenchHost::config(dut, host))
     }
 
     /// The test bench.
@@ -121,6 +130,9 @@ impl SimHost for BenchHost {
     }
     fn irq(&self) -> bool {
         !self.tb.pins().irq_n
+    }
+    fn stalled(&self) -> Option<&str> {
+        self.error.as_deref()
     }
 }
 
@@ -311,6 +323,9 @@ impl<D: Dut> SimHost for PioBench<D> {
     }
     fn irq(&self) -> bool {
         !self.dut.can().irq_n
+    }
+    fn stalled(&self) -> Option<&str> {
+        self.error.as_deref()
     }
 }
 

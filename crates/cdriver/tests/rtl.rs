@@ -157,3 +157,27 @@ fn pio_header_on_a_core_without_ack_fails_cleanly() {
     // can_sja_pio.h dropped the cycle after its timeout.
     assert!(!cosim::Dut::wb(drv.host().dut()).ack);
 }
+
+/// Wishbone BFM straight into `can_top`.
+#[test]
+fn wishbone_can_top_pelican_exchange() {
+    let h = BenchHost::with_model_node(DutChoice::Rtl, HostBfm::Wishbone, View::Peli).unwrap();
+    common::exchange(&mut CDriver::new(h), View::Peli);
+}
+
+/// The whole driver flow on `can_avalon` with the golden model shadowing
+/// the RTL in lockstep (same host accesses, same rx): every register read
+/// and the CAN pins are compared, and a divergence fails the driver call.
+#[test]
+#[ignore = "RTL and model disagree on SR during intermission: at bit 206 (PeliCAN) the driver's SR read returns 0x1C from can_avalon (RS = 1) and 0x0C from the model, beyond the comparator's 48-clock status tolerance; for the RTL/model owners to settle; run with --ignored"]
+fn avalon_can_avalon_exchange_in_lockstep_with_the_model() {
+    for view in [View::Peli, View::Basic] {
+        let mut cfg = BenchHost::config(DutChoice::RtlAvalon, AVALON);
+        cfg.lockstep = Some((cosim::ReferenceChoice::Model, cosim::CompareConfig::default()));
+        let mut drv = CDriver::new(BenchHost::with_nodes(cfg, vec![cdriver::model_node(View::Peli)]).unwrap());
+        common::exchange(&mut drv, view);
+        let tb = drv.host_mut().tb_mut();
+        assert!(tb.comparator().unwrap().divergence().is_none());
+        assert!(tb.violations().is_empty(), "{:?}", tb.violations());
+    }
+}

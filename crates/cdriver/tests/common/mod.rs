@@ -34,6 +34,9 @@ where
     while !node_has_frame(drv.host_mut().node(i)) {
         assert!(waited < max_bits, "model node {i} received nothing within {max_bits} bit times");
         drv.host_mut().run_bits(4);
+        if let Some(e) = drv.host().stalled() {
+            panic!("the bench stopped: {e}");
+        }
         waited += 4;
     }
     sja1000::host::receive(drv.host_mut().node(i)).expect("RBS = 1, so a frame is there")
