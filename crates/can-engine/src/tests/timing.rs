@@ -340,3 +340,47 @@ fn wake_up_on_clocked_path() {
     assert_eq!(e.take_events().collect::<Vec<_>>(), vec![Event::WakeUp]);
     assert!(!e.is_sleeping());
 }
+
+mod equivalence {
+    use super::*;
+    use proptest::prelude::*;
+
+    fn frame() -> impl Strategy<Value = CanFrame> {
+        (any::<bool>(), any::<u32>(), proptest::collection::vec(any::<u8>(), 0..=8)).prop_map(|(ext, raw, data)| {
+            if ext { ext_frame(raw & 0x1fff_ffff, &data) } else { std_frame((raw & 0x7ff) as u16, &data) }
+        })
+    }
+
+    proptest! {
+        #![proptest_config(ProptestConfig::with_cases(48))]
+        /// Random frames from two nodes and one bus bit forced to a random
+        /// level: the clocked path (fault over the whole bit time) and the
+        /// fast path (fault at that bit) give the same bits and events.
+        #[test]
+        fn paths_agree_with_a_fault(a in frame(), b in frame(), at in 12usize..300, level: bool) {
+            prop_assume!(a.id() != b.id());
+            let timing = BusTiming { brp: 0, sjw: 1, tseg1: 4, tseg2: 2, sam: false };
+            let mk = || {
+                let mut n = vec![Engine::new(timing, Options::default()), Engine::new(timing, Options::default())];
+                n[0].request_tx(a, false, false);
+                n[1].request_tx(b, false, true);
+                n
+            };
+            let bits = 500;
+            let mut fast = TestBus::new(0, Options::default());
+            fast.nodes = mk();
+            fast.force.push((at, level));
+            fast.run(bits);
+            let cpb = timing.clocks_per_bit() as u64;
+            let mut slow = ClockedBus::new(mk(), vec![1, 1]);
+            slow.glitch.push((at as u64 * cpb + 1, (at as u64 + 1) * cpb + 1, level));
+            slow.run_until(bits * cpb as usize * 2, |s| s.bits.len() >= bits);
+            prop_assert_eq!(&slow.bits[..bits], &fast.bits[..]);
+            let mut got: Vec<Logged> = slow.log.iter().filter(|l| l.bit < bits).cloned().collect();
+            got.sort_by_key(|l| (l.bit, l.node));
+            let mut want = fast.log.clone();
+            want.sort_by_key(|l| (l.bit, l.node));
+            prop_assert_eq!(got, want);
+        }
+    }
+}
