@@ -5,7 +5,11 @@
 //   irq_on     active low: low while an enabled interrupt is pending
 //   bus_off_on high while on the bus, low while bus-off
 //   tx_o/rx_i  1 = recessive
-module can_top (
+module can_top #(
+    // 1: wb_ack_o stays high until cyc&stb fall (for GPIO-polled masters),
+    // see can_wb_cdc; 0 (default): classic one-cycle ack pulse
+    parameter ACK_LEVEL = 0
+) (
     input  wire       wb_clk_i,
     input  wire       wb_rst_i,
     input  wire [7:0] wb_dat_i,
@@ -26,7 +30,7 @@ module can_top (
     wire        acc_stb, acc_we;
     wire [7:0]  acc_adr, acc_wdat, acc_rdat;
 
-    can_wb_cdc u_cdc (
+    can_wb_cdc #(.ACK_LEVEL(ACK_LEVEL)) u_cdc (
         .wb_clk_i(wb_clk_i), .wb_rst_i(wb_rst_i), .wb_dat_i(wb_dat_i), .wb_dat_o(wb_dat_o),
         .wb_cyc_i(wb_cyc_i), .wb_stb_i(wb_stb_i), .wb_we_i(wb_we_i), .wb_adr_i(wb_adr_i),
         .wb_ack_o(wb_ack_o), .clk_i(clk_i), .rst_o(rst), .acc_stb(acc_stb), .acc_we(acc_we),

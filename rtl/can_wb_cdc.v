@@ -22,7 +22,15 @@
 // domain is seen in reset (fed back through 2 more flops), so even a
 // one-cycle wb_rst_i pulse resets the clk_i domain. No access is launched
 // until the clk_i domain has left reset again.
-module can_wb_cdc (
+//
+// ACK_LEVEL = 1 (not the default) is for masters that poll wb_ack_o through
+// a GPIO (the thesis's PIO wiring): the access happens once per cyc&stb
+// assertion and wb_ack_o then stays high until cyc&stb fall (four-phase
+// handshake), so a slow poll cannot miss it and a held strobe never repeats
+// the access. The default (0) is the classic one-cycle pulse.
+module can_wb_cdc #(
+    parameter ACK_LEVEL = 0
+) (
     input  wire       wb_clk_i,
     input  wire       wb_rst_i,
     input  wire [7:0] wb_dat_i,
@@ -31,7 +39,7 @@ module can_wb_cdc (
     input  wire       wb_stb_i,
     input  wire       wb_we_i,
     input  wire [7:0] wb_adr_i,
-    output reg        wb_ack_o,
+    output wire       wb_ack_o,
 
     input  wire       clk_i,
     output reg        rst_o,      // clk_i-domain synchronous reset
@@ -45,6 +53,8 @@ module can_wb_cdc (
     reg       rst_req;
     reg       rst_fb_m, rst_fb_s;
     reg       busy;
+    reg       ack_q;              // one-cycle ack (pulse mode)
+    reg       served;             // level mode: this strobe has been served
     reg       req_tgl;
     reg [7:0] adr_q, dat_q;
     reg       we_q;
@@ -53,6 +63,8 @@ module can_wb_cdc (
     reg [7:0] rdat_x;             // clk_i domain, stable while ack crosses
 
     wire ack_edge = ack_s ^ ack_d;
+    wire req_on   = wb_cyc_i & wb_stb_i;
+    assign wb_ack_o = ack_q | (served & req_on);
     wire ready    = !wb_rst_i && !rst_req && !rst_fb_s;
 
     always @(posedge wb_clk_i) begin
@@ -67,7 +79,8 @@ module can_wb_cdc (
             ack_d    <= 1'b0;
             ack_m    <= 1'b0;
             ack_s    <= 1'b0;
-            wb_ack_o <= 1'b0;
+            ack_q    <= 1'b0;
+            served   <= 1'b0;
             wb_dat_o <= 8'h00;
             adr_q    <= 8'h00;
             dat_q    <= 8'h00;
@@ -75,12 +88,14 @@ module can_wb_cdc (
         end else begin
             if (rst_fb_s) rst_req <= 1'b0;
             ack_d    <= ack_s;
-            wb_ack_o <= 1'b0;
+            ack_q    <= 1'b0;
+            if (!req_on) served <= 1'b0;
             if (busy && ack_edge) begin
                 busy     <= 1'b0;
-                wb_ack_o <= wb_cyc_i & wb_stb_i;
+                if (ACK_LEVEL != 0) served <= req_on;
+                else ack_q <= req_on;
                 wb_dat_o <= rdat_x;
-            end else if (!busy && !wb_ack_o && ready && wb_cyc_i && wb_stb_i) begin
+            end else if (!busy && !ack_q && !served && ready && req_on) begin
                 busy    <= 1'b1;
                 req_tgl <= ~req_tgl;
                 adr_q   <= wb_adr_i;

@@ -23,6 +23,9 @@
 //     (TEC + 8), is not repeated (TBS = 1, TCS = 0); node 0's RXERR frozen.
 //  7. PeliCAN single acceptance filter (ID + RTR + data byte 1), extended
 //     8-byte frames in the RX FIFO, FIFO overrun (DOS, DOI, RMC), RRB/RBSA.
+//  0. can_top #(.ACK_LEVEL(1)) polled like the thesis's PIO driver: a strobe
+//     held for 60 cycles is served once and wb_ack_o stays high until it
+//     falls; the default pulse ack is one cycle long.
 // Exits with $fatal on the first failure; prints "PASS" at the end.
 `timescale 1ns/1ps
 module tb_can;
@@ -48,6 +51,34 @@ module tb_can;
         .wb_cyc_i(cyc[1]), .wb_stb_i(cyc[1]), .wb_we_i(we[1]), .wb_adr_i(adr[1]), .wb_ack_o(ack1),
         .clk_i(clk1), .rx_i(bus), .tx_o(tx1), .bus_off_on(bo1), .irq_on(irq1), .clkout_o(ck1));
 
+    // node 2: level-ack variant, off the bus, driven by a PIO-style master
+    reg        cyc2 = 0, we2 = 0;
+    reg  [7:0] adr2 = 0, dwr2 = 0;
+    wire [7:0] dout2;
+    wire       ack2, tx2, bo2, irq2, ck2;
+    can_top #(.ACK_LEVEL(1)) n2 (.wb_clk_i(wb_clk), .wb_rst_i(wb_rst), .wb_dat_i(dwr2), .wb_dat_o(dout2),
+        .wb_cyc_i(cyc2), .wb_stb_i(cyc2), .wb_we_i(we2), .wb_adr_i(adr2), .wb_ack_o(ack2),
+        .clk_i(clk0), .rx_i(1'b1), .tx_o(tx2), .bus_off_on(bo2), .irq_on(irq2), .clkout_o(ck2));
+    integer n2_acc = 0;
+    always @(posedge clk0) if (n2.u_cdc.acc_stb) n2_acc = n2_acc + 1;
+    // hold cyc/stb for `hold` cycles, polling ack every 5 cycles like a GPIO read
+    task pio2(input w, input [7:0] a, input [7:0] d, output [7:0] qq);
+        integer c, seen;
+        begin
+            @(posedge wb_clk); #1;
+            adr2 = a; dwr2 = d; we2 = w; cyc2 = 1; n2_acc = 0; seen = 0;
+            for (c = 0; c < 60; c = c + 1) begin
+                @(posedge wb_clk);
+                if (c % 5 == 4 && ack2) seen = seen + 1;
+            end
+            qq = dout2;
+            if (seen == 0) fail("level ack never seen by the polling master");
+            if (!ack2) fail("level ack must stay high while the strobe is held");
+            if (n2_acc != 1) begin $display("FAIL: level ack: %0d accesses for one strobe", n2_acc); $fatal(1); end
+            #1; cyc2 = 0; we2 = 0;
+            #1; if (ack2) fail("level ack must fall with the strobe");
+        end
+    endtask
     integer max_lat = 0;
     // access length seen by a Wishbone monitor: wb_clk_i cycles with
     // cyc&stb high, the ack cycle included (node 0)
@@ -249,6 +280,12 @@ module tb_can;
         cyc[0] = 0; cyc[1] = 0; we[0] = 0; we[1] = 0; adr[0] = 0; adr[1] = 0; dwr[0] = 0; dwr[1] = 0;
         repeat (3) @(posedge wb_clk);
         #1 wb_rst = 0;
+
+        // ================= 0. level ack for GPIO-polled masters =================
+        $display("0. ACK_LEVEL = 1: one access per held strobe, ack until the strobe falls");
+        pio2(1'b1, 8'd4, 8'h5A, q);          // reset mode after reset: ACR writable
+        pio2(1'b0, 8'd4, 8'h00, q);
+        if (q !== 8'h5A) fail("level-ack node: ACR read back");
 
         // ================= 1. BasicCAN thesis frame =================
         $display("1. BasicCAN: thesis frame A5 21 51, node 1 acknowledges and receives");
