@@ -79,12 +79,20 @@ impl TxRequest {
                 run = 1;
             }
         });
-        TxRequest { frame, single_shot, self_rx, bits, len: len as u8 }
+        TxRequest {
+            frame,
+            single_shot,
+            self_rx,
+            bits,
+            len: len as u8,
+        }
     }
 
     #[cfg(test)]
     pub(crate) fn stuffed(&self) -> Vec<bool> {
-        (0..self.len).map(|i| (self.bits[(i >> 6) as usize] >> (i & 63)) & 1 != 0).collect()
+        (0..self.len)
+            .map(|i| (self.bits[(i >> 6) as usize] >> (i & 63)) & 1 != 0)
+            .collect()
     }
 }
 
@@ -481,11 +489,17 @@ impl Bsp {
 
     fn received_frame(&self) -> CanFrame {
         let id: Id = if self.ide {
-            Id::Extended(ExtendedId::new((self.id_base << 18) | self.id_ext).unwrap_or(ExtendedId::ZERO))
+            Id::Extended(
+                ExtendedId::new((self.id_base << 18) | self.id_ext).unwrap_or(ExtendedId::ZERO),
+            )
         } else {
             Id::Standard(StandardId::new(self.id_base as u16).unwrap_or(StandardId::ZERO))
         };
-        let n = if self.rtr { 0 } else { self.dlc.min(8) as usize };
+        let n = if self.rtr {
+            0
+        } else {
+            self.dlc.min(8) as usize
+        };
         // Cannot fail: DLC <= 15 and n matches it.
         CanFrame::with_dlc(id, self.rtr, self.dlc, &self.data[..n]).expect("decoded frame is valid")
     }
@@ -534,7 +548,10 @@ impl Bsp {
     fn transmit_success(&mut self) {
         if let Some(req) = self.pending.take() {
             if req.self_rx {
-                self.ev.push(Event::Received { frame: req.frame, own: true });
+                self.ev.push(Event::Received {
+                    frame: req.frame,
+                    own: true,
+                });
             }
         }
         self.abort_req = false;
@@ -633,7 +650,11 @@ impl Bsp {
     fn start_overload(&mut self) {
         self.phase = Phase::OverloadFlag;
         self.cnt = 0;
-        self.tx = if self.opt.listen_only { RECESSIVE } else { DOMINANT };
+        self.tx = if self.opt.listen_only {
+            RECESSIVE
+        } else {
+            DOMINANT
+        };
     }
 
     /// Active error flag or overload flag: six dominant bits.
@@ -642,7 +663,10 @@ impl Bsp {
             // Rules 4/5: bit error in the flag, +8; a new error flag follows.
             self.push_error(ErrorKind::Bit);
             let active = self.fc.is_active();
-            if self.fc.rule4_5_bit_error_in_flag(self.role_tx, &mut self.ev) {
+            if self
+                .fc
+                .rule4_5_bit_error_in_flag(self.role_tx, &mut self.ev)
+            {
                 return self.enter_bus_off();
             }
             return self.start_error_flag(active);
@@ -745,7 +769,12 @@ impl Bsp {
     #[inline]
     pub(crate) fn hard_sync_allowed(&self) -> bool {
         match self.phase {
-            Phase::Idle | Phase::Integrating | Phase::Suspend | Phase::BusOff | Phase::Sleep | Phase::Off => true,
+            Phase::Idle
+            | Phase::Integrating
+            | Phase::Suspend
+            | Phase::BusOff
+            | Phase::Sleep
+            | Phase::Off => true,
             Phase::Intermission => self.cnt == 2,
             _ => false,
         }
@@ -753,7 +782,9 @@ impl Bsp {
 
     pub(crate) fn field(&self) -> Field {
         match self.phase {
-            Phase::Off | Phase::Sleep | Phase::Integrating | Phase::BusOff | Phase::Idle => Field::BusIdle,
+            Phase::Off | Phase::Sleep | Phase::Integrating | Phase::BusOff | Phase::Idle => {
+                Field::BusIdle
+            }
             Phase::Stuffed if self.fld == Field::CrcDelim => Field::Crc,
             Phase::Stuffed => self.fld,
             Phase::CrcDelim => Field::CrcDelim,
@@ -774,7 +805,13 @@ impl Bsp {
     pub(crate) fn busy(&self) -> bool {
         !matches!(
             self.phase,
-            Phase::Off | Phase::Sleep | Phase::Integrating | Phase::BusOff | Phase::Idle | Phase::Intermission | Phase::Suspend
+            Phase::Off
+                | Phase::Sleep
+                | Phase::Integrating
+                | Phase::BusOff
+                | Phase::Idle
+                | Phase::Intermission
+                | Phase::Suspend
         )
     }
 
@@ -848,7 +885,11 @@ impl Bsp {
         if was_off && self.fc.state() != FaultState::BusOff {
             // Bus-off cleared by the write: one bus-free sequence once reset
             // mode is left.
-            self.phase = if self.reset_mode { Phase::Off } else { Phase::Integrating };
+            self.phase = if self.reset_mode {
+                Phase::Off
+            } else {
+                Phase::Integrating
+            };
             self.cnt = 0;
         }
     }

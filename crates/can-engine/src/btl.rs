@@ -155,7 +155,11 @@ impl Btl {
             }
         }
         if self.pos == self.sp {
-            let v = if self.sam { (self.hist & 1) + ((self.hist >> 1) & 1) + (self.hist >> 2) >= 2 } else { rx };
+            let v = if self.sam {
+                (self.hist & 1) + ((self.hist >> 1) & 1) + (self.hist >> 2) >= 2
+            } else {
+                rx
+            };
             self.last_sample = v;
             self.synced = false;
             self.pos += 1;

@@ -119,7 +119,10 @@ mod tests {
         assert_eq!(ecc(ErrorKind::Stuff, true, segment(Field::Data, 3)), 0xAA);
         assert_eq!(ecc(ErrorKind::Bit, false, segment(Field::Sof, 0)), 0x03);
         assert_eq!(ecc(ErrorKind::Ack, false, segment(Field::AckSlot, 0)), 0xD9);
-        assert_eq!(ecc(ErrorKind::Form, true, segment(Field::CrcDelim, 0)), 0x78);
+        assert_eq!(
+            ecc(ErrorKind::Form, true, segment(Field::CrcDelim, 0)),
+            0x78
+        );
     }
 
     #[test]

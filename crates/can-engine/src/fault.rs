@@ -23,7 +23,14 @@ pub(crate) struct Fault {
 
 impl Fault {
     pub(crate) fn new(ewl: u8) -> Self {
-        Fault { tec: 0, rec: 0, state: FaultState::ErrorActive, warning: false, ewl, frozen: false }
+        Fault {
+            tec: 0,
+            rec: 0,
+            state: FaultState::ErrorActive,
+            warning: false,
+            ewl,
+            frozen: false,
+        }
     }
 
     pub(crate) fn tec(&self) -> u8 {
@@ -80,15 +87,27 @@ impl Fault {
 
     /// Rules 4 and 5: a bit error while sending an active error flag or an
     /// overload flag adds 8 to TEC (transmitter) or REC (receiver).
-    pub(crate) fn rule4_5_bit_error_in_flag(&mut self, transmitter: bool, ev: &mut Vec<Event>) -> bool {
-        if transmitter { self.add_tec(8) } else { self.add_rec(8) }
+    pub(crate) fn rule4_5_bit_error_in_flag(
+        &mut self,
+        transmitter: bool,
+        ev: &mut Vec<Event>,
+    ) -> bool {
+        if transmitter {
+            self.add_tec(8)
+        } else {
+            self.add_rec(8)
+        }
         self.update(ev)
     }
 
     /// Rule 6: after the 14th consecutive dominant bit following an active
     /// error flag or overload flag (the 8th after a passive one), and after
     /// each further 8, transmitters add 8 to TEC and receivers 8 to REC.
-    pub(crate) fn rule6_dominant_sequence(&mut self, transmitter: bool, ev: &mut Vec<Event>) -> bool {
+    pub(crate) fn rule6_dominant_sequence(
+        &mut self,
+        transmitter: bool,
+        ev: &mut Vec<Event>,
+    ) -> bool {
         self.rule4_5_bit_error_in_flag(transmitter, ev)
     }
 
@@ -141,9 +160,8 @@ impl Fault {
 
     /// SR.ES: at or above EWL; held set while bus-off.
     fn update_warning(&mut self, ev: &mut Vec<Event>) {
-        let w = self.state == FaultState::BusOff
-            || self.tec >= self.ewl as u16
-            || self.rec >= self.ewl;
+        let w =
+            self.state == FaultState::BusOff || self.tec >= self.ewl as u16 || self.rec >= self.ewl;
         if w != self.warning {
             self.warning = w;
             ev.push(Event::ErrorWarning(w));

@@ -133,7 +133,11 @@ pub struct Options {
 
 impl Default for Options {
     fn default() -> Self {
-        Options { listen_only: false, self_test: false, ewl: 96 }
+        Options {
+            listen_only: false,
+            self_test: false,
+            ewl: 96,
+        }
     }
 }
 
@@ -154,7 +158,13 @@ pub struct Engine {
 impl Engine {
     /// A node in the bus-idle state waiting for 11 recessive bits (bus integration).
     pub fn new(timing: BusTiming, options: Options) -> Self {
-        Engine { timing, btl: Btl::new(timing), bsp: Bsp::new(options), tx_out: RECESSIVE, bits: 0 }
+        Engine {
+            timing,
+            btl: Btl::new(timing),
+            bsp: Bsp::new(options),
+            tx_out: RECESSIVE,
+            bits: 0,
+        }
     }
 
     /// Back to the power-on state (hardware reset): counters 0, error
@@ -288,7 +298,8 @@ impl Engine {
     /// while another one is under way replaces it for later attempts only
     /// (the controller never does this: TBS is 0 then).
     pub fn request_tx(&mut self, frame: CanFrame, single_shot: bool, self_rx: bool) {
-        self.bsp.request(TxRequest::new(frame, single_shot, self_rx));
+        self.bsp
+            .request(TxRequest::new(frame, single_shot, self_rx));
     }
 
     /// CMR.AT: drop the pending request if its transmission has not started
@@ -363,6 +374,12 @@ impl Engine {
     /// so it stays set between automatic retransmissions).
     pub fn is_transmitting(&self) -> bool {
         self.bsp.role_tx
+    }
+
+    /// Bus idle: integrated, no frame, intermission or suspension under
+    /// way (the datasheet's "no bus activity" condition for sleep).
+    pub fn is_bus_idle(&self) -> bool {
+        self.bsp.phase == bsp::Phase::Idle
     }
 
     /// The field the engine is in, for diagnostics and waveforms.

@@ -29,12 +29,24 @@ fn arbitration_bits(f: &CanFrame) -> Vec<bool> {
 }
 
 fn frame_strategy() -> impl Strategy<Value = CanFrame> {
-    (any::<bool>(), any::<u32>(), any::<bool>(), proptest::collection::vec(any::<u8>(), 0..=8)).prop_map(
-        |(ext, raw, rtr, data)| {
-            let id = if ext { CanFrame::ext_id(raw & 0x1fff_ffff).unwrap() } else { CanFrame::std_id((raw & 0x7ff) as u16).unwrap() };
-            if rtr { CanFrame::new_remote(id, data.len()).unwrap() } else { CanFrame::new(id, &data).unwrap() }
-        },
+    (
+        any::<bool>(),
+        any::<u32>(),
+        any::<bool>(),
+        proptest::collection::vec(any::<u8>(), 0..=8),
     )
+        .prop_map(|(ext, raw, rtr, data)| {
+            let id = if ext {
+                CanFrame::ext_id(raw & 0x1fff_ffff).unwrap()
+            } else {
+                CanFrame::std_id((raw & 0x7ff) as u16).unwrap()
+            };
+            if rtr {
+                CanFrame::new_remote(id, data.len()).unwrap()
+            } else {
+                CanFrame::new(id, &data).unwrap()
+            }
+        })
 }
 
 fn check_arbitration(frames: Vec<CanFrame>) {
@@ -46,13 +58,21 @@ fn check_arbitration(frames: Vec<CanFrame>) {
     bus.run_until(n * 200, |b| b.nodes.iter().all(|e| !e.tx_pending()));
 
     // Completion order is arbitration order (lowest ID first).
-    let order: Vec<usize> = bus.log.iter().filter(|l| l.event == Event::TxComplete).map(|l| l.node).collect();
+    let order: Vec<usize> = bus
+        .log
+        .iter()
+        .filter(|l| l.event == Event::TxComplete)
+        .map(|l| l.node)
+        .collect();
     let mut want: Vec<usize> = (0..n).collect();
     want.sort_by_key(|&k| frames[k].id());
     assert_eq!(order, want, "frames {frames:?}");
     let mut by_bits = want.clone();
     by_bits.sort_by_key(|&k| arbitration_bits(&frames[k]));
-    assert_eq!(by_bits, want, "embedded-can Id order is the arbitration order");
+    assert_eq!(
+        by_bits, want,
+        "embedded-can Id order is the arbitration order"
+    );
 
     // Every loss: ALC is the first bit where the loser sent recessive and the
     // round's winner (the next node to complete) sent dominant.
@@ -60,11 +80,22 @@ fn check_arbitration(frames: Vec<CanFrame>) {
     for (i, l) in bus.log.iter().enumerate() {
         if let Event::ArbitrationLost { alc } = l.event {
             losses += 1;
-            let winner = bus.log[i..].iter().find(|w| w.event == Event::TxComplete).unwrap().node;
-            let (a, b) = (arbitration_bits(&frames[l.node]), arbitration_bits(&frames[winner]));
+            let winner = bus.log[i..]
+                .iter()
+                .find(|w| w.event == Event::TxComplete)
+                .unwrap()
+                .node;
+            let (a, b) = (
+                arbitration_bits(&frames[l.node]),
+                arbitration_bits(&frames[winner]),
+            );
             let p = (0..32).find(|&p| a[p] != b[p]).unwrap();
             assert!(a[p] && !b[p]);
-            assert_eq!(alc as usize, p, "loser {:?} winner {:?}", frames[l.node], frames[winner]);
+            assert_eq!(
+                alc as usize, p,
+                "loser {:?} winner {:?}",
+                frames[l.node], frames[winner]
+            );
         }
     }
     // All contend in every round: round r has n - r contenders.
@@ -84,11 +115,16 @@ fn check_arbitration(frames: Vec<CanFrame>) {
             _ => None,
         })
         .collect();
-    assert_eq!(frames_seen, want.iter().map(|&k| frames[k]).collect::<Vec<_>>());
+    assert_eq!(
+        frames_seen,
+        want.iter().map(|&k| frames[k]).collect::<Vec<_>>()
+    );
     for e in &decoded {
         if let can_proto::decode::DecodeEvent::FieldStart { field, bit } = *e {
             // A receiver knows a bit is SOF only once it has sampled it.
-            if field != Field::BusIdle && !(field == Field::Sof && bus.fields[bit as usize] == Field::BusIdle) {
+            if field != Field::BusIdle
+                && !(field == Field::Sof && bus.fields[bit as usize] == Field::BusIdle)
+            {
                 assert_eq!(bus.fields[bit as usize], field, "bit {bit}");
             }
         }
@@ -105,7 +141,11 @@ fn check_arbitration(frames: Vec<CanFrame>) {
                 _ => None,
             })
             .collect();
-        let mut expect: Vec<CanFrame> = want.iter().filter(|&&j| j != k).map(|&j| frames[j]).collect();
+        let mut expect: Vec<CanFrame> = want
+            .iter()
+            .filter(|&&j| j != k)
+            .map(|&j| frames[j])
+            .collect();
         expect.sort_by_key(|f| f.id());
         assert_eq!(got, expect);
         assert_eq!((bus.nodes[k].tec(), bus.nodes[k].rec()), (0, 0));
@@ -160,7 +200,10 @@ fn single_shot_lost_arbitration_is_dropped() {
     bus.nodes[0].request_tx(std_frame(0x200, &[]), true, false);
     bus.nodes[1].request_tx(std_frame(0x100, &[]), false, false);
     bus.run(300);
-    assert_eq!(bus.events(0)[..2], [Event::ArbitrationLost { alc: 1 }, Event::TxAborted]);
+    assert_eq!(
+        bus.events(0)[..2],
+        [Event::ArbitrationLost { alc: 1 }, Event::TxAborted]
+    );
     assert_eq!(bus.count(0, |e| *e == Event::TxComplete), 0);
     assert_eq!(bus.count(1, |e| matches!(e, Event::Received { .. })), 0);
 }

@@ -19,16 +19,29 @@ fn setup(frame: CanFrame) -> (TestBus, TestBus) {
     let mut reference = mk();
     reference.run(250);
     assert_eq!(reference.count(0, |e| *e == Event::TxComplete), 1);
-    assert!(reference.log.iter().all(|l| !matches!(l.event, Event::BusError { .. })));
+    assert!(
+        reference
+            .log
+            .iter()
+            .all(|l| !matches!(l.event, Event::BusError { .. }))
+    );
     (mk(), reference)
 }
 
 fn nth_in(r: &TestBus, field: Field, n: usize) -> usize {
-    (0..r.fields.len()).filter(|&i| r.fields[i] == field).nth(n).unwrap()
+    (0..r.fields.len())
+        .filter(|&i| r.fields[i] == field)
+        .nth(n)
+        .unwrap()
 }
 
 fn first_error(bus: &TestBus, node: usize) -> Event {
-    bus.log.iter().find(|l| l.node == node && matches!(l.event, Event::BusError { .. })).unwrap().event.clone()
+    bus.log
+        .iter()
+        .find(|l| l.node == node && matches!(l.event, Event::BusError { .. }))
+        .unwrap()
+        .event
+        .clone()
 }
 
 /// A receiver that sees the bus as it is is a bus observer, like the
@@ -49,8 +62,17 @@ fn assert_receiver_matches_decoder(bus: &TestBus, node: usize) {
         })
         .collect();
     assert!(!errors.is_empty(), "the decoder sees an error");
-    let mine = bus.log.iter().find(|l| l.node == node && matches!(l.event, Event::BusError { .. })).unwrap();
-    let Event::BusError { kind: k, field: f, .. } = mine.event else { unreachable!() };
+    let mine = bus
+        .log
+        .iter()
+        .find(|l| l.node == node && matches!(l.event, Event::BusError { .. }))
+        .unwrap();
+    let Event::BusError {
+        kind: k, field: f, ..
+    } = mine.event
+    else {
+        unreachable!()
+    };
     if (k, f) == (ErrorKind::Bit, Field::AckSlot) {
         // It sent its ACK dominant and read recessive: only the node knows.
         return;
@@ -67,7 +89,10 @@ fn assert_receiver_matches_decoder(bus: &TestBus, node: usize) {
         assert_eq!(f, Field::AckDelim);
         return;
     }
-    let first = errors.iter().find(|e| e.1 != BusError::Crc).expect("a non-CRC error");
+    let first = errors
+        .iter()
+        .find(|e| e.1 != BusError::Crc)
+        .expect("a non-CRC error");
     assert_eq!((mine.bit, k2, f), *first, "decoder: {errors:?}");
 }
 
@@ -80,12 +105,24 @@ fn bus_error(kind: ErrorKind, ecc: u8, field: Field) -> Event {
 #[test]
 fn bit_error_in_data_field() {
     let (mut bus, r) = setup(std_frame(0x321, &[0x0f, 0xf0]));
-    let i = (0..r.fields.len()).find(|&i| r.fields[i] == Field::Data && r.bits[i]).unwrap();
+    let i = (0..r.fields.len())
+        .find(|&i| r.fields[i] == Field::Data && r.bits[i])
+        .unwrap();
     bus.force.push((i, DOMINANT));
     bus.run(250);
-    assert_eq!(first_error(&bus, 0), bus_error(ErrorKind::Bit, 0x0A, Field::Data));
+    assert_eq!(
+        first_error(&bus, 0),
+        bus_error(ErrorKind::Bit, 0x0A, Field::Data)
+    );
     assert_receiver_matches_decoder(&bus, 1);
-    assert_eq!(bus.log.iter().find(|l| l.node == 0 && matches!(l.event, Event::BusError { .. })).unwrap().bit, i);
+    assert_eq!(
+        bus.log
+            .iter()
+            .find(|l| l.node == 0 && matches!(l.event, Event::BusError { .. }))
+            .unwrap()
+            .bit,
+        i
+    );
     // Retransmitted and delivered once to each receiver.
     assert_eq!(bus.count(0, |e| *e == Event::TxComplete), 1);
     assert_eq!(bus.count(1, |e| matches!(e, Event::Received { .. })), 1);
@@ -102,7 +139,10 @@ fn stuff_error_at_receiver() {
         .unwrap();
     bus.force_rx.push((i, 1, DOMINANT));
     bus.run_until(250, |b| b.log.iter().any(|l| l.node == 1));
-    assert_eq!(first_error(&bus, 1), bus_error(ErrorKind::Stuff, 0xAA, Field::Data));
+    assert_eq!(
+        first_error(&bus, 1),
+        bus_error(ErrorKind::Stuff, 0xAA, Field::Data)
+    );
     assert_eq!(bus.nodes[1].rec(), 1);
     bus.run(250);
     assert_eq!(bus.count(1, |e| matches!(e, Event::Received { .. })), 1);
@@ -122,14 +162,29 @@ fn crc_error_flags_after_ack_delimiter() {
     bus.force_rx.push((i, 1, !r.bits[i]));
     let ack_delim = nth_in(&r, Field::AckDelim, 0);
     bus.run_until(250, |b| b.log.iter().any(|l| l.node == 1));
-    assert_eq!(first_error(&bus, 1), bus_error(ErrorKind::Crc, 0xFB, Field::AckDelim));
+    assert_eq!(
+        first_error(&bus, 1),
+        bus_error(ErrorKind::Crc, 0xFB, Field::AckDelim)
+    );
     assert_eq!(bus.bits.len() - 1, ack_delim);
     bus.run(20);
-    assert_eq!(first_error(&bus, 0), bus_error(ErrorKind::Form, 0x5A, Field::Eof));
-    assert_eq!(first_error(&bus, 2), bus_error(ErrorKind::Form, 0x7A, Field::Eof));
-    assert_eq!((bus.nodes[0].tec(), bus.nodes[1].rec(), bus.nodes[2].rec()), (8, 9, 1));
+    assert_eq!(
+        first_error(&bus, 0),
+        bus_error(ErrorKind::Form, 0x5A, Field::Eof)
+    );
+    assert_eq!(
+        first_error(&bus, 2),
+        bus_error(ErrorKind::Form, 0x7A, Field::Eof)
+    );
+    assert_eq!(
+        (bus.nodes[0].tec(), bus.nodes[1].rec(), bus.nodes[2].rec()),
+        (8, 9, 1)
+    );
     bus.run(200);
-    assert_eq!((bus.nodes[0].tec(), bus.nodes[1].rec(), bus.nodes[2].rec()), (7, 8, 0));
+    assert_eq!(
+        (bus.nodes[0].tec(), bus.nodes[1].rec(), bus.nodes[2].rec()),
+        (7, 8, 0)
+    );
     for n in 1..3 {
         assert_eq!(bus.count(n, |e| matches!(e, Event::Received { .. })), 1);
     }
@@ -142,9 +197,18 @@ fn form_error_at_crc_delimiter() {
     let (mut bus, r) = setup(ext_frame(0x0ab_cdef, &[1, 2]));
     bus.force.push((nth_in(&r, Field::CrcDelim, 0), DOMINANT));
     bus.run(300);
-    assert_eq!(first_error(&bus, 0), bus_error(ErrorKind::Form, 0x58, Field::CrcDelim));
-    assert_eq!(first_error(&bus, 1), bus_error(ErrorKind::Form, 0x78, Field::CrcDelim));
-    assert_eq!(first_error(&bus, 2), bus_error(ErrorKind::Form, 0x78, Field::CrcDelim));
+    assert_eq!(
+        first_error(&bus, 0),
+        bus_error(ErrorKind::Form, 0x58, Field::CrcDelim)
+    );
+    assert_eq!(
+        first_error(&bus, 1),
+        bus_error(ErrorKind::Form, 0x78, Field::CrcDelim)
+    );
+    assert_eq!(
+        first_error(&bus, 2),
+        bus_error(ErrorKind::Form, 0x78, Field::CrcDelim)
+    );
     assert_receiver_matches_decoder(&bus, 1);
     assert_eq!(bus.count(1, |e| matches!(e, Event::Received { .. })), 1);
 }
@@ -159,8 +223,14 @@ fn form_error_at_ack_delimiter_then_overload_at_delimiter_end() {
     // Flag d+1..=d+6, error delimiter d+7..=d+14: force its last bit.
     bus.force.push((d + 14, DOMINANT));
     bus.run(d + 16);
-    assert_eq!(first_error(&bus, 0), bus_error(ErrorKind::Form, 0x5B, Field::AckDelim));
-    assert_eq!(first_error(&bus, 1), bus_error(ErrorKind::Form, 0x7B, Field::AckDelim));
+    assert_eq!(
+        first_error(&bus, 0),
+        bus_error(ErrorKind::Form, 0x5B, Field::AckDelim)
+    );
+    assert_eq!(
+        first_error(&bus, 1),
+        bus_error(ErrorKind::Form, 0x7B, Field::AckDelim)
+    );
     assert_receiver_matches_decoder(&bus, 2);
     assert_eq!(bus.fields[d + 14], Field::ErrorDelimiter);
     assert_eq!(bus.fields[d + 15], Field::OverloadFlag);
@@ -180,14 +250,29 @@ fn overload_at_first_intermission_bit() {
     bus.force.push((f, DOMINANT));
     bus.run(f + 1);
     bus.nodes[1].request_tx(std_frame(0x2, &[8]), false, false);
-    assert!(bus.log.iter().all(|l| !matches!(l.event, Event::BusError { .. })));
+    assert!(
+        bus.log
+            .iter()
+            .all(|l| !matches!(l.event, Event::BusError { .. }))
+    );
     bus.run(17);
     assert!((f + 1..f + 7).all(|i| bus.fields[i] == Field::OverloadFlag));
     assert!((f + 7..f + 15).all(|i| bus.fields[i] == Field::OverloadDelimiter));
     assert!((f + 15..f + 18).all(|i| bus.fields[i] == Field::Intermission));
     bus.run(200);
-    assert!(bus.log.iter().all(|l| !matches!(l.event, Event::BusError { .. })));
-    assert_eq!(bus.count(0, |e| *e == Event::Received { frame: std_frame(0x2, &[8]), own: false }), 1);
+    assert!(
+        bus.log
+            .iter()
+            .all(|l| !matches!(l.event, Event::BusError { .. }))
+    );
+    assert_eq!(
+        bus.count(0, |e| *e
+            == Event::Received {
+                frame: std_frame(0x2, &[8]),
+                own: false
+            }),
+        1
+    );
     for e in &bus.nodes {
         assert_eq!((e.tec(), e.rec()), (0, 0));
     }
@@ -202,10 +287,17 @@ fn dominant_last_eof_bit() {
     let eof7 = nth_in(&r, Field::Eof, 6);
     bus.force.push((eof7, DOMINANT));
     bus.run(eof7 + 2);
-    assert_eq!(first_error(&bus, 0), bus_error(ErrorKind::Form, 0x5A, Field::Eof));
+    assert_eq!(
+        first_error(&bus, 0),
+        bus_error(ErrorKind::Form, 0x5A, Field::Eof)
+    );
     assert_eq!(bus.fields[eof7 + 1], Field::ActiveErrorFlag);
     assert_eq!(bus.nodes[1].field(), Field::OverloadFlag);
-    assert!(bus.log.iter().all(|l| l.node == 0 || !matches!(l.event, Event::BusError { .. })));
+    assert!(
+        bus.log
+            .iter()
+            .all(|l| l.node == 0 || !matches!(l.event, Event::BusError { .. }))
+    );
     bus.run(200);
     assert_eq!(bus.count(1, |e| matches!(e, Event::Received { .. })), 2);
     assert_eq!(bus.count(0, |e| *e == Event::TxComplete), 1);
@@ -223,7 +315,11 @@ fn bit_error_in_receiver_active_flag() {
     bus.force_rx.push((i, 1, DOMINANT)); // stuff error at node 1
     bus.force_rx.push((i + 2, 1, RECESSIVE)); // 2nd bit of its flag
     bus.run(i + 3);
-    let errs: Vec<Event> = bus.events(1).into_iter().filter(|e| matches!(e, Event::BusError { .. })).collect();
+    let errs: Vec<Event> = bus
+        .events(1)
+        .into_iter()
+        .filter(|e| matches!(e, Event::BusError { .. }))
+        .collect();
     assert_eq!(
         errs,
         vec![
@@ -249,8 +345,14 @@ fn error_passive_transmitter_suspends() {
     let end = bus.bits.len();
     bus.nodes[0].request_tx(std_frame(0x001, &[3]), false, false);
     bus.run_until(300, |b| !b.nodes[1].tx_pending());
-    assert_eq!(bus.first_bit_in(Field::SuspendTransmission, end), Some(end + 3));
-    assert!(bus.nodes[0].tx_pending(), "the passive node's second frame waits");
+    assert_eq!(
+        bus.first_bit_in(Field::SuspendTransmission, end),
+        Some(end + 3)
+    );
+    assert!(
+        bus.nodes[0].tx_pending(),
+        "the passive node's second frame waits"
+    );
     // Node 1's SOF is the first bit after intermission.
     assert!(!bus.bits[end + 3] && bus.bits[end..end + 3].iter().all(|&b| b));
     bus.run_until(300, |b| !b.nodes[0].tx_pending());
@@ -270,10 +372,19 @@ fn stuff_error_in_arbitration_leaves_tec() {
     assert!(r.bits[sof + 5] && r.bits[sof..sof + 5].iter().all(|&b| !b));
     bus.force.push((sof + 5, DOMINANT));
     bus.run(sof + 6);
-    assert_eq!(first_error(&bus, 0), bus_error(ErrorKind::Stuff, 0x82, Field::BaseId));
-    assert_eq!(first_error(&bus, 1), bus_error(ErrorKind::Stuff, 0xA2, Field::BaseId));
+    assert_eq!(
+        first_error(&bus, 0),
+        bus_error(ErrorKind::Stuff, 0x82, Field::BaseId)
+    );
+    assert_eq!(
+        first_error(&bus, 1),
+        bus_error(ErrorKind::Stuff, 0xA2, Field::BaseId)
+    );
     assert_receiver_matches_decoder(&bus, 2);
-    assert_eq!((bus.nodes[0].tec(), bus.nodes[1].rec(), bus.nodes[2].rec()), (0, 1, 1));
+    assert_eq!(
+        (bus.nodes[0].tec(), bus.nodes[1].rec(), bus.nodes[2].rec()),
+        (0, 1, 1)
+    );
     bus.run(200);
     assert_eq!(bus.count(0, |e| *e == Event::TxComplete), 1);
 }
@@ -283,9 +394,18 @@ mod differential {
     use proptest::prelude::*;
 
     fn frame() -> impl Strategy<Value = CanFrame> {
-        (any::<bool>(), any::<u32>(), proptest::collection::vec(any::<u8>(), 0..=8)).prop_map(|(ext, raw, data)| {
-            if ext { ext_frame(raw & 0x1fff_ffff, &data) } else { std_frame((raw & 0x7ff) as u16, &data) }
-        })
+        (
+            any::<bool>(),
+            any::<u32>(),
+            proptest::collection::vec(any::<u8>(), 0..=8),
+        )
+            .prop_map(|(ext, raw, data)| {
+                if ext {
+                    ext_frame(raw & 0x1fff_ffff, &data)
+                } else {
+                    std_frame((raw & 0x7ff) as u16, &data)
+                }
+            })
     }
 
     proptest! {

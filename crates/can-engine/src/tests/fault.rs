@@ -5,7 +5,11 @@ use crate::{ErrorKind, FaultState};
 use can_proto::DOMINANT;
 
 /// Steps a one-node bus, recording TEC after every bit with a bus error.
-fn run_recording(bus: &mut TestBus, max: usize, mut stop: impl FnMut(&TestBus) -> bool) -> Vec<(Field, u8)> {
+fn run_recording(
+    bus: &mut TestBus,
+    max: usize,
+    mut stop: impl FnMut(&TestBus) -> bool,
+) -> Vec<(Field, u8)> {
     let mut trace = Vec::new();
     for _ in 0..max {
         let before = bus.log.len();
@@ -56,7 +60,9 @@ fn transmitter_with_rx_stuck_recessive_goes_bus_off_after_16_attempts() {
     bus.stuck = Some(RECESSIVE);
     bus.run(11);
     bus.nodes[0].request_tx(std_frame(0x123, &[0xde, 0xad]), false, false);
-    let trace = run_recording(&mut bus, 2000, |b| b.nodes[0].fault_state() == FaultState::BusOff);
+    let trace = run_recording(&mut bus, 2000, |b| {
+        b.nodes[0].fault_state() == FaultState::BusOff
+    });
 
     let mut want = Vec::new();
     want.push((Field::Sof, 8));
@@ -74,17 +80,34 @@ fn transmitter_with_rx_stuck_recessive_goes_bus_off_after_16_attempts() {
     assert_eq!(attempts, 16);
 
     let ev = bus.events(0);
-    let passive_at = ev.iter().position(|e| *e == Event::FaultState(FaultState::ErrorPassive)).unwrap();
-    let errors_before_passive = ev[..passive_at].iter().filter(|e| matches!(e, Event::BusError { .. })).count();
-    assert_eq!(errors_before_passive, 16, "TEC reaches 128 at the 16th error (SOF + 15 flag bits)");
+    let passive_at = ev
+        .iter()
+        .position(|e| *e == Event::FaultState(FaultState::ErrorPassive))
+        .unwrap();
+    let errors_before_passive = ev[..passive_at]
+        .iter()
+        .filter(|e| matches!(e, Event::BusError { .. }))
+        .count();
+    assert_eq!(
+        errors_before_passive, 16,
+        "TEC reaches 128 at the 16th error (SOF + 15 flag bits)"
+    );
     assert!(ev.contains(&Event::ErrorWarning(true)));
-    assert_eq!(ev[ev.len() - 2..], [Event::FaultState(FaultState::BusOff), Event::TxAborted]);
+    assert_eq!(
+        ev[ev.len() - 2..],
+        [Event::FaultState(FaultState::BusOff), Event::TxAborted]
+    );
     assert_eq!((bus.nodes[0].tec(), bus.nodes[0].rec()), (127, 0));
     assert!(bus.nodes[0].in_reset_mode(), "bus-off sets reset mode");
     assert!(!bus.nodes[0].tx_pending());
     // Every SOF bit error carries ECC 00 0 00011 (bit error, TX, SOF).
     for l in &bus.log {
-        if let Event::BusError { kind, ecc, field: Field::Sof } = l.event {
+        if let Event::BusError {
+            kind,
+            ecc,
+            field: Field::Sof,
+        } = l.event
+        {
             assert_eq!((kind, ecc), (ErrorKind::Bit, 0x03));
         }
     }
@@ -93,7 +116,15 @@ fn transmitter_with_rx_stuck_recessive_goes_bus_off_after_16_attempts() {
     let sofs: Vec<usize> = bus
         .log
         .iter()
-        .filter(|l| matches!(l.event, Event::BusError { field: Field::Sof, .. }))
+        .filter(|l| {
+            matches!(
+                l.event,
+                Event::BusError {
+                    field: Field::Sof,
+                    ..
+                }
+            )
+        })
         .map(|l| l.bit)
         .collect();
     for w in sofs[1..].windows(2) {
@@ -130,14 +161,27 @@ fn bus_off_recovery_takes_128_times_11_recessive_bits() {
         e.sample_bit(RECESSIVE);
         n += 1;
         if n % 11 == 0 && n < 128 * 11 {
-            assert_eq!(e.tec() as usize, 127 - n / 11, "TXERR shows the recovery progress");
+            assert_eq!(
+                e.tec() as usize,
+                127 - n / 11,
+                "TXERR shows the recovery progress"
+            );
         }
         assert!(n <= 128 * 11);
     }
     assert_eq!(n, 128 * 11);
-    assert_eq!((e.tec(), e.rec(), e.fault_state()), (0, 0, FaultState::ErrorActive));
+    assert_eq!(
+        (e.tec(), e.rec(), e.fault_state()),
+        (0, 0, FaultState::ErrorActive)
+    );
     let ev: Vec<_> = e.take_events().collect();
-    assert_eq!(ev, vec![Event::FaultState(FaultState::ErrorActive), Event::ErrorWarning(false)]);
+    assert_eq!(
+        ev,
+        vec![
+            Event::FaultState(FaultState::ErrorActive),
+            Event::ErrorWarning(false)
+        ]
+    );
     assert_eq!(e.field(), Field::BusIdle);
 }
 
@@ -187,7 +231,10 @@ fn ack_errors_stop_at_128_and_retransmit_forever() {
         }
         assert!(bus.bits.len() < 20_000);
     }
-    let want: Vec<u8> = (1..=16).map(|k| 8 * k).chain(std::iter::repeat_n(128, 50)).collect();
+    let want: Vec<u8> = (1..=16)
+        .map(|k| 8 * k)
+        .chain(std::iter::repeat_n(128, 50))
+        .collect();
     assert_eq!(trace, want);
     assert_eq!(bus.nodes[0].fault_state(), FaultState::ErrorPassive);
     assert_eq!(bus.count(0, |e| *e == Event::TxComplete), 0);
@@ -198,9 +245,16 @@ fn ack_errors_stop_at_128_and_retransmit_forever() {
 /// (here forced) gets +8 after all.
 #[test]
 fn ack_error_with_dominant_during_passive_flag_counts() {
-    let mut bus = TestBus { nodes: vec![node_error_passive(0, 130)], ..TestBus::new(0, Options::default()) };
+    let mut bus = TestBus {
+        nodes: vec![node_error_passive(0, 130)],
+        ..TestBus::new(0, Options::default())
+    };
     bus.nodes[0].request_tx(std_frame(0x55, &[]), false, false);
-    bus.run_until(200, |b| b.log.iter().any(|l| matches!(l.event, Event::BusError { .. })));
+    bus.run_until(200, |b| {
+        b.log
+            .iter()
+            .any(|l| matches!(l.event, Event::BusError { .. }))
+    });
     assert_eq!(bus.nodes[0].tec(), 130, "not yet: decided during the flag");
     let here = bus.bits.len();
     bus.force.push((here + 2, DOMINANT));
@@ -220,7 +274,10 @@ fn rule8_rec_above_127_goes_back_to_127() {
     bus.run_until(300, |b| !b.nodes[0].tx_pending());
     assert_eq!(bus.nodes[1].rec(), 127);
     assert_eq!(bus.nodes[1].fault_state(), FaultState::ErrorActive);
-    assert!(bus.events(1).contains(&Event::FaultState(FaultState::ErrorActive)));
+    assert!(
+        bus.events(1)
+            .contains(&Event::FaultState(FaultState::ErrorActive))
+    );
 }
 
 /// Rule 6: 14 consecutive dominant bits after an active error flag (the 6
@@ -243,11 +300,21 @@ fn rule2_and_rule6_dominant_after_flag() {
     // 6-bit active flags while the bus stays dominant: for the receiver
     // rule 1 (+1), rule 2 (+8) and rule 6 at each 8th dominant bit after
     // its flag; for the transmitter rule 3 (+8) and rule 6.
-    let err_bits: Vec<usize> = bus.log.iter().filter(|l| matches!(l.event, Event::BusError { .. })).map(|l| l.bit).collect();
+    let err_bits: Vec<usize> = bus
+        .log
+        .iter()
+        .filter(|l| matches!(l.event, Event::BusError { .. }))
+        .map(|l| l.bit)
+        .collect();
     assert_eq!(err_bits.len(), 2, "{:?}", bus.log);
     let end = data + 30; // first recessive bit
     let after = |node: usize| {
-        let e = bus.log.iter().find(|l| l.node == node && matches!(l.event, Event::BusError { .. })).unwrap().bit;
+        let e = bus
+            .log
+            .iter()
+            .find(|l| l.node == node && matches!(l.event, Event::BusError { .. }))
+            .unwrap()
+            .bit;
         end - (e + 1 + 6) // dominant bits after the flag
     };
     let (tx_after, rx_after) = (after(0), after(1));

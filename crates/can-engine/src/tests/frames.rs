@@ -1,8 +1,8 @@
 //! Error-free frames between two nodes: bus bits, ACK, events, counters.
 
 use super::*;
-use crate::bsp::TxRequest;
 use crate::FaultState;
+use crate::bsp::TxRequest;
 use can_proto::{DOMINANT, stuff};
 
 fn exchange(frame: CanFrame) -> TestBus {
@@ -15,23 +15,38 @@ fn exchange(frame: CanFrame) -> TestBus {
     let mut want = wire(&frame);
     let ack = want.len() - 9;
     want[ack] = DOMINANT; // the receiver's ACK
-    assert_eq!(&bus.bits[sof..sof + want.len()], &want[..], "bus bits of {frame:?}");
+    assert_eq!(
+        &bus.bits[sof..sof + want.len()],
+        &want[..],
+        "bus bits of {frame:?}"
+    );
     assert_eq!(bus.events(0), vec![Event::TxComplete]);
     assert_eq!(bus.events(1), vec![Event::Received { frame, own: false }]);
+    assert!(!bus.nodes[1].is_bus_idle(), "still in EOF/intermission");
+    bus.run(4);
+    assert!(bus.nodes.iter().all(|e| e.is_bus_idle()));
     // Received at the last-but-one EOF bit, TxComplete at the last.
     let rx_bit = bus.log.iter().find(|l| l.node == 1).unwrap().bit;
     let tx_bit = bus.log.iter().find(|l| l.node == 0).unwrap().bit;
     assert_eq!(rx_bit, sof + want.len() - 2);
     assert_eq!(tx_bit, sof + want.len() - 1);
     for e in &bus.nodes {
-        assert_eq!((e.tec(), e.rec(), e.fault_state()), (0, 0, FaultState::ErrorActive));
+        assert_eq!(
+            (e.tec(), e.rec(), e.fault_state()),
+            (0, 0, FaultState::ErrorActive)
+        );
     }
     bus
 }
 
 #[test]
 fn precomputed_stuffing_matches_can_proto() {
-    for f in [std_frame(0, &[]), std_frame(0x7ff, &[0xff; 8]), ext_frame(0, &[0; 8]), ext_frame(0x1555_5555, &[0x0f])] {
+    for f in [
+        std_frame(0, &[]),
+        std_frame(0x7ff, &[0xff; 8]),
+        ext_frame(0, &[0; 8]),
+        ext_frame(0x1555_5555, &[0x0f]),
+    ] {
         let req = TxRequest::new(f, false, false);
         let want: Vec<bool> = stuff::stuff(&f.unstuffed_bits()).iter().by_vals().collect();
         assert_eq!(req.stuffed(), want);
@@ -45,7 +60,10 @@ fn standard_data_frame() {
 
 #[test]
 fn extended_frames_and_dlc_over_8() {
-    exchange(ext_frame(0x1234_5678 & 0x1fff_ffff, &[1, 2, 3, 4, 5, 6, 7, 8]));
+    exchange(ext_frame(
+        0x1234_5678 & 0x1fff_ffff,
+        &[1, 2, 3, 4, 5, 6, 7, 8],
+    ));
     exchange(CanFrame::new_remote(CanFrame::ext_id(0x3ff).unwrap(), 3).unwrap());
     exchange(CanFrame::with_dlc(CanFrame::std_id(0x10).unwrap(), false, 13, &[0xaa; 8]).unwrap());
     exchange(CanFrame::new_remote(CanFrame::std_id(0x0).unwrap(), 0).unwrap());
@@ -80,8 +98,15 @@ fn dominant_third_intermission_bit_is_sof() {
     bus.force.push((third, DOMINANT));
     bus.run_until(300, |b| !b.nodes[1].tx_pending());
     let sof = bus.first_bit_in(Field::BaseId, third).unwrap();
-    assert_eq!(sof, third + 1, "the identifier follows the forced SOF directly");
-    assert!(bus.events(0).contains(&Event::Received { frame: std_frame(0x200, &[2]), own: false }));
+    assert_eq!(
+        sof,
+        third + 1,
+        "the identifier follows the forced SOF directly"
+    );
+    assert!(bus.events(0).contains(&Event::Received {
+        frame: std_frame(0x200, &[2]),
+        own: false
+    }));
     assert!(bus.events(1).contains(&Event::TxComplete));
 }
 

@@ -12,7 +12,13 @@ use can_proto::timing::BusTiming;
 use can_proto::{CanFrame, Field, FrameTrait, RECESSIVE};
 
 /// 500 kbit/s at 16 MHz: BRP 0, 16 tq, sample point 81 %.
-pub(crate) const TIMING: BusTiming = BusTiming { brp: 0, sjw: 3, tseg1: 11, tseg2: 2, sam: false };
+pub(crate) const TIMING: BusTiming = BusTiming {
+    brp: 0,
+    sjw: 3,
+    tseg1: 11,
+    tseg2: 2,
+    sam: false,
+};
 
 /// Something that happened at bus bit `bit` on node `node`.
 #[derive(Clone, Debug, PartialEq, Eq)]
@@ -72,10 +78,18 @@ impl TestBus {
         }
         self.fields.push(self.nodes[0].field());
         for (k, e) in self.nodes.iter_mut().enumerate() {
-            let rx = self.force_rx.iter().find(|(b, n, _)| *b == i && *n == k).map_or(bus, |f| f.2);
+            let rx = self
+                .force_rx
+                .iter()
+                .find(|(b, n, _)| *b == i && *n == k)
+                .map_or(bus, |f| f.2);
             e.sample_bit(rx);
             for event in e.take_events() {
-                self.log.push(Logged { bit: i, node: k, event });
+                self.log.push(Logged {
+                    bit: i,
+                    node: k,
+                    event,
+                });
             }
         }
         self.bits.push(bus);
@@ -95,12 +109,19 @@ impl TestBus {
                 return;
             }
         }
-        panic!("condition not reached in {max} bits; last events: {:?}", &self.log[self.log.len().saturating_sub(8)..]);
+        panic!(
+            "condition not reached in {max} bits; last events: {:?}",
+            &self.log[self.log.len().saturating_sub(8)..]
+        );
     }
 
     /// Events of one node, in order.
     pub fn events(&self, node: usize) -> Vec<Event> {
-        self.log.iter().filter(|l| l.node == node).map(|l| l.event.clone()).collect()
+        self.log
+            .iter()
+            .filter(|l| l.node == node)
+            .map(|l| l.event.clone())
+            .collect()
     }
 
     /// Bit index of the first bit node 0 spent in `field` at or after `from`.
@@ -109,7 +130,10 @@ impl TestBus {
     }
 
     pub fn count(&self, node: usize, f: impl Fn(&Event) -> bool) -> usize {
-        self.log.iter().filter(|l| l.node == node && f(&l.event)).count()
+        self.log
+            .iter()
+            .filter(|l| l.node == node && f(&l.event))
+            .count()
     }
 }
 

@@ -6,7 +6,10 @@ use crate::{ErrorKind, FaultState};
 use can_proto::DOMINANT;
 
 fn self_test() -> Options {
-    Options { self_test: true, ..Options::default() }
+    Options {
+        self_test: true,
+        ..Options::default()
+    }
 }
 
 /// Self test (MOD.STM) with self reception (CMR.SRR), TX looped back, no
@@ -19,8 +22,20 @@ fn self_test_loopback_succeeds_once() {
     let f = std_frame(0x7a, &[1, 2, 3, 4]);
     bus.nodes[0].request_tx(f, false, true);
     bus.run(600);
-    assert_eq!(bus.events(0), vec![Event::Received { frame: f, own: true }, Event::TxComplete]);
-    assert_eq!(bus.bits.iter().filter(|&&b| !b).count(), wire(&f).iter().filter(|&&b| !b).count());
+    assert_eq!(
+        bus.events(0),
+        vec![
+            Event::Received {
+                frame: f,
+                own: true
+            },
+            Event::TxComplete
+        ]
+    );
+    assert_eq!(
+        bus.bits.iter().filter(|&&b| !b).count(),
+        wire(&f).iter().filter(|&&b| !b).count()
+    );
     assert_eq!((bus.nodes[0].tec(), bus.nodes[0].tx_pending()), (0, false));
 }
 
@@ -42,8 +57,23 @@ fn self_reception_request_with_receiver() {
     let f = ext_frame(0x1234, &[5]);
     bus.nodes[0].request_tx(f, false, true);
     bus.run(300);
-    assert_eq!(bus.events(0), vec![Event::Received { frame: f, own: true }, Event::TxComplete]);
-    assert_eq!(bus.events(1), vec![Event::Received { frame: f, own: false }]);
+    assert_eq!(
+        bus.events(0),
+        vec![
+            Event::Received {
+                frame: f,
+                own: true
+            },
+            Event::TxComplete
+        ]
+    );
+    assert_eq!(
+        bus.events(1),
+        vec![Event::Received {
+            frame: f,
+            own: false
+        }]
+    );
 }
 
 /// Listen only: the node receives but never drives dominant (no ACK, no
@@ -51,7 +81,10 @@ fn self_reception_request_with_receiver() {
 #[test]
 fn listen_only_never_dominant() {
     let mut bus = TestBus::idle(2);
-    bus.nodes[1].set_options(Options { listen_only: true, ..Options::default() });
+    bus.nodes[1].set_options(Options {
+        listen_only: true,
+        ..Options::default()
+    });
     bus.nodes[0].request_tx(std_frame(0x10, &[0xaa]), false, false);
     let mut dominant = 0;
     for _ in 0..400 {
@@ -61,8 +94,24 @@ fn listen_only_never_dominant() {
     assert_eq!(dominant, 0);
     // Nobody acknowledges: ACK errors at the transmitter, the listener sees
     // form errors at the ACK delimiter and receives nothing.
-    assert!(bus.count(0, |e| matches!(e, Event::BusError { kind: ErrorKind::Ack, .. })) > 3);
-    assert!(bus.count(1, |e| matches!(e, Event::BusError { kind: ErrorKind::Form, .. })) > 3);
+    assert!(
+        bus.count(0, |e| matches!(
+            e,
+            Event::BusError {
+                kind: ErrorKind::Ack,
+                ..
+            }
+        )) > 3
+    );
+    assert!(
+        bus.count(1, |e| matches!(
+            e,
+            Event::BusError {
+                kind: ErrorKind::Form,
+                ..
+            }
+        )) > 3
+    );
     assert_eq!(bus.count(1, |e| matches!(e, Event::Received { .. })), 0);
     assert_eq!(bus.nodes[1].rec(), 0);
     // A listen-only node requested to send does not.
@@ -79,7 +128,12 @@ fn single_shot_after_ack_error() {
     bus.nodes[0].request_tx(std_frame(0x10, &[]), true, false);
     bus.run(400);
     let ev = bus.events(0);
-    assert_eq!(ev.iter().filter(|e| matches!(e, Event::BusError { .. })).count(), 1);
+    assert_eq!(
+        ev.iter()
+            .filter(|e| matches!(e, Event::BusError { .. }))
+            .count(),
+        1
+    );
     assert!(ev.contains(&Event::TxAborted));
     assert_eq!(bus.nodes[0].tec(), 8);
     assert!(!bus.nodes[0].tx_pending());
@@ -141,21 +195,33 @@ fn reset_mode() {
     assert!(e.tx());
     e.set_reset_mode(false);
     let ev: Vec<_> = e.take_events().collect();
-    assert_eq!(ev, vec![Event::FaultState(FaultState::ErrorPassive), Event::ErrorWarning(true)]);
+    assert_eq!(
+        ev,
+        vec![
+            Event::FaultState(FaultState::ErrorPassive),
+            Event::ErrorWarning(true)
+        ]
+    );
     e.sample_bit(DOMINANT);
     for _ in 0..10 {
         e.sample_bit(RECESSIVE);
     }
     assert!(e.tx());
     e.sample_bit(RECESSIVE);
-    assert!(!e.tx(), "SOF once 11 recessive bits followed the dominant one");
+    assert!(
+        !e.tx(),
+        "SOF once 11 recessive bits followed the dominant one"
+    );
 }
 
 /// EWL: the warning follows TEC/REC against the limit.
 #[test]
 fn error_warning_limit() {
     let mut bus = TestBus::idle(1);
-    bus.nodes[0].set_options(Options { ewl: 16, ..Options::default() });
+    bus.nodes[0].set_options(Options {
+        ewl: 16,
+        ..Options::default()
+    });
     bus.nodes[0].request_tx(std_frame(0x10, &[]), false, false);
     bus.run_until(1000, |b| b.nodes[0].error_warning());
     assert_eq!(bus.nodes[0].tec(), 16);

@@ -71,7 +71,11 @@ impl ClockedBus {
             }
             let bit = (after as usize).saturating_sub(1);
             for event in self.nodes[k].take_events() {
-                self.log.push(Logged { bit, node: k, event });
+                self.log.push(Logged {
+                    bit,
+                    node: k,
+                    event,
+                });
             }
         }
     }
@@ -94,7 +98,9 @@ fn paths_agree(mk: &dyn Fn() -> Vec<Engine>, timing: BusTiming, bits: usize) -> 
     fast.nodes = mk();
     fast.run(bits);
     let mut slow = ClockedBus::new(mk(), vec![1, 1]);
-    slow.run_until(bits * timing.clocks_per_bit() as usize + 1, |s| s.bits.len() > bits);
+    slow.run_until(bits * timing.clocks_per_bit() as usize + 1, |s| {
+        s.bits.len() > bits
+    });
     assert_eq!(&slow.bits[..bits], &fast.bits[..]);
     let mut got: Vec<Logged> = slow.log.iter().filter(|l| l.bit < bits).cloned().collect();
     got.sort_by_key(|l| (l.bit, l.node));
@@ -107,8 +113,17 @@ fn paths_agree(mk: &dyn Fn() -> Vec<Engine>, timing: BusTiming, bits: usize) -> 
 /// Arbitration, ACK and self reception: identical on both paths.
 #[test]
 fn clock_and_sample_bit_paths_agree() {
-    let frames = [std_frame(0x123, &[1, 2, 3]), ext_frame(0x0234_5678, &[0xff; 8])];
-    let timing = BusTiming { brp: 1, sjw: 1, tseg1: 7, tseg2: 3, sam: false };
+    let frames = [
+        std_frame(0x123, &[1, 2, 3]),
+        ext_frame(0x0234_5678, &[0xff; 8]),
+    ];
+    let timing = BusTiming {
+        brp: 1,
+        sjw: 1,
+        tseg1: 7,
+        tseg2: 3,
+        sam: false,
+    };
     let mk = || {
         (0..2)
             .map(|k| {
@@ -119,8 +134,14 @@ fn clock_and_sample_bit_paths_agree() {
             .collect::<Vec<_>>()
     };
     let log = paths_agree(&mk, timing, 400);
-    assert!(log.iter().any(|l| matches!(l.event, Event::ArbitrationLost { .. })));
-    assert_eq!(log.iter().filter(|l| l.event == Event::TxComplete).count(), 2);
+    assert!(
+        log.iter()
+            .any(|l| matches!(l.event, Event::ArbitrationLost { .. }))
+    );
+    assert_eq!(
+        log.iter().filter(|l| l.event == Event::TxComplete).count(),
+        2
+    );
 }
 
 /// Errors: a transmitter with only a listen-only node (no ACK): ACK errors,
@@ -128,22 +149,55 @@ fn clock_and_sample_bit_paths_agree() {
 /// transmission, retransmissions: identical on both paths.
 #[test]
 fn clock_and_sample_bit_paths_agree_on_errors() {
-    let timing = BusTiming { brp: 0, sjw: 0, tseg1: 4, tseg2: 1, sam: false };
+    let timing = BusTiming {
+        brp: 0,
+        sjw: 0,
+        tseg1: 4,
+        tseg2: 1,
+        sam: false,
+    };
     let mk = || {
         let mut a = Engine::new(timing, Options::default());
         a.request_tx(std_frame(0x555, &[0x0f; 3]), false, false);
-        let b = Engine::new(timing, Options { listen_only: true, ..Options::default() });
+        let b = Engine::new(
+            timing,
+            Options {
+                listen_only: true,
+                ..Options::default()
+            },
+        );
         vec![a, b]
     };
     let log = paths_agree(&mk, timing, 2000);
-    assert!(log.iter().any(|l| l.event == Event::FaultState(crate::FaultState::ErrorPassive)));
-    assert!(log.iter().filter(|l| l.node == 1 && matches!(l.event, Event::BusError { kind: ErrorKind::Form, .. })).count() > 10);
+    assert!(
+        log.iter()
+            .any(|l| l.event == Event::FaultState(crate::FaultState::ErrorPassive))
+    );
+    assert!(
+        log.iter()
+            .filter(|l| l.node == 1
+                && matches!(
+                    l.event,
+                    Event::BusError {
+                        kind: ErrorKind::Form,
+                        ..
+                    }
+                ))
+            .count()
+            > 10
+    );
 }
 
 /// Timing for the synchronisation tests: 21 tq per bit, sample point at
 /// 17/21, phase segment 2 of 4 tq.
 fn sync_timing(sjw: u8) -> BusTiming {
-    BusTiming { brp: 0, sjw, tseg1: 15, tseg2: 3, sam: false }
+    BusTiming {
+        brp: 0,
+        sjw,
+        tseg1: 15,
+        tseg2: 3,
+        sam: false,
+    }
 }
 
 /// Node 0 sends `n` worst-case frames (all-ones data: a resynchronising
@@ -165,8 +219,16 @@ fn drift_exchange(sjw: u8, ppm_b: i64, n: usize) -> (usize, usize) {
         sent += 1;
         bus.nodes[0].request_tx(f, true, false);
     }
-    let received = bus.log.iter().filter(|l| l.node == 1 && matches!(l.event, Event::Received { frame, .. } if frame == f)).count();
-    let errors = bus.log.iter().filter(|l| matches!(l.event, Event::BusError { .. })).count();
+    let received = bus
+        .log
+        .iter()
+        .filter(|l| l.node == 1 && matches!(l.event, Event::Received { frame, .. } if frame == f))
+        .count();
+    let errors = bus
+        .log
+        .iter()
+        .filter(|l| matches!(l.event, Event::BusError { .. }))
+        .count();
     (received, errors)
 }
 
@@ -181,7 +243,11 @@ fn drift_exchange(sjw: u8, ppm_b: i64, n: usize) -> (usize, usize) {
 #[test]
 fn resync_with_enough_sjw_receives_everything() {
     for ppm in [10_000, -10_000, 5_000, -5_000] {
-        assert_eq!(drift_exchange(3, ppm, 5), (5, 0), "receiver off by {ppm} ppm");
+        assert_eq!(
+            drift_exchange(3, ppm, 5),
+            (5, 0),
+            "receiver off by {ppm} ppm"
+        );
     }
 }
 
@@ -192,7 +258,11 @@ fn resync_with_enough_sjw_receives_everything() {
 fn resync_with_too_small_sjw_fails() {
     for (sjw, ppm) in [(0, 10_000), (0, -10_000), (3, 20_000)] {
         let (received, errors) = drift_exchange(sjw, ppm, 5);
-        assert!(errors > 0, "expected bus errors with SJW {} tq at {ppm} ppm", sjw + 1);
+        assert!(
+            errors > 0,
+            "expected bus errors with SJW {} tq at {ppm} ppm",
+            sjw + 1
+        );
         assert!(received < 5);
     }
     // Same oscillators with no drift: fine even with SJW = 1.
@@ -204,7 +274,13 @@ fn resync_with_too_small_sjw_fails() {
 #[test]
 fn triple_sampling_filters_a_spike() {
     for sam in [false, true] {
-        let timing = BusTiming { brp: 0, sjw: 0, tseg1: 7, tseg2: 2, sam };
+        let timing = BusTiming {
+            brp: 0,
+            sjw: 0,
+            tseg1: 7,
+            tseg2: 2,
+            sam,
+        };
         let f = std_frame(0x000, &[0x00]);
         let mk = |k: usize| {
             let mut e = Engine::new(timing, Options::default());
@@ -220,14 +296,30 @@ fn triple_sampling_filters_a_spike() {
         let cpb = timing.clocks_per_bit() as u64;
         let cpt = timing.clocks_per_tq() as u64;
         let bit14 = 13 * cpb; // bits are numbered from 1; clock 0 is the first
-        bus.glitch.push((bit14 + 8 * cpt + 1, bit14 + 9 * cpt + 1, RECESSIVE));
-        bus.run_until(200 * cpb as usize, |b| !b.nodes[0].tx_pending() || b.log.iter().any(|l| matches!(l.event, Event::BusError { .. })));
-        let errors: Vec<&Logged> = bus.log.iter().filter(|l| matches!(l.event, Event::BusError { .. })).collect();
+        bus.glitch
+            .push((bit14 + 8 * cpt + 1, bit14 + 9 * cpt + 1, RECESSIVE));
+        bus.run_until(200 * cpb as usize, |b| {
+            !b.nodes[0].tx_pending()
+                || b.log
+                    .iter()
+                    .any(|l| matches!(l.event, Event::BusError { .. }))
+        });
+        let errors: Vec<&Logged> = bus
+            .log
+            .iter()
+            .filter(|l| matches!(l.event, Event::BusError { .. }))
+            .collect();
         if sam {
             assert!(errors.is_empty(), "spike filtered: {errors:?}");
         } else {
             assert!(!errors.is_empty(), "spike seen without triple sampling");
-            assert!(matches!(errors[0].event, Event::BusError { kind: ErrorKind::Bit, .. }));
+            assert!(matches!(
+                errors[0].event,
+                Event::BusError {
+                    kind: ErrorKind::Bit,
+                    ..
+                }
+            ));
         }
     }
 }
@@ -236,11 +328,21 @@ fn triple_sampling_filters_a_spike() {
 #[test]
 #[ignore = "measurement; run with cargo test -p can-engine --release -- --ignored --nocapture speed"]
 fn speed_two_nodes_fast_path() {
-    let mut nodes = [Engine::new(TIMING, Options::default()), Engine::new(TIMING, Options::default())];
+    let mut nodes = [
+        Engine::new(TIMING, Options::default()),
+        Engine::new(TIMING, Options::default()),
+    ];
     let frames: Vec<CanFrame> = (0..64u32)
         .map(|i| {
             let d = (i.wrapping_mul(0x9e37_79b9)).to_le_bytes();
-            if i % 3 == 0 { ext_frame(i * 7919, &d[..(i % 9).min(4) as usize]) } else { std_frame((i * 31 % 2048) as u16, &[d[0], d[1], d[2], d[3], d[0], d[1], d[2], d[3]][..(i % 9) as usize]) }
+            if i % 3 == 0 {
+                ext_frame(i * 7919, &d[..(i % 9).min(4) as usize])
+            } else {
+                std_frame(
+                    (i * 31 % 2048) as u16,
+                    &[d[0], d[1], d[2], d[3], d[0], d[1], d[2], d[3]][..(i % 9) as usize],
+                )
+            }
         })
         .collect();
     let bits = 200_000_000u64;
@@ -267,10 +369,16 @@ fn speed_two_nodes_fast_path() {
         }
     }
     let s = t.elapsed().as_secs_f64();
-    println!("2 nodes: {bits} bit-times in {s:.3} s wall = {:.1} M bit-times/s ({received} frames received)", bits as f64 / s / 1e6);
+    println!(
+        "2 nodes: {bits} bit-times in {s:.3} s wall = {:.1} M bit-times/s ({received} frames received)",
+        bits as f64 / s / 1e6
+    );
     if let (Some(a), Some(b)) = (cpu0, thread_cpu_ns()) {
         let c = (b - a) as f64 / 1e9;
-        println!("        on-CPU time {c:.3} s = {:.1} M bit-times/s (what a core of its own gives)", bits as f64 / c / 1e6);
+        println!(
+            "        on-CPU time {c:.3} s = {:.1} M bit-times/s (what a core of its own gives)",
+            bits as f64 / c / 1e6
+        );
     }
     assert!(received > bits / 200);
 }
@@ -284,11 +392,15 @@ fn dominant_spike_sanity() {
     assert!(bus.bits.iter().all(|&b| !b));
 }
 
-
 /// Time this thread spent on a CPU, in ns (Linux schedstat), so a loaded
 /// shared machine does not distort the measurement.
 fn thread_cpu_ns() -> Option<u64> {
-    std::fs::read_to_string("/proc/thread-self/schedstat").ok()?.split_whitespace().next()?.parse().ok()
+    std::fs::read_to_string("/proc/thread-self/schedstat")
+        .ok()?
+        .split_whitespace()
+        .next()?
+        .parse()
+        .ok()
 }
 
 /// Hard synchronisation: a receiver whose bit clock starts out of phase
@@ -297,7 +409,13 @@ fn thread_cpu_ns() -> Option<u64> {
 /// could not pull in a large phase error.
 #[test]
 fn hard_sync_on_sof_aligns_an_out_of_phase_receiver() {
-    let timing = BusTiming { brp: 1, sjw: 0, tseg1: 9, tseg2: 3, sam: false };
+    let timing = BusTiming {
+        brp: 1,
+        sjw: 0,
+        tseg1: 9,
+        tseg2: 3,
+        sam: false,
+    };
     let cpb = timing.clocks_per_bit() as u64;
     let f = std_frame(0x2aa, &[0x00, 0xff, 0x33]);
     for offset in (1..cpb).step_by(3) {
@@ -312,16 +430,36 @@ fn hard_sync_on_sof_aligns_an_out_of_phase_receiver() {
         let done = bus.run_until(400 * cpb as usize, |b| !b.nodes[0].tx_pending());
         assert!(done);
         assert!(
-            bus.log.iter().any(|l| l.node == 1 && l.event == Event::Received { frame: f, own: false }),
+            bus.log.iter().any(|l| l.node == 1
+                && l.event
+                    == Event::Received {
+                        frame: f,
+                        own: false
+                    }),
             "offset {offset} clocks: {:?}",
             bus.log
         );
-        assert!(bus.log.iter().all(|l| !matches!(l.event, Event::BusError { .. })));
+        assert!(
+            bus.log
+                .iter()
+                .all(|l| !matches!(l.event, Event::BusError { .. }))
+        );
         // Both sample the SOF within one quantum of each other: node 1's
         // bit now starts at the edge, whatever its phase before.
-        let sof = |k: usize| bus.samples[k].iter().find(|&&(t, l)| t > t_req && !l).unwrap().0;
+        let sof = |k: usize| {
+            bus.samples[k]
+                .iter()
+                .find(|&&(t, l)| t > t_req && !l)
+                .unwrap()
+                .0
+        };
         let cpt = timing.clocks_per_tq() as u64;
-        assert!(sof(1).abs_diff(sof(0)) <= cpt, "offset {offset}: SOF sampled at {} and {}", sof(0), sof(1));
+        assert!(
+            sof(1).abs_diff(sof(0)) <= cpt,
+            "offset {offset}: SOF sampled at {} and {}",
+            sof(0),
+            sof(1)
+        );
     }
 }
 
@@ -346,9 +484,18 @@ mod equivalence {
     use proptest::prelude::*;
 
     fn frame() -> impl Strategy<Value = CanFrame> {
-        (any::<bool>(), any::<u32>(), proptest::collection::vec(any::<u8>(), 0..=8)).prop_map(|(ext, raw, data)| {
-            if ext { ext_frame(raw & 0x1fff_ffff, &data) } else { std_frame((raw & 0x7ff) as u16, &data) }
-        })
+        (
+            any::<bool>(),
+            any::<u32>(),
+            proptest::collection::vec(any::<u8>(), 0..=8),
+        )
+            .prop_map(|(ext, raw, data)| {
+                if ext {
+                    ext_frame(raw & 0x1fff_ffff, &data)
+                } else {
+                    std_frame((raw & 0x7ff) as u16, &data)
+                }
+            })
     }
 
     proptest! {
