@@ -105,11 +105,12 @@ module can_bsp (
     assign hard_en  = (st == S_IDLE) || (st == S_SUSP) || (st == S_SOF) ||
                       (st == S_INTEG) || (st == S_BUSOFF) ||
                       ((st == S_INTER) && (cnt == 6'd2));
-    assign bus_idle = (st == S_IDLE) || (st == S_SUSP);
-    assign ts = (st == S_OFF) || (st == S_INTEG) || (st == S_BUSOFF) ||
-                (!bus_idle && txr);
-    assign rs = (st == S_OFF) || (st == S_INTEG) || (st == S_BUSOFF) ||
-                (!bus_idle && !txr);
+    assign bus_idle = (st == S_IDLE);
+    // SR.TS: the transmitter, from SOF until bus idle (also between automatic
+    // retransmissions and during suspend); SR.RS: a receiver inside a frame
+    // or error/overload signalling
+    assign ts = txr;
+    assign rs = !txr && busy;
 
     // ---- the level of the bit being sent (tx_cur) for the current state ----
     reg frame_bit;
@@ -333,7 +334,7 @@ module can_bsp (
                             end else if (st == S_SUSP && cnt != 6'd7) begin
                                 cnt <= cnt + 6'd1;
                             end else if (st == S_INTER && txr && passive) begin
-                                st <= S_SUSP; cnt <= 6'd0; txr <= 1'b0;
+                                st <= S_SUSP; cnt <= 6'd0;     // still the transmitter (SR.TS)
                             end else if (can_tx) begin
                                 st <= S_SOF; txr <= 1'b1;
                             end else begin

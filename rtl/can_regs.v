@@ -148,7 +148,7 @@ module can_regs (
     assign irq = peli ? ((|ir[7:1]) | ri_live) : ((|ir[4:1]) | ri_live);
 
     // reset mode: PeliCAN shows RS = TS = 1 (waiting for bus-free), BasicCAN 0
-    wire [7:0] sr = {bus_off, warn, ts & (peli | !rm), rs & (peli | !rm), tcs, tbs, dos, rbs};
+    wire [7:0] sr = {bus_off, warn, rm ? peli : ts, rm ? peli : rs, tcs, tbs, dos, rbs};
 
     // ---- read mux ----
     always @* begin
