@@ -95,6 +95,23 @@ impl Session {
         &self.report
     }
 
+    /// The report as if the run ended now (stale waivers included).
+    pub fn snapshot(&self) -> WaiverReport {
+        let mut r = self.report.clone();
+        r.finish(&self.set);
+        r
+    }
+
+    /// Adds a line to the report's notes, e.g. a resync the reference could not apply.
+    pub fn note(&mut self, text: impl Into<String>) {
+        self.report.notes.push(text.into());
+    }
+
+    /// The DUT.
+    pub fn dut(&self) -> &DutInfo {
+        &self.dut
+    }
+
     /// Ends the run: the report with stale waivers, and the set (hit counts).
     pub fn finish(mut self) -> (WaiverReport, WaiverSet) {
         self.report.finish(&self.set);

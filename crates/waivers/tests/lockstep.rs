@@ -173,7 +173,9 @@ fn lockstep(mut model: Node, mut dut: Node, set: WaiverSet, mode: CollectMode) -
 }
 
 fn finish(s: Session, completed: bool, model: &Node, reads_equal: u32) -> Outcome {
+    let snap = s.snapshot();
     let (report, set) = s.finish();
+    assert_eq!(snap, report, "a snapshot at the end is the final report");
     Outcome { report, set, completed, model_tec: model.tec, reads_equal }
 }
 
