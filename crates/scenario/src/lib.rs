@@ -10,6 +10,11 @@
 #![warn(missing_docs)]
 
 mod format;
+pub mod regress;
+pub mod run;
+
+pub use regress::{RegressOptions, RegressReport, regress};
+pub use run::{DutSpec, RunOptions, RunOutcome, run};
 
 use can_proto::timing::BusTiming;
 use diagnose::Category;

@@ -1,0 +1,264 @@
+//! The regression runner: scenarios x DUTs, in parallel (one test bench per
+//! worker thread: a Verilated model never crosses threads), a progress bar,
+//! JUnit XML, a DUT x scenario table, and shards for CI matrices.
+
+use crate::run::{DutSpec, RunOptions, RunOutcome, run};
+use crate::Scenario;
+use diagnose::Category;
+use quick_xml::Writer;
+use quick_xml::events::{BytesEnd, BytesStart, BytesText, Event};
+use std::sync::Mutex;
+use std::sync::atomic::{AtomicUsize, Ordering};
+use std::time::Duration;
+
+/// Options of a regression.
+#[derive(Clone, Debug, Default)]
+pub struct RegressOptions {
+    /// Worker threads; 0 = one per core.
+    pub jobs: usize,
+    /// `(k, n)`: run only the pairs whose index is `k - 1` modulo `n` (k from 1).
+    pub shard: Option<(usize, usize)>,
+    /// Show a progress bar on stderr.
+    pub progress: bool,
+    /// Override every scenario's run length (bit times).
+    pub max_bits: Option<u64>,
+}
+
+/// Parses `--shard k/n` (1 <= k <= n).
+pub fn parse_shard(s: &str) -> Result<(usize, usize), String> {
+    let (k, n) = s.split_once('/').ok_or_else(|| format!("shard `{s}`: expected k/n, e.g. 2/4"))?;
+    let k: usize = k.trim().parse().map_err(|_| format!("shard `{s}`: k is not a number"))?;
+    let n: usize = n.trim().parse().map_err(|_| format!("shard `{s}`: n is not a number"))?;
+    if n == 0 || k == 0 || k > n {
+        return Err(format!("shard `{s}`: need 1 <= k <= n"));
+    }
+    Ok((k, n))
+}
+
+/// Verdict of one (scenario, DUT) pair.
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub enum Status {
+    /// The outcome matched `[expect]`.
+    Pass,
+    /// The DUT deviates from the golden model; where, in a few words.
+    Diverged(String),
+    /// The outcome differs from `[expect]` otherwise.
+    Failed(String),
+    /// The run could not be made (DUT build, bench error).
+    Error(String),
+}
+
+/// One cell of the table.
+#[derive(Clone, Debug)]
+pub struct Cell {
+    /// Scenario name.
+    pub scenario: String,
+    /// DUT name.
+    pub dut: String,
+    /// Verdict.
+    pub status: Status,
+    /// Diagnosis category.
+    pub category: Category,
+    /// Short diagnosis text (for JUnit bodies).
+    pub report: String,
+    /// Wall time.
+    pub wall: Duration,
+}
+
+impl Cell {
+    fn from_outcome(scenario: &str, o: &RunOutcome) -> Cell {
+        let d = &o.diagnosis;
+        let status = if o.passed {
+            Status::Pass
+        } else if d.category == Category::DutDeviatesFromModel {
+            let f = &d.figures;
+            let mut w = Vec::new();
+            if let Some(x) = f.field {
+                w.push(format!("{x:?}"));
+            }
+            if let Some(x) = f.frame {
+                w.push(format!("frame {x}"));
+            }
+            if let Some(x) = f.bit {
+                w.push(format!("bit {x}"));
+            }
+            if let Some(x) = &f.register {
+                w.push(x.clone());
+            }
+            Status::Diverged(w.join(" "))
+        } else if d.category == Category::RunError {
+            Status::Error(o.record.error.clone().unwrap_or_default())
+        } else {
+            Status::Failed(o.mismatches.join("; "))
+        };
+        Cell { scenario: scenario.into(), dut: o.dut.clone(), status, category: d.category, report: d.to_text(), wall: o.wall }
+    }
+}
+
+/// All cells of a regression.
+#[derive(Clone, Debug, Default)]
+pub struct RegressReport {
+    /// Scenario names, in order.
+    pub scenarios: Vec<String>,
+    /// DUT names, in order.
+    pub duts: Vec<String>,
+    /// Cells that ran (a shard runs a subset).
+    pub cells: Vec<Cell>,
+}
+
+impl RegressReport {
+    /// True if every cell passed.
+    pub fn passed(&self) -> bool {
+        self.cells.iter().all(|c| c.status == Status::Pass)
+    }
+
+    /// Process exit code: 0 if all passed, 1 otherwise.
+    pub fn exit_code(&self) -> i32 {
+        if self.passed() { 0 } else { 1 }
+    }
+
+    fn cell(&self, s: &str, d: &str) -> Option<&Cell> {
+        self.cells.iter().find(|c| c.scenario == s && c.dut == d)
+    }
+
+    /// The DUT x scenario table: one row per scenario, one column per DUT.
+    pub fn to_table(&self) -> String {
+        let text = |c: Option<&Cell>| match c {
+            None => "-".to_string(),
+            Some(c) => match &c.status {
+                Status::Pass => format!("pass ({})", c.category),
+                Status::Diverged(w) => format!("diverged ({w})"),
+                Status::Failed(_) => format!("FAIL ({})", c.category),
+                Status::Error(e) => format!("error ({})", e.chars().take(40).collect::<String>()),
+            },
+        };
+        let mut rows: Vec<Vec<String>> = vec![std::iter::once("scenario".to_string()).chain(self.duts.iter().cloned()).collect()];
+        for s in &self.scenarios {
+            rows.push(std::iter::once(s.clone()).chain(self.duts.iter().map(|d| text(self.cell(s, d)))).collect());
+        }
+        let cols = rows[0].len();
+        let widths: Vec<usize> = (0..cols).map(|i| rows.iter().map(|r| r[i].chars().count()).max().unwrap_or(0)).collect();
+        let mut out = String::new();
+        for (n, r) in rows.iter().enumerate() {
+            let line: Vec<String> = r.iter().enumerate().map(|(i, c)| format!("{c:<w$}", w = widths[i])).collect();
+            out += line.join(" | ").trim_end();
+            out.push('\n');
+            if n == 0 {
+                out += &widths.iter().map(|w| "-".repeat(*w)).collect::<Vec<_>>().join("-+-");
+                out.push('\n');
+            }
+        }
+        let failed = self.cells.iter().filter(|c| c.status != Status::Pass).count();
+        out += &format!("{} run, {} passed, {} not passed\n", self.cells.len(), self.cells.len() - failed, failed);
+        out
+    }
+
+    /// JUnit XML: one testsuite per DUT, one testcase per scenario.
+    pub fn to_junit(&self) -> String {
+        let mut w = Writer::new_with_indent(Vec::new(), b' ', 2);
+        let count = |cells: &[&Cell], f: fn(&Status) -> bool| cells.iter().filter(|c| f(&c.status)).count().to_string();
+        let is_fail = |s: &Status| matches!(s, Status::Diverged(_) | Status::Failed(_));
+        let is_err = |s: &Status| matches!(s, Status::Error(_));
+        let all: Vec<&Cell> = self.cells.iter().collect();
+        let total: f64 = all.iter().map(|c| c.wall.as_secs_f64()).sum();
+        let mut root = BytesStart::new("testsuites");
+        root.push_attribute(("name", "cancosim regression"));
+        root.push_attribute(("tests", all.len().to_string().as_str()));
+        root.push_attribute(("failures", count(&all, is_fail).as_str()));
+        root.push_attribute(("errors", count(&all, is_err).as_str()));
+        root.push_attribute(("time", format!("{total:.3}").as_str()));
+        let _ = w.write_event(Event::Start(root));
+        for d in &self.duts {
+            let cells: Vec<&Cell> = self.cells.iter().filter(|c| &c.dut == d).collect();
+            let mut suite = BytesStart::new("testsuite");
+            suite.push_attribute(("name", d.as_str()));
+            suite.push_attribute(("tests", cells.len().to_string().as_str()));
+            suite.push_attribute(("failures", count(&cells, is_fail).as_str()));
+            suite.push_attribute(("errors", count(&cells, is_err).as_str()));
+            suite.push_attribute(("time", format!("{:.3}", cells.iter().map(|c| c.wall.as_secs_f64()).sum::<f64>()).as_str()));
+            let _ = w.write_event(Event::Start(suite));
+            for c in cells {
+                let mut tc = BytesStart::new("testcase");
+                tc.push_attribute(("classname", c.dut.as_str()));
+                tc.push_attribute(("name", c.scenario.as_str()));
+                tc.push_attribute(("time", format!("{:.3}", c.wall.as_secs_f64()).as_str()));
+                let (tag, msg) = match &c.status {
+                    Status::Pass => {
+                        let _ = w.write_event(Event::Empty(tc));
+                        continue;
+                    }
+                    Status::Diverged(x) => ("failure", format!("diverged from the golden model: {x}")),
+                    Status::Failed(x) => ("failure", x.clone()),
+                    Status::Error(x) => ("error", x.clone()),
+                };
+                let _ = w.write_event(Event::Start(tc));
+                let mut f = BytesStart::new(tag);
+                f.push_attribute(("message", msg.as_str()));
+                f.push_attribute(("type", c.category.name()));
+                let _ = w.write_event(Event::Start(f));
+                let _ = w.write_event(Event::Text(BytesText::new(&c.report)));
+                let _ = w.write_event(Event::End(BytesEnd::new(tag)));
+                let _ = w.write_event(Event::End(BytesEnd::new("testcase")));
+            }
+            let _ = w.write_event(Event::End(BytesEnd::new("testsuite")));
+        }
+        let _ = w.write_event(Event::End(BytesEnd::new("testsuites")));
+        let mut s = String::from("<?xml version=\"1.0\" encoding=\"UTF-8\"?>\n");
+        s += &String::from_utf8(w.into_inner()).expect("quick-xml writes UTF-8");
+        s.push('\n');
+        s
+    }
+}
+
+/// Runs every (scenario, DUT) pair of the shard, in parallel.
+pub fn regress(scenarios: &[Scenario], duts: &[DutSpec], opts: &RegressOptions) -> RegressReport {
+    regress_with(scenarios, duts, opts, |s, o| run(s, o))
+}
+
+/// [`regress`] with the runner given (tests use it to inject outcomes).
+pub fn regress_with(
+    scenarios: &[Scenario],
+    duts: &[DutSpec],
+    opts: &RegressOptions,
+    runner: impl Fn(&Scenario, &RunOptions) -> RunOutcome + Sync,
+) -> RegressReport {
+    let mut pairs: Vec<(usize, usize)> = Vec::new();
+    for si in 0..scenarios.len() {
+        for di in 0..duts.len() {
+            pairs.push((si, di));
+        }
+    }
+    if let Some((k, n)) = opts.shard {
+        pairs = pairs.into_iter().enumerate().filter(|(i, _)| i % n == k - 1).map(|(_, p)| p).collect();
+    }
+    let jobs = if opts.jobs == 0 { std::thread::available_parallelism().map(|n| n.get()).unwrap_or(1) } else { opts.jobs };
+    let bar = if opts.progress { indicatif::ProgressBar::new(pairs.len() as u64) } else { indicatif::ProgressBar::hidden() };
+    bar.set_style(
+        indicatif::ProgressStyle::with_template("{bar:30} {pos}/{len} {elapsed} {msg}").unwrap_or_else(|_| indicatif::ProgressStyle::default_bar()),
+    );
+    let next = AtomicUsize::new(0);
+    let results: Mutex<Vec<Option<Cell>>> = Mutex::new(vec![None; pairs.len()]);
+    std::thread::scope(|sc| {
+        for _ in 0..jobs.min(pairs.len()).max(1) {
+            sc.spawn(|| {
+                loop {
+                    let i = next.fetch_add(1, Ordering::SeqCst);
+                    let Some(&(si, di)) = pairs.get(i) else { break };
+                    let s = &scenarios[si];
+                    let o = RunOptions { dut: Some(duts[di].clone()), max_bits: opts.max_bits, ..Default::default() };
+                    let out = runner(s, &o);
+                    let cell = Cell::from_outcome(&s.name, &out);
+                    bar.set_message(format!("{} on {}", s.name, duts[di].name));
+                    bar.inc(1);
+                    results.lock().expect("no worker panics while holding the lock")[i] = Some(cell);
+                }
+            });
+        }
+    });
+    bar.finish_and_clear();
+    RegressReport {
+        scenarios: scenarios.iter().map(|s| s.name.clone()).collect(),
+        duts: duts.iter().map(|d| d.name.clone()).collect(),
+        cells: results.into_inner().unwrap_or_default().into_iter().flatten().collect(),
+    }
+}

@@ -1,0 +1,475 @@
+//! The runner: plays a [`Scenario`] on a `cosim` [`Testbench`], completes
+//! the run record (TEC per attempt, final registers, wiring as the scenario
+//! states it), calls the diagnoser and checks the expected outcome.
+
+use crate::{Action, DutKind, FaultKind, FaultSpec, HostBfm, NodeSpec, RxWire, Scenario};
+use cosim::{AvalonWiring, DutChoice, ExternalCore, NodeConfig, ReferenceChoice, TbConfig, TbError, Testbench};
+use diagnose::{Diagnosis, EventKind, Expectation, FinalRegs, RunRecord, Side, TecStep, diagnose};
+use can_proto::Field;
+use regmap::Mode;
+use sja1000::{FaultInjector, Target};
+use std::time::{Duration, Instant};
+
+/// A device to run scenarios against (the regression's columns).
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub struct DutSpec {
+    /// Column name in reports, e.g. "rtl", "model", "upstream-r3".
+    pub name: String,
+    /// What it is. `Rtl` becomes our Avalon wrapper when a scenario asks
+    /// for `avalon-wrapper`.
+    pub kind: DutKind,
+}
+
+impl DutSpec {
+    /// Our RTL.
+    pub fn rtl() -> Self {
+        DutSpec { name: "rtl".into(), kind: DutKind::Rtl }
+    }
+
+    /// The golden model as DUT.
+    pub fn model() -> Self {
+        DutSpec { name: "model".into(), kind: DutKind::Model }
+    }
+
+    /// An external core directory with the `can_top` ports.
+    pub fn external(name: &str, dir: impl Into<std::path::PathBuf>, top: &str) -> Self {
+        DutSpec {
+            name: name.into(),
+            kind: DutKind::External { path: dir.into(), top: top.into(), defines: Vec::new(), includes: Vec::new() },
+        }
+    }
+}
+
+/// Options of one run.
+#[derive(Clone, Debug, Default)]
+pub struct RunOptions {
+    /// Run against this DUT instead of the scenario's own.
+    pub dut: Option<DutSpec>,
+    /// Write our VCD here.
+    pub vcd: Option<std::path::PathBuf>,
+    /// Override the scenario's run length (bit times).
+    pub max_bits: Option<u64>,
+}
+
+/// The result of one run.
+#[derive(Clone, Debug)]
+pub struct RunOutcome {
+    /// The record the diagnosis was made from.
+    pub record: RunRecord,
+    /// The diagnosis.
+    pub diagnosis: Diagnosis,
+    /// The outcome matched the scenario's `[expect]`.
+    pub passed: bool,
+    /// Each way the outcome differs from `[expect]`, in words.
+    pub mismatches: Vec<String>,
+    /// Frames each model node received, by node name.
+    pub received: Vec<(String, u32)>,
+    /// DUT name used.
+    pub dut: String,
+    /// Wall time of the run.
+    pub wall: Duration,
+}
+
+/// Frame and bit of a frame-relative fault (frames counted from 1 in files, from 0 on the bus).
+fn injector(f: &FaultSpec, target: Target, clocks_per_bit: u64) -> Box<dyn FaultInjector> {
+    match (f.kind, f.frame_bit) {
+        (FaultKind::StuckDominant | FaultKind::StuckRecessive, _) => {
+            let level = f.kind == FaultKind::StuckRecessive;
+            let from = f.at_bit.unwrap_or(0) * clocks_per_bit;
+            Box::new(sja1000::StuckAt { level, target, from, until: Some(from + f.duration_bits * clocks_per_bit) })
+        }
+        (FaultKind::Flip, Some((fr, b))) => Box::new(sja1000::FlipBit { frame: fr as u64 - 1, bit: b, target }),
+        (FaultKind::Glitch, Some((fr, b))) => Box::new(sja1000::Glitch {
+            frame: fr as u64 - 1,
+            bit: b,
+            offset: (clocks_per_bit / 4) as u32,
+            width: (clocks_per_bit / 8).max(1) as u32,
+            target,
+        }),
+        // Absolute-time flips and glitches: a stuck level for one bit.
+        (FaultKind::Flip | FaultKind::Glitch, None) => {
+            let from = f.at_bit.unwrap_or(0) * clocks_per_bit;
+            Box::new(sja1000::StuckAt { level: can_proto::DOMINANT, target, from, until: Some(from + clocks_per_bit) })
+        }
+    }
+}
+
+/// Register writes that configure a model node (reset mode, filters, timing, operating mode).
+fn node_init(n: &NodeSpec) -> Vec<(u8, u8)> {
+    let mut v = vec![(0, 0x01)];
+    match n.mode {
+        Mode::BasicCan => {
+            v.extend([(31, 0x00), (4, n.acr[0]), (5, n.amr[0]), (6, n.btr0), (7, n.btr1), (8, 0xDA), (0, 0x00)]);
+        }
+        Mode::PeliCan => {
+            v.push((31, 0x80));
+            for i in 0..4u8 {
+                v.push((16 + i, n.acr[i as usize]));
+                v.push((20 + i, n.amr[i as usize]));
+            }
+            v.extend([(6, n.btr0), (7, n.btr1), (8, 0xDA), (0, if n.listen_only { 0x02 } else { 0x00 })]);
+        }
+    }
+    v
+}
+
+/// Builds the test-bench configuration for `s` on `dut`.
+pub fn tb_config(s: &Scenario, dut: &DutKind, opts: &RunOptions) -> Result<TbConfig, String> {
+    let avalon_dut = matches!(s.dut, DutKind::AvalonWrapper);
+    let choice = match dut {
+        DutKind::Rtl | DutKind::AvalonWrapper if avalon_dut && matches!(s.host, HostBfm::Avalon { begintransfer_cyc: false }) => DutChoice::RtlAvalon,
+        DutKind::Rtl | DutKind::AvalonWrapper => DutChoice::Rtl,
+        DutKind::Model => DutChoice::Model,
+        DutKind::External { path, top, defines, includes } => DutChoice::External(ExternalCore {
+            dir: path.clone(),
+            top: top.clone(),
+            files: Vec::new(),
+            defines: defines.clone(),
+            include_dirs: includes.clone(),
+            ..ExternalCore::default()
+        }),
+    };
+    let host = match s.host {
+        HostBfm::Wishbone => cosim::HostBfm::Wishbone,
+        HostBfm::Pio => cosim::HostBfm::Pio(bfm::PioTiming::default()),
+        HostBfm::Avalon { begintransfer_cyc: true } => cosim::HostBfm::Avalon {
+            // SOPC Builder without waitrequest: fixed wait states.
+            timing: bfm::AvalonTiming::FixedWaitStates { read: 1, write: 1 },
+            wiring: AvalonWiring::Seed000,
+        },
+        HostBfm::Avalon { begintransfer_cyc: false } => cosim::HostBfm::Avalon {
+            timing: bfm::AvalonTiming::Waitrequest,
+            wiring: if matches!(choice, DutChoice::RtlAvalon) { AvalonWiring::Native } else { AvalonWiring::Bridge },
+        },
+    };
+    let (btr0, btr1) = s.dut_timing();
+    let cpb = can_proto::timing::BusTiming::from_btr(btr0, btr1).clocks_per_bit() as u64;
+    let mut faults = Vec::new();
+    for f in &s.faults {
+        let target = match f.target.as_str() {
+            "bus" => Target::All,
+            "dut-rx" => Target::Node(s.nodes.len()),
+            name => Target::Node(s.nodes.iter().position(|n| n.name == name).ok_or(format!("fault target `{name}` is not a node"))?),
+        };
+        faults.push(injector(f, target, cpb));
+    }
+    Ok(TbConfig {
+        scenario: s.name.clone(),
+        dut: choice,
+        host,
+        host_hz: s.host_hz as u64,
+        can_hz: s.can_hz as u64,
+        btr0,
+        btr1,
+        rx: match s.rx {
+            RxWire::Bus => diagnose::RxWiring::Bus,
+            RxWire::TiedRecessive => diagnose::RxWiring::TiedRecessive,
+            RxWire::TiedDominant => diagnose::RxWiring::TiedDominant,
+        },
+        tx_on_bus: s.tx_to_bus,
+        nodes: s.nodes.iter().map(|n| NodeConfig { name: n.name.clone(), init: node_init(n) }).collect(),
+        faults,
+        lockstep: Some((ReferenceChoice::Model, cosim::CompareConfig::default())),
+        vcd: opts.vcd.clone(),
+        keep_bits: s.keep_bits,
+        op_timeout_cycles: s.timeout_cycles as u64,
+        ..TbConfig::default()
+    })
+}
+
+/// TEC per transmission attempt from one side's bus-error events: an attempt
+/// starts with a bus error detected in the frame itself; errors detected
+/// while signalling (error flag, delimiter) belong to the same attempt.
+pub fn tec_trace_from_events(r: &RunRecord, side: Side) -> Vec<TecStep> {
+    let signalling = |f: Field| {
+        matches!(
+            f,
+            Field::ActiveErrorFlag | Field::PassiveErrorFlag | Field::ErrorDelimiter | Field::OverloadFlag | Field::OverloadDelimiter
+        )
+    };
+    let mut out: Vec<TecStep> = Vec::new();
+    for e in r.events_of(side) {
+        match e.kind {
+            EventKind::BusError { field, ecc, .. } => {
+                let field = diagnose::field_from_ecc(ecc).unwrap_or(field);
+                let tec = e.tec.unwrap_or(0);
+                if !signalling(field) || out.is_empty() {
+                    out.push(TecStep { node: side, attempt: out.len() as u32 + 1, bit: e.bit, tec, bus_off: tec > 255 });
+                } else if let Some(last) = out.last_mut() {
+                    last.tec = tec;
+                    last.bit = e.bit;
+                    last.bus_off |= tec > 255;
+                }
+            }
+            EventKind::FaultState(sja1000::FaultState::BusOff) => {
+                if let Some(last) = out.last_mut() {
+                    last.bus_off = true;
+                    last.tec = last.tec.max(256);
+                }
+            }
+            _ => {}
+        }
+    }
+    out
+}
+
+/// Plays the steps; returns early on the first test-bench error.
+fn play(tb: &mut Testbench, s: &Scenario, traffic: &mut Vec<(u64, usize, can_proto::CanFrame)>, max_bits: u64) -> Result<(), TbError> {
+    for st in &s.steps {
+        log::info!("{}: step {} (line {}){}", s.name, st.n, st.line, st.note.as_ref().map(|n| format!(": {n}")).unwrap_or_default());
+        fire_traffic(tb, traffic);
+        match &st.action {
+            Action::Write { addr, value, .. } => {
+                tb.write(*addr, *value)?;
+            }
+            Action::Read { addr, name, expect: None } => {
+                let _ = name;
+                tb.read(*addr)?;
+            }
+            Action::Read { addr, name, expect: Some((mask, value)) } => {
+                let what = format!("{} & 0x{mask:02X}", name.clone().unwrap_or_else(|| format!("@{addr}")));
+                tb.expect(st.n, &what, *addr, *mask, *value)?;
+            }
+            Action::WaitIrq { timeout_bits } => {
+                advance_until(tb, traffic, *timeout_bits, "irq", |tb| !tb.pins().irq_n)?;
+            }
+            Action::WaitSr { set, clear, timeout_bits } => {
+                let mask = set | clear;
+                let start = tb.bits();
+                loop {
+                    fire_traffic(tb, traffic);
+                    match tb.wait_sr(mask, *set, 64.min(*timeout_bits)) {
+                        Ok(_) => break,
+                        Err(TbError::Timeout { .. }) if tb.bits() - start < *timeout_bits => continue,
+                        Err(e) => return Err(e),
+                    }
+                }
+            }
+            Action::WaitBits(n) => advance(tb, traffic, *n)?,
+        }
+        if tb.bits() > max_bits {
+            return Err(TbError::Timeout { what: format!("the scenario's steps (step {})", st.n), bits: max_bits });
+        }
+    }
+    Ok(())
+}
+
+/// Requests transmission on model nodes whose time has come.
+fn fire_traffic(tb: &mut Testbench, traffic: &mut Vec<(u64, usize, can_proto::CanFrame)>) {
+    let now = tb.bits();
+    traffic.retain(|(at, node, frame)| {
+        if *at <= now {
+            let _ = sja1000::host::transmit(tb.bus_mut().node_mut(*node), frame, 0x01);
+            false
+        } else {
+            true
+        }
+    });
+}
+
+fn advance(tb: &mut Testbench, traffic: &mut Vec<(u64, usize, can_proto::CanFrame)>, n: u64) -> Result<(), TbError> {
+    let end = tb.bits() + n;
+    while tb.bits() < end {
+        fire_traffic(tb, traffic);
+        let next = traffic.iter().map(|t| t.0).min().unwrap_or(u64::MAX).max(tb.bits() + 1);
+        tb.run_bits(next.min(end) - tb.bits())?;
+    }
+    Ok(())
+}
+
+fn advance_until(
+    tb: &mut Testbench,
+    traffic: &mut Vec<(u64, usize, can_proto::CanFrame)>,
+    max_bits: u64,
+    what: &str,
+    done: impl Fn(&Testbench) -> bool,
+) -> Result<(), TbError> {
+    let start = tb.bits();
+    while !done(tb) {
+        if tb.bits() - start >= max_bits {
+            return Err(TbError::Timeout { what: what.into(), bits: max_bits });
+        }
+        fire_traffic(tb, traffic);
+        tb.run_bits(1)?;
+    }
+    Ok(())
+}
+
+/// After the steps: if a transmission is still pending, keep the bus running
+/// (polling SR every 100 bit times) until it completes or is dropped, or
+/// the run length is reached; then it is a stuck transfer.
+fn run_out(tb: &mut Testbench, traffic: &mut Vec<(u64, usize, can_proto::CanFrame)>, max_bits: u64, requested_bit: Option<u64>) -> Result<(), TbError> {
+    let Some(req) = requested_bit else { return Ok(()) };
+    loop {
+        let sr = tb.read(2)?;
+        if sr & diagnose::sr::TBS != 0 && sr & diagnose::sr::TS == 0 {
+            return Ok(());
+        }
+        if tb.bits() >= max_bits {
+            let frames = tb.record().bus_bits.last().and_then(|b| b.frame).unwrap_or(0);
+            return Err(TbError::Timeout { what: format!("transmission requested at bit {req} (SR 0x{sr:02X}, {frames} frames)"), bits: max_bits });
+        }
+        advance(tb, traffic, 100.min(max_bits.saturating_sub(tb.bits())).max(1))?;
+    }
+}
+
+/// Runs `s` (on `opts.dut` or the scenario's own DUT), diagnoses the run and
+/// checks the expected outcome. Never panics on a bad DUT: build failures,
+/// host timeouts and divergences all end in a diagnosis.
+pub fn run(s: &Scenario, opts: &RunOptions) -> RunOutcome {
+    let t0 = Instant::now();
+    let dut = opts.dut.clone().unwrap_or_else(|| DutSpec {
+        name: match &s.dut {
+            DutKind::Rtl => "rtl".into(),
+            DutKind::AvalonWrapper => "rtl".into(),
+            DutKind::Model => "model".into(),
+            DutKind::External { path, .. } => path.display().to_string(),
+        },
+        kind: s.dut.clone(),
+    });
+    let max_bits = opts.max_bits.unwrap_or(s.max_bits);
+    let mut received = Vec::new();
+    let mut record = match tb_config(s, &dut.kind, opts).map_err(|e| e.to_string()).and_then(|c| Testbench::new(c).map_err(|e| e.to_string())) {
+        Err(e) => {
+            let mut r = RunRecord::new(&s.name, &dut.name);
+            r.error = Some(e);
+            r
+        }
+        Ok(mut tb) => {
+            let mut traffic: Vec<(u64, usize, can_proto::CanFrame)> = s
+                .nodes
+                .iter()
+                .enumerate()
+                .flat_map(|(i, n)| n.traffic.iter().map(move |f| (f.at_bit, i, f.frame)))
+                .collect();
+            let mut result = play(&mut tb, s, &mut traffic, max_bits);
+            // Last transmission request (CMR.TR or CMR.SRR) of the program.
+            let requested = tb.record().host_ops.iter().rev().find(|o| o.addr == 1 && o.access == diagnose::Access::Write && o.data & 0x11 != 0).map(|_| tb.bits());
+            if result.is_ok() {
+                result = run_out(&mut tb, &mut traffic, max_bits, requested);
+            }
+            let mut r = tb.record();
+            match result {
+                Ok(()) => {}
+                Err(TbError::Diverged(_)) => {}
+                Err(TbError::Timeout { what, bits }) => {
+                    if r.stuck.is_none() && what.starts_with("transmission requested") {
+                        let sr = r.host_ops.iter().rev().find(|o| o.addr == 2 && o.access == diagnose::Access::Read).map(|o| o.data).unwrap_or(0);
+                        r.stuck = Some(diagnose::StuckTransfer {
+                            requested_ps: 0,
+                            requested_bit: requested.unwrap_or(0),
+                            waited_bits: bits,
+                            sr,
+                            attempts: r.bus_bits.last().and_then(|b| b.frame).unwrap_or(0),
+                        });
+                    } else if !what.starts_with("transmission requested") {
+                        r.expectations.push(Expectation { step: 0, what: format!("wait for {what}"), expected: format!("within {bits} bit times"), seen: "timeout".into(), passed: false });
+                    }
+                }
+                Err(e) => {
+                    if r.error.is_none() {
+                        r.error = Some(e.to_string());
+                    }
+                }
+            }
+            complete_record(&mut r, s, &dut);
+            received = received_counts(&mut tb, s);
+            r
+        }
+    };
+    if record.scenario.is_empty() {
+        record.scenario = s.name.clone();
+    }
+    let diagnosis = diagnose(&record);
+    let mut mismatches = check_expect(s, &diagnosis);
+    for (name, want) in &s.expect.received {
+        let got = received.iter().find(|(n, _)| n == name).map(|(_, c)| *c);
+        if record.error.is_none() && got != Some(*want) {
+            mismatches.push(format!("received by {name}: expected {want}, got {}", got.map(|g| g.to_string()).unwrap_or_else(|| "none".into())));
+        }
+    }
+    RunOutcome { passed: mismatches.is_empty(), record, diagnosis, mismatches, received, dut: dut.name, wall: t0.elapsed() }
+}
+
+/// Scenario facts the test bench cannot know: node timings and listen-only,
+/// self test from the program, the TEC trace per attempt.
+fn complete_record(r: &mut RunRecord, s: &Scenario, dut: &DutSpec) {
+    r.dut = dut.name.clone();
+    r.wiring.nodes = s
+        .nodes
+        .iter()
+        .map(|n| diagnose::BusNode {
+            name: n.name.clone(),
+            timing: diagnose::Timing { can_clock_hz: n.can_hz, host_clock_hz: 0.0, btr0: n.btr0, btr1: n.btr1 },
+            acknowledges: !n.listen_only,
+        })
+        .collect();
+    r.timing.can_clock_hz = s.can_hz;
+    for st in &s.steps {
+        if let Action::Write { addr: 0, value, .. } = st.action
+            && st.mode == Mode::PeliCan
+        {
+            r.wiring.self_test = value & 0x04 != 0;
+            r.wiring.listen_only = value & 0x02 != 0;
+        }
+    }
+    r.tec_trace = tec_trace_from_events(r, Side::Model);
+    if dut.kind == DutKind::Model {
+        let dut_side: Vec<TecStep> = r.tec_trace.iter().map(|t| TecStep { node: Side::Dut, ..*t }).collect();
+        r.tec_trace.extend(dut_side);
+    }
+    if r.final_dut.is_none()
+        && let Some(sr) = r.host_ops.iter().rev().find(|o| o.addr == 2 && o.access == diagnose::Access::Read && o.error.is_none()).map(|o| o.data)
+    {
+        // SR as the DUT last reported it; counters are the model's (no TEC
+        // register in BasicCAN), valid while DUT and model agree.
+        let (tec, rec) = r.final_model.map(|m| (m.tec, m.rec)).unwrap_or((0, 0));
+        r.final_dut = Some(FinalRegs { sr, ir: 0, tec, rec, ecc: None, alc: None });
+    }
+}
+
+/// Frames each model node received (drained from its RX FIFO at the end).
+fn received_counts(tb: &mut Testbench, s: &Scenario) -> Vec<(String, u32)> {
+    (0..s.nodes.len()).map(|i| (s.nodes[i].name.clone(), count_received(tb, i))).collect()
+}
+
+fn count_received(tb: &mut Testbench, node: usize) -> u32 {
+    let mut n = 0;
+    while sja1000::host::receive(tb.bus_mut().node_mut(node)).is_some() {
+        n += 1;
+        if n > 1000 {
+            break;
+        }
+    }
+    n
+}
+
+/// Compares the diagnosis with the scenario's `[expect]`.
+pub fn check_expect(s: &Scenario, d: &Diagnosis) -> Vec<String> {
+    let e = &s.expect;
+    let mut m = Vec::new();
+    let want = e.category.unwrap_or(diagnose::Category::Pass);
+    if d.category != want {
+        m.push(format!("category: expected {want}, diagnosed {}", d.category));
+    }
+    let f = &d.figures;
+    let mut num = |what: &str, want: Option<u64>, got: Option<u64>| {
+        if let Some(w) = want
+            && got != Some(w)
+        {
+            m.push(format!("{what}: expected {w}, got {}", got.map(|g| g.to_string()).unwrap_or_else(|| "none".into())));
+        }
+    };
+    num("first_attempt_tec", e.first_attempt_tec.map(u64::from), f.first_attempt_tec.map(u64::from));
+    num("tec", e.tec.map(u64::from), f.tec.map(u64::from));
+    num("sr", e.sr.map(u64::from), f.sr.map(u64::from));
+    num("attempts", e.attempts.map(u64::from), f.attempts.map(u64::from));
+    num("bus_off_attempt", e.bus_off_attempt.map(u64::from), f.bus_off_attempt.map(u64::from));
+    if let Some(field) = e.field
+        && f.field != Some(field)
+    {
+        m.push(format!("field: expected {field:?}, got {:?}", f.field));
+    }
+    m
+}
+
