@@ -8,8 +8,17 @@ fn main() {
         opts.frames = args.get(i + 1).and_then(|v| v.parse().ok()).unwrap_or(opts.frames);
     }
     match bench::run(&opts) {
-        Ok(r) if args.iter().any(|a| a == "--json") => println!("{}", r.to_json()),
-        Ok(r) => print!("{}", r.to_table()),
+        Ok(r) => {
+            if args.iter().any(|a| a == "--json") {
+                println!("{}", r.to_json());
+            } else {
+                print!("{}", r.to_table());
+            }
+            if let Err(e) = r.check() {
+                eprintln!("{e}");
+                std::process::exit(2);
+            }
+        }
         Err(e) => {
             eprintln!("{e}");
             std::process::exit(1);

@@ -180,7 +180,7 @@ pub struct SelfTestRow {
     pub frames: u64,
     /// CAN clock cycles simulated (the model: bit times x 40).
     pub cycles: u64,
-    /// Read-back mismatches (always 0 in a report: a mismatch is an error).
+    /// Read-back mismatches: 0 when the simulated DUT passes the self test.
     pub errors: u64,
     /// Its cost.
     pub cost: Cost,
@@ -228,9 +228,9 @@ fn per_s(n: f64, s: f64) -> f64 {
 }
 
 fn selftest_row(name: &str, what: &str, frames: u64, cycles: u64, errors: u64, cost: Cost) -> Result<SelfTestRow, BenchError> {
-    if errors != 0 {
-        return Err(BenchError::Mismatch { what: what.into(), errors, frames });
-    }
+    // A simulator that read back something else still ran the same
+    // stimulus, so its speed is reported; the mismatch shows in the table
+    // and in `BenchReport::check`.
     Ok(SelfTestRow {
         name: name.into(),
         what: what.into(),
@@ -342,6 +342,15 @@ fn si(v: f64) -> String {
 }
 
 impl BenchReport {
+    /// Ok when every simulator read back what it sent; else the mismatch
+    /// (the timings are still valid, the DUT or a simulator is not).
+    pub fn check(&self) -> Result<(), BenchError> {
+        match self.selftest.iter().find(|r| r.errors != 0) {
+            Some(r) => Err(BenchError::Mismatch { what: r.what.clone(), errors: r.errors, frames: r.frames }),
+            None => Ok(()),
+        }
+    }
+
     /// Every figure the report carries, by name (for checks).
     pub fn figures(&self) -> Vec<(String, f64)> {
         let mut v = Vec::new();
@@ -402,13 +411,13 @@ impl BenchReport {
         let _ = writeln!(s, "\n2. self-test loopback, 8-byte frames, 40 clocks per bit, same register sequence and frames");
         let _ = writeln!(
             s,
-            "{:<18} {:>6} {:>10} {:>9} {:>9} {:>12} {:>12} {:>10} {:>10}",
-            "simulator", "frames", "cycles", "cpu s", "wall s", "cycles/s", "bit times/s", "frames/s", "peak RSS"
+            "{:<18} {:>6} {:>10} {:>9} {:>9} {:>12} {:>12} {:>10} {:>10}  {}",
+            "simulator", "frames", "cycles", "cpu s", "wall s", "cycles/s", "bit times/s", "frames/s", "peak RSS", "read-back"
         );
         for r in &self.selftest {
             let _ = writeln!(
                 s,
-                "{:<18} {:>6} {:>10} {:>9.3} {:>9.3} {:>12} {:>12} {:>10.1} {:>6} MiB",
+                "{:<18} {:>6} {:>10} {:>9.3} {:>9.3} {:>12} {:>12} {:>10.1} {:>6} MiB  {}",
                 r.name,
                 r.frames,
                 r.cycles,
@@ -417,7 +426,8 @@ impl BenchReport {
                 si(r.cycles_per_s),
                 si(r.bit_times_per_s),
                 r.frames_per_s,
-                r.cost.max_rss_kib / 1024
+                r.cost.max_rss_kib / 1024,
+                if r.errors == 0 { "ok".to_string() } else { format!("{} MISMATCHES", r.errors) }
             );
         }
         let _ = writeln!(s, "\n3. targets (issue 7)");

@@ -1,7 +1,11 @@
 //! Time and memory measurements. The machine may be shared, so the figure
 //! that counts is CPU time of the thread (in-process workloads) or of the
 //! child process (external simulators), with wall time reported beside it.
-//! Peak RSS: `ru_maxrss` of the child from `wait4`; for in-process
+//! Peak RSS of a child: the VmHWM of its own address space, sampled from
+//! `/proc/<pid>/status` every 2 ms while it runs (or what it reports
+//! itself); `wait4`'s `ru_maxrss` is not used because it counts the
+//! parent's RSS at spawn (the child starts as a copy of the bench process,
+//! and the peak of the address space it left at exec is kept). For in-process
 //! workloads the process's peak (VmHWM) is reset through
 //! `/proc/self/clear_refs` before the workload and read after it, so it
 //! includes what the process already held (code, libraries, allocator).
@@ -30,10 +34,13 @@ fn thread_cpu_s() -> f64 {
     ts.tv_sec as f64 + ts.tv_nsec as f64 * 1e-9
 }
 
-fn vm_hwm_kib() -> Option<u64> {
-    let s = std::fs::read_to_string("/proc/self/status").ok()?;
-    let line = s.lines().find(|l| l.starts_with("VmHWM:"))?;
+fn status_kib(status: &str, key: &str) -> Option<u64> {
+    let line = status.lines().find(|l| l.starts_with(key))?;
     line.split_whitespace().nth(1)?.parse().ok()
+}
+
+fn vm_hwm_kib() -> Option<u64> {
+    status_kib(&std::fs::read_to_string("/proc/self/status").ok()?, "VmHWM:")
 }
 
 /// Resets the process's peak RSS to its current RSS (Linux >= 4.0).
@@ -83,10 +90,32 @@ pub fn child(what: &str, cmd: &mut Command) -> Result<ChildRun, BenchError> {
         let _ = err.read_to_string(&mut s);
         s
     });
+    let pid = ch.id() as libc::pid_t;
+    let running = std::sync::Arc::new(std::sync::atomic::AtomicBool::new(true));
+    let sampler = {
+        let running = running.clone();
+        std::thread::spawn(move || {
+            let path = format!("/proc/{pid}/status");
+            let mut peak = 0u64;
+            while running.load(std::sync::atomic::Ordering::Relaxed) {
+                // The first samples may still be of the pre-exec copy of this process: skip
+                // until the child's command line is no longer ours.
+                if let Some(kib) = std::fs::read_to_string(&path).ok().and_then(|s| status_kib(&s, "VmHWM:")) {
+                    let exe = std::fs::read_link(format!("/proc/{pid}/exe")).ok();
+                    if exe.is_some() && exe != std::env::current_exe().ok() {
+                        peak = peak.max(kib);
+                    }
+                }
+                std::thread::sleep(std::time::Duration::from_millis(2));
+            }
+            peak
+        })
+    };
     let mut stdout = String::new();
     let _ = out.read_to_string(&mut stdout);
     let stderr = err_reader.join().unwrap_or_default();
-    let pid = ch.id() as libc::pid_t;
+    running.store(false, std::sync::atomic::Ordering::Relaxed);
+    let sampled = sampler.join().unwrap_or(0);
     let mut status: libc::c_int = 0;
     // SAFETY: zeroed rusage is a valid value; pid is our own un-reaped child.
     let mut ru: libc::rusage = unsafe { std::mem::zeroed() };
@@ -97,7 +126,8 @@ pub fn child(what: &str, cmd: &mut Command) -> Result<ChildRun, BenchError> {
     }
     let code = if libc::WIFEXITED(status) { Some(libc::WEXITSTATUS(status)) } else { None };
     let tv = |t: libc::timeval| t.tv_sec as f64 + t.tv_usec as f64 * 1e-6;
-    let cost = Cost { cpu_s: tv(ru.ru_utime) + tv(ru.ru_stime), wall_s, max_rss_kib: ru.ru_maxrss.max(0) as u64 };
+    let reported = bench_line(&stdout, "maxrss_kb").unwrap_or(0);
+    let cost = Cost { cpu_s: tv(ru.ru_utime) + tv(ru.ru_stime), wall_s, max_rss_kib: reported.max(sampled) };
     Ok(ChildRun { stdout, stderr, code, cost })
 }
 
@@ -122,10 +152,12 @@ mod tests {
 
     #[test]
     fn a_child_is_measured_and_its_exit_code_kept() {
-        let r = child("sh", Command::new("sh").args(["-c", "echo BENCH x=1; exit 3"])).unwrap();
+        let r = child("sh", Command::new("sh").args(["-c", "sleep 0.05; echo BENCH x=1; exit 3"])).unwrap();
         assert_eq!(r.code, Some(3));
         assert_eq!(bench_line(&r.stdout, "x"), Some(1));
-        assert!(r.cost.max_rss_kib > 0 && r.cost.wall_s > 0.0);
+        assert!(r.cost.wall_s > 0.0);
+        // A shell's own peak, not this test process's.
+        assert!(r.cost.max_rss_kib > 0 && r.cost.max_rss_kib < 16 << 10, "{} KiB", r.cost.max_rss_kib);
     }
 
     #[test]

@@ -5,8 +5,10 @@ use bench::{BenchOptions, NODE_COUNTS, run};
 
 #[test]
 fn smoke_run_reports_every_figure_finite_and_positive() {
-    let opts = BenchOptions { work_dir: Some(std::env::temp_dir().join("cancosim-bench-test")), ..BenchOptions::smoke() };
+    // The default work dir: builds are cached by content, shared with `cancosim bench`.
+    let opts = BenchOptions::smoke();
     let r = run(&opts).unwrap_or_else(|e| panic!("{e}"));
+    r.check().unwrap_or_else(|e| panic!("{e}"));
     assert!(r.options.smoke && r.options.frames == BenchOptions::SMOKE_FRAMES);
 
     let nodes: Vec<usize> = r.scaling.iter().map(|s| s.nodes).collect();
