@@ -61,3 +61,9 @@ fn two_frames_queued_are_received_in_order() {
     common::two_frames_queued(&mut driver(AVALON, View::Peli), View::Peli);
     common::two_frames_queued(&mut driver(HostBfm::Wishbone, View::Basic), View::Basic);
 }
+
+#[test]
+fn basiccan_no_acknowledge_is_read_through_sr_es() {
+    let mut drv = CDriver::new(BenchHost::alone(DutChoice::Model, AVALON).unwrap());
+    common::basic_no_ack(&mut drv);
+}

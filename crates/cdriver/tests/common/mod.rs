@@ -187,3 +187,27 @@ where
     assert_eq!(drv.receive().unwrap(), Some(b), "second frame still in the FIFO after the first release");
     assert_eq!(drv.receive().unwrap(), None);
 }
+
+/// BasicCAN, nobody acknowledges: no capture registers in this view, but
+/// SR.ES rises once TXERR passes the warning limit (96) and IR.EI (enabled
+/// through CR.EIE) reports it; the controller never goes bus-off.
+pub fn basic_no_ack<W>(drv: &mut CDriver<W>)
+where
+    W: Wiring,
+    W::Host: SimHost,
+{
+    let cfg = Config { irq_enable: regmap::basic::cr::EIE, ..Config::accept_all() };
+    drv.init(View::Basic, &cfg).unwrap();
+    drv.host_mut().run_bits(16);
+    let e = drv.read_errors().unwrap();
+    assert!(!e.error_warning && e.capture.is_none(), "{e:?}");
+    drv.transmit(&std_frame(0x0F0, &[0xA5])).unwrap();
+    // 12 failed attempts (8 each) reach 96; allow 16 of about 70 bits.
+    drv.host_mut().run_bits(16 * 80);
+    let e = drv.read_errors().unwrap();
+    assert!(e.capture.is_none(), "BasicCAN has no ECC/ALC/counters");
+    assert!(e.error_warning, "SR.ES after repeated ACK errors, SR 0x{:02X}", e.sr);
+    assert!(e.ir & regmap::basic::ir::EI != 0, "IR.EI (enabled), IR 0x{:02X}", e.ir);
+    assert!(!e.bus_off);
+    assert_eq!(e.sr & regmap::basic::sr::TCS, 0);
+}
