@@ -9,7 +9,7 @@
 
 use can_engine::{Engine, Event, Options};
 use can_proto::timing::BusTiming;
-use criterion::{Criterion, Throughput, criterion_group, criterion_main};
+use criterion::{Criterion, Throughput, criterion_group};
 use rand::{SeedableRng, rngs::StdRng};
 use sja1000::workload::{random_frame, two_node_exchange};
 
@@ -72,4 +72,37 @@ fn bench(c: &mut Criterion) {
 }
 
 criterion_group!(benches, bench);
-criterion_main!(benches);
+
+/// Criterion times wall clock; on a loaded machine also report on-CPU rate.
+fn cpu_report() {
+    let r = sja1000::workload::bench_two_nodes(42, 20_000_000);
+    println!(
+        "two_nodes on-CPU: {} bit times, {} frames received: {:.1} M bit-times/s wall, {} on-CPU",
+        r.stats.bit_times,
+        r.stats.frames_received,
+        r.bits_per_sec_wall() / 1e6,
+        r.bits_per_sec_cpu()
+            .map_or("n/a".into(), |v| format!("{:.1} M bit-times/s", v / 1e6)),
+    );
+}
+
+/// The same for two bare engines (the engine's share of the time).
+fn cpu_report_engines() {
+    let bits = 20_000_000;
+    let c0 = sja1000::workload::thread_cpu_time();
+    let done = engines_only(42, bits);
+    if let (Some(a), Some(b)) = (c0, sja1000::workload::thread_cpu_time()) {
+        let s = (b - a).as_secs_f64();
+        println!(
+            "engines_only on-CPU: {bits} bit times, {done} frames: {:.1} M bit-times/s",
+            bits as f64 / s / 1e6
+        );
+    }
+}
+
+fn main() {
+    benches();
+    cpu_report();
+    cpu_report_engines();
+    Criterion::default().configure_from_args().final_summary();
+}

@@ -212,6 +212,10 @@ impl DelayLine {
 #[derive(Clone, Debug, Default)]
 struct Tracker {
     recessive_clocks: u64,
+    /// Recessive clocks that make the next dominant level a SOF: 10 bits
+    /// less half a bit of tolerance for resynchronisation on the clock path.
+    threshold: u64,
+    threshold_cpb: u64,
     frame: Option<u64>,
     next_frame: u64,
     start: u64,
@@ -219,12 +223,16 @@ struct Tracker {
 }
 
 impl Tracker {
+    #[inline]
     fn step(&mut self, clock: u64, level: bool, clocks: u64, cpb: u64) {
         if level {
             self.recessive_clocks += clocks;
         } else {
-            // Half a bit of tolerance for resynchronisation on the clock path.
-            if self.recessive_clocks + cpb / 2 >= 10 * cpb {
+            if self.threshold_cpb != cpb {
+                self.threshold_cpb = cpb;
+                self.threshold = 10 * cpb - cpb / 2;
+            }
+            if self.recessive_clocks >= self.threshold {
                 self.frame = Some(self.next_frame);
                 self.next_frame += 1;
                 self.start = clock;

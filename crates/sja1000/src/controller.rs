@@ -439,6 +439,7 @@ impl Sja1000 {
         self.engine.set_reset_mode(true);
         self.push_engine_config();
         self.engine.take_events().for_each(drop);
+        self.log(NodeEvent::ResetMode(true));
     }
 
     /// Either reset (tetanes-style `Reset`): [`ResetKind::Hardware`] is
@@ -630,7 +631,7 @@ impl Sja1000 {
 
     /// Fast path: one whole bit time whose sampled level is `rx` (see
     /// [`Engine::sample_bit`]). CLKOUT does not advance on this path.
-    #[inline]
+    #[inline(always)]
     pub fn sample_bit(&mut self, rx: bool) {
         self.engine.sample_bit(rx);
         if self.engine.has_events() {

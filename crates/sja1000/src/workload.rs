@@ -96,3 +96,49 @@ pub fn two_node_exchange(seed: u64, bit_times: u64) -> ExchangeStats {
     let mut rng = StdRng::seed_from_u64(seed);
     exchange(&mut bus, &mut rng, bit_times)
 }
+
+/// On-CPU time of the calling thread (Linux `/proc/thread-self/schedstat`),
+/// `None` elsewhere. On a shared, loaded machine wall time says little;
+/// this says what a core of its own would give.
+pub fn thread_cpu_time() -> Option<std::time::Duration> {
+    let s = std::fs::read_to_string("/proc/thread-self/schedstat").ok()?;
+    let ns: u64 = s.split_whitespace().next()?.parse().ok()?;
+    Some(std::time::Duration::from_nanos(ns))
+}
+
+/// A timed run of [`two_node_exchange`].
+#[derive(Clone, Copy, Debug)]
+pub struct BenchReport {
+    /// What the run did.
+    pub stats: ExchangeStats,
+    /// Wall-clock time.
+    pub wall: std::time::Duration,
+    /// On-CPU time of the thread, if the platform tells.
+    pub cpu: Option<std::time::Duration>,
+}
+
+impl BenchReport {
+    /// Simulated bit times per second of wall-clock time.
+    pub fn bits_per_sec_wall(&self) -> f64 {
+        self.stats.bit_times as f64 / self.wall.as_secs_f64()
+    }
+
+    /// Simulated bit times per second of on-CPU time.
+    pub fn bits_per_sec_cpu(&self) -> Option<f64> {
+        self.cpu
+            .map(|c| self.stats.bit_times as f64 / c.as_secs_f64())
+    }
+}
+
+/// Runs [`two_node_exchange`] and times it (the CLI `bench` command).
+pub fn bench_two_nodes(seed: u64, bit_times: u64) -> BenchReport {
+    let cpu0 = thread_cpu_time();
+    let t = std::time::Instant::now();
+    let stats = two_node_exchange(seed, bit_times);
+    let wall = t.elapsed();
+    let cpu = match (cpu0, thread_cpu_time()) {
+        (Some(a), Some(b)) => Some(b.saturating_sub(a)),
+        _ => None,
+    };
+    BenchReport { stats, wall, cpu }
+}
