@@ -755,3 +755,64 @@ fn external_participant_hook() {
     assert_eq!(n.read(peli::TXERR), 0);
     assert_eq!(bus.frames_seen(), 1);
 }
+
+/// Entering reset mode from a busy operating state (messages in the FIFO,
+/// data overrun, interrupts pending, a transmission requested) gives every
+/// register the reset-mode value the map defines (data sheet Tables 2 and
+/// 6, "setting MOD.RM / CR.RR by software" column), in both views.
+#[test]
+fn reset_mode_entry_values_from_the_map_after_traffic() {
+    use regmap::{Access, Mode, OpMode, Target as MapTarget};
+    for mode in Mode::ALL {
+        let (cfg, ie) = match mode {
+            Mode::PeliCan => (Config::pelican(), 0xFF),
+            Mode::BasicCan => (
+                Config::basic(0, 0xFF),
+                basic::cr::RIE | basic::cr::TIE | basic::cr::EIE | basic::cr::OIE,
+            ),
+        };
+        let rx = Config {
+            interrupts: ie,
+            ..cfg
+        };
+        let mut bus = bus_of(&[cfg, rx]);
+        for k in 0..7u8 {
+            host::transmit(
+                bus.node_mut(0),
+                &std_frame(0x100 + k as u16, &[k; 8]),
+                peli::cmr::TR,
+            )
+            .unwrap();
+            settle(&mut bus, 400);
+        }
+        let n = bus.node_mut(1);
+        host::transmit(n, &std_frame(0x7FF, &[1]), peli::cmr::TR).unwrap();
+        let sr = n.peek(peli::SR);
+        assert_eq!(
+            sr & (peli::sr::DOS | peli::sr::RBS | peli::sr::TBS),
+            peli::sr::DOS | peli::sr::RBS,
+            "{mode}: busy state"
+        );
+        assert!(n.irq());
+        host::enter_reset(n);
+        for r in regmap::registers(mode) {
+            if r.len != 1 || r.reset_rm.defined == 0 {
+                continue;
+            }
+            let reached = regmap::lookup(mode, OpMode::Reset, Access::Read, r.addr)
+                .is_some_and(|v| matches!(v.target, MapTarget::Register(x) if std::ptr::eq(x, *r)));
+            if !reached {
+                continue;
+            }
+            let d = r.reset_rm.defined;
+            assert_eq!(
+                n.peek(r.addr) & d,
+                r.reset_rm.value & d,
+                "{mode} {} after RM: {:#04x}, map {}",
+                r.name,
+                n.peek(r.addr),
+                r.reset_rm.notation()
+            );
+        }
+    }
+}
