@@ -8,7 +8,7 @@
 
 use can_engine::{Engine, Event, FaultState, Options};
 use can_proto::timing::BusTiming;
-use can_proto::{CanFrame, FrameTrait, Id};
+use can_proto::{CanFrame, Field, FrameTrait, Id};
 use std::sync::OnceLock;
 
 use regmap::{
@@ -432,7 +432,7 @@ impl Sja1000 {
         self.mode = Mode::from_cdr(self.cdr);
         for mode in [Mode::PeliCan, Mode::BasicCan] {
             for r in regmap::registers(mode) {
-                self.apply_reset_value(mode, r, r.reset_hw);
+                self.apply_reset_value(r, r.reset_hw);
             }
         }
         self.rm = true;
@@ -502,17 +502,17 @@ impl Sja1000 {
     }
 
     /// Applies one register's reset value (defined bits only) without side effects.
-    fn apply_reset_value(&mut self, mode: Mode, r: &Register, rv: ResetValue) {
+    fn apply_reset_value(&mut self, r: &Register, rv: ResetValue) {
         if r.len != 1 || rv.defined == 0 {
             return;
         }
-        let old = self.raw_value(mode, r, r.addr);
+        let old = self.raw_value(r, r.addr);
         let new = rv.apply(old);
-        self.poke(mode, r, new);
+        self.poke(r, new);
     }
 
     /// Sets the state behind a register from a raw value (reset only).
-    fn poke(&mut self, mode: Mode, r: &Register, v: u8) {
+    fn poke(&mut self, r: &Register, v: u8) {
         match classify(r) {
             R::Mod => {
                 self.rm = v & peli::r#mod::RM != 0;
@@ -557,7 +557,6 @@ impl Sja1000 {
             }
             _ => {}
         }
-        let _ = mode;
     }
 
     // ------------------------------------------------------------------
@@ -746,13 +745,11 @@ impl Sja1000 {
         (self.raw_value_of(d.r, r, addr) & !d.cmask) | d.cval
     }
 
-    fn raw_value(&self, mode: Mode, r: &Register, addr: u8) -> u8 {
-        let _ = mode;
+    fn raw_value(&self, r: &Register, addr: u8) -> u8 {
         self.raw_value_of(classify(r), r, addr)
     }
 
     fn raw_value_of(&self, kind: R, r: &Register, addr: u8) -> u8 {
-        let mode = self.mode;
         let off = addr.wrapping_sub(r.addr) as usize;
         match kind {
             R::Mod => {
@@ -764,7 +761,7 @@ impl Sja1000 {
             }
             R::Cr => self.cr | bit(self.rm, basic::cr::RR),
             R::Cmr => 0,
-            R::Sr => self.sr(mode, r),
+            R::Sr => self.sr(r),
             R::Ir => {
                 let fields = r.fields.iter().fold(0u8, |m, f| m | f.mask());
                 self.ir_flags() & fields
@@ -807,7 +804,7 @@ impl Sja1000 {
         }
     }
 
-    fn sr(&self, mode: Mode, r: &Register) -> u8 {
+    fn sr(&self, r: &Register) -> u8 {
         use peli::sr;
         let mut v = bit(self.bs, sr::BS)
             | bit(self.es, sr::ES)
@@ -821,9 +818,23 @@ impl Sja1000 {
             // In reset mode the bits the reset defines hold their reset value
             // (PeliCAN: TS = RS = 1, waiting for bus-free).
             v = r.reset_rm.apply(v);
+        } else if self.waiting_for_bus_free() {
+            // Reset mode left, bus-free (11 recessive bits) not seen yet: TS
+            // and RS keep their reset-mode value ("wait idle", Table 6).
+            let ts_rs = sr::TS | sr::RS;
+            v = (v & !(ts_rs & r.reset_rm.defined)) | (r.reset_rm.value & ts_rs);
         }
-        let _ = mode;
         v
+    }
+
+    /// Operating mode, integrating: reset mode was left and the engine has
+    /// not yet seen bus-free (not asleep, not counting bus-off recovery).
+    fn waiting_for_bus_free(&self) -> bool {
+        !self.rm
+            && !self.bs
+            && !self.sleeping
+            && self.engine.field() == Field::BusIdle
+            && !self.engine.is_bus_idle()
     }
 
     /// IR flags now: the latched ones and RI, restricted to the view.
@@ -1151,7 +1162,7 @@ impl Sja1000 {
         self.pending_tx = None;
         let mode = self.mode;
         for r in regmap::registers(mode) {
-            self.apply_reset_value(mode, r, r.reset_rm);
+            self.apply_reset_value(r, r.reset_rm);
         }
         self.tbs = true;
         self.fifo.clear();

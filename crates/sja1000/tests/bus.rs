@@ -816,3 +816,30 @@ fn reset_mode_entry_values_from_the_map_after_traffic() {
         }
     }
 }
+
+/// PeliCAN: after reset mode is left, SR.TS and SR.RS stay 1 ("wait idle")
+/// until the node has seen bus-free (11 recessive bits), then read 0.
+/// BasicCAN shows 0 throughout (its reset-mode value).
+#[test]
+fn ts_rs_wait_for_bus_free_after_reset_mode() {
+    let mut p = pelican_reset();
+    p.write(peli::BTR0, 0x41);
+    p.write(peli::BTR1, 0x25);
+    host::leave_reset(&mut p);
+    let mut bus = Bus::new();
+    bus.add_node(p);
+    let both = peli::sr::TS | peli::sr::RS;
+    assert_eq!(bus.node(0).peek(peli::SR) & both, both);
+    bus.run_bits(5);
+    assert_eq!(
+        bus.node(0).peek(peli::SR) & both,
+        both,
+        "5 recessive bits: still waiting"
+    );
+    bus.run_bits(10);
+    assert_eq!(bus.node(0).peek(peli::SR) & both, 0, "bus-free seen");
+    let mut bus = bus_of(&[Config::basic(0, 0xFF)]);
+    assert_eq!(bus.node(0).peek(basic::SR) & both, 0);
+    bus.run_bits(15);
+    assert_eq!(bus.node(0).peek(basic::SR) & both, 0);
+}
