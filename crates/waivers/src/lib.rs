@@ -9,6 +9,33 @@
 //! divergences apart from failures and warns about waivers that never
 //! matched, so nothing is silently hidden. [`suggest`] writes candidate
 //! entries for a run's divergences, which are never applied by themselves.
+//!
+//! ```
+//! use diagnose::{Divergence, DivergenceKind};
+//! use waivers::{Action, CollectMode, DutInfo, Session, WaiverSet};
+//!
+//! let set = WaiverSet::parse(r#"
+//! [[waiver]]
+//! id = "es-late"
+//! kind = "register-read"
+//! register = "SR"
+//! bits = [6]
+//! dut = ["*opencores*"]
+//! explanation = "SR.ES is set one bit after TEC reaches 96"
+//! resync = ["none"]
+//! "#, "example.toml")?;
+//! let mut run = Session::new(set, DutInfo::new("cores/opencores-can"), CollectMode::StopAtFirst);
+//! // In the comparator, for each divergence:
+//! let sr = |model: u32, dut: u32| Divergence {
+//!     kind: DivergenceKind::RegisterRead, register: Some("SR".into()), expected: model, seen: dut, ..Default::default()
+//! };
+//! assert_eq!(run.divergence(sr(0x4C, 0x0C)), Action::Resync(vec![])); // waived: go on
+//! assert_eq!(run.divergence(sr(0x0C, 0x8C)), Action::Stop); // BS differs: a failure
+//! let (report, _) = run.finish();
+//! assert_eq!((report.waived.len(), report.failures.len()), (1, 1));
+//! assert!(!report.passed());
+//! # Ok::<(), waivers::WaiverError>(())
+//! ```
 #![warn(missing_docs)]
 
 pub mod file;
