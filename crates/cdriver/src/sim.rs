@@ -271,7 +271,7 @@ impl<D: Dut> PioBench<D> {
     }
 
     fn tick(&mut self) {
-        let t = self.kernel.next();
+        let t = self.kernel.advance();
         if t.can_rise {
             let tx = self.dut.can().tx;
             let level = if self.bus.is_empty() { tx } else { self.bus.clock_with(tx) };
