@@ -7,7 +7,7 @@ use std::collections::BTreeMap;
 
 use diagnose::{Divergence, DivergenceKind};
 
-use crate::file::{FieldName, KindName, OutFile, OutWaiver, ResyncSpec};
+use crate::file::{FieldName, KindName, OutFile, OutWaiver, ResyncSpec, Revision};
 use crate::report::describe;
 use crate::set::DutInfo;
 
@@ -80,12 +80,19 @@ pub fn suggest(divergences: &[Divergence], dut: &DutInfo) -> String {
                 (None, vec![ResyncSpec::SkipBits(best)])
             }
         };
+        let base = id.clone();
+        let mut n = 1;
+        while out.iter().any(|w: &OutWaiver| w.id == id) {
+            n += 1;
+            id = format!("{base}-{n}");
+        }
         out.push(OutWaiver {
             id,
             kind,
             explanation: format!("TODO: why is this deviation accepted? {} seen, first: {}", ds.len(), describe(first)),
             dut: vec![dut.name.clone()],
-            revisions: dut.revision.iter().cloned().collect(),
+            // Only a revision the file format can read back (`r5`, `v1.2`).
+            revisions: dut.revision.iter().filter(|r| r.parse::<Revision>().is_ok()).cloned().collect(),
             fields: (first.kind == DivergenceKind::TxBit).then(|| first.field.map(|f| vec![FieldName(f)])).flatten(),
             register: first.register.clone(),
             address,

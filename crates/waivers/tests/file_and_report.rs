@@ -358,3 +358,14 @@ fn an_unobserved_tec_is_assumed_only_from_a_single_measured_value() {
     let notes = set.near_misses(&d, &dut, &Default::default());
     assert!(notes.iter().any(|n| n.contains("did not observe the DUT's TEC")), "{notes:?}");
 }
+
+#[test]
+fn suggestions_keep_ids_unique_and_skip_an_unreadable_revision() {
+    let dut = DutInfo::new("core").revision("nightly");
+    let divs = vec![read_div("SR", 0x0C, 0x4C), read_div("sr", 0x0C, 0x4C)];
+    let text = suggest(&divs, &dut).replace("TODO: why is this deviation accepted?", "Accepted after review:");
+    let set = WaiverSet::parse(&text, "s.toml").unwrap_or_else(|e| panic!("{e}\n{text}"));
+    let ids: Vec<&str> = set.waivers().iter().map(|w| w.id.as_str()).collect();
+    assert_eq!(ids, ["register-read-sr", "register-read-sr-2"]);
+    assert!(!text.contains("revisions"), "{text}");
+}
