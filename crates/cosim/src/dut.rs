@@ -268,7 +268,7 @@ impl Dut for VerilatedDut {
 /// Rust twin of the `tb/fixtures/cosim_echo.v` fixture (same register map,
 /// same one-cycle registered `ack`), so everything above the bridge can be
 /// exercised, and compared against the Verilated fixture, without Verilator.
-#[derive(Clone, Debug)]
+#[derive(Clone, Debug, Default)]
 pub struct EchoModel {
     mem: [u8; 32],
     ack: bool,
@@ -282,11 +282,6 @@ pub struct EchoModel {
     can_clk: bool,
 }
 
-impl Default for EchoModel {
-    fn default() -> Self {
-        EchoModel { mem: [0; 32], ack: false, dat_o: 0, rx_q: false, clkdiv: false, rst: false, wb_in: WbMasterOut::default(), rx: false, host_clk: false, can_clk: false }
-    }
-}
 
 impl EchoModel {
     /// A fresh instance (state as Verilator's zero initialisation).

@@ -92,7 +92,7 @@ impl Kernel {
     /// Advances to the next instant at which either clock changes, and
     /// says which edges happened (both clocks may change at once).
     #[inline]
-    pub fn next(&mut self) -> Tick {
+    pub fn advance(&mut self) -> Tick {
         let th = self.host.next_edge();
         let tc = self.can.next_edge();
         let t = th.min(tc);
@@ -139,7 +139,7 @@ mod tests {
         let mut host_rises = Vec::new();
         let mut can_rises = Vec::new();
         while k.now_ps() < 1_000_000 {
-            let t = k.next();
+            let t = k.advance();
             if t.host_rise {
                 host_rises.push(t.t_ps);
             }
@@ -157,7 +157,7 @@ mod tests {
         let mut k2 = Kernel::new(50_000_000, 24_000_000).unwrap();
         let mut again = Vec::new();
         while k2.now_ps() < 1_000_000 {
-            let t = k2.next();
+            let t = k2.advance();
             if t.can_rise {
                 again.push(t.t_ps);
             }
@@ -168,9 +168,9 @@ mod tests {
     #[test]
     fn simultaneous_edges_come_in_one_tick() {
         let mut k = Kernel::new(10_000_000, 10_000_000).unwrap();
-        let t = k.next();
+        let t = k.advance();
         assert!(t.host_rise && t.can_rise);
-        let t = k.next();
+        let t = k.advance();
         assert!(t.host_fall && t.can_fall);
     }
 

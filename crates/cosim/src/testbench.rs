@@ -2,7 +2,7 @@
 //! CAN bus with golden-model nodes and faults, an optional lockstep
 //! reference, VCD output, and the run record for the diagnoser.
 //!
-//! Order of work at each instant (see [`Kernel::next`]):
+//! Order of work at each instant (see [`Kernel::advance`]):
 //! 1. on a CAN rising edge, the bus level is the wired-AND of the DUT's
 //!    `tx_o` and every model node's tx *before* the edge; model nodes are
 //!    clocked with it and the DUT's `rx_i` is set from it (or tied);
@@ -265,6 +265,9 @@ pub struct Testbench {
     record: RunRecord,
     events: Vec<diagnose::EventKind>,
     stopped: bool,
+    /// Time and bit of the last transmission request (CMR.TR / SRR).
+    last_tr: Option<(u64, u64)>,
+    attempts: u32,
 }
 
 impl Testbench {
@@ -398,6 +401,8 @@ impl Testbench {
             record,
             events: Vec::new(),
             stopped: false,
+            last_tr: None,
+            attempts: 0,
         };
         tb.dut.set_reset(true);
         tb.dut.set_rx(RECESSIVE);
@@ -460,7 +465,7 @@ impl Testbench {
     /// One kernel instant.
     #[inline]
     fn tick(&mut self) {
-        let t = self.kernel.next();
+        let t = self.kernel.advance();
         if t.can_rise {
             let dut_tx = if self.tx_on_bus { self.dut.can().tx } else { RECESSIVE };
             let level = if self.bus.is_empty() { dut_tx } else { self.bus.clock_with(dut_tx) };
@@ -654,6 +659,11 @@ impl Testbench {
             if !self.events.is_empty() {
                 let counters = r.counters();
                 for k in self.events.drain(..) {
+                    if matches!(k, diagnose::EventKind::TxComplete | diagnose::EventKind::BusError { .. }) && self.last_tr.is_some() {
+                        self.attempts += 1;
+                        let (tec, _) = counters.unwrap_or((0, 0));
+                        self.record.tec_trace.push(diagnose::TecStep { node: Side::Model, attempt: self.attempts, bit, tec, bus_off: tec > 255 });
+                    }
                     let mut e = EngineEvent::new(bit, Side::Model, k);
                     if let Some((tec, rec)) = counters {
                         e.tec = Some(tec);
@@ -747,9 +757,10 @@ impl Testbench {
             if self.bitclock.bits() - start > max_bits {
                 if self.record.stuck.is_none() && mask & diagnose::sr::TBS != 0 {
                     // A transmission that never completed: the diagnoser's case.
+                    let (requested_ps, requested_bit) = self.last_tr.unwrap_or((0, start));
                     self.record.stuck = Some(diagnose::StuckTransfer {
-                        requested_ps: 0,
-                        requested_bit: start,
+                        requested_ps,
+                        requested_bit,
                         waited_bits: max_bits,
                         sr,
                         attempts: self.frame,
@@ -813,6 +824,10 @@ impl Testbench {
                             }
                         }
                     }
+                }
+                if write && addr == 1 && data & 0x11 != 0 {
+                    // CMR.TR (bit 0) or CMR.SRR (bit 4) in both views.
+                    self.last_tr = Some((t0, self.bitclock.bits()));
                 }
                 if write && (addr == 6 || addr == 7) && rec.outcome.as_ref().is_none_or(|o| !o.is_ignored()) {
                     let (mut b0, mut b1) = (self.record.timing.btr0, self.record.timing.btr1);
@@ -878,6 +893,30 @@ impl Testbench {
             let _ = w.flush();
         }
         r
+    }
+
+    /// Reads the DUT's status at the end of a run through the BFM (SR; in
+    /// PeliCAN also RXERR, TXERR, ECC and ALC, whose reads re-arm capture).
+    /// Stored in the record in PeliCAN only: BasicCAN cannot read the error
+    /// counters, and the record has no "unknown" for them. IR is not read:
+    /// reading it clears it.
+    pub fn capture_final(&mut self) -> Result<FinalRegs, TbError> {
+        let peli = self.reference.as_ref().and_then(|r| r.mode()).map(|(m, _)| m == diagnose::CanMode::PeliCan).unwrap_or(false);
+        let sr = self.read(SR_ADDR)?;
+        let mut f = FinalRegs { sr, ..FinalRegs::default() };
+        if peli {
+            f.rec = self.read(14)? as u16;
+            f.tec = self.read(15)? as u16;
+            f.ecc = Some(self.read(12)?);
+            f.alc = Some(self.read(11)?);
+            if sr & diagnose::sr::BS != 0 {
+                f.tec = 256;
+            }
+        }
+        if peli {
+            self.record.final_dut = Some(f);
+        }
+        Ok(f)
     }
 
     /// The comparator's tolerances in words (for reports), if lockstep.

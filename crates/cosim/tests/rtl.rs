@@ -133,3 +133,37 @@ fn pio_on_the_rtl_completes_or_reports_the_missed_ack() {
         }
     }
 }
+
+/// The DE2 thesis wiring: rx_i tied recessive through a PIO. The frame can
+/// never complete; the bench must stop on a timeout and leave a record the
+/// diagnoser can explain (stuck transfer, TEC per attempt), with the RTL in
+/// lockstep with the model all along.
+#[test]
+fn thesis_wiring_rx_tied_recessive_leaves_a_stuck_transfer_for_the_diagnoser() {
+    let mut c = cfg(DutChoice::Rtl, HostBfm::Wishbone);
+    c.rx = diagnose::RxWiring::TiedRecessive;
+    c.lockstep = Some((ReferenceChoice::Model, CompareConfig::default()));
+    let mut tb = Testbench::new(c).unwrap();
+    for &(a, d) in &SETUP {
+        tb.write(a, d).unwrap();
+    }
+    tb.write(0, 0x00).unwrap();
+    tb.run_bits(12).unwrap();
+    for (a, d) in [(10u8, 0x24u8), (11, 0x62), (12, 0xA5), (13, 0x5A)] {
+        tb.write(a, d).unwrap();
+    }
+    tb.write(1, 0x01).unwrap();
+    let e = tb.wait_sr(0x0C, 0x0C, 200).unwrap_err();
+    assert!(matches!(e, cosim::TbError::Timeout { .. }), "{e}");
+    let f = tb.capture_final().unwrap();
+    assert_eq!(f.sr & 0x0C, 0x00, "TBS = 0 and TCS = 0: the buffer stays locked");
+    let rec = tb.record();
+    assert!(rec.divergence.is_none(), "{:?}", rec.divergence);
+    let stuck = rec.stuck.expect("stuck transfer recorded");
+    assert!(stuck.requested_ps > 0 && stuck.waited_bits == 200);
+    let tec = rec.tec_of(diagnose::Side::Model);
+    assert!(tec.len() >= 3, "TEC per attempt: {tec:?}");
+    let text = diagnose::diagnose(&rec).to_text();
+    assert!(text.to_lowercase().contains("rx"), "{text}");
+    println!("{text}");
+}

@@ -19,7 +19,7 @@ fn bridge_loop(mut dut: VerilatedDut, cycles: u64) -> f64 {
     let t0 = Instant::now();
     let mut host_rises = 0;
     while k.can().cycles() < cycles {
-        let t = k.next();
+        let t = k.advance();
         if t.host_rise {
             host_rises += 1;
             if host_rises == 4 {
