@@ -146,7 +146,7 @@ pub fn pio_handshake_note(r: &RunRecord) -> Option<Finding> {
     let mut f = finding(
         Category::HostBusViolation,
         format!(
-            "{n} Wishbone handshake remark(s) from PIO bit-banging, first at host cycle {}: {} ({}); every access completed",
+            "{n} Wishbone handshake remark(s) from PIO bit-banging, first at host cycle {}: {} ({})",
             v.cycle, v.message, v.rule
         ),
         "through PIO the program raises cyc/stb, polls ack through a GPIO and drops cyc/stb later: the slave acks again meanwhile (a second transfer the program abandons)",
@@ -465,6 +465,20 @@ pub fn dut_deviates(r: &RunRecord) -> Option<Finding> {
     let mut f = base_figures(r);
     f.bit = d.bit;
     f.field = d.field;
+    // In lockstep the model is clocked with the bus before the comparison,
+    // so a wrong DUT bit shows as a bit error of the model at that very bit
+    // and the recorded field is already the error flag; the ECC segment of
+    // that bus error names the field the bit belonged to.
+    if d.kind == DivergenceKind::TxBit
+        && let Some(bit) = d.bit
+        && let Some(field) = r.events_of(Side::Model).find_map(|e| match e.kind {
+            EventKind::BusError { ecc, .. } if e.bit == bit || e.bit + 1 == bit => field_from_ecc(ecc),
+            _ => None,
+        })
+    {
+        f.field = Some(field);
+    }
+    let d = &Divergence { field: f.field, ..d.clone() };
     f.frame = d.frame;
     f.register = d.register.clone();
     let what = match d.kind {

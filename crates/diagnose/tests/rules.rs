@@ -422,3 +422,13 @@ fn pio_handshake_remarks_are_advisory() {
     t.violations.push(Violation { cycle: 34, rule: "wb.ack_without_request".into(), message: "ack".into() });
     assert_eq!(diagnose(&t).category, Category::RxNotFollowingTx);
 }
+
+#[test]
+fn divergence_field_comes_from_the_models_bus_error_at_that_bit() {
+    let mut r = broken_dut_record();
+    r.divergence.as_mut().unwrap().field = Some(Field::ActiveErrorFlag);
+    r.events.push(EngineEvent::new(470, Side::Model, EventKind::BusError { kind: ErrorKind::Bit, ecc: 0x08, field: Field::ActiveErrorFlag }));
+    let d = diagnose(&r);
+    assert_eq!(d.figures.field, Some(Field::Crc));
+    assert!(d.what_happened.contains("CRC sequence"), "{}", d.what_happened);
+}
