@@ -400,6 +400,11 @@ impl Bus {
         self.faults.push(Box::new(f));
     }
 
+    /// Adds an already boxed fault injector (faults built from data).
+    pub fn add_fault_boxed(&mut self, f: Box<dyn FaultInjector>) {
+        self.faults.push(f);
+    }
+
     /// Removes every fault injector.
     pub fn clear_faults(&mut self) {
         self.faults.clear();
