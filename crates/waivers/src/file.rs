@@ -426,15 +426,25 @@ pub(crate) fn from_toml(file: &str, src: &str, e: &toml::de::Error) -> WaiverErr
         None
     }
     .or_else(|| {
-        let text = src.lines().nth(line - 1).unwrap_or("");
-        text.split_once('=').map(|(k, _)| k.trim().trim_matches('"').to_string()).filter(|k| !k.is_empty())
-    })
-    .or_else(|| {
-        let text = src.lines().nth(line - 1).unwrap_or("").trim();
-        text.strip_prefix("[[")
-            .and_then(|t| t.strip_suffix("]]"))
-            .or_else(|| text.strip_prefix('[').and_then(|t| t.strip_suffix(']')))
-            .map(str::to_string)
+        // The key on that line, or on the line that opened a multi-line
+        // value (an array over several lines); a table header ends the search.
+        let lines: Vec<&str> = src.lines().take(line).collect();
+        for text in lines.iter().rev() {
+            let t = text.trim();
+            if let Some(h) = t.strip_prefix("[[").and_then(|t| t.strip_suffix("]]")) {
+                return Some(h.trim().to_string());
+            }
+            if let Some(h) = t.strip_prefix('[').and_then(|t| t.strip_suffix(']')).filter(|h| !h.contains(['"', ','])) {
+                return Some(h.trim().to_string());
+            }
+            if let Some((k, _)) = t.split_once('=') {
+                let k = k.trim().trim_matches('"');
+                if !k.is_empty() && k.chars().all(|c| c.is_ascii_alphanumeric() || c == '-' || c == '_') {
+                    return Some(k.to_string());
+                }
+            }
+        }
+        None
     })
     .unwrap_or_else(|| "waiver".into());
     WaiverError::Invalid { file: file.into(), line, key, message }

@@ -209,6 +209,11 @@ fn malformed_files_name_file_line_and_key() {
     // Syntax error.
     let (line, _, _) = err(&base.replace("id = \"flag\"", "id = flag"));
     assert_eq!(line, 2);
+    // A bad value inside an array written over several lines.
+    let (line, key, _) =
+        err(&base
+            .replace("dut = [\"*opencores-can*\", \"rtl-r?\"]", "dut = [\n  \"*opencores-can*\",\n  \"rtl-[r\",\n]"));
+    assert_eq!((line, key.as_str()), (4, "dut"), "toml points at the array, on the key's line");
     // Unreadable file.
     assert!(matches!(WaiverSet::load("/nonexistent/w.toml"), Err(WaiverError::Io { .. })));
 }
