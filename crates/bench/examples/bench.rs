@@ -3,9 +3,15 @@
 
 fn main() {
     let args: Vec<String> = std::env::args().skip(1).collect();
-    let mut opts = bench::BenchOptions { smoke: args.iter().any(|a| a == "--smoke"), ..Default::default() };
+    let mut opts = bench::BenchOptions {
+        smoke: args.iter().any(|a| a == "--smoke"),
+        ..Default::default()
+    };
     if let Some(i) = args.iter().position(|a| a == "--frames") {
-        opts.frames = args.get(i + 1).and_then(|v| v.parse().ok()).unwrap_or(opts.frames);
+        opts.frames = args
+            .get(i + 1)
+            .and_then(|v| v.parse().ok())
+            .unwrap_or(opts.frames);
     }
     match bench::run(&opts) {
         Ok(r) => {

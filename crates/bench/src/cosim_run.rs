@@ -33,7 +33,9 @@ impl CosimHost {
             keep_bits: 0,
             ..TbConfig::default()
         };
-        Ok(CosimHost { tb: Testbench::new(cfg)? })
+        Ok(CosimHost {
+            tb: Testbench::new(cfg)?,
+        })
     }
 
     /// CAN clock cycles simulated so far.
@@ -61,7 +63,11 @@ impl SelfTestHost for CosimHost {
 }
 
 /// The self-test workload in co-simulation; returns the outcome and the CAN clock cycles.
-pub fn selftest(frames: u64, seed: u64, lockstep: bool) -> Result<(SelfTestOutcome, u64), BenchError> {
+pub fn selftest(
+    frames: u64,
+    seed: u64,
+    lockstep: bool,
+) -> Result<(SelfTestOutcome, u64), BenchError> {
     let mut h = CosimHost::new(lockstep)?;
     let out = crate::workload::run(&mut h, frames, seed)?;
     Ok((out, h.cycles()))

@@ -15,7 +15,19 @@ use crate::BenchError;
 use crate::measure::{self, ChildRun, Cost};
 
 /// Verilator flags of the harness build (also part of the cache key).
-const VERILATOR_FLAGS: &[&str] = &["-O3", "--cc", "--exe", "--build", "-j", "2", "-Wno-fatal", "-Wno-lint", "-Wno-style", "--top-module", "can_top"];
+const VERILATOR_FLAGS: &[&str] = &[
+    "-O3",
+    "--cc",
+    "--exe",
+    "--build",
+    "-j",
+    "2",
+    "-Wno-fatal",
+    "-Wno-lint",
+    "-Wno-style",
+    "--top-module",
+    "can_top",
+];
 /// C++ optimisation of the harness build.
 const MAKEFLAGS: &str = "OPT_FAST=-O3 OPT_SLOW=-O1";
 
@@ -46,7 +58,8 @@ pub struct ExternalRun {
 /// The RTL sources (`rtl/*.v`) and include files, sorted.
 fn rtl_sources(root: &Path) -> Result<(Vec<PathBuf>, Vec<PathBuf>), BenchError> {
     let dir = root.join("rtl");
-    let rd = std::fs::read_dir(&dir).map_err(|e| BenchError::Missing(format!("RTL directory {}: {e}", dir.display())))?;
+    let rd = std::fs::read_dir(&dir)
+        .map_err(|e| BenchError::Missing(format!("RTL directory {}: {e}", dir.display())))?;
     let mut v = Vec::new();
     let mut inc = Vec::new();
     for e in rd.flatten() {
@@ -59,18 +72,29 @@ fn rtl_sources(root: &Path) -> Result<(Vec<PathBuf>, Vec<PathBuf>), BenchError> 
     }
     v.sort();
     inc.sort();
-    if !v.iter().any(|p| p.file_name().is_some_and(|n| n == "can_top.v")) {
-        return Err(BenchError::Missing(format!("rtl/can_top.v not found in {}", dir.display())));
+    if !v
+        .iter()
+        .any(|p| p.file_name().is_some_and(|n| n == "can_top.v"))
+    {
+        return Err(BenchError::Missing(format!(
+            "rtl/can_top.v not found in {}",
+            dir.display()
+        )));
     }
     Ok((v, inc))
 }
 
 fn tool_version(tool: &str, arg: &str) -> Result<String, BenchError> {
-    let o = Command::new(tool)
-        .arg(arg)
-        .output()
-        .map_err(|e| BenchError::Missing(format!("`{tool}` could not be run ({e}); install it (apt-get install {tool})")))?;
-    Ok(format!("{}{}", String::from_utf8_lossy(&o.stdout), String::from_utf8_lossy(&o.stderr)))
+    let o = Command::new(tool).arg(arg).output().map_err(|e| {
+        BenchError::Missing(format!(
+            "`{tool}` could not be run ({e}); install it (apt-get install {tool})"
+        ))
+    })?;
+    Ok(format!(
+        "{}{}",
+        String::from_utf8_lossy(&o.stdout),
+        String::from_utf8_lossy(&o.stderr)
+    ))
 }
 
 fn cache_key(parts: &[&str], files: &[PathBuf]) -> Result<String, BenchError> {
@@ -78,21 +102,34 @@ fn cache_key(parts: &[&str], files: &[PathBuf]) -> Result<String, BenchError> {
     parts.hash(&mut h);
     for f in files {
         f.file_name().hash(&mut h);
-        std::fs::read(f).map_err(|e| BenchError::Missing(format!("{}: {e}", f.display())))?.hash(&mut h);
+        std::fs::read(f)
+            .map_err(|e| BenchError::Missing(format!("{}: {e}", f.display())))?
+            .hash(&mut h);
     }
     Ok(format!("{:016x}", h.finish()))
 }
 
 /// Builds in `<dir>.tmp<pid>` and renames it into place, so concurrent
 /// runs never see half a build.
-fn cached_build(dir: &Path, product: &str, build: impl FnOnce(&Path) -> Result<(), BenchError>) -> Result<Built, BenchError> {
+fn cached_build(
+    dir: &Path,
+    product: &str,
+    build: impl FnOnce(&Path) -> Result<(), BenchError>,
+) -> Result<Built, BenchError> {
     let path = dir.join(product);
     if path.exists() {
-        return Ok(Built { path, cached: true, build_s: 0.0 });
+        return Ok(Built {
+            path,
+            cached: true,
+            build_s: 0.0,
+        });
     }
     let tmp = dir.with_extension(format!("tmp{}", std::process::id()));
     let _ = std::fs::remove_dir_all(&tmp);
-    std::fs::create_dir_all(&tmp).map_err(|e| BenchError::Io { what: format!("creating {}", tmp.display()), error: e })?;
+    std::fs::create_dir_all(&tmp).map_err(|e| BenchError::Io {
+        what: format!("creating {}", tmp.display()),
+        error: e,
+    })?;
     let t0 = Instant::now();
     build(&tmp)?;
     let build_s = t0.elapsed().as_secs_f64();
@@ -101,19 +138,36 @@ fn cached_build(dir: &Path, product: &str, build: impl FnOnce(&Path) -> Result<(
         let _ = std::fs::remove_dir_all(&tmp);
     }
     if !path.exists() {
-        return Err(BenchError::Build { what: product.into(), log: format!("{} missing after the build", path.display()) });
+        return Err(BenchError::Build {
+            what: product.into(),
+            log: format!("{} missing after the build", path.display()),
+        });
     }
-    Ok(Built { path, cached: false, build_s })
+    Ok(Built {
+        path,
+        cached: false,
+        build_s,
+    })
 }
 
 fn run_tool(what: &str, cmd: &mut Command) -> Result<(), BenchError> {
-    let o = cmd.output().map_err(|e| BenchError::Spawn { what: what.into(), error: e })?;
+    let o = cmd.output().map_err(|e| BenchError::Spawn {
+        what: what.into(),
+        error: e,
+    })?;
     if o.status.success() {
         return Ok(());
     }
-    let log = format!("{}{}", String::from_utf8_lossy(&o.stdout), String::from_utf8_lossy(&o.stderr));
+    let log = format!(
+        "{}{}",
+        String::from_utf8_lossy(&o.stdout),
+        String::from_utf8_lossy(&o.stderr)
+    );
     let tail: Vec<&str> = log.lines().rev().take(30).collect();
-    Err(BenchError::Build { what: what.into(), log: tail.into_iter().rev().collect::<Vec<_>>().join("\n") })
+    Err(BenchError::Build {
+        what: what.into(),
+        log: tail.into_iter().rev().collect::<Vec<_>>().join("\n"),
+    })
 }
 
 /// Builds (or finds in the cache) the raw C++ harness.
@@ -138,7 +192,10 @@ pub fn build_harness(root: &Path, work: &Path) -> Result<Built, BenchError> {
             .arg(&harness)
             .arg("-o")
             .arg(tmp.join("harness"));
-        run_tool("the raw C++ Verilator harness (verilator --build)", &mut cmd)?;
+        run_tool(
+            "the raw C++ Verilator harness (verilator --build)",
+            &mut cmd,
+        )?;
         // Keep the executable, drop the object files.
         let _ = std::fs::remove_dir_all(tmp.join("obj"));
         Ok(())
@@ -172,10 +229,20 @@ pub fn build_icarus(root: &Path, work: &Path) -> Result<Built, BenchError> {
 fn parse_run(what: &str, r: ChildRun, frames: u64) -> Result<ExternalRun, BenchError> {
     let field = |k: &str| measure::bench_line(&r.stdout, k);
     match (r.code, field("frames"), field("cycles"), field("errors")) {
-        (Some(0), Some(f), Some(c), Some(e)) if f == frames => Ok(ExternalRun { frames: f, cycles: c, errors: e, cost: r.cost }),
+        (Some(0), Some(f), Some(c), Some(e)) if f == frames => Ok(ExternalRun {
+            frames: f,
+            cycles: c,
+            errors: e,
+            cost: r.cost,
+        }),
         _ => Err(BenchError::Run {
             what: what.into(),
-            detail: format!("exit {:?}; stdout: {}; stderr: {}", r.code, r.stdout.trim(), r.stderr.trim()),
+            detail: format!(
+                "exit {:?}; stdout: {}; stderr: {}",
+                r.code,
+                r.stdout.trim(),
+                r.stderr.trim()
+            ),
         }),
     }
 }
@@ -183,7 +250,12 @@ fn parse_run(what: &str, r: ChildRun, frames: u64) -> Result<ExternalRun, BenchE
 /// Runs the harness on `frames` frames of the generator seeded with `seed`.
 pub fn run_harness(exe: &Path, frames: u64, seed: u64) -> Result<ExternalRun, BenchError> {
     let what = "raw C++ Verilator harness";
-    let r = measure::child(what, Command::new(exe).arg(frames.to_string()).arg(seed.to_string()))?;
+    let r = measure::child(
+        what,
+        Command::new(exe)
+            .arg(frames.to_string())
+            .arg(seed.to_string()),
+    )?;
     parse_run(what, r, frames)
 }
 
@@ -192,7 +264,11 @@ pub fn run_icarus(vvp: &Path, frames: u64, seed: u64) -> Result<ExternalRun, Ben
     let what = "Icarus test bench (vvp)";
     let r = measure::child(
         what,
-        Command::new("vvp").arg("-n").arg(vvp).arg(format!("+frames={frames}")).arg(format!("+seed={}", seed as u32)),
+        Command::new("vvp")
+            .arg("-n")
+            .arg(vvp)
+            .arg(format!("+frames={frames}"))
+            .arg(format!("+seed={}", seed as u32)),
     )?;
     parse_run(what, r, frames)
 }

@@ -28,7 +28,10 @@ pub struct Cost {
 }
 
 fn thread_cpu_s() -> f64 {
-    let mut ts = libc::timespec { tv_sec: 0, tv_nsec: 0 };
+    let mut ts = libc::timespec {
+        tv_sec: 0,
+        tv_nsec: 0,
+    };
     // SAFETY: valid pointer to a timespec; CLOCK_THREAD_CPUTIME_ID is always available on Linux.
     unsafe { libc::clock_gettime(libc::CLOCK_THREAD_CPUTIME_ID, &mut ts) };
     ts.tv_sec as f64 + ts.tv_nsec as f64 * 1e-9
@@ -40,7 +43,10 @@ fn status_kib(status: &str, key: &str) -> Option<u64> {
 }
 
 fn vm_hwm_kib() -> Option<u64> {
-    status_kib(&std::fs::read_to_string("/proc/self/status").ok()?, "VmHWM:")
+    status_kib(
+        &std::fs::read_to_string("/proc/self/status").ok()?,
+        "VmHWM:",
+    )
 }
 
 /// Resets the process's peak RSS to its current RSS (Linux >= 4.0).
@@ -58,7 +64,14 @@ pub fn in_process<T, E>(f: impl FnOnce() -> Result<T, E>) -> Result<(T, Cost), E
     let cpu_s = thread_cpu_s() - c0;
     // Without the reset the peak is since process start: an upper bound.
     let _ = reset;
-    Ok((v, Cost { cpu_s, wall_s, max_rss_kib: vm_hwm_kib().unwrap_or(0) }))
+    Ok((
+        v,
+        Cost {
+            cpu_s,
+            wall_s,
+            max_rss_kib: vm_hwm_kib().unwrap_or(0),
+        },
+    ))
 }
 
 /// What a child printed and what it cost.
@@ -82,7 +95,10 @@ pub fn child(what: &str, cmd: &mut Command) -> Result<ChildRun, BenchError> {
         .stdout(Stdio::piped())
         .stderr(Stdio::piped())
         .spawn()
-        .map_err(|e| BenchError::Spawn { what: what.into(), error: e })?;
+        .map_err(|e| BenchError::Spawn {
+            what: what.into(),
+            error: e,
+        })?;
     let mut out = ch.stdout.take().expect("piped");
     let mut err = ch.stderr.take().expect("piped");
     let err_reader = std::thread::spawn(move || {
@@ -100,7 +116,10 @@ pub fn child(what: &str, cmd: &mut Command) -> Result<ChildRun, BenchError> {
             while running.load(std::sync::atomic::Ordering::Relaxed) {
                 // The first samples may still be of the pre-exec copy of this process: skip
                 // until the child's command line is no longer ours.
-                if let Some(kib) = std::fs::read_to_string(&path).ok().and_then(|s| status_kib(&s, "VmHWM:")) {
+                if let Some(kib) = std::fs::read_to_string(&path)
+                    .ok()
+                    .and_then(|s| status_kib(&s, "VmHWM:"))
+                {
                     let exe = std::fs::read_link(format!("/proc/{pid}/exe")).ok();
                     if exe.is_some() && exe != std::env::current_exe().ok() {
                         peak = peak.max(kib);
@@ -122,19 +141,36 @@ pub fn child(what: &str, cmd: &mut Command) -> Result<ChildRun, BenchError> {
     let r = unsafe { libc::wait4(pid, &mut status, 0, &mut ru) };
     let wall_s = t0.elapsed().as_secs_f64();
     if r != pid {
-        return Err(BenchError::Spawn { what: what.into(), error: std::io::Error::last_os_error() });
+        return Err(BenchError::Spawn {
+            what: what.into(),
+            error: std::io::Error::last_os_error(),
+        });
     }
-    let code = if libc::WIFEXITED(status) { Some(libc::WEXITSTATUS(status)) } else { None };
+    let code = if libc::WIFEXITED(status) {
+        Some(libc::WEXITSTATUS(status))
+    } else {
+        None
+    };
     let tv = |t: libc::timeval| t.tv_sec as f64 + t.tv_usec as f64 * 1e-6;
     let reported = bench_line(&stdout, "maxrss_kb").unwrap_or(0);
-    let cost = Cost { cpu_s: tv(ru.ru_utime) + tv(ru.ru_stime), wall_s, max_rss_kib: reported.max(sampled) };
-    Ok(ChildRun { stdout, stderr, code, cost })
+    let cost = Cost {
+        cpu_s: tv(ru.ru_utime) + tv(ru.ru_stime),
+        wall_s,
+        max_rss_kib: reported.max(sampled),
+    };
+    Ok(ChildRun {
+        stdout,
+        stderr,
+        code,
+        cost,
+    })
 }
 
 /// The `key=value` fields of the `BENCH ...` line a harness prints.
 pub fn bench_line(stdout: &str, key: &str) -> Option<u64> {
     let line = stdout.lines().rev().find(|l| l.starts_with("BENCH "))?;
-    line.split_whitespace().find_map(|kv| kv.strip_prefix(key)?.strip_prefix('=')?.parse().ok())
+    line.split_whitespace()
+        .find_map(|kv| kv.strip_prefix(key)?.strip_prefix('=')?.parse().ok())
 }
 
 #[cfg(test)]
@@ -152,12 +188,20 @@ mod tests {
 
     #[test]
     fn a_child_is_measured_and_its_exit_code_kept() {
-        let r = child("sh", Command::new("sh").args(["-c", "sleep 0.05; echo BENCH x=1; exit 3"])).unwrap();
+        let r = child(
+            "sh",
+            Command::new("sh").args(["-c", "sleep 0.05; echo BENCH x=1; exit 3"]),
+        )
+        .unwrap();
         assert_eq!(r.code, Some(3));
         assert_eq!(bench_line(&r.stdout, "x"), Some(1));
         assert!(r.cost.wall_s > 0.0);
         // A shell's own peak, not this test process's.
-        assert!(r.cost.max_rss_kib > 0 && r.cost.max_rss_kib < 16 << 10, "{} KiB", r.cost.max_rss_kib);
+        assert!(
+            r.cost.max_rss_kib > 0 && r.cost.max_rss_kib < 16 << 10,
+            "{} KiB",
+            r.cost.max_rss_kib
+        );
     }
 
     #[test]
@@ -173,6 +217,10 @@ mod tests {
         })
         .unwrap();
         assert!(c.cpu_s > 0.0);
-        assert!(c.max_rss_kib >= 8 << 10, "8 MiB touched, peak {} KiB", c.max_rss_kib);
+        assert!(
+            c.max_rss_kib >= 8 << 10,
+            "8 MiB touched, peak {} KiB",
+            c.max_rss_kib
+        );
     }
 }

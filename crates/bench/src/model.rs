@@ -64,7 +64,10 @@ impl SelfTestHost for ModelHost {
         if self.bus.run_until(IRQ_TIMEOUT_BITS, |b| b.node(0).irq()) {
             Ok(())
         } else {
-            Err(BenchError::Run { what: "golden model self test".into(), detail: format!("no interrupt within {IRQ_TIMEOUT_BITS} bit times") })
+            Err(BenchError::Run {
+                what: "golden model self test".into(),
+                detail: format!("no interrupt within {IRQ_TIMEOUT_BITS} bit times"),
+            })
         }
     }
 }
@@ -83,7 +86,13 @@ mod tests {
     #[test]
     fn the_model_passes_its_own_self_test_workload() {
         let (out, bits) = selftest(20, 3).unwrap();
-        assert_eq!(out, SelfTestOutcome { frames: 20, errors: 0 });
+        assert_eq!(
+            out,
+            SelfTestOutcome {
+                frames: 20,
+                errors: 0
+            }
+        );
         // A standard 8-byte frame is at least 108 bits before stuffing, plus intermission.
         assert!(bits > 20 * 108, "{bits} bit times for 20 frames");
     }

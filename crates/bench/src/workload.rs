@@ -110,7 +110,11 @@ pub fn configure<H: SelfTestHost>(h: &mut H) -> Result<(), H::Error> {
 }
 
 /// Configures, then sends `frames` frames from the generator seeded with `seed`.
-pub fn run<H: SelfTestHost>(h: &mut H, frames: u64, seed: u64) -> Result<SelfTestOutcome, H::Error> {
+pub fn run<H: SelfTestHost>(
+    h: &mut H,
+    frames: u64,
+    seed: u64,
+) -> Result<SelfTestOutcome, H::Error> {
     configure(h)?;
     let mut rng = XorShift32::new(seed);
     let mut out = SelfTestOutcome::default();
@@ -160,7 +164,10 @@ mod tests {
         let mut z = XorShift32::new(0);
         assert_ne!(z.next_u32(), 0);
         // Only the low 32 bits of the seed count (the C++ and Verilog sides use 32 bits).
-        assert_eq!(XorShift32::new(1 << 32).next_u32(), XorShift32::new(1).next_u32());
+        assert_eq!(
+            XorShift32::new(1 << 32).next_u32(),
+            XorShift32::new(1).next_u32()
+        );
     }
 
     #[test]

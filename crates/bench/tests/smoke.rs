@@ -14,14 +14,27 @@ fn smoke_run_reports_every_figure_finite_and_positive() {
     let nodes: Vec<usize> = r.scaling.iter().map(|s| s.nodes).collect();
     assert_eq!(nodes, NODE_COUNTS);
     let names: Vec<&str> = r.selftest.iter().map(|s| s.name.as_str()).collect();
-    assert_eq!(names, ["model", "cosim", "cosim-no-lockstep", "verilator-raw", "icarus"]);
+    assert_eq!(
+        names,
+        [
+            "model",
+            "cosim",
+            "cosim-no-lockstep",
+            "verilator-raw",
+            "icarus"
+        ]
+    );
     assert_eq!(r.targets.len(), 4);
 
     // Every self-test simulator sent the same frames through the same sequence.
     for s in &r.selftest {
         assert_eq!(s.errors, 0, "{}", s.name);
-        let want = if s.name == "icarus" { r.options.icarus_frames } else { r.options.frames };
-        assert_eq!(s.frames, want as u64, "{}", s.name);
+        let want = match s.name.as_str() {
+            "icarus" => r.options.icarus_frames as u64,
+            "model" => r.options.frames as u64 * bench::MODEL_SELFTEST_REPEAT,
+            _ => r.options.frames as u64,
+        };
+        assert_eq!(s.frames, want, "{}", s.name);
     }
     // The raw harness and Icarus run the same stimulus on the same RTL: with
     // one frame each, the Icarus cycle count is a prefix of the harness run.
