@@ -43,6 +43,11 @@ impl BitClock {
         (1 + self.timing.tseg1 as u32 + 1) * self.timing.clocks_per_tq() - 1
     }
 
+    /// CAN clocks since the start of the current bit.
+    pub fn sub(&self) -> u32 {
+        self.count
+    }
+
     /// Bits sampled so far.
     pub fn bits(&self) -> u64 {
         self.bits

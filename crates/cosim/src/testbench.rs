@@ -118,9 +118,13 @@ pub struct TbConfig {
     pub tx_on_bus: bool,
     /// Golden-model nodes on the bus.
     pub nodes: Vec<NodeConfig>,
-    /// Faults on the bus (the `sja1000` injectors); node index `nodes.len()`
-    /// is the DUT's receiver.
+    /// Faults on what the model nodes receive (the `sja1000` injectors,
+    /// `Target::Node(i)` = `nodes[i]`).
     pub faults: Vec<Box<dyn FaultInjector>>,
+    /// Faults on what the DUT receives (it is node index `nodes.len()` for
+    /// `Target::Node`). Their `BusContext` comes from the bench's bit clock
+    /// and decoder (frame = SOFs seen, frame_bit = bits since that SOF).
+    pub dut_rx_faults: Vec<Box<dyn FaultInjector>>,
     /// Lockstep reference and tolerances.
     pub lockstep: Option<(ReferenceChoice, CompareConfig)>,
     /// Our VCD (ports, bus, model, fields).
@@ -150,6 +154,7 @@ impl Default for TbConfig {
             tx_on_bus: true,
             nodes: Vec::new(),
             faults: Vec::new(),
+            dut_rx_faults: Vec::new(),
             lockstep: None,
             vcd: None,
             dut_trace: None,
@@ -216,6 +221,19 @@ macro_rules! with_master {
     };
 }
 
+/// Lets a boxed injector go to `sja1000::Bus::add_fault`.
+#[derive(Debug)]
+struct BoxedFault(Box<dyn FaultInjector>);
+
+impl FaultInjector for BoxedFault {
+    fn apply(&mut self, ctx: &BusContext, node: usize, level: bool) -> bool {
+        self.0.apply(ctx, node, level)
+    }
+    fn needs_clocks(&self) -> bool {
+        self.0.needs_clocks()
+    }
+}
+
 fn rule_id(prefix: &str, r: bfm::Rule) -> String {
     let dbg = format!("{r:?}");
     let mut s = String::from(prefix);
@@ -268,6 +286,8 @@ pub struct Testbench {
     /// Time and bit of the last transmission request (CMR.TR / SRR).
     last_tr: Option<(u64, u64)>,
     attempts: u32,
+    /// Bit index (bit clock count) of the last SOF.
+    sof_bit: u64,
 }
 
 impl Testbench {
@@ -331,12 +351,10 @@ impl Testbench {
             bus.add_node(s);
         }
         let n_nodes = cfg.nodes.len();
-        let mut dut_faults = Vec::new();
         for f in cfg.faults.drain(..) {
-            dut_faults.push(f);
+            bus.add_fault(BoxedFault(f));
         }
-        // The sja1000 bus applies its faults to its own nodes; the DUT's
-        // receiver (index n_nodes) gets the same injectors here.
+        let dut_faults: Vec<Box<dyn FaultInjector>> = cfg.dut_rx_faults.drain(..).collect();
         let (reference, comparator): (Option<Box<dyn Reference>>, _) = match cfg.lockstep {
             None => (None, None),
             Some((ReferenceChoice::Model, c)) => (Some(Box::new(ModelRef::new())), Some(Comparator::new(c))),
@@ -403,6 +421,7 @@ impl Testbench {
             stopped: false,
             last_tr: None,
             attempts: 0,
+            sof_bit: 0,
         };
         tb.dut.set_reset(true);
         tb.dut.set_rx(RECESSIVE);
@@ -474,7 +493,13 @@ impl Testbench {
                 RxWiring::Bus => {
                     let mut rx = level;
                     if !self.dut_faults.is_empty() {
-                        let ctx = BusContext { clock: self.can_clocks, clocks_per_bit: self.bitclock.clocks_per_bit(), ..BusContext::default() };
+                        let ctx = BusContext {
+                            clock: self.can_clocks,
+                            frame: self.frame.checked_sub(1).map(u64::from),
+                            frame_bit: (self.bitclock.bits() - self.sof_bit) as u32,
+                            sub: self.bitclock.sub(),
+                            clocks_per_bit: self.bitclock.clocks_per_bit(),
+                        };
                         let me = self.bus.len();
                         for f in &mut self.dut_faults {
                             rx = f.apply(&ctx, me, rx);
@@ -631,6 +656,7 @@ impl Testbench {
                     self.field = Some(field);
                     if field == Field::Sof {
                         self.frame += 1;
+                        self.sof_bit = bit - 1;
                     }
                 }
             }

@@ -167,3 +167,35 @@ fn thesis_wiring_rx_tied_recessive_leaves_a_stuck_transfer_for_the_diagnoser() {
     assert!(text.to_lowercase().contains("rx"), "{text}");
     println!("{text}");
 }
+
+/// A bit flipped in what the model node receives: it signals an error, the
+/// RTL (transmitter) sees the error flag and retransmits; lockstep with the
+/// model holds through the error frame and the frame still arrives.
+#[test]
+fn a_flipped_bit_at_the_model_node_causes_an_error_frame_and_a_retransmission() {
+    let mut c = cfg(DutChoice::Rtl, HostBfm::Wishbone);
+    c.nodes = vec![node()];
+    c.faults.push(Box::new(sja1000::FlipBit { frame: 0, bit: 20, target: sja1000::Target::Node(0) }));
+    c.lockstep = Some((ReferenceChoice::Model, CompareConfig::default()));
+    let mut tb = Testbench::new(c).unwrap();
+    for &(a, d) in &SETUP {
+        tb.write(a, d).unwrap();
+    }
+    tb.write(0, 0x00).unwrap();
+    tb.run_bits(12).unwrap();
+    for (a, d) in [(10u8, 0x24u8), (11, 0x62), (12, 0xA5), (13, 0x5A)] {
+        tb.write(a, d).unwrap();
+    }
+    tb.write(1, 0x01).unwrap();
+    let res = tb.wait_sr(0x08, 0x08, 400);
+    let rec = tb.record();
+    assert!(rec.divergence.is_none(), "{:?}", rec.divergence);
+    res.unwrap();
+    assert!(
+        rec.events.iter().any(|e| matches!(e.kind, diagnose::EventKind::BusError { .. })),
+        "the model (transmitter side) saw the error flag: {:?}",
+        rec.events
+    );
+    assert!(rec.bus_bits.iter().any(|b| b.field == Some(can_proto::Field::ActiveErrorFlag)), "error flag on the bus");
+    assert_eq!(tb.bus().node(0).peek(2) & 0x01, 0x01, "received on the second attempt");
+}

@@ -198,7 +198,7 @@ fn disconnected_rx_is_tied_and_tx_can_stay_off_the_bus() {
     tb.run_can_cycles(4).unwrap();
     assert_eq!(tb.read(31).unwrap(), 1, "tx not looped to rx");
     let mut c = cfg("cosim_echo", HostBfm::Wishbone);
-    c.faults.push(Box::new(sja1000::StuckAt::forever(false, sja1000::Target::All)));
+    c.dut_rx_faults.push(Box::new(sja1000::StuckAt::forever(false, sja1000::Target::All)));
     let mut tb = Testbench::new(c).unwrap();
     tb.run_can_cycles(4).unwrap();
     assert_eq!(tb.read(31).unwrap(), 0, "stuck-dominant fault on the DUT's receiver");
