@@ -92,8 +92,9 @@ module can_rxfifo (
     wire start     = store && !wbusy && !clr;
     wire commit    = wbusy && (wk == wlen - 4'd1);
 
+    wire [5:0] wr_adr = wr_ptr + {2'b00, wk};       // wraps at 64
     always @(posedge clk) begin
-        if (wbusy && !clr) ram[wr_ptr + {2'b00, wk}] <= wbyte;
+        if (wbusy && !clr) ram[wr_adr] <= wbyte;
         else if (host_wr && clr) ram[host_adr] <= wdat;
         rd_q <= ram[host_rd ? host_adr : hdr_adr];
     end

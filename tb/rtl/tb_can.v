@@ -21,6 +21,9 @@
 //  9. Listen only + single shot: node 0 in listen-only mode never drives the
 //     bus (no ACK), node 1's single-shot frame fails once with an ACK error
 //     (TEC + 8), is not repeated (TBS = 1, TCS = 0); node 0's RXERR frozen.
+// 10. PeliCAN dual filter, standard frames: filter 1 = ID + RTR + data
+//     byte 1 (nibbles in ACR1/ACR3), filter 2 = ID + RTR; two accepted,
+//     two rejected.
 //  7. PeliCAN single acceptance filter (ID + RTR + data byte 1), extended
 //     8-byte frames in the RX FIFO, FIFO overrun (DOS, DOI, RMC), RRB/RBSA.
 //  0. can_top #(.ACK_LEVEL(1)) polled like the thesis's PIO driver: a strobe
@@ -589,6 +592,24 @@ module tb_can;
         expect_reg(1, 8'd15, 8'd8, "node 1 TXERR: one attempt only");
         expect_reg(0, 8'd14, 8'd5, "listen-only RXERR frozen");
         expect_reg(0, 8'd29, 8'd0, "nothing received (the frame failed)");
+
+        // ================= 10. dual filter =================
+        $display("10. dual acceptance filter, standard frames");
+        wr(0, 8'd0, 8'h01);                 // reset mode, dual filter, no LOM
+        wr(0, 8'd16, 8'h24); wr(0, 8'd17, 8'h65); wr(0, 8'd18, 8'h55); wr(0, 8'd19, 8'h65);
+        for (q = 20; q < 24; q = q + 1) wr(0, q, 8'h00);
+        wr(0, 8'd0, 8'h00);
+        wait_bits(14);
+        send1(8'h01, 8'h24, 8'h60, 8'h00, 8'h00, 64'h5500_0000_0000_0000, 1);  // 0x123, 55: filter 1
+        send1(8'h01, 8'h24, 8'h60, 8'h00, 8'h00, 64'h5600_0000_0000_0000, 1);  // 0x123, 56: no
+        send1(8'h00, 8'h55, 8'h60, 8'h00, 8'h00, 64'h0, 0);                    // 0x2AB: filter 2
+        send1(8'h00, 8'h55, 8'h40, 8'h00, 8'h00, 64'h0, 0);                    // 0x2AA: no
+        expect_reg(0, 8'd29, 8'd2, "dual filter: RMC");
+        expect_reg(0, 8'd19, 8'h55, "dual filter: first message data 1");
+        wr(0, 8'd1, 8'h04);
+        expect_reg(0, 8'd17, 8'h55, "dual filter: second message ID1");
+        expect_reg(0, 8'd18, 8'h60, "dual filter: second message ID2");
+        wr(0, 8'd1, 8'h04);
 
         $display("PASS (Wishbone accesses %0d..%0d wb_clk_i cycles)", lat_min, lat_max);
         $finish;
