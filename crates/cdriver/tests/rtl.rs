@@ -192,3 +192,22 @@ fn avalon_can_avalon_basiccan_no_acknowledge() {
 fn pio_header_can_top_basiccan_no_acknowledge() {
     common::basic_no_ack(&mut pio(0));
 }
+
+/// `can_sja_pio_reset` through the control PIO resets `can_top`: frames
+/// are no longer received until the driver initialises it again.
+#[test]
+fn pio_header_reset_pulse_resets_can_top() {
+    let mut drv = pio(1);
+    drv.init(View::Peli, &cdriver::Config::accept_all()).unwrap();
+    drv.host_mut().run_bits(16);
+    drv.pio_reset(0).unwrap();
+    drv.host_mut().run_bits(4);
+    let f = common::std_frame(0x42, &[1]);
+    common::node_transmit(&mut drv, 0, &f);
+    drv.host_mut().run_bits(120);
+    // In reset mode the core neither acknowledges nor stores the frame.
+    assert_eq!(drv.receive().unwrap(), None);
+    drv.init(View::Peli, &cdriver::Config::accept_all()).unwrap();
+    // The model node retransmits until acknowledged.
+    assert_eq!(drv.receive_polling(20_000).unwrap(), f);
+}
