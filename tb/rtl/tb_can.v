@@ -24,6 +24,8 @@
 // 10. PeliCAN dual filter, standard frames: filter 1 = ID + RTR + data
 //     byte 1 (nibbles in ACR1/ACR3), filter 2 = ID + RTR; two accepted,
 //     two rejected.
+// 11. BasicCAN ACR/AMR filter on ID.10..3; an extended frame is stored with
+//     its 11 base ID bits.
 //  7. PeliCAN single acceptance filter (ID + RTR + data byte 1), extended
 //     8-byte frames in the RX FIFO, FIFO overrun (DOS, DOI, RMC), RRB/RBSA.
 //  0. can_top #(.ACK_LEVEL(1)) polled like the thesis's PIO driver: a strobe
@@ -610,6 +612,26 @@ module tb_can;
         expect_reg(0, 8'd17, 8'h55, "dual filter: second message ID1");
         expect_reg(0, 8'd18, 8'h60, "dual filter: second message ID2");
         wr(0, 8'd1, 8'h04);
+
+        // ================= 11. BasicCAN filter =================
+        $display("11. BasicCAN acceptance filter, extended frame in BasicCAN");
+        wr(0, 8'd0, 8'h01);
+        wr(0, 8'd31, 8'h07);                // BasicCAN (CDR.7 written in reset mode)
+        wr(0, 8'd4, 8'h24); wr(0, 8'd5, 8'h00);
+        wr(0, 8'd0, 8'h00);
+        wait_bits(14);
+        send1(8'h00, 8'h55, 8'h60, 8'h00, 8'h00, 64'h0, 0);                    // 0x2AB: rejected
+        rd(0, 8'd2, q);
+        if (q[0] !== 1'b0) fail("BasicCAN filter let 0x2AB through");
+        send1(8'h81, 8'h24, 8'hE0, 8'h00, 8'h08, 64'h7700_0000_0000_0000, 1); // ext, base 0x127
+        rd(0, 8'd2, q);
+        if (q[0] !== 1'b1) fail("BasicCAN: extended frame with matching base ID not stored");
+        expect_reg(0, 8'd20, 8'h24, "BasicCAN RX ID.10..3 of the extended frame");
+        expect_reg(0, 8'd21, 8'hE1, "BasicCAN RX ID.2..0, RTR, DLC");
+        expect_reg(0, 8'd22, 8'h77, "BasicCAN RX data 1");
+        wr(0, 8'd1, 8'h04);
+        rd(0, 8'd2, q);
+        if (q[0] !== 1'b0) fail("RBS after RRB");
 
         $display("PASS (Wishbone accesses %0d..%0d wb_clk_i cycles)", lat_min, lat_max);
         $finish;
