@@ -126,14 +126,14 @@ impl WaiverReport {
 
     /// One warning per stale waiver.
     pub fn warnings(&self) -> Vec<String> {
+        let why = if self.stopped_early {
+            " (the run stopped at a failure: it may not have got that far)"
+        } else {
+            ": remove it or check it still applies"
+        };
         self.stale
             .iter()
-            .map(|s| {
-                format!(
-                    "stale waiver `{}` ({}) never matched: remove it or check it still applies",
-                    s.waiver_id, s.location
-                )
-            })
+            .map(|s| format!("stale waiver `{}` ({}) never matched{why}", s.waiver_id, s.location))
             .collect()
     }
 
@@ -180,9 +180,19 @@ impl WaiverReport {
         s
     }
 
-    /// Pretty JSON of the whole report.
+    /// Pretty JSON of the whole report, with `counts`, `passed` and
+    /// `warnings` added (reading it back as a `WaiverReport` ignores them).
     pub fn to_json(&self) -> String {
-        serde_json::to_string_pretty(self).expect("a WaiverReport always serialises")
+        #[derive(Serialize)]
+        struct Out<'a> {
+            counts: Counts,
+            passed: bool,
+            warnings: Vec<String>,
+            #[serde(flatten)]
+            report: &'a WaiverReport,
+        }
+        let out = Out { counts: self.counts(), passed: self.passed(), warnings: self.warnings(), report: self };
+        serde_json::to_string_pretty(&out).expect("a WaiverReport always serialises")
     }
 
     /// A JUnit `<testsuite>`: one `<testcase>` per divergence, failures with

@@ -293,6 +293,16 @@ impl WaiverSet {
         Self::parse(&src, &name)
     }
 
+    /// Reads several files into one set (`--waivers a.toml --waivers b.toml`);
+    /// an id defined twice is an error naming both places.
+    pub fn load_all<P: AsRef<Path>>(paths: &[P]) -> Result<Self, WaiverError> {
+        let mut set = WaiverSet::empty();
+        for p in paths {
+            set.merge(Self::load(p)?)?;
+        }
+        Ok(set)
+    }
+
     /// Parses waiver-file text; `name` is the file name used in errors.
     pub fn parse(src: &str, name: &str) -> Result<Self, WaiverError> {
         let raw: RawFile = toml::from_str(src).map_err(|e| file::from_toml(name, src, &e))?;

@@ -258,6 +258,9 @@ fn report_counts_text_and_json() {
     assert_eq!(back, r);
     let v: serde_json::Value = serde_json::from_str(&r.to_json()).unwrap();
     assert_eq!(v["waived"][0]["waiver_id"], "flag");
+    let counts = (v["counts"]["failures"].as_u64(), v["counts"]["waived"].as_u64(), v["passed"].as_bool());
+    assert_eq!(counts, (Some(2), Some(1), Some(false)));
+    assert!(v["warnings"][0].as_str().unwrap().contains("stale waiver `never`"));
     assert_eq!(v["failures"][1]["register"], "SR");
 }
 
@@ -373,4 +376,19 @@ fn suggestions_keep_ids_unique_and_skip_an_unreadable_revision() {
     let ids: Vec<&str> = set.waivers().iter().map(|w| w.id.as_str()).collect();
     assert_eq!(ids, ["register-read-sr", "register-read-sr-2"]);
     assert!(!text.contains("revisions"), "{text}");
+}
+
+#[test]
+fn several_files_load_into_one_set_and_ids_stay_unique() {
+    let dir = std::env::temp_dir().join(format!("waivers-load-all-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let (a, b) = (dir.join("a.toml"), dir.join("b.toml"));
+    std::fs::write(&a, GENERIC).unwrap();
+    std::fs::write(&b, GENERIC.replace("id = \"flag\"", "id = \"other\"")).unwrap();
+    let set = WaiverSet::load_all(&[&a, &b]).unwrap();
+    assert_eq!(set.waivers().len(), 2);
+    assert_eq!(set.get("other").unwrap().file, b.display().to_string());
+    let e = WaiverSet::load_all(&[&a, &a]).unwrap_err().to_string();
+    assert!(e.contains("already defined at") && e.contains(":3: id:"), "{e}");
+    std::fs::remove_dir_all(&dir).unwrap();
 }

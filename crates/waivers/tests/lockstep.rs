@@ -316,6 +316,9 @@ fn a_deviation_longer_than_late_bits_is_not_waived() {
     let d = &o.report.failures[0];
     assert_eq!((d.kind, d.context.as_str()), (DivergenceKind::TxBit, "error flag bit 1"));
     assert!(o.report.notes.iter().any(|n| n.contains("late-bits = 1")), "{:?}", o.report.notes);
+    // The read-back waiver was not reached: stale, and the warning says the run stopped early.
+    assert_eq!(o.report.stale.len(), 1);
+    assert!(o.report.warnings()[0].contains("stopped at a failure"), "{:?}", o.report.warnings());
 }
 
 #[test]
