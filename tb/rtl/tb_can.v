@@ -1,6 +1,9 @@
 // Icarus self-checks for rtl/can_top: two nodes on a wired-AND bus.
-//  1. BasicCAN, thesis frame (seed 000): node 0 sends ID 0x52D... bytes
-//     A5 21 51; tx_o is checked bit by bit against the expected stuffed
+//  0. can_top #(.ACK_LEVEL(1)) polled like the thesis's PIO driver: a strobe
+//     held for 60 cycles is served once and wb_ack_o stays high until it
+//     falls; the default pulse ack is one cycle long.
+//  1. BasicCAN, thesis frame (seed 000): node 0 sends ID 0x529, DLC 1,
+//     data 0x51 (TX buffer A5 21 51); tx_o is checked bit by bit against the expected stuffed
 //     frame, node 1 acknowledges and receives it (RX buffer, RI, TCS, TI).
 //  2. PeliCAN self test (STM) + self reception request (SRR), node 1 in
 //     reset mode: the frame goes out unacknowledged and comes back in RXFIFO.
@@ -11,9 +14,10 @@
 //  5. Bus stuck recessive: bit error at SOF and at every bit of the active
 //     error flag (+8 each); the flag after the error that reaches TEC = 128
 //     is still active (exactly 17 dominant bits sent), then passive flags;
-//     bus-off at TEC > 255 (RM set, TXERR = 127,
-//     bus_off_on low), recovery after 128 x 11 recessive bits.
+//     bus-off at TEC > 255 (RM set, TXERR = 127, bus_off_on low), recovery after 128 x 11 recessive bits.
 //  6. Sleep: MOD.SM accepted when idle, bus activity wakes the node (WUI).
+//  7. PeliCAN single acceptance filter (ID + RTR + data byte 1), extended
+//     8-byte frames in the RX FIFO, FIFO overrun (DOS, DOI, RMC), RRB/RBSA.
 //  8. A dominant glitch in node 1's data field: node 1 (transmitter) sees a
 //     bit error (ECC direction TX, TEC + 8), node 0 (receiver) an error with
 //     ECC direction RX; the retransmission succeeds (TEC 8 - 1 = 7); then a
@@ -26,11 +30,7 @@
 //     two rejected.
 // 11. BasicCAN ACR/AMR filter on ID.10..3; an extended frame is stored with
 //     its 11 base ID bits.
-//  7. PeliCAN single acceptance filter (ID + RTR + data byte 1), extended
-//     8-byte frames in the RX FIFO, FIFO overrun (DOS, DOI, RMC), RRB/RBSA.
-//  0. can_top #(.ACK_LEVEL(1)) polled like the thesis's PIO driver: a strobe
-//     held for 60 cycles is served once and wb_ack_o stays high until it
-//     falls; the default pulse ack is one cycle long.
+// Node 1 runs on a clk_i 0.03 % off node 0's, so it resynchronises.
 // Exits with $fatal on the first failure; prints "PASS" at the end.
 `timescale 1ns/1ps
 module tb_can;
