@@ -49,11 +49,19 @@ fn main() {
     println!("cargo:rerun-if-changed={}", fixtures_dir.display());
     println!("cargo:rerun-if-changed=src/shimgen.rs");
     println!("cargo:rerun-if-env-changed=COSIM_ALLOW_MISSING_RTL");
-    let allow_missing = env::var("COSIM_ALLOW_MISSING_RTL").map(|v| v == "1").unwrap_or(false);
+    let allow_missing = env::var("COSIM_ALLOW_MISSING_RTL")
+        .map(|v| v == "1")
+        .unwrap_or(false);
 
-    let root_out = match Command::new("verilator").arg("--getenv").arg("VERILATOR_ROOT").output() {
+    let root_out = match Command::new("verilator")
+        .arg("--getenv")
+        .arg("VERILATOR_ROOT")
+        .output()
+    {
         Ok(o) if o.status.success() => PathBuf::from(String::from_utf8_lossy(&o.stdout).trim()),
-        _ => fail("`verilator` was not found: install Verilator (apt-get install verilator) or run scripts/setup.sh"),
+        _ => fail(
+            "`verilator` was not found: install Verilator (apt-get install verilator) or run scripts/setup.sh",
+        ),
     };
     let vinc = root_out.join("include");
 
@@ -61,14 +69,24 @@ fn main() {
     for f in verilog_files(&fixtures_dir) {
         println!("cargo:rerun-if-changed={}", f.display());
         let name = f.file_stem().unwrap().to_string_lossy().into_owned();
-        tops.push(Top { name, sources: vec![f], include_dirs: vec![fixtures_dir.clone()], rtl: false });
+        tops.push(Top {
+            name,
+            sources: vec![f],
+            include_dirs: vec![fixtures_dir.clone()],
+            rtl: false,
+        });
     }
     let rtl_files = verilog_files(&rtl_dir);
     for f in &rtl_files {
         println!("cargo:rerun-if-changed={}", f.display());
     }
     for name in ["can_top", "can_avalon"] {
-        tops.push(Top { name: name.to_string(), sources: rtl_files.clone(), include_dirs: vec![rtl_dir.clone()], rtl: true });
+        tops.push(Top {
+            name: name.to_string(),
+            sources: rtl_files.clone(),
+            include_dirs: vec![rtl_dir.clone()],
+            rtl: true,
+        });
     }
 
     let mut built: Vec<(String, PathBuf, shimgen::ClassLists, Vec<shimgen::PortDecl>)> = Vec::new();
@@ -76,15 +94,26 @@ fn main() {
         let mdir = out.join(format!("V{}", top.name));
         let _ = fs::remove_dir_all(&mdir);
         let result = if top.sources.is_empty() {
-            Err(format!("no Verilog sources (*.v, *.sv) in {}", rtl_dir.display()))
+            Err(format!(
+                "no Verilog sources (*.v, *.sv) in {}",
+                rtl_dir.display()
+            ))
         } else {
             let mut cmd = Command::new("verilator");
-            cmd.args(["--cc", "--trace", "--no-timing", "-Wno-fatal", "-Wno-lint", "-Wno-style", "--top-module"])
-                .arg(&top.name)
-                .arg("--prefix")
-                .arg(format!("V{}", top.name))
-                .arg("-Mdir")
-                .arg(&mdir);
+            cmd.args([
+                "--cc",
+                "--trace",
+                "--no-timing",
+                "-Wno-fatal",
+                "-Wno-lint",
+                "-Wno-style",
+                "--top-module",
+            ])
+            .arg(&top.name)
+            .arg("--prefix")
+            .arg(format!("V{}", top.name))
+            .arg("-Mdir")
+            .arg(&mdir);
             for d in &top.include_dirs {
                 cmd.arg(format!("-I{}", d.display()));
             }
@@ -103,7 +132,10 @@ fn main() {
             let msg = msg.trim().to_string();
             if top.rtl && allow_missing {
                 let first = msg.lines().next().unwrap_or("");
-                println!("cargo:warning=cosim: skipping bundled RTL top `{}` (COSIM_ALLOW_MISSING_RTL=1): {first}", top.name);
+                println!(
+                    "cargo:warning=cosim: skipping bundled RTL top `{}` (COSIM_ALLOW_MISSING_RTL=1): {first}",
+                    top.name
+                );
                 continue;
             }
             let hint = if top.rtl {
@@ -117,8 +149,12 @@ fn main() {
             ));
         }
         let prefix = format!("V{}", top.name);
-        let mk = fs::read_to_string(mdir.join(format!("{prefix}_classes.mk")))
-            .unwrap_or_else(|e| fail(&format!("cosim: Verilator produced no {prefix}_classes.mk: {e}")));
+        let mk =
+            fs::read_to_string(mdir.join(format!("{prefix}_classes.mk"))).unwrap_or_else(|e| {
+                fail(&format!(
+                    "cosim: Verilator produced no {prefix}_classes.mk: {e}"
+                ))
+            });
         let classes = shimgen::parse_classes_mk(&mk);
         let header = fs::read_to_string(mdir.join(format!("{prefix}.h")))
             .unwrap_or_else(|e| fail(&format!("cosim: Verilator produced no {prefix}.h: {e}")));
@@ -144,7 +180,11 @@ fn main() {
     for (name, mdir, classes, ports) in &built {
         let mut unity = String::new();
         for c in &classes.model {
-            let _ = writeln!(unity, "#include \"{}\"", mdir.join(format!("{c}.cpp")).display());
+            let _ = writeln!(
+                unity,
+                "#include \"{}\"",
+                mdir.join(format!("{c}.cpp")).display()
+            );
         }
         unity.push_str(&shimgen::gen_shim(name, ports, true));
         let path = out.join(format!("cosim_unity_{name}.cpp"));

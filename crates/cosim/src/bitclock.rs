@@ -18,7 +18,12 @@ pub struct BitClock {
 impl BitClock {
     /// A bit clock for `timing`, bus idle (recessive).
     pub fn new(timing: BusTiming) -> BitClock {
-        BitClock { timing, count: 0, prev: true, bits: 0 }
+        BitClock {
+            timing,
+            count: 0,
+            prev: true,
+            bits: 0,
+        }
     }
 
     /// Changes the timing (the host wrote BTR0/BTR1).
@@ -91,7 +96,11 @@ mod tests {
                 samples.push(k);
             }
         }
-        assert_eq!(samples, vec![27, 67, 127, 167, 207], "free-running, then re-synced at clock 100");
+        assert_eq!(
+            samples,
+            vec![27, 67, 127, 167, 207],
+            "free-running, then re-synced at clock 100"
+        );
         assert_eq!(c.bits(), 5);
     }
 }

@@ -38,7 +38,9 @@ pub fn bundled_tops() -> Vec<&'static str> {
 #[derive(Debug, thiserror::Error)]
 pub enum BridgeError {
     /// The top was not compiled into this crate.
-    #[error("no bundled top `{name}`; this build has: {available}. (The RTL tops are missing when rtl/ did not verilate at build time.)")]
+    #[error(
+        "no bundled top `{name}`; this build has: {available}. (The RTL tops are missing when rtl/ did not verilate at build time.)"
+    )]
     UnknownTop {
         /// Requested top.
         name: String,
@@ -66,7 +68,9 @@ pub enum BridgeError {
         message: String,
     },
     /// A port the DUT kind needs is absent.
-    #[error("top `{top}` has no port `{port}` (it has: {available}); a DUT needs the {kind} port list")]
+    #[error(
+        "top `{top}` has no port `{port}` (it has: {available}); a DUT needs the {kind} port list"
+    )]
     MissingPort {
         /// Top module.
         top: String,
@@ -166,7 +170,10 @@ pub struct Model {
 
 impl fmt::Debug for Model {
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
-        f.debug_struct("Model").field("top", &self.top).field("ports", &self.ports.len()).finish()
+        f.debug_struct("Model")
+            .field("top", &self.top)
+            .field("ports", &self.ports.len())
+            .finish()
     }
 }
 
@@ -176,13 +183,21 @@ impl Model {
     /// be chosen before construction; it costs a little speed).
     pub fn bundled(name: &str, trace: bool) -> Result<Model, BridgeError> {
         let Some((_, vt)) = BUNDLED.iter().find(|(n, _)| *n == name) else {
-            return Err(BridgeError::UnknownTop { name: name.to_string(), available: bundled_tops().join(", ") });
+            return Err(BridgeError::UnknownTop {
+                name: name.to_string(),
+                available: bundled_tops().join(", "),
+            });
         };
         // SAFETY: the vtable entries are the shim generated for this top.
         Ok(unsafe { Model::from_vtable(*vt, name, trace, None) })
     }
 
-    unsafe fn from_vtable(vt: VTable, top: &str, trace: bool, lib: Option<Arc<libloading::Library>>) -> Model {
+    unsafe fn from_vtable(
+        vt: VTable,
+        top: &str,
+        trace: bool,
+        lib: Option<Arc<libloading::Library>>,
+    ) -> Model {
         // SAFETY: caller passes a vtable from the shim generator.
         let handle = unsafe { (vt.new)(trace as i32) };
         // Settle once with every input at 0, so that the first rising edge
@@ -196,15 +211,30 @@ impl Model {
         for k in 0..n {
             // SAFETY: the shim returns a table of `n` entries living as long as the instance.
             let r = unsafe { &*raw.add(k) };
-            let name = unsafe { std::ffi::CStr::from_ptr(r.name) }.to_string_lossy().into_owned();
+            let name = unsafe { std::ffi::CStr::from_ptr(r.name) }
+                .to_string_lossy()
+                .into_owned();
             let dir = match r.dir {
                 0 => PortDir::In,
                 1 => PortDir::Out,
                 _ => PortDir::InOut,
             };
-            ports.push(PortInfo { name, width: r.width, dir, ptr: r.ptr as *mut u8 });
+            ports.push(PortInfo {
+                name,
+                width: r.width,
+                dir,
+                ptr: r.ptr as *mut u8,
+            });
         }
-        Model { vt, handle, ports, id: NEXT_MODEL_ID.fetch_add(1, Ordering::Relaxed), top: top.to_string(), tracing: trace, _lib: lib }
+        Model {
+            vt,
+            handle,
+            ports,
+            id: NEXT_MODEL_ID.fetch_add(1, Ordering::Relaxed),
+            top: top.to_string(),
+            tracing: trace,
+            _lib: lib,
+        }
     }
 
     /// The top module's name.
@@ -224,7 +254,12 @@ impl Model {
             return Err(BridgeError::MissingPort {
                 top: self.top.clone(),
                 port: name.to_string(),
-                available: self.ports.iter().map(|p| p.name.as_str()).collect::<Vec<_>>().join(" "),
+                available: self
+                    .ports
+                    .iter()
+                    .map(|p| p.name.as_str())
+                    .collect::<Vec<_>>()
+                    .join(" "),
                 kind: kind.to_string(),
             });
         };
@@ -246,14 +281,22 @@ impl Model {
                 want: "at most 64 bits".into(),
             });
         }
-        Ok(Port { ptr: p.ptr, width: p.width, model: self.id })
+        Ok(Port {
+            ptr: p.ptr,
+            width: p.width,
+            model: self.id,
+        })
     }
 
     /// Writes an input port (masked to its width).
     #[inline(always)]
     pub fn set(&mut self, p: Port, v: u64) {
         assert_eq!(p.model, self.id, "port used with another model");
-        let v = if p.width >= 64 { v } else { v & ((1u64 << p.width) - 1) };
+        let v = if p.width >= 64 {
+            v
+        } else {
+            v & ((1u64 << p.width) - 1)
+        };
         // SAFETY: `p` came from this model's port table (checked above),
         // the pointer is valid for the model's life and sized by its width.
         unsafe {
@@ -290,11 +333,15 @@ impl Model {
 
     /// Starts Verilator's VCD trace of every signal of the design.
     pub fn trace_open(&mut self, path: &Path) -> Result<(), BridgeError> {
-        let err = |reason: &str| BridgeError::Trace { path: path.display().to_string(), reason: reason.to_string() };
+        let err = |reason: &str| BridgeError::Trace {
+            path: path.display().to_string(),
+            reason: reason.to_string(),
+        };
         if !self.tracing {
             return Err(err("the model was created without tracing"));
         }
-        let c = CString::new(path.as_os_str().as_encoded_bytes()).map_err(|_| err("path contains NUL"))?;
+        let c = CString::new(path.as_os_str().as_encoded_bytes())
+            .map_err(|_| err("path contains NUL"))?;
         // SAFETY: handle is live; c is NUL-terminated.
         match unsafe { (self.vt.trace_open)(self.handle, c.as_ptr()) } {
             0 => Ok(()),
@@ -358,7 +405,10 @@ pub struct CompiledCore {
 
 impl fmt::Debug for CompiledCore {
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
-        f.debug_struct("CompiledCore").field("top", &self.top).field("path", &self.path).finish()
+        f.debug_struct("CompiledCore")
+            .field("top", &self.top)
+            .field("path", &self.path)
+            .finish()
     }
 }
 
@@ -396,30 +446,74 @@ pub fn cache_dir() -> PathBuf {
 const OPT_FLAGS: &str = "-fPIC -fno-semantic-interposition";
 
 fn run(cmd: &mut Command, top: &str, step: &str) -> Result<String, BridgeError> {
-    let o = cmd.output().map_err(|e| BridgeError::Compile { top: top.into(), step: step.into(), message: format!("could not start: {e}") })?;
-    let text = format!("{}{}", String::from_utf8_lossy(&o.stdout), String::from_utf8_lossy(&o.stderr));
-    if o.status.success() { Ok(text) } else { Err(BridgeError::Compile { top: top.into(), step: step.into(), message: text.trim().to_string() }) }
+    let o = cmd.output().map_err(|e| BridgeError::Compile {
+        top: top.into(),
+        step: step.into(),
+        message: format!("could not start: {e}"),
+    })?;
+    let text = format!(
+        "{}{}",
+        String::from_utf8_lossy(&o.stdout),
+        String::from_utf8_lossy(&o.stderr)
+    );
+    if o.status.success() {
+        Ok(text)
+    } else {
+        Err(BridgeError::Compile {
+            top: top.into(),
+            step: step.into(),
+            message: text.trim().to_string(),
+        })
+    }
 }
 
 impl ExternalCore {
     fn sources(&self) -> Result<Vec<PathBuf>, BridgeError> {
         if !self.files.is_empty() {
-            return Ok(self.files.iter().map(|f| if f.is_absolute() { f.clone() } else { self.dir.join(f) }).collect());
+            return Ok(self
+                .files
+                .iter()
+                .map(|f| {
+                    if f.is_absolute() {
+                        f.clone()
+                    } else {
+                        self.dir.join(f)
+                    }
+                })
+                .collect());
         }
         let mut v: Vec<PathBuf> = std::fs::read_dir(&self.dir)
-            .map_err(io_err(format!("reading core directory {}", self.dir.display())))?
+            .map_err(io_err(format!(
+                "reading core directory {}",
+                self.dir.display()
+            )))?
             .filter_map(|e| e.ok().map(|e| e.path()))
             .filter(|p| matches!(p.extension().and_then(|e| e.to_str()), Some("v" | "sv")))
             .collect();
         v.sort();
         if v.is_empty() {
-            return Err(BridgeError::Verilate { top: self.top.clone(), dir: self.dir.display().to_string(), message: "no *.v or *.sv files in that directory".into() });
+            return Err(BridgeError::Verilate {
+                top: self.top.clone(),
+                dir: self.dir.display().to_string(),
+                message: "no *.v or *.sv files in that directory".into(),
+            });
         }
         Ok(v)
     }
 
     fn verilator_args(&self, sources: &[PathBuf]) -> Vec<String> {
-        let mut a: Vec<String> = ["--cc", "--trace", "--no-timing", "-Wno-fatal", "-Wno-lint", "-Wno-style", "--top-module"].iter().map(|s| s.to_string()).collect();
+        let mut a: Vec<String> = [
+            "--cc",
+            "--trace",
+            "--no-timing",
+            "-Wno-fatal",
+            "-Wno-lint",
+            "-Wno-style",
+            "--top-module",
+        ]
+        .iter()
+        .map(|s| s.to_string())
+        .collect();
         a.push(self.top.clone());
         a.push("--prefix".into());
         a.push(format!("V{}", self.top));
@@ -430,7 +524,11 @@ impl ExternalCore {
         }
         a.push(format!("-I{}", self.dir.display()));
         for d in &self.include_dirs {
-            let d = if d.is_absolute() { d.clone() } else { self.dir.join(d) };
+            let d = if d.is_absolute() {
+                d.clone()
+            } else {
+                self.dir.join(d)
+            };
             a.push(format!("-I{}", d.display()));
         }
         a.extend(sources.iter().map(|s| s.display().to_string()));
@@ -443,20 +541,39 @@ impl ExternalCore {
         let mut h = 0xcbf2_9ce4_8422_2325u64;
         let mut files: Vec<PathBuf> = sources.to_vec();
         for d in std::iter::once(&self.dir).chain(self.include_dirs.iter()) {
-            if let Ok(rd) = std::fs::read_dir(if d.is_absolute() { d.clone() } else { self.dir.join(d) }) {
-                let mut extra: Vec<PathBuf> = rd.filter_map(|e| e.ok().map(|e| e.path())).filter(|p| matches!(p.extension().and_then(|e| e.to_str()), Some("v" | "sv" | "vh" | "svh"))).collect();
+            if let Ok(rd) = std::fs::read_dir(if d.is_absolute() {
+                d.clone()
+            } else {
+                self.dir.join(d)
+            }) {
+                let mut extra: Vec<PathBuf> = rd
+                    .filter_map(|e| e.ok().map(|e| e.path()))
+                    .filter(|p| {
+                        matches!(
+                            p.extension().and_then(|e| e.to_str()),
+                            Some("v" | "sv" | "vh" | "svh")
+                        )
+                    })
+                    .collect();
                 extra.sort();
                 files.extend(extra);
             }
         }
         for f in &files {
             fnv1a(&mut h, f.display().to_string().as_bytes());
-            fnv1a(&mut h, &std::fs::read(f).map_err(io_err(format!("reading {}", f.display())))?);
+            fnv1a(
+                &mut h,
+                &std::fs::read(f).map_err(io_err(format!("reading {}", f.display())))?,
+            );
         }
         fnv1a(&mut h, self.verilator_args(sources).join(" ").as_bytes());
         fnv1a(&mut h, OPT_FLAGS.as_bytes());
         fnv1a(&mut h, include_str!("shimgen.rs").as_bytes());
-        let ver = Command::new("verilator").arg("--version").output().map(|o| o.stdout).unwrap_or_default();
+        let ver = Command::new("verilator")
+            .arg("--version")
+            .output()
+            .map(|o| o.stdout)
+            .unwrap_or_default();
         fnv1a(&mut h, &ver);
         Ok(format!("{}-{h:016x}", self.top))
     }
@@ -473,7 +590,12 @@ impl ExternalCore {
         self.load(&lib_path)
     }
 
-    fn build_into(&self, sources: &[PathBuf], dir: &Path, lib_path: &Path) -> Result<(), BridgeError> {
+    fn build_into(
+        &self,
+        sources: &[PathBuf],
+        dir: &Path,
+        lib_path: &Path,
+    ) -> Result<(), BridgeError> {
         let top = &self.top;
         let tmp = dir.with_extension(format!("tmp{}", std::process::id()));
         let _ = std::fs::remove_dir_all(&tmp);
@@ -482,23 +604,43 @@ impl ExternalCore {
         if which.is_err() {
             return Err(BridgeError::Verilate { top: top.clone(), dir: self.dir.display().to_string(), message: "`verilator` was not found: install Verilator (apt-get install verilator) or run scripts/setup.sh".into() });
         }
-        let o = Command::new("verilator").args(self.verilator_args(sources)).arg("-Mdir").arg(&tmp).output().map_err(io_err("running verilator"))?;
+        let o = Command::new("verilator")
+            .args(self.verilator_args(sources))
+            .arg("-Mdir")
+            .arg(&tmp)
+            .output()
+            .map_err(io_err("running verilator"))?;
         if !o.status.success() {
             return Err(BridgeError::Verilate {
                 top: top.clone(),
                 dir: self.dir.display().to_string(),
-                message: format!("{}{}", String::from_utf8_lossy(&o.stdout), String::from_utf8_lossy(&o.stderr)).trim().to_string(),
+                message: format!(
+                    "{}{}",
+                    String::from_utf8_lossy(&o.stdout),
+                    String::from_utf8_lossy(&o.stderr)
+                )
+                .trim()
+                .to_string(),
             });
         }
         let prefix = format!("V{top}");
-        let header = std::fs::read_to_string(tmp.join(format!("{prefix}.h"))).map_err(io_err(format!("reading {prefix}.h")))?;
+        let header = std::fs::read_to_string(tmp.join(format!("{prefix}.h")))
+            .map_err(io_err(format!("reading {prefix}.h")))?;
         let ports: Vec<PortDecl> = shimgen::parse_ports(&header);
-        std::fs::write(tmp.join("cosim_shim.cpp"), shimgen::gen_shim(top, &ports, true)).map_err(io_err("writing the shim"))?;
+        std::fs::write(
+            tmp.join("cosim_shim.cpp"),
+            shimgen::gen_shim(top, &ports, true),
+        )
+        .map_err(io_err("writing the shim"))?;
         let classes = shimgen::parse_classes_mk(
-            &std::fs::read_to_string(tmp.join(format!("{prefix}_classes.mk"))).map_err(io_err(format!("reading {prefix}_classes.mk")))?,
+            &std::fs::read_to_string(tmp.join(format!("{prefix}_classes.mk")))
+                .map_err(io_err(format!("reading {prefix}_classes.mk")))?,
         );
         let globals: Vec<String> = classes.global.iter().map(|g| format!("{g}.o")).collect();
-        let jobs = std::thread::available_parallelism().map(|n| n.get()).unwrap_or(1).to_string();
+        let jobs = std::thread::available_parallelism()
+            .map(|n| n.get())
+            .unwrap_or(1)
+            .to_string();
         run(
             Command::new("make")
                 .arg("-C")
@@ -542,15 +684,21 @@ impl ExternalCore {
     }
 
     fn load(&self, lib_path: &Path) -> Result<CompiledCore, BridgeError> {
-        let load_err = |m: String| BridgeError::Load { path: lib_path.display().to_string(), message: m };
+        let load_err = |m: String| BridgeError::Load {
+            path: lib_path.display().to_string(),
+            message: m,
+        };
         // SAFETY: the library was built by us from the generated shim; its
         // initialisers are Verilator's runtime's.
-        let lib = unsafe { libloading::Library::new(lib_path) }.map_err(|e| load_err(e.to_string()))?;
+        let lib =
+            unsafe { libloading::Library::new(lib_path) }.map_err(|e| load_err(e.to_string()))?;
         let p = shimgen::symbol_prefix(&self.top);
         macro_rules! sym {
             ($name:literal, $t:ty) => {{
                 // SAFETY: symbol types match gen_shim's declarations.
-                let s: libloading::Symbol<$t> = unsafe { lib.get(format!("{p}{}", $name).as_bytes()) }.map_err(|e| load_err(e.to_string()))?;
+                let s: libloading::Symbol<$t> =
+                    unsafe { lib.get(format!("{p}{}", $name).as_bytes()) }
+                        .map_err(|e| load_err(e.to_string()))?;
                 *s
             }};
         }
@@ -558,11 +706,22 @@ impl ExternalCore {
             new: sym!("new", unsafe extern "C" fn(i32) -> *mut c_void),
             delete: sym!("delete", unsafe extern "C" fn(*mut c_void)),
             eval: sym!("eval", unsafe extern "C" fn(*mut c_void)),
-            ports: sym!("ports", unsafe extern "C" fn(*mut c_void, *mut *const c_void) -> u32),
-            trace_open: sym!("trace_open", unsafe extern "C" fn(*mut c_void, *const c_char) -> i32),
+            ports: sym!(
+                "ports",
+                unsafe extern "C" fn(*mut c_void, *mut *const c_void) -> u32
+            ),
+            trace_open: sym!(
+                "trace_open",
+                unsafe extern "C" fn(*mut c_void, *const c_char) -> i32
+            ),
             trace_dump: sym!("trace_dump", unsafe extern "C" fn(*mut c_void, u64)),
             trace_close: sym!("trace_close", unsafe extern "C" fn(*mut c_void)),
         };
-        Ok(CompiledCore { lib: Arc::new(lib), vt, top: self.top.clone(), path: lib_path.to_path_buf() })
+        Ok(CompiledCore {
+            lib: Arc::new(lib),
+            vt,
+            top: self.top.clone(),
+            path: lib_path.to_path_buf(),
+        })
     }
 }

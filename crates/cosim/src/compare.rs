@@ -83,7 +83,13 @@ pub struct CompareConfig {
 
 impl Default for CompareConfig {
     fn default() -> Self {
-        CompareConfig { tx_edge_tolerance: 4, status_tolerance: 48, pin_tolerance: 48, compare_irq: true, compare_bus_off: true }
+        CompareConfig {
+            tx_edge_tolerance: 4,
+            status_tolerance: 48,
+            pin_tolerance: 48,
+            compare_irq: true,
+            compare_bus_off: true,
+        }
     }
 }
 
@@ -95,8 +101,16 @@ impl CompareConfig {
              (match if the model held that value within {} CAN clocks); irq_on{} / bus_off_on{} may differ for at most {} CAN clocks",
             self.tx_edge_tolerance,
             self.status_tolerance,
-            if self.compare_irq { "" } else { " (not compared)" },
-            if self.compare_bus_off { "" } else { " (not compared)" },
+            if self.compare_irq {
+                ""
+            } else {
+                " (not compared)"
+            },
+            if self.compare_bus_off {
+                ""
+            } else {
+                " (not compared)"
+            },
             self.pin_tolerance
         )
     }
@@ -181,7 +195,15 @@ impl Comparator {
         self.divergence.as_ref()
     }
 
-    fn diverge(&mut self, kind: DivergenceKind, s: Stamp, register: Option<String>, expected: u32, seen: u32, context: String) {
+    fn diverge(
+        &mut self,
+        kind: DivergenceKind,
+        s: Stamp,
+        register: Option<String>,
+        expected: u32,
+        seen: u32,
+        context: String,
+    ) {
         if self.divergence.is_none() {
             self.divergence = Some(Divergence {
                 kind,
@@ -200,13 +222,26 @@ impl Comparator {
     /// One CAN clock, after both sides were clocked: `sample` says whether
     /// it is a sample point; `sr`/`ir` are the reference's peeks.
     #[inline]
-    pub fn can_clock(&mut self, stamp: Stamp, sample: bool, reference: &CanPins, dut: &CanPins, sr: u8, ir: u8) {
+    pub fn can_clock(
+        &mut self,
+        stamp: Stamp,
+        sample: bool,
+        reference: &CanPins,
+        dut: &CanPins,
+        sr: u8,
+        ir: u8,
+    ) {
         if self.divergence.is_some() {
             return;
         }
         // tx with an edge-tolerance window centred on the checked clock.
         let tol = self.cfg.tx_edge_tolerance as usize;
-        self.window.push_back(TxSample { ref_tx: reference.tx, dut_tx: dut.tx, sample, stamp });
+        self.window.push_back(TxSample {
+            ref_tx: reference.tx,
+            dut_tx: dut.tx,
+            sample,
+            stamp,
+        });
         if self.window.len() > 2 * tol + 1 {
             self.window.pop_front();
         }
@@ -224,7 +259,11 @@ impl Comparator {
                             None,
                             mid.ref_tx as u32,
                             mid.dut_tx as u32,
-                            format!("at the sample point the model drives {} and the DUT's tx_o is {}", lvl(mid.ref_tx), lvl(mid.dut_tx)),
+                            format!(
+                                "at the sample point the model drives {} and the DUT's tx_o is {}",
+                                lvl(mid.ref_tx),
+                                lvl(mid.dut_tx)
+                            ),
                         );
                         return;
                     }
@@ -256,7 +295,10 @@ impl Comparator {
                     Some(reg_label(p.addr)),
                     p.model as u32,
                     p.dut as u32,
-                    format!("read of address {} returned 0x{:02X}, the model 0x{:02X}", p.addr, p.dut, p.model),
+                    format!(
+                        "read of address {} returned 0x{:02X}, the model 0x{:02X}",
+                        p.addr, p.dut, p.model
+                    ),
                 );
                 return;
             }
@@ -278,7 +320,10 @@ impl Comparator {
                         None,
                         reference.irq_n as u32,
                         dut.irq_n as u32,
-                        format!("irq_on (active low) differs for more than {} CAN clocks", self.cfg.pin_tolerance),
+                        format!(
+                            "irq_on (active low) differs for more than {} CAN clocks",
+                            self.cfg.pin_tolerance
+                        ),
                     );
                     return;
                 }
@@ -300,7 +345,10 @@ impl Comparator {
                         None,
                         reference.bus_on as u32,
                         dut.bus_on as u32,
-                        format!("bus_off_on (high = on the bus) differs for more than {} CAN clocks", self.cfg.pin_tolerance),
+                        format!(
+                            "bus_off_on (high = on the bus) differs for more than {} CAN clocks",
+                            self.cfg.pin_tolerance
+                        ),
                     );
                 }
             } else {
@@ -330,7 +378,13 @@ impl Comparator {
                 return;
             }
             if addr == SR_ADDR && self.cfg.status_tolerance > 0 {
-                self.pending.push(PendingRead { addr, dut, model, clocks_left: self.cfg.status_tolerance, stamp });
+                self.pending.push(PendingRead {
+                    addr,
+                    dut,
+                    model,
+                    clocks_left: self.cfg.status_tolerance,
+                    stamp,
+                });
                 return;
             }
         }
@@ -341,7 +395,9 @@ impl Comparator {
             Some(label.clone()),
             model as u32,
             dut as u32,
-            format!("read of {label} (address {addr}) returned 0x{dut:02X}, the model 0x{model:02X}"),
+            format!(
+                "read of {label} (address {addr}) returned 0x{dut:02X}, the model 0x{model:02X}"
+            ),
         );
     }
 
@@ -364,21 +420,40 @@ mod tests {
     use super::*;
 
     fn pins(tx: bool) -> CanPins {
-        CanPins { tx, irq_n: true, bus_on: true, clkout: false }
+        CanPins {
+            tx,
+            irq_n: true,
+            bus_on: true,
+            clkout: false,
+        }
     }
 
     fn run(cfg: CompareConfig, ref_tx: &[bool], dut_tx: &[bool], samples: &[usize]) -> Comparator {
         let mut c = Comparator::new(cfg);
         for k in 0..ref_tx.len() {
-            let s = Stamp { t_ps: k as u64, bit: k as u64, ..Stamp::default() };
-            c.can_clock(s, samples.contains(&k), &pins(ref_tx[k]), &pins(dut_tx[k]), 0, 0);
+            let s = Stamp {
+                t_ps: k as u64,
+                bit: k as u64,
+                ..Stamp::default()
+            };
+            c.can_clock(
+                s,
+                samples.contains(&k),
+                &pins(ref_tx[k]),
+                &pins(dut_tx[k]),
+                0,
+                0,
+            );
         }
         c
     }
 
     #[test]
     fn tx_edges_within_tolerance_are_not_compared_but_sample_points_are() {
-        let cfg = CompareConfig { tx_edge_tolerance: 2, ..CompareConfig::default() };
+        let cfg = CompareConfig {
+            tx_edge_tolerance: 2,
+            ..CompareConfig::default()
+        };
         // Model edge at clock 10, DUT edge at 12 (late by 2): sample at 11 is
         // inside the window, sample at 20 is stable and equal.
         let r: Vec<bool> = (0..30).map(|k| k < 10).collect();
@@ -393,18 +468,28 @@ mod tests {
         assert_eq!(dv.kind, DivergenceKind::TxBit);
         assert_eq!(dv.time_ps, 14);
         assert_eq!((dv.expected, dv.seen), (0, 1));
-        assert!(dv.context.contains("not within 2 CAN clocks"), "tolerance printed: {}", dv.context);
+        assert!(
+            dv.context.contains("not within 2 CAN clocks"),
+            "tolerance printed: {}",
+            dv.context
+        );
     }
 
     #[test]
     fn status_reads_use_the_window_other_reads_are_exact() {
-        let mut c = Comparator::new(CompareConfig { status_tolerance: 3, ..CompareConfig::default() });
+        let mut c = Comparator::new(CompareConfig {
+            status_tolerance: 3,
+            ..CompareConfig::default()
+        });
         let p = pins(true);
         for sr in [0x0C, 0x0C, 0x3C] {
             c.can_clock(Stamp::default(), false, &p, &p, sr, 0);
         }
         c.read(Stamp::default(), SR_ADDR, 0x0C, 0x3C, None);
-        assert!(c.divergence().is_none(), "SR 0x0C was the model's value 1 clock ago");
+        assert!(
+            c.divergence().is_none(),
+            "SR 0x0C was the model's value 1 clock ago"
+        );
         assert_eq!(c.tolerated_reads, 1);
         // SR value the model takes 2 clocks after the read: accepted too.
         c.read(Stamp::default(), SR_ADDR, 0x1C, 0x3C, None);
@@ -414,12 +499,24 @@ mod tests {
         assert_eq!(c.pending_reads(), 0);
         assert!(c.divergence().is_none());
         // SR value never taken: divergence once the window closes.
-        c.read(Stamp { t_ps: 77, ..Stamp::default() }, SR_ADDR, 0xFF, 0x1C, None);
+        c.read(
+            Stamp {
+                t_ps: 77,
+                ..Stamp::default()
+            },
+            SR_ADDR,
+            0xFF,
+            0x1C,
+            None,
+        );
         for _ in 0..5 {
             c.can_clock(Stamp::default(), false, &p, &p, 0x1C, 0);
         }
         let d = c.divergence().expect("SR 0xFF never held");
-        assert_eq!((d.kind, d.time_ps, d.register.as_deref()), (DivergenceKind::RegisterRead, 77, Some("SR")));
+        assert_eq!(
+            (d.kind, d.time_ps, d.register.as_deref()),
+            (DivergenceKind::RegisterRead, 77, Some("SR"))
+        );
         // Another register: exact.
         let mut c = Comparator::new(CompareConfig::default());
         c.read(Stamp::default(), 6, 0x41, 0x41, Some("BTR0".into()));
@@ -430,16 +527,42 @@ mod tests {
 
     #[test]
     fn irq_may_differ_briefly_but_not_longer_than_the_tolerance() {
-        let mut c = Comparator::new(CompareConfig { pin_tolerance: 3, ..CompareConfig::default() });
-        let r = CanPins { irq_n: false, ..pins(true) };
+        let mut c = Comparator::new(CompareConfig {
+            pin_tolerance: 3,
+            ..CompareConfig::default()
+        });
+        let r = CanPins {
+            irq_n: false,
+            ..pins(true)
+        };
         let d = pins(true);
         for k in 0..3 {
-            c.can_clock(Stamp { t_ps: k, ..Stamp::default() }, false, &r, &d, 0, 0);
+            c.can_clock(
+                Stamp {
+                    t_ps: k,
+                    ..Stamp::default()
+                },
+                false,
+                &r,
+                &d,
+                0,
+                0,
+            );
         }
         assert!(c.divergence().is_none());
         c.can_clock(Stamp::default(), false, &r, &r, 0, 0);
         for k in 10..14 {
-            c.can_clock(Stamp { t_ps: k, ..Stamp::default() }, false, &r, &d, 0, 0);
+            c.can_clock(
+                Stamp {
+                    t_ps: k,
+                    ..Stamp::default()
+                },
+                false,
+                &r,
+                &d,
+                0,
+                0,
+            );
         }
         let dv = c.divergence().expect("irq divergence");
         assert_eq!((dv.kind, dv.time_ps), (DivergenceKind::Irq, 10));

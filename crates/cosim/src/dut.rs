@@ -59,7 +59,10 @@ pub trait Dut {
     fn eval(&mut self, host_clk: bool, can_clk: bool);
     /// Start a VCD of the DUT's internals (Verilated DUTs only).
     fn trace_open(&mut self, path: &Path) -> Result<(), BridgeError> {
-        Err(BridgeError::Trace { path: path.display().to_string(), reason: format!("{} has no internal trace", self.name()) })
+        Err(BridgeError::Trace {
+            path: path.display().to_string(),
+            reason: format!("{} has no internal trace", self.name()),
+        })
     }
     /// Dump the internal trace at `t_ps` (no-op without a trace).
     fn trace_dump(&mut self, _t_ps: u64) {}
@@ -211,7 +214,12 @@ impl Dut for VerilatedDut {
     #[inline]
     fn wb(&self) -> WbSlaveOut {
         match &self.host {
-            HostPorts::Wb(w) => WbSlaveOut { ack: self.m.get(w.ack) != 0, dat: self.m.get(w.dat_o) as u8, err: false, rty: false },
+            HostPorts::Wb(w) => WbSlaveOut {
+                ack: self.m.get(w.ack) != 0,
+                dat: self.m.get(w.dat_o) as u8,
+                err: false,
+                rty: false,
+            },
             HostPorts::Av(_) => WbSlaveOut::default(),
         }
     }
@@ -227,7 +235,11 @@ impl Dut for VerilatedDut {
     }
     fn av(&self) -> AvSlaveOut {
         match &self.host {
-            HostPorts::Av(a) => AvSlaveOut { readdata: self.m.get(a.readdata) as u8, waitrequest: self.m.get(a.waitrequest) != 0, readdatavalid: false },
+            HostPorts::Av(a) => AvSlaveOut {
+                readdata: self.m.get(a.readdata) as u8,
+                waitrequest: self.m.get(a.waitrequest) != 0,
+                readdatavalid: false,
+            },
             HostPorts::Wb(_) => AvSlaveOut::default(),
         }
     }
@@ -282,7 +294,6 @@ pub struct EchoModel {
     can_clk: bool,
 }
 
-
 impl EchoModel {
     /// A fresh instance (state as Verilator's zero initialisation).
     pub fn new() -> EchoModel {
@@ -304,7 +315,12 @@ impl Dut for EchoModel {
         self.wb_in = *m;
     }
     fn wb(&self) -> WbSlaveOut {
-        WbSlaveOut { ack: self.ack, dat: self.dat_o, err: false, rty: false }
+        WbSlaveOut {
+            ack: self.ack,
+            dat: self.dat_o,
+            err: false,
+            rty: false,
+        }
     }
     fn set_av(&mut self, _m: &AvMasterOut) {}
     fn av(&self) -> AvSlaveOut {
@@ -315,7 +331,11 @@ impl Dut for EchoModel {
     }
     fn can(&self) -> CanPins {
         CanPins {
-            tx: if self.mem[0] & 2 != 0 { self.rx_q } else { self.mem[0] & 1 != 0 },
+            tx: if self.mem[0] & 2 != 0 {
+                self.rx_q
+            } else {
+                self.mem[0] & 1 != 0
+            },
             irq_n: self.mem[1] & 1 == 0,
             bus_on: self.mem[1] & 2 == 0,
             clkout: self.clkdiv,
@@ -342,7 +362,11 @@ impl Dut for EchoModel {
                             self.mem[a] = m.dat;
                         }
                     } else {
-                        self.dat_o = if a == 0x1f { self.rx as u8 } else { self.mem[a] };
+                        self.dat_o = if a == 0x1f {
+                            self.rx as u8
+                        } else {
+                            self.mem[a]
+                        };
                     }
                 }
                 self.ack = go;
@@ -360,7 +384,10 @@ impl crate::compare::Reference for EchoModel {
         "Rust echo model".into()
     }
     fn hard_reset(&mut self) {
-        *self = EchoModel { mem: [0; 32], ..EchoModel::default() };
+        *self = EchoModel {
+            mem: [0; 32],
+            ..EchoModel::default()
+        };
         self.mem[0] = 1;
     }
     fn write(&mut self, addr: u8, data: u8) -> Option<diagnose::WriteOutcome> {
@@ -376,7 +403,11 @@ impl crate::compare::Reference for EchoModel {
     }
     fn peek(&self, addr: u8) -> u8 {
         let a = (addr & 0x1f) as usize;
-        if a == 0x1f { self.rx as u8 } else { self.mem[a] }
+        if a == 0x1f {
+            self.rx as u8
+        } else {
+            self.mem[a]
+        }
     }
     fn clock(&mut self, rx: bool) {
         self.rx = rx;

@@ -14,7 +14,11 @@ pub struct ClockGen {
 
 impl ClockGen {
     fn new(freq_hz: u64) -> ClockGen {
-        ClockGen { freq_hz, edges: 0, level: false }
+        ClockGen {
+            freq_hz,
+            edges: 0,
+            level: false,
+        }
     }
 
     /// Time of edge number `n` (n >= 1): n half periods, rounded down.
@@ -86,7 +90,11 @@ impl Kernel {
                 return Err(KernelError::BadFrequency { which, hz });
             }
         }
-        Ok(Kernel { now_ps: 0, host: ClockGen::new(host_hz), can: ClockGen::new(can_hz) })
+        Ok(Kernel {
+            now_ps: 0,
+            host: ClockGen::new(host_hz),
+            can: ClockGen::new(can_hz),
+        })
     }
 
     /// Advances to the next instant at which either clock changes, and
@@ -97,7 +105,10 @@ impl Kernel {
         let tc = self.can.next_edge();
         let t = th.min(tc);
         self.now_ps = t;
-        let mut tick = Tick { t_ps: t, ..Tick::default() };
+        let mut tick = Tick {
+            t_ps: t,
+            ..Tick::default()
+        };
         if th == t {
             self.host.edges += 1;
             self.host.level = !self.host.level;
@@ -176,6 +187,12 @@ mod tests {
 
     #[test]
     fn zero_frequency_is_an_error() {
-        assert_eq!(Kernel::new(0, 1).unwrap_err(), KernelError::BadFrequency { which: "host", hz: 0 });
+        assert_eq!(
+            Kernel::new(0, 1).unwrap_err(),
+            KernelError::BadFrequency {
+                which: "host",
+                hz: 0
+            }
+        );
     }
 }

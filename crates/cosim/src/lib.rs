@@ -18,8 +18,10 @@ pub mod testbench;
 pub mod wave;
 
 pub use bridge::{BridgeError, CompiledCore, ExternalCore, Model, Port, PortInfo, bundled_tops};
-pub use compare::{CompareConfig, Comparator, Reference};
+pub use compare::{Comparator, CompareConfig, Reference};
 pub use dut::{CanPins, Dut, EchoModel, HostPort, VerilatedDut};
 pub use kernel::{Kernel, KernelError, Tick};
 pub use model::{ModelDut, ModelRef};
-pub use testbench::{AvalonWiring, DutChoice, HostBfm, NodeConfig, ReferenceChoice, TbConfig, TbError, Testbench};
+pub use testbench::{
+    AvalonWiring, DutChoice, HostBfm, NodeConfig, ReferenceChoice, TbConfig, TbError, Testbench,
+};

@@ -19,7 +19,9 @@ pub fn outcome_record(o: WriteOutcome) -> RecOutcome {
         WriteOutcome::Applied => RecOutcome::Applied,
         WriteOutcome::IgnoredNotInResetMode { .. } => RecOutcome::IgnoredNotInResetMode,
         WriteOutcome::IgnoredTxBufferLocked { .. } => RecOutcome::IgnoredTxBufferLocked,
-        WriteOutcome::IgnoredReadOnly { .. } | WriteOutcome::IgnoredReserved => RecOutcome::IgnoredReadOnly,
+        WriteOutcome::IgnoredReadOnly { .. } | WriteOutcome::IgnoredReserved => {
+            RecOutcome::IgnoredReadOnly
+        }
         other => RecOutcome::Other(format!("{other:?}")),
     }
 }
@@ -29,7 +31,11 @@ pub fn reg_name(m: &Sja1000, addr: u8, write: bool) -> Option<String> {
     let access = if write { Access::Write } else { Access::Read };
     let v = regmap::lookup(m.mode(), m.opmode(), access, addr)?;
     match v.target {
-        Target::Register(r) => Some(if r.len > 1 { format!("{}[{}]", r.name, addr - r.addr) } else { r.name.to_string() }),
+        Target::Register(r) => Some(if r.len > 1 {
+            format!("{}[{}]", r.name, addr - r.addr)
+        } else {
+            r.name.to_string()
+        }),
         _ => None,
     }
 }
@@ -42,7 +48,12 @@ fn can_mode(m: &Sja1000) -> CanMode {
 }
 
 fn pins_of(m: &Sja1000) -> CanPins {
-    CanPins { tx: m.tx(), irq_n: !m.irq(), bus_on: !m.bus_off(), clkout: m.clkout() }
+    CanPins {
+        tx: m.tx(),
+        irq_n: !m.irq(),
+        bus_on: !m.bus_off(),
+        clkout: m.clkout(),
+    }
 }
 
 /// The golden model as a Wishbone slave with `can_top`'s pins: `ack` is
@@ -70,7 +81,17 @@ impl Default for ModelDut {
 impl ModelDut {
     /// A model just after a hardware reset.
     pub fn new() -> ModelDut {
-        ModelDut { m: Sja1000::new(), rst: false, wb_in: WbMasterOut::default(), ack: false, dat_o: 0, rx: true, host_clk: false, can_clk: false, outcomes: Vec::new() }
+        ModelDut {
+            m: Sja1000::new(),
+            rst: false,
+            wb_in: WbMasterOut::default(),
+            ack: false,
+            dat_o: 0,
+            rx: true,
+            host_clk: false,
+            can_clk: false,
+            outcomes: Vec::new(),
+        }
     }
 
     /// The model inside.
@@ -93,7 +114,12 @@ impl Dut for ModelDut {
         self.wb_in = *m;
     }
     fn wb(&self) -> WbSlaveOut {
-        WbSlaveOut { ack: self.ack, dat: self.dat_o, err: false, rty: false }
+        WbSlaveOut {
+            ack: self.ack,
+            dat: self.dat_o,
+            err: false,
+            rty: false,
+        }
     }
     fn set_av(&mut self, _m: &AvMasterOut) {}
     fn av(&self) -> AvSlaveOut {
@@ -210,7 +236,11 @@ impl Reference for ModelRef {
     }
     fn counters(&self) -> Option<(u16, u16)> {
         let e = self.m.engine();
-        let tec = if self.m.bus_off() { 256 } else { e.tec() as u16 };
+        let tec = if self.m.bus_off() {
+            256
+        } else {
+            e.tec() as u16
+        };
         Some((tec, e.rec() as u16))
     }
     fn mode(&self) -> Option<(CanMode, bool)> {
@@ -227,8 +257,16 @@ impl Reference for ModelRef {
         for e in self.m.take_journal() {
             out.push(match e {
                 NodeEvent::Sent(_) => EventKind::TxComplete,
-                NodeEvent::Received { frame, own, .. } => EventKind::Received { id: frame.raw_id(), dlc: frame.dlc_raw(), own },
-                NodeEvent::BusError { ecc } => EventKind::BusError { kind: error_kind(ecc), ecc, field },
+                NodeEvent::Received { frame, own, .. } => EventKind::Received {
+                    id: frame.raw_id(),
+                    dlc: frame.dlc_raw(),
+                    own,
+                },
+                NodeEvent::BusError { ecc } => EventKind::BusError {
+                    kind: error_kind(ecc),
+                    ecc,
+                    field,
+                },
                 NodeEvent::ArbitrationLost { alc } => EventKind::ArbitrationLost { alc },
                 NodeEvent::FaultState(s) => EventKind::FaultState(s),
                 NodeEvent::ResetMode(_) | NodeEvent::Sleep(_) => continue,

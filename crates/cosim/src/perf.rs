@@ -12,9 +12,22 @@ use crate::shimgen;
 /// Where the bundled tops' sources are (this crate's build inputs).
 pub fn bundled_sources(top: &str) -> ExternalCore {
     let root = PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("../..");
-    let dir = if top.starts_with("cosim_") { root.join("tb/fixtures") } else { root.join("rtl") };
-    let files = if top.starts_with("cosim_") { vec![dir.join(format!("{top}.v"))] } else { Vec::new() };
-    ExternalCore { dir, top: top.into(), files, ..ExternalCore::default() }
+    let dir = if top.starts_with("cosim_") {
+        root.join("tb/fixtures")
+    } else {
+        root.join("rtl")
+    };
+    let files = if top.starts_with("cosim_") {
+        vec![dir.join(format!("{top}.v"))]
+    } else {
+        Vec::new()
+    };
+    ExternalCore {
+        dir,
+        top: top.into(),
+        files,
+        ..ExternalCore::default()
+    }
 }
 
 /// Result of one baseline run.
@@ -36,33 +49,67 @@ impl Baseline {
 /// Builds and runs the raw C++ loop for `core` with its `can_top`-style
 /// clocks (`clk_i`, `wb_clk_i`, reset `wb_rst_i`): `cycles` CAN clock
 /// cycles at `can_hz`, the host clock at `host_hz`.
-pub fn cpp_baseline(core: &ExternalCore, cycles: u64, host_hz: u64, can_hz: u64) -> Result<Baseline, BridgeError> {
+pub fn cpp_baseline(
+    core: &ExternalCore,
+    cycles: u64,
+    host_hz: u64,
+    can_hz: u64,
+) -> Result<Baseline, BridgeError> {
     let dir = std::env::temp_dir().join(format!("cosim-cpp-{}-{}", core.top, std::process::id()));
     let _ = std::fs::remove_dir_all(&dir);
-    std::fs::create_dir_all(&dir).map_err(|e| BridgeError::Io { context: "creating the baseline dir".into(), source: e })?;
+    std::fs::create_dir_all(&dir).map_err(|e| BridgeError::Io {
+        context: "creating the baseline dir".into(),
+        source: e,
+    })?;
     let can_half = 1_000_000_000_000 / (2 * can_hz);
     let host_half = 1_000_000_000_000 / (2 * host_hz);
-    let src = shimgen::gen_cpp_harness(&core.top, "clk_i", Some("wb_clk_i"), Some("wb_rst_i"), can_half, host_half, cycles);
+    let src = shimgen::gen_cpp_harness(
+        &core.top,
+        "clk_i",
+        Some("wb_clk_i"),
+        Some("wb_rst_i"),
+        can_half,
+        host_half,
+        cycles,
+    );
     let harness = dir.join("harness.cpp");
-    std::fs::write(&harness, src).map_err(|e| BridgeError::Io { context: "writing the harness".into(), source: e })?;
+    std::fs::write(&harness, src).map_err(|e| BridgeError::Io {
+        context: "writing the harness".into(),
+        source: e,
+    })?;
     let mut sources = core.files.clone();
     if sources.is_empty() {
         sources = std::fs::read_dir(&core.dir)
-            .map_err(|e| BridgeError::Io { context: format!("reading {}", core.dir.display()), source: e })?
+            .map_err(|e| BridgeError::Io {
+                context: format!("reading {}", core.dir.display()),
+                source: e,
+            })?
             .filter_map(|e| e.ok().map(|e| e.path()))
             .filter(|p| matches!(p.extension().and_then(|e| e.to_str()), Some("v" | "sv")))
             .collect();
         sources.sort();
     }
     let mut cmd = Command::new("verilator");
-    cmd.args(["--cc", "--exe", "--build", "--no-timing", "-Wno-fatal", "-Wno-lint", "-Wno-style", "+1364-2005ext+v", "-j", "2", "--top-module"])
-        .arg(&core.top)
-        .arg("--prefix")
-        .arg(format!("V{}", core.top))
-        .arg("-Mdir")
-        .arg(dir.join("obj"))
-        .args(["-MAKEFLAGS", "OPT_FAST=-O3 OPT_SLOW=-O2 OPT_GLOBAL=-O3"])
-        .arg(format!("-I{}", core.dir.display()));
+    cmd.args([
+        "--cc",
+        "--exe",
+        "--build",
+        "--no-timing",
+        "-Wno-fatal",
+        "-Wno-lint",
+        "-Wno-style",
+        "+1364-2005ext+v",
+        "-j",
+        "2",
+        "--top-module",
+    ])
+    .arg(&core.top)
+    .arg("--prefix")
+    .arg(format!("V{}", core.top))
+    .arg("-Mdir")
+    .arg(dir.join("obj"))
+    .args(["-MAKEFLAGS", "OPT_FAST=-O3 OPT_SLOW=-O2 OPT_GLOBAL=-O3"])
+    .arg(format!("-I{}", core.dir.display()));
     for d in &core.defines {
         cmd.arg(format!("-D{d}"));
     }
@@ -70,20 +117,42 @@ pub fn cpp_baseline(core: &ExternalCore, cycles: u64, host_hz: u64, can_hz: u64)
         cmd.arg(format!("-I{}", d.display()));
     }
     cmd.args(&sources).arg(&harness).arg("-o").arg("harness");
-    let o = cmd.output().map_err(|e| BridgeError::Io { context: "running verilator".into(), source: e })?;
+    let o = cmd.output().map_err(|e| BridgeError::Io {
+        context: "running verilator".into(),
+        source: e,
+    })?;
     if !o.status.success() {
         return Err(BridgeError::Compile {
             top: core.top.clone(),
             step: "C++ baseline".into(),
-            message: format!("{}{}", String::from_utf8_lossy(&o.stdout), String::from_utf8_lossy(&o.stderr)),
+            message: format!(
+                "{}{}",
+                String::from_utf8_lossy(&o.stdout),
+                String::from_utf8_lossy(&o.stderr)
+            ),
         });
     }
-    let o = Command::new(dir.join("obj/harness")).output().map_err(|e| BridgeError::Io { context: "running the harness".into(), source: e })?;
+    let o = Command::new(dir.join("obj/harness"))
+        .output()
+        .map_err(|e| BridgeError::Io {
+            context: "running the harness".into(),
+            source: e,
+        })?;
     let text = String::from_utf8_lossy(&o.stdout).to_string();
     let mut it = text.split_whitespace();
-    let parse_err = || BridgeError::Compile { top: core.top.clone(), step: "C++ baseline output".into(), message: text.clone() };
-    let cycles: u64 = it.next().and_then(|s| s.parse().ok()).ok_or_else(parse_err)?;
-    let seconds: f64 = it.next().and_then(|s| s.parse().ok()).ok_or_else(parse_err)?;
+    let parse_err = || BridgeError::Compile {
+        top: core.top.clone(),
+        step: "C++ baseline output".into(),
+        message: text.clone(),
+    };
+    let cycles: u64 = it
+        .next()
+        .and_then(|s| s.parse().ok())
+        .ok_or_else(parse_err)?;
+    let seconds: f64 = it
+        .next()
+        .and_then(|s| s.parse().ok())
+        .ok_or_else(parse_err)?;
     let _ = std::fs::remove_dir_all(&dir);
     Ok(Baseline { cycles, seconds })
 }

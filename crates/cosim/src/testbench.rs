@@ -15,18 +15,22 @@
 use std::path::PathBuf;
 
 use bfm::{
-    AvMasterOut, AvalonMaster, AvalonMasterConfig, AvalonMonitor, AvalonMonitorConfig, AvalonTiming, BfmError, HostMaster, OpHandle, OpResult,
-    PioMaster, PioTiming, WbMasterOut, WishboneMaster, WishboneMonitor, wiring::Wiring as AvWiring,
+    AvMasterOut, AvalonMaster, AvalonMasterConfig, AvalonMonitor, AvalonMonitorConfig,
+    AvalonTiming, BfmError, HostMaster, OpHandle, OpResult, PioMaster, PioTiming, WbMasterOut,
+    WishboneMaster, WishboneMonitor, wiring::Wiring as AvWiring,
 };
 use can_proto::decode::{DecodeEvent, Decoder};
 use can_proto::timing::BusTiming;
 use can_proto::{Field, RECESSIVE};
-use diagnose::{Access as RecAccess, BusBit, EngineEvent, Expectation, FinalRegs, HostBus, HostOp, RunRecord, RxWiring, Side};
+use diagnose::{
+    Access as RecAccess, BusBit, EngineEvent, Expectation, FinalRegs, HostBus, HostOp, RunRecord,
+    RxWiring, Side,
+};
 use sja1000::{Bus, BusContext, FaultInjector, Sja1000};
 
 use crate::bitclock::BitClock;
 use crate::bridge::{BridgeError, ExternalCore};
-use crate::compare::{CompareConfig, Comparator, IR_ADDR, Reference, SR_ADDR, Stamp};
+use crate::compare::{Comparator, CompareConfig, IR_ADDR, Reference, SR_ADDR, Stamp};
 use crate::dut::{Dut, EchoModel, HostPort, VerilatedDut};
 use crate::kernel::{Kernel, KernelError};
 use crate::model::{ModelDut, ModelRef};
@@ -297,10 +301,21 @@ impl Testbench {
         let kernel = Kernel::new(cfg.host_hz, cfg.can_hz)?;
         let trace = cfg.dut_trace.is_some();
         let mut dut: Box<dyn Dut> = match &cfg.dut {
-            DutChoice::Rtl => Box::new(VerilatedDut::bundled("can_top", HostPort::Wishbone, trace)?),
-            DutChoice::RtlAvalon => Box::new(VerilatedDut::bundled("can_avalon", HostPort::Avalon, trace)?),
-            DutChoice::Bundled(top) => Box::new(VerilatedDut::bundled(top, HostPort::Wishbone, trace)?),
-            DutChoice::External(core) => Box::new(VerilatedDut::new(core.build()?.instantiate(trace), HostPort::Wishbone)?),
+            DutChoice::Rtl => {
+                Box::new(VerilatedDut::bundled("can_top", HostPort::Wishbone, trace)?)
+            }
+            DutChoice::RtlAvalon => Box::new(VerilatedDut::bundled(
+                "can_avalon",
+                HostPort::Avalon,
+                trace,
+            )?),
+            DutChoice::Bundled(top) => {
+                Box::new(VerilatedDut::bundled(top, HostPort::Wishbone, trace)?)
+            }
+            DutChoice::External(core) => Box::new(VerilatedDut::new(
+                core.build()?.instantiate(trace),
+                HostPort::Wishbone,
+            )?),
             DutChoice::Model => Box::new(ModelDut::new()),
             DutChoice::Echo => Box::new(EchoModel::new()),
         };
@@ -308,7 +323,10 @@ impl Testbench {
             dut.trace_open(p)?;
         }
         let (master, host_bus) = match cfg.host {
-            HostBfm::Wishbone => (Master::Wb(WishboneMaster::new("host").with_timeout(cfg.op_timeout_cycles)), HostBus::Wishbone),
+            HostBfm::Wishbone => (
+                Master::Wb(WishboneMaster::new("host").with_timeout(cfg.op_timeout_cycles)),
+                HostBus::Wishbone,
+            ),
             HostBfm::Avalon { timing, wiring } => {
                 let native = dut.host_port() == HostPort::Avalon;
                 if native != (wiring == AvalonWiring::Native) {
@@ -319,7 +337,14 @@ impl Testbench {
                     )));
                 }
                 let begintransfer = wiring == AvalonWiring::Seed000;
-                let m = AvalonMaster::new("host", AvalonMasterConfig { timing, begintransfer, timeout_cycles: cfg.op_timeout_cycles });
+                let m = AvalonMaster::new(
+                    "host",
+                    AvalonMasterConfig {
+                        timing,
+                        begintransfer,
+                        timeout_cycles: cfg.op_timeout_cycles,
+                    },
+                );
                 (Master::Av(m, wiring), HostBus::Avalon)
             }
             HostBfm::Pio(t) => {
@@ -329,16 +354,23 @@ impl Testbench {
             }
         };
         if dut.host_port() == HostPort::Avalon && !matches!(master, Master::Av(..)) {
-            return Err(TbError::Config(format!("{} has an Avalon port: drive it with the Avalon BFM (wiring Native)", dut.name())));
+            return Err(TbError::Config(format!(
+                "{} has an Avalon port: drive it with the Avalon BFM (wiring Native)",
+                dut.name()
+            )));
         }
         let av_mon = match &master {
             Master::Av(m, _) => {
                 let c = m.config();
                 Some(AvalonMonitor::new(
                     "avalon monitor",
-                    AvalonMonitorConfig { timing: c.timing, begintransfer: c.begintransfer, timeout_cycles: cfg.monitor_ack_timeout },
+                    AvalonMonitorConfig {
+                        timing: c.timing,
+                        begintransfer: c.begintransfer,
+                        timeout_cycles: cfg.monitor_ack_timeout,
+                    },
                 ))
-            },
+            }
             _ => None,
         };
         let mut bus = Bus::new();
@@ -357,8 +389,12 @@ impl Testbench {
         let dut_faults: Vec<Box<dyn FaultInjector>> = cfg.dut_rx_faults.drain(..).collect();
         let (reference, comparator): (Option<Box<dyn Reference>>, _) = match cfg.lockstep {
             None => (None, None),
-            Some((ReferenceChoice::Model, c)) => (Some(Box::new(ModelRef::new())), Some(Comparator::new(c))),
-            Some((ReferenceChoice::Echo, c)) => (Some(Box::new(EchoModel::new())), Some(Comparator::new(c))),
+            Some((ReferenceChoice::Model, c)) => {
+                (Some(Box::new(ModelRef::new())), Some(Comparator::new(c)))
+            }
+            Some((ReferenceChoice::Echo, c)) => {
+                (Some(Box::new(EchoModel::new())), Some(Comparator::new(c)))
+            }
         };
         let wave = match &cfg.vcd {
             Some(p) => Some(Wave::create(p)?),
@@ -374,14 +410,23 @@ impl Testbench {
         };
         let mut record = RunRecord::new(&cfg.scenario, &dut_name);
         record.host_bus = host_bus;
-        record.timing = diagnose::Timing { can_clock_hz: cfg.can_hz as f64, host_clock_hz: cfg.host_hz as f64, btr0: cfg.btr0, btr1: cfg.btr1 };
+        record.timing = diagnose::Timing {
+            can_clock_hz: cfg.can_hz as f64,
+            host_clock_hz: cfg.host_hz as f64,
+            btr0: cfg.btr0,
+            btr1: cfg.btr1,
+        };
         record.wiring = diagnose::Wiring {
             rx: cfg.rx,
             tx_on_bus: cfg.tx_on_bus,
             nodes: cfg
                 .nodes
                 .iter()
-                .map(|n| diagnose::BusNode { name: n.name.clone(), timing: record.timing, acknowledges: true })
+                .map(|n| diagnose::BusNode {
+                    name: n.name.clone(),
+                    timing: record.timing,
+                    acknowledges: true,
+                })
                 .collect(),
             self_test: false,
             listen_only: false,
@@ -486,8 +531,16 @@ impl Testbench {
     fn tick(&mut self) {
         let t = self.kernel.advance();
         if t.can_rise {
-            let dut_tx = if self.tx_on_bus { self.dut.can().tx } else { RECESSIVE };
-            let level = if self.bus.is_empty() { dut_tx } else { self.bus.clock_with(dut_tx) };
+            let dut_tx = if self.tx_on_bus {
+                self.dut.can().tx
+            } else {
+                RECESSIVE
+            };
+            let level = if self.bus.is_empty() {
+                dut_tx
+            } else {
+                self.bus.clock_with(dut_tx)
+            };
             self.bus_level = level;
             let rx = match self.rx_wiring {
                 RxWiring::Bus => {
@@ -513,7 +566,8 @@ impl Testbench {
             self.dut_rx = rx;
             self.dut.set_rx(rx);
         }
-        self.dut.eval(self.kernel.host().level(), self.kernel.can().level());
+        self.dut
+            .eval(self.kernel.host().level(), self.kernel.can().level());
         if t.host_rise {
             self.host_edge();
         }
@@ -541,10 +595,22 @@ impl Testbench {
             }
         };
         let (cyc, stb, we, adr, dat_i) = match self.dut.host_port() {
-            HostPort::Wishbone => (self.applied_wb.cyc, self.applied_wb.stb, self.applied_wb.we, self.applied_wb.adr, self.applied_wb.dat),
+            HostPort::Wishbone => (
+                self.applied_wb.cyc,
+                self.applied_wb.stb,
+                self.applied_wb.we,
+                self.applied_wb.adr,
+                self.applied_wb.dat,
+            ),
             HostPort::Avalon => {
                 let a = self.applied_av;
-                (a.chipselect, a.read || a.write, a.write, a.address, a.writedata)
+                (
+                    a.chipselect,
+                    a.read || a.write,
+                    a.write,
+                    a.address,
+                    a.writedata,
+                )
             }
         };
         let (model_tx, model_field) = match &self.reference {
@@ -620,7 +686,11 @@ impl Testbench {
                 self.dut.set_av(&self.applied_av);
             }
             Master::Av(m, w) => {
-                let wiring = if *w == AvalonWiring::Seed000 { AvWiring::Seed000 } else { AvWiring::Bridge };
+                let wiring = if *w == AvalonWiring::Seed000 {
+                    AvWiring::Seed000
+                } else {
+                    AvWiring::Bridge
+                };
                 let s_wb = self.dut.wb();
                 viol = self.wb_mon.observe(cycle, &self.applied_wb, &s_wb);
                 let s = wiring.to_avalon(&s_wb);
@@ -634,10 +704,18 @@ impl Testbench {
             }
         }
         for v in viol {
-            self.record.violations.push(diagnose::Violation { cycle: v.cycle, rule: rule_id("wb.", v.rule), message: v.message });
+            self.record.violations.push(diagnose::Violation {
+                cycle: v.cycle,
+                rule: rule_id("wb.", v.rule),
+                message: v.message,
+            });
         }
         for v in av_viol {
-            self.record.violations.push(diagnose::Violation { cycle: v.cycle, rule: rule_id("avalon.", v.rule), message: v.message });
+            self.record.violations.push(diagnose::Violation {
+                cycle: v.cycle,
+                rule: rule_id("avalon.", v.rule),
+                message: v.message,
+            });
         }
     }
 
@@ -674,7 +752,11 @@ impl Testbench {
                         model_tx,
                         dut_rx: self.dut_rx,
                         field: mfield.or(self.field),
-                        frame: if self.frame > 0 { Some(self.frame) } else { None },
+                        frame: if self.frame > 0 {
+                            Some(self.frame)
+                        } else {
+                            None
+                        },
                     },
                     self.keep_bits,
                 );
@@ -685,10 +767,20 @@ impl Testbench {
             if !self.events.is_empty() {
                 let counters = r.counters();
                 for k in self.events.drain(..) {
-                    if matches!(k, diagnose::EventKind::TxComplete | diagnose::EventKind::BusError { .. }) && self.last_tr.is_some() {
+                    if matches!(
+                        k,
+                        diagnose::EventKind::TxComplete | diagnose::EventKind::BusError { .. }
+                    ) && self.last_tr.is_some()
+                    {
                         self.attempts += 1;
                         let (tec, _) = counters.unwrap_or((0, 0));
-                        self.record.tec_trace.push(diagnose::TecStep { node: Side::Model, attempt: self.attempts, bit, tec, bus_off: tec > 255 });
+                        self.record.tec_trace.push(diagnose::TecStep {
+                            node: Side::Model,
+                            attempt: self.attempts,
+                            bit,
+                            tec,
+                            bus_off: tec > 255,
+                        });
                     }
                     let mut e = EngineEvent::new(bit, Side::Model, k);
                     if let Some((tec, rec)) = counters {
@@ -702,8 +794,24 @@ impl Testbench {
         if let (Some(c), Some(r)) = (&mut self.comparator, &self.reference)
             && !self.stopped
         {
-            let stamp = Stamp { t_ps, bit, field: r.field().or(self.field), frame: if self.frame > 0 { Some(self.frame) } else { None } };
-            c.can_clock(stamp, sample, &r.pins(), &self.dut.can(), r.peek(SR_ADDR), r.peek(IR_ADDR));
+            let stamp = Stamp {
+                t_ps,
+                bit,
+                field: r.field().or(self.field),
+                frame: if self.frame > 0 {
+                    Some(self.frame)
+                } else {
+                    None
+                },
+            };
+            c.can_clock(
+                stamp,
+                sample,
+                &r.pins(),
+                &self.dut.can(),
+                r.peek(SR_ADDR),
+                r.peek(IR_ADDR),
+            );
             if let Some(d) = c.divergence() {
                 self.record.divergence = Some(d.clone());
                 self.stopped = true;
@@ -753,13 +861,21 @@ impl Testbench {
     }
 
     /// Runs until `done` holds, at most `max_bits` bit times.
-    pub fn run_until(&mut self, what: &str, max_bits: u64, mut done: impl FnMut(&Testbench) -> bool) -> Result<u64, TbError> {
+    pub fn run_until(
+        &mut self,
+        what: &str,
+        max_bits: u64,
+        mut done: impl FnMut(&Testbench) -> bool,
+    ) -> Result<u64, TbError> {
         let start = self.bitclock.bits();
         let max_clocks = (max_bits + 1) * self.bitclock.clocks_per_bit() as u64;
         let end = self.can_clocks + max_clocks;
         while !done(self) {
             if self.can_clocks >= end {
-                return Err(TbError::Timeout { what: what.into(), bits: max_bits });
+                return Err(TbError::Timeout {
+                    what: what.into(),
+                    bits: max_bits,
+                });
             }
             self.tick();
             self.check_stopped()?;
@@ -792,7 +908,10 @@ impl Testbench {
                         attempts: self.frame,
                     });
                 }
-                return Err(TbError::Timeout { what: format!("SR & 0x{mask:02X} == 0x{value:02X} (last SR 0x{sr:02X})"), bits: max_bits });
+                return Err(TbError::Timeout {
+                    what: format!("SR & 0x{mask:02X} == 0x{value:02X} (last SR 0x{sr:02X})"),
+                    bits: max_bits,
+                });
             }
             self.run_bits(1)?;
         }
@@ -801,8 +920,15 @@ impl Testbench {
     fn op(&mut self, write: bool, addr: u8, data: u8) -> Result<OpResult, TbError> {
         self.check_stopped()?;
         let t0 = self.kernel.now_ps();
-        let (mode, reset_mode) = self.reference.as_ref().and_then(|r| r.mode()).unwrap_or_default();
-        let reg = self.reference.as_ref().and_then(|r| r.reg_name(addr, write));
+        let (mode, reset_mode) = self
+            .reference
+            .as_ref()
+            .and_then(|r| r.mode())
+            .unwrap_or_default();
+        let reg = self
+            .reference
+            .as_ref()
+            .and_then(|r| r.reg_name(addr, write));
         let h: OpHandle = with_master!(&mut self.master, m => if write { m.start_write(addr, data) } else { m.start_read(addr) });
         let bound = with_master!(&mut self.master, m => m.drain_bound()) + 64;
         let start_cycle = self.host_cycle;
@@ -812,7 +938,9 @@ impl Testbench {
                 break r;
             }
             if self.host_cycle - start_cycle > bound {
-                break Err(BfmError::Stalled { cycles: self.host_cycle - start_cycle });
+                break Err(BfmError::Stalled {
+                    cycles: self.host_cycle - start_cycle,
+                });
             }
             let c = self.host_cycle;
             while self.host_cycle == c {
@@ -822,7 +950,11 @@ impl Testbench {
         let mut rec = HostOp {
             time_ps: t0,
             bfm: self.host_bus,
-            access: if write { RecAccess::Write } else { RecAccess::Read },
+            access: if write {
+                RecAccess::Write
+            } else {
+                RecAccess::Read
+            },
             addr,
             data,
             reg: reg.clone(),
@@ -834,7 +966,12 @@ impl Testbench {
             Ok(r) => {
                 rec.cycles = r.cycles as u32;
                 rec.data = r.data;
-                let stamp = Stamp { t_ps: self.kernel.now_ps(), bit: self.bitclock.bits(), field: self.field, frame: None };
+                let stamp = Stamp {
+                    t_ps: self.kernel.now_ps(),
+                    bit: self.bitclock.bits(),
+                    field: self.field,
+                    frame: None,
+                };
                 if let Some(refm) = &mut self.reference {
                     if write {
                         rec.outcome = refm.write(addr, data);
@@ -855,9 +992,16 @@ impl Testbench {
                     // CMR.TR (bit 0) or CMR.SRR (bit 4) in both views.
                     self.last_tr = Some((t0, self.bitclock.bits()));
                 }
-                if write && (addr == 6 || addr == 7) && rec.outcome.as_ref().is_none_or(|o| !o.is_ignored()) {
+                if write
+                    && (addr == 6 || addr == 7)
+                    && rec.outcome.as_ref().is_none_or(|o| !o.is_ignored())
+                {
                     let (mut b0, mut b1) = (self.record.timing.btr0, self.record.timing.btr1);
-                    if addr == 6 { b0 = data } else { b1 = data }
+                    if addr == 6 {
+                        b0 = data
+                    } else {
+                        b1 = data
+                    }
                     self.record.timing.btr0 = b0;
                     self.record.timing.btr1 = b1;
                     self.bitclock.set_timing(BusTiming::from_btr(b0, b1));
@@ -867,11 +1011,23 @@ impl Testbench {
                 Ok(r)
             }
             Err(e) => {
-                let monitor: Vec<String> = self.record.violations[viol_before..].iter().map(|v| format!("cycle {}: {} ({})", v.cycle, v.message, v.rule)).collect();
-                let monitor = if monitor.is_empty() { String::new() } else { format!("; the protocol monitor saw: {}", monitor.join("; ")) };
+                let monitor: Vec<String> = self.record.violations[viol_before..]
+                    .iter()
+                    .map(|v| format!("cycle {}: {} ({})", v.cycle, v.message, v.rule))
+                    .collect();
+                let monitor = if monitor.is_empty() {
+                    String::new()
+                } else {
+                    format!("; the protocol monitor saw: {}", monitor.join("; "))
+                };
                 rec.error = Some(e.to_string());
                 self.record.host_ops.push(rec);
-                let err = TbError::Host { op: if write { "write" } else { "read" }, addr, error: e, monitor };
+                let err = TbError::Host {
+                    op: if write { "write" } else { "read" },
+                    addr,
+                    error: e,
+                    monitor,
+                };
                 self.record.error = Some(err.to_string());
                 Err(err)
             }
@@ -889,7 +1045,14 @@ impl Testbench {
     }
 
     /// Reads `addr` and records whether `value & mask == expected`.
-    pub fn expect(&mut self, step: usize, what: &str, addr: u8, mask: u8, expected: u8) -> Result<bool, TbError> {
+    pub fn expect(
+        &mut self,
+        step: usize,
+        what: &str,
+        addr: u8,
+        mask: u8,
+        expected: u8,
+    ) -> Result<bool, TbError> {
         let v = self.read(addr)?;
         let passed = v & mask == expected & mask;
         self.record.expectations.push(Expectation {
@@ -910,7 +1073,14 @@ impl Testbench {
         r.dut = self.dut_name.clone();
         if let Some(refm) = &self.reference {
             let (tec, rec) = refm.counters().unwrap_or((0, 0));
-            r.final_model = Some(FinalRegs { sr: refm.peek(SR_ADDR), ir: refm.peek(IR_ADDR), tec, rec, ecc: None, alc: None });
+            r.final_model = Some(FinalRegs {
+                sr: refm.peek(SR_ADDR),
+                ir: refm.peek(IR_ADDR),
+                tec,
+                rec,
+                ecc: None,
+                alc: None,
+            });
             if let Some((mode, _)) = refm.mode() {
                 r.mode = mode;
             }
@@ -927,9 +1097,17 @@ impl Testbench {
     /// counters, and the record has no "unknown" for them. IR is not read:
     /// reading it clears it.
     pub fn capture_final(&mut self) -> Result<FinalRegs, TbError> {
-        let peli = self.reference.as_ref().and_then(|r| r.mode()).map(|(m, _)| m == diagnose::CanMode::PeliCan).unwrap_or(false);
+        let peli = self
+            .reference
+            .as_ref()
+            .and_then(|r| r.mode())
+            .map(|(m, _)| m == diagnose::CanMode::PeliCan)
+            .unwrap_or(false);
         let sr = self.read(SR_ADDR)?;
-        let mut f = FinalRegs { sr, ..FinalRegs::default() };
+        let mut f = FinalRegs {
+            sr,
+            ..FinalRegs::default()
+        };
         if peli {
             f.rec = self.read(14)? as u16;
             f.tec = self.read(15)? as u16;

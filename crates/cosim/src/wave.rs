@@ -65,8 +65,22 @@ pub struct Wave {
 }
 
 const SCALARS: [&str; 16] = [
-    "wb_clk_i", "clk_i", "wb_rst_i", "wb_cyc_i", "wb_stb_i", "wb_we_i", "wb_ack_o", "rx_i", "tx_o", "irq_on", "bus_off_on", "clkout_o", "bus",
-    "model_tx", "model_rx", "sample_point",
+    "wb_clk_i",
+    "clk_i",
+    "wb_rst_i",
+    "wb_cyc_i",
+    "wb_stb_i",
+    "wb_we_i",
+    "wb_ack_o",
+    "rx_i",
+    "tx_o",
+    "irq_on",
+    "bus_off_on",
+    "clkout_o",
+    "bus",
+    "model_tx",
+    "model_rx",
+    "sample_point",
 ];
 
 fn field_text(f: Option<Field>) -> String {
@@ -105,11 +119,14 @@ impl Wave {
         let p = self.prev;
         self.w.timestamp(t_ps)?;
         let bits = [
-            s.host_clk, s.can_clk, s.rst, s.cyc, s.stb, s.we, s.ack, s.rx, s.tx, s.irq_n, s.bus_on, s.clkout, s.bus, s.model_tx, s.model_rx,
-            s.sample,
+            s.host_clk, s.can_clk, s.rst, s.cyc, s.stb, s.we, s.ack, s.rx, s.tx, s.irq_n, s.bus_on,
+            s.clkout, s.bus, s.model_tx, s.model_rx, s.sample,
         ];
         let old = p.map(|p| {
-            [p.host_clk, p.can_clk, p.rst, p.cyc, p.stb, p.we, p.ack, p.rx, p.tx, p.irq_n, p.bus_on, p.clkout, p.bus, p.model_tx, p.model_rx, p.sample]
+            [
+                p.host_clk, p.can_clk, p.rst, p.cyc, p.stb, p.we, p.ack, p.rx, p.tx, p.irq_n,
+                p.bus_on, p.clkout, p.bus, p.model_tx, p.model_rx, p.sample,
+            ]
         });
         for (k, b) in bits.iter().enumerate() {
             if old.is_none_or(|o| o[k] != *b) {
@@ -128,7 +145,8 @@ impl Wave {
             self.w.change_string(self.ids[19], &field_text(s.field))?;
         }
         if p.is_none_or(|p| p.model_field != s.model_field) {
-            self.w.change_string(self.ids[20], &field_text(s.model_field))?;
+            self.w
+                .change_string(self.ids[20], &field_text(s.model_field))?;
         }
         self.prev = Some(*s);
         Ok(())
@@ -148,7 +166,10 @@ mod tests {
     fn writes_a_parseable_vcd_with_string_fields_and_only_changes() {
         let path = std::env::temp_dir().join(format!("cosim-wave-{}.vcd", std::process::id()));
         let mut w = Wave::create(&path).unwrap();
-        let mut s = WaveSample { bus: true, ..WaveSample::default() };
+        let mut s = WaveSample {
+            bus: true,
+            ..WaveSample::default()
+        };
         w.dump(0, &s).unwrap();
         w.dump(5, &s).unwrap(); // no change: no timestamp
         s.bus = false;

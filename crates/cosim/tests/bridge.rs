@@ -13,8 +13,18 @@ fn edge(m: &mut Model, clk: cosim::Port) {
 fn echo_fixture_registers_and_tx_through_raw_ports() {
     let mut m = Model::bundled("cosim_echo", false).unwrap();
     let p = |n: &str| m.port(n, None, "can_top").unwrap();
-    let (clk, rst, cyc, stb, we, adr, dat_i, dat_o, ack, tx) =
-        (p("wb_clk_i"), p("wb_rst_i"), p("wb_cyc_i"), p("wb_stb_i"), p("wb_we_i"), p("wb_adr_i"), p("wb_dat_i"), p("wb_dat_o"), p("wb_ack_o"), p("tx_o"));
+    let (clk, rst, cyc, stb, we, adr, dat_i, dat_o, ack, tx) = (
+        p("wb_clk_i"),
+        p("wb_rst_i"),
+        p("wb_cyc_i"),
+        p("wb_stb_i"),
+        p("wb_we_i"),
+        p("wb_adr_i"),
+        p("wb_dat_i"),
+        p("wb_dat_o"),
+        p("wb_ack_o"),
+        p("tx_o"),
+    );
     m.set(rst, 1);
     edge(&mut m, clk);
     m.set(rst, 0);
@@ -55,11 +65,17 @@ fn echo_fixture_registers_and_tx_through_raw_ports() {
 fn unknown_top_and_missing_port_are_clear_errors() {
     let e = Model::bundled("no_such_top", false).unwrap_err();
     let msg = e.to_string();
-    assert!(msg.contains("no_such_top") && msg.contains("cosim_echo"), "{msg}");
+    assert!(
+        msg.contains("no_such_top") && msg.contains("cosim_echo"),
+        "{msg}"
+    );
     let m = Model::bundled("cosim_noack", false).unwrap();
     let e = m.port("avalon_address", None, "Avalon").unwrap_err();
     assert!(matches!(e, BridgeError::MissingPort { .. }));
-    assert!(e.to_string().contains("wb_clk_i"), "lists the ports it has: {e}");
+    assert!(
+        e.to_string().contains("wb_clk_i"),
+        "lists the ports it has: {e}"
+    );
     let e = m.port("wb_adr_i", Some(16), "can_top").unwrap_err();
     assert!(e.to_string().contains("8 bits wide"), "{e}");
 }
@@ -88,11 +104,43 @@ fn a_port_of_one_model_cannot_be_used_on_another() {
 fn verilator_error_in_an_external_core_is_one_paragraph_not_a_panic() {
     let dir = std::env::temp_dir().join(format!("cosim-broken-{}", std::process::id()));
     std::fs::create_dir_all(&dir).unwrap();
-    std::fs::write(dir.join("broken.v"), "module broken(input a, output b);\n  assign b = a +;\nendmodule\n").unwrap();
-    let core = ExternalCore { dir: dir.clone(), top: "broken".into(), ..Default::default() };
+    std::fs::write(
+        dir.join("broken.v"),
+        "module broken(input a, output b);\n  assign b = a +;\nendmodule\n",
+    )
+    .unwrap();
+    let core = ExternalCore {
+        dir: dir.clone(),
+        top: "broken".into(),
+        ..Default::default()
+    };
     let e = core.build().unwrap_err();
     let msg = e.to_string();
     assert!(matches!(e, BridgeError::Verilate { .. }), "{msg}");
-    assert!(msg.contains("broken.v") && msg.contains("syntax error"), "carries Verilator's message: {msg}");
+    assert!(
+        msg.contains("broken.v") && msg.contains("syntax error"),
+        "carries Verilator's message: {msg}"
+    );
     let _ = std::fs::remove_dir_all(&dir);
+}
+
+#[test]
+fn models_run_on_their_own_threads_from_one_build() {
+    // A compiled core is shareable; each thread makes its own instance
+    // (Verilator models are not Send).
+    fn assert_send_sync<T: Send + Sync>() {}
+    assert_send_sync::<cosim::CompiledCore>();
+    let handles: Vec<_> = (0..2u8)
+        .map(|k| {
+            std::thread::spawn(move || {
+                let mut m = Model::bundled("cosim_echo", false).unwrap();
+                let adr = m.port("wb_adr_i", None, "").unwrap();
+                m.set(adr, 10 + k as u64);
+                m.eval();
+                m.get(adr)
+            })
+        })
+        .collect();
+    let got: Vec<u64> = handles.into_iter().map(|h| h.join().unwrap()).collect();
+    assert_eq!(got, vec![10, 11]);
 }

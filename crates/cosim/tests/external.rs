@@ -13,21 +13,41 @@
 
 use std::path::PathBuf;
 
-use cosim::{CompareConfig, DutChoice, ExternalCore, HostBfm, NodeConfig, ReferenceChoice, TbConfig, Testbench};
+use cosim::{
+    CompareConfig, DutChoice, ExternalCore, HostBfm, NodeConfig, ReferenceChoice, TbConfig,
+    Testbench,
+};
 
-const SETUP: [(u8, u8); 6] = [(0, 0x01), (4, 0x00), (5, 0xFF), (6, 0x41), (7, 0x25), (8, 0x1A)];
+const SETUP: [(u8, u8); 6] = [
+    (0, 0x01),
+    (4, 0x00),
+    (5, 0xFF),
+    (6, 0x41),
+    (7, 0x25),
+    (8, 0x1A),
+];
 
 fn core_from_env() -> ExternalCore {
-    let dir = std::env::var("CAN_EXTERNAL_DIR").expect("set CAN_EXTERNAL_DIR to the core's source directory");
+    let dir = std::env::var("CAN_EXTERNAL_DIR")
+        .expect("set CAN_EXTERNAL_DIR to the core's source directory");
     let top = std::env::var("CAN_EXTERNAL_TOP").unwrap_or_else(|_| "can_top".into());
-    let defines = std::env::var("CAN_EXTERNAL_DEFINES").unwrap_or_else(|_| "CAN_WISHBONE_IF".into());
+    let defines =
+        std::env::var("CAN_EXTERNAL_DEFINES").unwrap_or_else(|_| "CAN_WISHBONE_IF".into());
     let includes = std::env::var("CAN_EXTERNAL_INCLUDES").unwrap_or_default();
     ExternalCore {
         dir: PathBuf::from(dir),
         top,
         files: Vec::new(),
-        defines: defines.split(',').filter(|s| !s.is_empty()).map(String::from).collect(),
-        include_dirs: includes.split(':').filter(|s| !s.is_empty()).map(PathBuf::from).collect(),
+        defines: defines
+            .split(',')
+            .filter(|s| !s.is_empty())
+            .map(String::from)
+            .collect(),
+        include_dirs: includes
+            .split(':')
+            .filter(|s| !s.is_empty())
+            .map(PathBuf::from)
+            .collect(),
         extra_args: Vec::new(),
     }
 }
@@ -38,14 +58,21 @@ fn external_core_configures_and_transmits_in_lockstep_with_the_model() {
     let core = core_from_env();
     let t0 = std::time::Instant::now();
     let built = core.build().unwrap_or_else(|e| panic!("{e}"));
-    println!("built/loaded {} in {:.1} s", built.path.display(), t0.elapsed().as_secs_f64());
+    println!(
+        "built/loaded {} in {:.1} s",
+        built.path.display(),
+        t0.elapsed().as_secs_f64()
+    );
     let mut init = SETUP.to_vec();
     init.push((0, 0x00));
     let cfg = TbConfig {
         scenario: "external".into(),
         dut: DutChoice::External(core),
         host: HostBfm::Wishbone,
-        nodes: vec![NodeConfig { name: "node1".into(), init }],
+        nodes: vec![NodeConfig {
+            name: "node1".into(),
+            init,
+        }],
         lockstep: Some((ReferenceChoice::Model, CompareConfig::default())),
         ..TbConfig::default()
     };
@@ -68,5 +95,8 @@ fn external_core_configures_and_transmits_in_lockstep_with_the_model() {
     let rec = tb.record();
     let diag = diagnose::diagnose(&rec);
     println!("result: {res:?}\n{}", diag.to_text());
-    assert!(res.is_ok() || rec.divergence.is_some() || rec.stuck.is_some(), "a failure is explained by the record");
+    assert!(
+        res.is_ok() || rec.divergence.is_some() || rec.stuck.is_some(),
+        "a failure is explained by the record"
+    );
 }

@@ -3,27 +3,59 @@
 //! transmits a frame to a model node.
 
 use bfm::{AvalonTiming, PioTiming};
-use cosim::{AvalonWiring, CompareConfig, DutChoice, HostBfm, NodeConfig, ReferenceChoice, TbConfig, Testbench};
+use cosim::{
+    AvalonWiring, CompareConfig, DutChoice, HostBfm, NodeConfig, ReferenceChoice, TbConfig,
+    Testbench,
+};
 
 /// BasicCAN setup as the thesis does it (seed 000): reset mode, acceptance
 /// all, 600 kbit/s at 24 MHz (BTR0 0x41, BTR1 0x25), OCR normal mode.
-const SETUP: [(u8, u8); 6] = [(0, 0x01), (4, 0x00), (5, 0xFF), (6, 0x41), (7, 0x25), (8, 0x1A)];
+const SETUP: [(u8, u8); 6] = [
+    (0, 0x01),
+    (4, 0x00),
+    (5, 0xFF),
+    (6, 0x41),
+    (7, 0x25),
+    (8, 0x1A),
+];
 
 fn node() -> NodeConfig {
     let mut init = SETUP.to_vec();
     init.push((0, 0x00));
-    NodeConfig { name: "node1".into(), init }
+    NodeConfig {
+        name: "node1".into(),
+        init,
+    }
 }
 
 fn cfg(dut: DutChoice, host: HostBfm) -> TbConfig {
-    TbConfig { scenario: "rtl".into(), dut, host, ..TbConfig::default() }
+    TbConfig {
+        scenario: "rtl".into(),
+        dut,
+        host,
+        ..TbConfig::default()
+    }
 }
 
 fn bfms() -> Vec<(&'static str, DutChoice, HostBfm)> {
     vec![
         ("wishbone", DutChoice::Rtl, HostBfm::Wishbone),
-        ("avalon-bridge", DutChoice::Rtl, HostBfm::Avalon { timing: AvalonTiming::Waitrequest, wiring: AvalonWiring::Bridge }),
-        ("avalon-native", DutChoice::RtlAvalon, HostBfm::Avalon { timing: AvalonTiming::Waitrequest, wiring: AvalonWiring::Native }),
+        (
+            "avalon-bridge",
+            DutChoice::Rtl,
+            HostBfm::Avalon {
+                timing: AvalonTiming::Waitrequest,
+                wiring: AvalonWiring::Bridge,
+            },
+        ),
+        (
+            "avalon-native",
+            DutChoice::RtlAvalon,
+            HostBfm::Avalon {
+                timing: AvalonTiming::Waitrequest,
+                wiring: AvalonWiring::Native,
+            },
+        ),
     ]
 }
 
@@ -34,15 +66,22 @@ fn every_bfm_configures_the_rtl_in_reset_mode_and_reads_it_back() {
         let mut tb = Testbench::new(cfg(dut, host)).unwrap_or_else(|e| panic!("{name}: {e}"));
         let c0 = tb.host_cycles();
         for &(a, d) in &SETUP {
-            tb.write(a, d).unwrap_or_else(|e| panic!("{name}: write {a}: {e}"));
+            tb.write(a, d)
+                .unwrap_or_else(|e| panic!("{name}: write {a}: {e}"));
         }
         for &(a, d) in &SETUP[1..] {
             assert_eq!(tb.read(a).unwrap(), d, "{name}: address {a}");
         }
-        figures.push(format!("{name} {:.1}", (tb.host_cycles() - c0) as f64 / 11.0));
+        figures.push(format!(
+            "{name} {:.1}",
+            (tb.host_cycles() - c0) as f64 / 11.0
+        ));
         assert!(tb.violations().is_empty(), "{name}: {:?}", tb.violations());
     }
-    println!("host cycles per register access on can_top (50 MHz host, 24 MHz CAN clock): {}", figures.join(", "));
+    println!(
+        "host cycles per register access on can_top (50 MHz host, 24 MHz CAN clock): {}",
+        figures.join(", ")
+    );
 }
 
 fn transmit(dut: DutChoice, lockstep: bool) -> Testbench {
@@ -68,7 +107,9 @@ fn transmit(dut: DutChoice, lockstep: bool) -> Testbench {
 #[test]
 fn golden_model_as_dut_against_itself_transmits_without_divergence() {
     let mut tb = transmit(DutChoice::Model, true);
-    let sr = tb.wait_sr(0x08, 0x08, 200).unwrap_or_else(|e| panic!("{e}\n{:?}", tb.record().divergence));
+    let sr = tb
+        .wait_sr(0x08, 0x08, 200)
+        .unwrap_or_else(|e| panic!("{e}\n{:?}", tb.record().divergence));
     assert_eq!(sr & 0x0C, 0x0C, "TCS and TBS");
     let c = tb.comparator().unwrap();
     assert!(c.compared_bits > 40, "{}", c.compared_bits);
@@ -83,11 +124,25 @@ fn rtl_transmits_a_frame_to_a_model_node_in_lockstep_with_the_model() {
     let res = tb.wait_sr(0x08, 0x08, 200);
     let rec = tb.record();
     if let Some(d) = &rec.divergence {
-        let bits: String = rec.bus_bits.iter().rev().take(20).rev().map(|b| format!("{}{}{} ", b.bus as u8, b.dut_tx as u8, b.model_tx as u8)).collect();
-        panic!("divergence {d:?}\nlast bits (bus dut model): {bits}\n{}", diagnose::diagnose(&rec).to_text());
+        let bits: String = rec
+            .bus_bits
+            .iter()
+            .rev()
+            .take(20)
+            .rev()
+            .map(|b| format!("{}{}{} ", b.bus as u8, b.dut_tx as u8, b.model_tx as u8))
+            .collect();
+        panic!(
+            "divergence {d:?}\nlast bits (bus dut model): {bits}\n{}",
+            diagnose::diagnose(&rec).to_text()
+        );
     }
     res.unwrap();
-    assert_eq!(tb.bus().node(0).peek(2) & 0x01, 0x01, "node1 SR.RBS: frame received");
+    assert_eq!(
+        tb.bus().node(0).peek(2) & 0x01,
+        0x01,
+        "node1 SR.RBS: frame received"
+    );
     assert!(tb.comparator().unwrap().compared_bits > 40);
 }
 
@@ -126,7 +181,10 @@ fn pio_on_the_rtl_completes_or_reports_the_missed_ack() {
         Some(e) => {
             let msg = e.to_string();
             assert!(matches!(e, cosim::TbError::Host { .. }), "{msg}");
-            assert!(msg.contains("timed out") && msg.contains("protocol monitor"), "{msg}");
+            assert!(
+                msg.contains("timed out") && msg.contains("protocol monitor"),
+                "{msg}"
+            );
             let rec = tb.record();
             assert!(rec.host_ops.last().unwrap().error.is_some());
             println!("PIO on can_top: {msg}");
@@ -156,7 +214,11 @@ fn thesis_wiring_rx_tied_recessive_leaves_a_stuck_transfer_for_the_diagnoser() {
     let e = tb.wait_sr(0x0C, 0x0C, 200).unwrap_err();
     assert!(matches!(e, cosim::TbError::Timeout { .. }), "{e}");
     let f = tb.capture_final().unwrap();
-    assert_eq!(f.sr & 0x0C, 0x00, "TBS = 0 and TCS = 0: the buffer stays locked");
+    assert_eq!(
+        f.sr & 0x0C,
+        0x00,
+        "TBS = 0 and TCS = 0: the buffer stays locked"
+    );
     let rec = tb.record();
     assert!(rec.divergence.is_none(), "{:?}", rec.divergence);
     let stuck = rec.stuck.expect("stuck transfer recorded");
@@ -175,7 +237,11 @@ fn thesis_wiring_rx_tied_recessive_leaves_a_stuck_transfer_for_the_diagnoser() {
 fn a_flipped_bit_at_the_model_node_causes_an_error_frame_and_a_retransmission() {
     let mut c = cfg(DutChoice::Rtl, HostBfm::Wishbone);
     c.nodes = vec![node()];
-    c.faults.push(Box::new(sja1000::FlipBit { frame: 0, bit: 20, target: sja1000::Target::Node(0) }));
+    c.faults.push(Box::new(sja1000::FlipBit {
+        frame: 0,
+        bit: 20,
+        target: sja1000::Target::Node(0),
+    }));
     c.lockstep = Some((ReferenceChoice::Model, CompareConfig::default()));
     let mut tb = Testbench::new(c).unwrap();
     for &(a, d) in &SETUP {
@@ -192,10 +258,21 @@ fn a_flipped_bit_at_the_model_node_causes_an_error_frame_and_a_retransmission() 
     assert!(rec.divergence.is_none(), "{:?}", rec.divergence);
     res.unwrap();
     assert!(
-        rec.events.iter().any(|e| matches!(e.kind, diagnose::EventKind::BusError { .. })),
+        rec.events
+            .iter()
+            .any(|e| matches!(e.kind, diagnose::EventKind::BusError { .. })),
         "the model (transmitter side) saw the error flag: {:?}",
         rec.events
     );
-    assert!(rec.bus_bits.iter().any(|b| b.field == Some(can_proto::Field::ActiveErrorFlag)), "error flag on the bus");
-    assert_eq!(tb.bus().node(0).peek(2) & 0x01, 0x01, "received on the second attempt");
+    assert!(
+        rec.bus_bits
+            .iter()
+            .any(|b| b.field == Some(can_proto::Field::ActiveErrorFlag)),
+        "error flag on the bus"
+    );
+    assert_eq!(
+        tb.bus().node(0).peek(2) & 0x01,
+        0x01,
+        "received on the second attempt"
+    );
 }

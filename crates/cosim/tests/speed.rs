@@ -10,7 +10,10 @@ const HOST_HZ: u64 = 50_000_000;
 const CAN_HZ: u64 = 24_000_000;
 
 fn bridge_only(top: &str, cycles: u64) -> f64 {
-    bridge_loop(VerilatedDut::bundled(top, HostPort::Wishbone, false).unwrap(), cycles)
+    bridge_loop(
+        VerilatedDut::bundled(top, HostPort::Wishbone, false).unwrap(),
+        cycles,
+    )
 }
 
 fn bridge_loop(mut dut: VerilatedDut, cycles: u64) -> f64 {
@@ -32,7 +35,12 @@ fn bridge_loop(mut dut: VerilatedDut, cycles: u64) -> f64 {
 }
 
 fn testbench(top: &str, cycles: u64) -> f64 {
-    let mut tb = Testbench::new(TbConfig { dut: DutChoice::Bundled(top.into()), host: HostBfm::Wishbone, ..TbConfig::default() }).unwrap();
+    let mut tb = Testbench::new(TbConfig {
+        dut: DutChoice::Bundled(top.into()),
+        host: HostBfm::Wishbone,
+        ..TbConfig::default()
+    })
+    .unwrap();
     let t0 = Instant::now();
     tb.run_can_cycles(cycles).unwrap();
     cycles as f64 / t0.elapsed().as_secs_f64()
@@ -43,7 +51,8 @@ fn testbench(top: &str, cycles: u64) -> f64 {
 fn cosim_speed_against_a_raw_cpp_loop() {
     let cycles = 2_000_000;
     for top in ["can_top", "cosim_echo"] {
-        let cpp = cpp_baseline(&bundled_sources(top), cycles, HOST_HZ, CAN_HZ).unwrap_or_else(|e| panic!("{e}"));
+        let cpp = cpp_baseline(&bundled_sources(top), cycles, HOST_HZ, CAN_HZ)
+            .unwrap_or_else(|e| panic!("{e}"));
         let bridge = bridge_only(top, cycles);
         let tb = testbench(top, cycles);
         let cpp_rate = cpp.cycles_per_s();
@@ -56,13 +65,26 @@ fn cosim_speed_against_a_raw_cpp_loop() {
             tb / cpp_rate
         );
         assert_eq!(cpp.cycles, cycles);
-        assert!(bridge / cpp_rate > 0.3, "the bridge should not cost more than 3x: {:.2}", bridge / cpp_rate);
+        assert!(
+            bridge / cpp_rate > 0.3,
+            "the bridge should not cost more than 3x: {:.2}",
+            bridge / cpp_rate
+        );
         if top == "can_top" {
             // The run-time path: the same RTL built as a shared library and
             // loaded with libloading.
-            let lib = bundled_sources(top).build().unwrap_or_else(|e| panic!("{e}"));
-            let dl = bridge_loop(VerilatedDut::new(lib.instantiate(false), HostPort::Wishbone).unwrap(), cycles);
-            println!("{top}: run-time shared library (-fPIC -fno-semantic-interposition -Wl,-Bsymbolic) {:.2} M/s ({:.2}x)", dl / 1e6, dl / cpp_rate);
+            let lib = bundled_sources(top)
+                .build()
+                .unwrap_or_else(|e| panic!("{e}"));
+            let dl = bridge_loop(
+                VerilatedDut::new(lib.instantiate(false), HostPort::Wishbone).unwrap(),
+                cycles,
+            );
+            println!(
+                "{top}: run-time shared library (-fPIC -fno-semantic-interposition -Wl,-Bsymbolic) {:.2} M/s ({:.2}x)",
+                dl / 1e6,
+                dl / cpp_rate
+            );
             assert!(dl / cpp_rate > 0.2);
         }
     }

@@ -2,17 +2,30 @@
 //! timeouts, the lockstep comparator and the VCD.
 
 use bfm::{AvalonTiming, PioTiming};
-use cosim::{AvalonWiring, CompareConfig, DutChoice, HostBfm, ReferenceChoice, TbConfig, TbError, Testbench};
+use cosim::{
+    AvalonWiring, CompareConfig, DutChoice, HostBfm, ReferenceChoice, TbConfig, TbError, Testbench,
+};
 use diagnose::{DivergenceKind, RxWiring};
 
 fn cfg(dut: &str, host: HostBfm) -> TbConfig {
-    TbConfig { scenario: "fixture".into(), dut: DutChoice::Bundled(dut.into()), host, ..TbConfig::default() }
+    TbConfig {
+        scenario: "fixture".into(),
+        dut: DutChoice::Bundled(dut.into()),
+        host,
+        ..TbConfig::default()
+    }
 }
 
 fn all_bfms() -> Vec<(&'static str, HostBfm)> {
     vec![
         ("wishbone", HostBfm::Wishbone),
-        ("avalon-bridge", HostBfm::Avalon { timing: AvalonTiming::Waitrequest, wiring: AvalonWiring::Bridge }),
+        (
+            "avalon-bridge",
+            HostBfm::Avalon {
+                timing: AvalonTiming::Waitrequest,
+                wiring: AvalonWiring::Bridge,
+            },
+        ),
         ("pio", HostBfm::Pio(PioTiming::default())),
     ]
 }
@@ -33,7 +46,10 @@ fn every_bfm_writes_and_reads_the_echo_fixture_without_violations() {
             // another, which the CPU then abandons by clearing the control
             // PIO. The monitor reports exactly that, and nothing else.
             assert!(
-                tb.violations().iter().all(|v| v.rule == "wb.cyc_dropped_before_ack" || v.rule == "wb.ack_without_request"),
+                tb.violations()
+                    .iter()
+                    .all(|v| v.rule == "wb.cyc_dropped_before_ack"
+                        || v.rule == "wb.ack_without_request"),
                 "{:?}",
                 tb.violations()
             );
@@ -55,7 +71,11 @@ fn every_bfm_writes_and_reads_the_echo_fixture_without_violations() {
         assert!(!p.irq_n && !p.bus_on, "{name}: {p:?}");
         let rec = tb.record();
         assert!(rec.host_ops.len() >= 10, "{name}: ops recorded");
-        assert!(rec.host_ops.iter().all(|o| o.cycles > 0 && o.error.is_none()));
+        assert!(
+            rec.host_ops
+                .iter()
+                .all(|o| o.cycles > 0 && o.error.is_none())
+        );
     }
 }
 
@@ -74,19 +94,31 @@ fn host_cycles_per_register_access_for_each_bfm() {
         match name {
             "wishbone" => assert!((2.0..=4.0).contains(&per), "wishbone {per}"),
             "avalon-bridge" => assert!((2.0..=5.0).contains(&per), "avalon {per}"),
-            _ => assert!(per > 15.0, "PIO bit-banging costs many GPIO accesses: {per}"),
+            _ => assert!(
+                per > 15.0,
+                "PIO bit-banging costs many GPIO accesses: {per}"
+            ),
         }
     }
-    println!("host cycles per register access (echo fixture, 1-cycle registered ack): {}", line.join(", "));
+    println!(
+        "host cycles per register access (echo fixture, 1-cycle registered ack): {}",
+        line.join(", ")
+    );
 }
 
 #[test]
 fn thesis_avalon_wiring_is_caught_by_the_wishbone_monitor() {
-    let host = HostBfm::Avalon { timing: AvalonTiming::FixedWaitStates { read: 1, write: 1 }, wiring: AvalonWiring::Seed000 };
+    let host = HostBfm::Avalon {
+        timing: AvalonTiming::FixedWaitStates { read: 1, write: 1 },
+        wiring: AvalonWiring::Seed000,
+    };
     let mut tb = Testbench::new(cfg("cosim_echo", host)).unwrap();
     let _ = tb.write(5, 0x11);
     let v = tb.violations();
-    assert!(!v.is_empty(), "seed 000 wiring drops cyc after the first cycle");
+    assert!(
+        !v.is_empty(),
+        "seed 000 wiring drops cyc after the first cycle"
+    );
     assert!(v.iter().any(|v| v.rule.starts_with("wb.")), "{v:?}");
 }
 
@@ -94,7 +126,12 @@ fn thesis_avalon_wiring_is_caught_by_the_wishbone_monitor() {
 fn acks_without_request_are_flagged_with_their_cycle() {
     let mut tb = Testbench::new(cfg("cosim_badwb", HostBfm::Wishbone)).unwrap();
     tb.run_host_cycles(40).unwrap();
-    let v: Vec<_> = tb.violations().iter().filter(|v| v.rule == "wb.ack_without_request").cloned().collect();
+    let v: Vec<_> = tb
+        .violations()
+        .iter()
+        .filter(|v| v.rule == "wb.ack_without_request")
+        .cloned()
+        .collect();
     assert!(v.len() >= 2, "{:?}", tb.violations());
     // The fixture's counter acks every 16 cycles: consecutive reports 16 apart.
     assert_eq!(v[1].cycle - v[0].cycle, 16, "{v:?}");
@@ -118,19 +155,31 @@ fn a_slave_that_never_acks_times_out_with_a_diagnosis() {
         assert!(matches!(e, TbError::Host { .. }), "{name}: {msg}");
         assert!(msg.contains("0x04"), "{name}: {msg}");
         if name == "wishbone" {
-            assert!(msg.contains("no ack") || msg.contains("wb_ack_o"), "monitor's view included: {msg}");
+            assert!(
+                msg.contains("no ack") || msg.contains("wb_ack_o"),
+                "monitor's view included: {msg}"
+            );
         }
         let rec = tb.record();
         assert!(rec.error.is_some() && rec.host_ops.last().unwrap().error.is_some());
         let d = diagnose::diagnose(&rec);
         let text = d.to_text();
-        assert!(text.contains("0x04") || text.to_lowercase().contains("ack"), "{name}: the diagnoser explains it: {text}");
+        assert!(
+            text.contains("0x04") || text.to_lowercase().contains("ack"),
+            "{name}: the diagnoser explains it: {text}"
+        );
     }
 }
 
 fn lockstep(dut: &str) -> Testbench {
     let mut c = cfg(dut, HostBfm::Wishbone);
-    c.lockstep = Some((ReferenceChoice::Echo, CompareConfig { tx_edge_tolerance: 2, ..CompareConfig::default() }));
+    c.lockstep = Some((
+        ReferenceChoice::Echo,
+        CompareConfig {
+            tx_edge_tolerance: 2,
+            ..CompareConfig::default()
+        },
+    ));
     Testbench::new(c).unwrap()
 }
 
@@ -165,8 +214,14 @@ fn comparator_finds_the_deviant_fixtures_register_and_tx_divergences() {
     let e = tb.read(4).unwrap_err();
     assert!(matches!(e, TbError::Diverged(_)), "{e}");
     let d = tb.record().divergence.unwrap();
-    assert_eq!((d.kind, d.expected, d.seen), (DivergenceKind::RegisterRead, 0xFF, 0x7F));
-    assert!(tb.write(3, 0).is_err(), "the run stops at the first divergence");
+    assert_eq!(
+        (d.kind, d.expected, d.seen),
+        (DivergenceKind::RegisterRead, 0xFF, 0x7F)
+    );
+    assert!(
+        tb.write(3, 0).is_err(),
+        "the run stops at the first divergence"
+    );
     // tx: stuck recessive while the reference drives dominant.
     let mut tb = lockstep("cosim_deviant");
     tb.run_bits(3).unwrap();
@@ -178,7 +233,10 @@ fn comparator_finds_the_deviant_fixtures_register_and_tx_divergences() {
     assert_eq!((d.kind, d.expected, d.seen), (DivergenceKind::TxBit, 0, 1));
     assert!(d.context.contains("tolerances"), "{}", d.context);
     let last = rec.bus_bits.last().unwrap();
-    assert!(last.dut_tx && !last.model_tx, "context bits end at the divergence: {last:?}");
+    assert!(
+        last.dut_tx && !last.model_tx,
+        "context bits end at the divergence: {last:?}"
+    );
     assert!(rec.bus_bits.len() >= 3);
 }
 
@@ -190,7 +248,11 @@ fn disconnected_rx_is_tied_and_tx_can_stay_off_the_bus() {
     tb.write(0, 0x00).unwrap();
     tb.run_can_cycles(4).unwrap();
     assert!(!tb.pins().tx);
-    assert_eq!(tb.read(31).unwrap(), 1, "rx tied recessive whatever tx does (the thesis wiring)");
+    assert_eq!(
+        tb.read(31).unwrap(),
+        1,
+        "rx tied recessive whatever tx does (the thesis wiring)"
+    );
     let mut c = cfg("cosim_echo", HostBfm::Wishbone);
     c.tx_on_bus = false;
     let mut tb = Testbench::new(c).unwrap();
@@ -198,10 +260,17 @@ fn disconnected_rx_is_tied_and_tx_can_stay_off_the_bus() {
     tb.run_can_cycles(4).unwrap();
     assert_eq!(tb.read(31).unwrap(), 1, "tx not looped to rx");
     let mut c = cfg("cosim_echo", HostBfm::Wishbone);
-    c.dut_rx_faults.push(Box::new(sja1000::StuckAt::forever(false, sja1000::Target::All)));
+    c.dut_rx_faults.push(Box::new(sja1000::StuckAt::forever(
+        false,
+        sja1000::Target::All,
+    )));
     let mut tb = Testbench::new(c).unwrap();
     tb.run_can_cycles(4).unwrap();
-    assert_eq!(tb.read(31).unwrap(), 0, "stuck-dominant fault on the DUT's receiver");
+    assert_eq!(
+        tb.read(31).unwrap(),
+        0,
+        "stuck-dominant fault on the DUT's receiver"
+    );
 }
 
 #[test]
@@ -218,10 +287,20 @@ fn vcd_has_ports_bus_and_fields_and_verilator_trace_works() {
     tb.flush().unwrap();
     drop(tb);
     let ours = std::fs::read_to_string(dir.join("tb.vcd")).unwrap();
-    for sig in ["wb_cyc_i", "tx_o", "bus", "model_tx", "sample_point", "field"] {
+    for sig in [
+        "wb_cyc_i",
+        "tx_o",
+        "bus",
+        "model_tx",
+        "sample_point",
+        "field",
+    ] {
         assert!(ours.contains(sig), "{sig} in our VCD");
     }
     let theirs = std::fs::read_to_string(dir.join("dut.vcd")).unwrap();
-    assert!(theirs.contains("mem") || theirs.contains("rx_q"), "Verilator traced the internals");
+    assert!(
+        theirs.contains("mem") || theirs.contains("rx_q"),
+        "Verilator traced the internals"
+    );
     let _ = std::fs::remove_dir_all(&dir);
 }
