@@ -1,0 +1,17 @@
+//! Runs a campaign from the command line until the CLI has its
+//! `campaign` subcommand: `cargo run --release -p campaign --example campaign -- SEED FRAMES [model|rtl] [FIRST_FRAME]`.
+use campaign::{CampaignConfig, DutChoice, run_campaign};
+
+fn main() {
+    let a: Vec<String> = std::env::args().collect();
+    let seed = a.get(1).and_then(|s| s.parse().ok()).unwrap_or(1);
+    let frames = a.get(2).and_then(|s| s.parse().ok()).unwrap_or(100);
+    let dut = match a.get(3).map(String::as_str) {
+        Some("model") => DutChoice::Model,
+        _ => DutChoice::Rtl,
+    };
+    let first_frame = a.get(4).and_then(|s| s.parse().ok()).unwrap_or(0);
+    let r = run_campaign(&CampaignConfig { seed, frames, dut, first_frame, ..CampaignConfig::default() });
+    print!("{}", r.to_text());
+    std::process::exit(if r.passed() { 0 } else { 1 });
+}
