@@ -540,6 +540,20 @@ impl Bus {
             return;
         }
         let cpb = self.clocks_per_bit() as u64;
+        if self.faults.is_empty() && !self.accounting {
+            // The hot loop: no fault to apply, no journal to collect.
+            let mut level = self.level;
+            for _ in 0..n {
+                level = self.nodes.iter().fold(RECESSIVE, |l, n| l & n.tx());
+                self.tracker.step(self.clock, level, cpb, cpb);
+                for node in &mut self.nodes {
+                    node.sample_bit(level);
+                }
+                self.clock += cpb;
+            }
+            self.level = level;
+            return;
+        }
         for _ in 0..n {
             self.step_bit(cpb);
         }
