@@ -12,6 +12,26 @@
 //!
 //! Source of the semantics: the SJA1000 data sheet (Philips, 2000 Jan 04)
 //! and the CAN 2.0B specification.
+//!
+//! ```
+//! use can_proto::{CanFrame, FrameTrait};
+//! use regmap::peli;
+//! use sja1000::host::{self, Config};
+//! use sja1000::{Bus, Sja1000};
+//!
+//! let mut bus = Bus::new();
+//! for _ in 0..2 {
+//!     let mut node = Sja1000::new(); // hardware reset: BasicCAN, reset mode
+//!     host::configure(&mut node, &Config::pelican()); // PeliCAN, accept all, operating
+//!     bus.add_node(node);
+//! }
+//! let frame = CanFrame::new(CanFrame::std_id(0x123).unwrap(), &[1, 2, 3]).unwrap();
+//! host::transmit(bus.node_mut(0), &frame, peli::cmr::TR).unwrap();
+//! bus.run_bits(200);
+//! assert_eq!(host::receive(bus.node_mut(1)), Some(frame));
+//! assert_eq!(bus.node_mut(0).read(peli::SR) & peli::sr::TCS, peli::sr::TCS);
+//! bus.check_accounting().unwrap();
+//! ```
 #![warn(missing_docs)]
 
 pub mod bus;
