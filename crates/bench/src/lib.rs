@@ -553,6 +553,11 @@ impl BenchReport {
                 }
             );
         }
+        let _ = writeln!(
+            s,
+            "  (cycles: CAN clock cycles; host and CAN clocks both 24 MHz. Peak RSS: a child's own VmHWM; for the \
+             in-process rows, the bench process's peak while the row ran, which includes what it already held)"
+        );
         let _ = writeln!(s, "\n3. targets (issue 7)");
         for t in &self.targets {
             let _ = writeln!(

@@ -61,3 +61,14 @@ fn smoke_run_reports_every_figure_finite_and_positive() {
     assert_eq!(json["selftest"].as_array().unwrap().len(), 5);
     assert_eq!(json["scaling"].as_array().unwrap().len(), 4);
 }
+
+#[test]
+#[ignore = "the full bench (tens of seconds, plus about 30 s to build the harness after an RTL change); run with: cargo test --release -p bench -- --ignored --nocapture"]
+fn full_bench() {
+    let r = run(&BenchOptions::default()).unwrap_or_else(|e| panic!("{e}"));
+    println!("{}", r.to_table());
+    r.check().unwrap_or_else(|e| panic!("{e}"));
+    for (name, v) in r.figures() {
+        assert!(v.is_finite() && v > 0.0, "{name} = {v}");
+    }
+}
