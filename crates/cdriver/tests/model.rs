@@ -67,3 +67,9 @@ fn basiccan_no_acknowledge_is_read_through_sr_es() {
     let mut drv = CDriver::new(BenchHost::alone(DutChoice::Model, AVALON).unwrap());
     common::basic_no_ack(&mut drv);
 }
+
+#[test]
+fn receive_interrupt_follows_the_rx_buffer() {
+    common::receive_interrupt(&mut driver(AVALON, View::Peli), View::Peli);
+    common::receive_interrupt(&mut driver(HostBfm::Wishbone, View::Peli), View::Basic);
+}

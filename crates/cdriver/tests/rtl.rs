@@ -211,3 +211,14 @@ fn pio_header_reset_pulse_resets_can_top() {
     // The model node retransmits until acknowledged.
     assert_eq!(drv.receive_polling(20_000).unwrap(), f);
 }
+
+#[test]
+fn avalon_can_avalon_receive_interrupt() {
+    common::receive_interrupt(&mut avalon(View::Peli), View::Peli);
+    common::receive_interrupt(&mut avalon(View::Peli), View::Basic);
+}
+
+#[test]
+fn pio_header_can_top_receive_interrupt() {
+    common::receive_interrupt(&mut pio(1), View::Peli);
+}

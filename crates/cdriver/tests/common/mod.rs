@@ -211,3 +211,32 @@ where
     assert!(!e.bus_off);
     assert_eq!(e.sr & regmap::basic::sr::TCS, 0);
 }
+
+/// With IER.RIE (PeliCAN) or CR.RIE (BasicCAN) the interrupt line rises
+/// when the model node's frame is stored, and `can_receive`'s release
+/// (CMR.RRB, RI follows RBS) drops it.
+pub fn receive_interrupt<W>(drv: &mut CDriver<W>, view: View)
+where
+    W: Wiring,
+    W::Host: SimHost,
+{
+    let rie = match view {
+        View::Peli => peli::ier::RIE,
+        View::Basic => regmap::basic::cr::RIE,
+    };
+    drv.init(view, &Config { irq_enable: rie, ..Config::accept_all() }).unwrap();
+    drv.host_mut().run_bits(16);
+    assert!(!drv.host().irq(), "no interrupt before any frame");
+    let f = std_frame(0x3C5, &[0x5A; 6]);
+    node_transmit(drv, 0, &f);
+    let mut waited = 0;
+    while !drv.host().irq() {
+        assert!(waited < 400, "no receive interrupt within 400 bit times");
+        drv.host_mut().run_bits(1);
+        waited += 1;
+    }
+    assert!(waited > 40, "the interrupt came only after a whole frame ({waited} bits)");
+    assert_eq!(drv.receive().unwrap(), Some(f));
+    drv.host_mut().run_bits(2);
+    assert!(!drv.host().irq(), "RRB released the only frame: RI and the line drop");
+}
