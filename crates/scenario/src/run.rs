@@ -413,6 +413,14 @@ fn complete_record(r: &mut RunRecord, s: &Scenario, dut: &DutSpec) {
             r.wiring.listen_only = value & 0x02 != 0;
         }
     }
+    // Writes that reach nothing in operating mode (configuration registers)
+    // are named after the register the address holds in reset mode.
+    for op in r.host_ops.iter_mut().filter(|o| o.reg.is_none()) {
+        let mode = if op.mode == diagnose::CanMode::PeliCan { Mode::PeliCan } else { Mode::BasicCan };
+        let write = op.access == diagnose::Access::Write;
+        op.reg = crate::register_name(mode, true, write, op.addr).or_else(|| crate::register_name(mode, false, write, op.addr));
+    }
+    mark_intended(r, s);
     r.tec_trace = tec_trace_from_events(r, Side::Model);
     if dut.kind == DutKind::Model {
         let dut_side: Vec<TecStep> = r.tec_trace.iter().map(|t| TecStep { node: Side::Dut, ..*t }).collect();
@@ -425,6 +433,43 @@ fn complete_record(r: &mut RunRecord, s: &Scenario, dut: &DutSpec) {
         // register in BasicCAN), valid while DUT and model agree.
         let (tec, rec) = r.final_model.map(|m| (m.tec, m.rec)).unwrap_or((0, 0));
         r.final_dut = Some(FinalRegs { sr, ir: 0, tec, rec, ecc: None, alc: None });
+    }
+}
+
+/// Base of a register name: `TXDATA+1`, `TXDATA[1]` -> `TXDATA`.
+fn base_name(n: &str) -> &str {
+    n.split(['+', '[']).next().unwrap_or(n).trim()
+}
+
+/// Marks host ops whose address reaches another register than the name the
+/// scenario used (address confusion between the BasicCAN and PeliCAN maps):
+/// the named steps are matched to the host ops in order.
+fn mark_intended(r: &mut RunRecord, s: &Scenario) {
+    let named: Vec<(u8, bool, &str)> = s
+        .steps
+        .iter()
+        .filter_map(|st| match &st.action {
+            Action::Write { addr, name: Some(n), .. } => Some((*addr, true, n.as_str())),
+            Action::Read { addr, name: Some(n), .. } => Some((*addr, false, n.as_str())),
+            Action::Write { addr, name: None, .. } => Some((*addr, true, "")),
+            Action::Read { addr, name: None, .. } => Some((*addr, false, "")),
+            _ => None,
+        })
+        .collect();
+    let mut next = 0;
+    for op in r.host_ops.iter_mut() {
+        let Some(&(addr, write, name)) = named.get(next) else { break };
+        if op.addr != addr || (op.access == diagnose::Access::Write) != write {
+            continue;
+        }
+        next += 1;
+        if name.is_empty() {
+            continue;
+        }
+        let differs = op.reg.as_deref().is_none_or(|g| !base_name(g).eq_ignore_ascii_case(base_name(name)));
+        if differs {
+            op.intended = Some(name.to_string());
+        }
     }
 }
 

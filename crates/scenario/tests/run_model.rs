@@ -115,3 +115,59 @@ fn an_external_dut_that_does_not_exist_is_a_run_error() {
     assert!(!o.passed);
     assert_eq!(o.diagnosis.category, Category::RunError, "{}", o.diagnosis.to_text());
 }
+
+const BASE: &str = r#"purpose = "inline"
+verifies = ["x"]
+[clocks]
+host_mhz = 50.0
+can_mhz = 24.0
+[host]
+bfm = "wishbone"
+[[step]]
+write = "CR"
+value = 0x01
+[[step]]
+write = "BTR0"
+value = 0x41
+[[step]]
+write = "BTR1"
+value = 0x25
+[[step]]
+write = "CR"
+value = 0x00
+"#;
+
+fn inline(extra: &str) -> RunOutcome {
+    let s = Scenario::parse(&format!("{BASE}{extra}"), "inline.toml").unwrap();
+    let o = run(&s, &RunOptions { dut: Some(DutSpec::model()), ..Default::default() });
+    eprintln!("{}", o.diagnosis.to_text());
+    o
+}
+
+#[test]
+fn ier_written_with_its_pelican_address_in_basiccan_is_address_confusion() {
+    let o = inline("[[step]]\nnote = \"the program means PeliCAN IER\"\nwrite = \"IER\"\nview = \"peli\"\nvalue = 0x01\n");
+    assert_eq!(o.diagnosis.category, Category::AddressModeConfusion);
+    assert_eq!(o.diagnosis.figures.expected.as_deref(), Some("IER"));
+    assert_eq!(o.diagnosis.figures.seen.as_deref(), Some("ACR"));
+    assert_eq!(o.diagnosis.figures.addr, Some(4));
+}
+
+#[test]
+fn btr_written_in_operating_mode_is_reported_as_ignored() {
+    let o = inline("[[step]]\nwrite = \"BTR0\"\nvalue = 0x43\n");
+    assert_eq!(o.diagnosis.category, Category::ConfigWriteOutsideReset, "{:?}", o.record.host_ops.last());
+    assert_eq!(o.diagnosis.figures.register.as_deref(), Some("BTR0"));
+}
+
+#[test]
+fn a_node_at_another_bit_rate_is_a_timing_mismatch() {
+    let o = inline(
+        "[[step]]\nload_tx = { id = 0x123, data = [1] }\n[[step]]\nwrite = \"CMR\"\nvalue = 1\n[[step]]\nwait_bits = 300\n\
+         [[node]]\nname = \"slow\"\nbtr0 = 0x43\nbtr1 = 0x25\n",
+    );
+    assert_eq!(o.diagnosis.category, Category::BitTimingMismatch);
+    assert!(o.diagnosis.what_happened.contains("600000 bit/s"), "{}", o.diagnosis.what_happened);
+    assert!(o.diagnosis.what_happened.contains("300000 bit/s"), "{}", o.diagnosis.what_happened);
+    assert!(o.diagnosis.fix.contains("BTR0 = 0x"), "{}", o.diagnosis.fix);
+}
