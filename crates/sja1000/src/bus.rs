@@ -219,7 +219,9 @@ struct Tracker {
     frame: Option<u64>,
     next_frame: u64,
     start: u64,
+    /// SOF clocks, kept only for the accounting check.
     starts: Vec<u64>,
+    record: bool,
 }
 
 impl Tracker {
@@ -236,7 +238,9 @@ impl Tracker {
                 self.frame = Some(self.next_frame);
                 self.next_frame += 1;
                 self.start = clock;
-                self.starts.push(clock);
+                if self.record {
+                    self.starts.push(clock);
+                }
             }
             self.recessive_clocks = 0;
         }
@@ -316,7 +320,7 @@ pub enum AccountingError {
 }
 
 /// N SJA1000 nodes on one wired-AND bus.
-#[derive(Debug, Default)]
+#[derive(Debug)]
 pub struct Bus {
     nodes: Vec<Sja1000>,
     tx_delay: Vec<DelayLine>,
@@ -329,17 +333,34 @@ pub struct Bus {
     ledger: Vec<Entry>,
     accounting: bool,
     external: bool,
-    rx_scratch: Vec<bool>,
     last_ctx: BusContext,
+}
+
+impl Default for Bus {
+    fn default() -> Self {
+        Bus::new()
+    }
 }
 
 impl Bus {
     /// An empty bus, accounting on.
     pub fn new() -> Self {
         Bus {
+            nodes: Vec::new(),
+            tx_delay: Vec::new(),
+            rx_delay: Vec::new(),
+            delays: Vec::new(),
+            faults: Vec::new(),
             level: RECESSIVE,
+            clock: 0,
+            tracker: Tracker {
+                record: true,
+                ..Tracker::default()
+            },
+            ledger: Vec::new(),
             accounting: true,
-            ..Default::default()
+            external: false,
+            last_ctx: BusContext::default(),
         }
     }
 
@@ -358,7 +379,6 @@ impl Bus {
         self.tx_delay.push(DelayLine::new(0));
         self.rx_delay.push(DelayLine::new(0));
         self.delays.push(0);
-        self.rx_scratch.push(RECESSIVE);
         i
     }
 
@@ -414,6 +434,7 @@ impl Bus {
     /// benchmark turns it off; every test keeps it on).
     pub fn set_accounting(&mut self, on: bool) {
         self.accounting = on;
+        self.tracker.record = on;
         for n in &mut self.nodes {
             n.set_journal(on);
         }
