@@ -55,7 +55,8 @@ module can_bsp (
     output reg         recov_tick,
     output wire        rs,          // SR.RS
     output wire        ts,          // SR.TS
-    output wire        bus_idle
+    output wire        bus_idle,
+    output wire        integrating  // waiting for bus-free (11 recessive bits)
 );
     localparam [4:0] S_OFF = 5'd0, S_INTEG = 5'd1, S_IDLE = 5'd2, S_SOF = 5'd3,
                      S_IDA = 5'd4, S_SRTR = 5'd5, S_IDE = 5'd6, S_IDB = 5'd7,
@@ -106,6 +107,7 @@ module can_bsp (
                       (st == S_INTEG) || (st == S_BUSOFF) ||
                       ((st == S_INTER) && (cnt == 6'd2));
     assign bus_idle = (st == S_IDLE);
+    assign integrating = (st == S_INTEG);
     // SR.TS: the transmitter, from SOF until bus idle (also between automatic
     // retransmissions and during suspend); SR.RS: a receiver inside a frame
     // or error/overload signalling

@@ -59,6 +59,7 @@ module can_regs (
     input  wire        rs,
     input  wire        ts,
     input  wire        bus_idle,
+    input  wire        integrating,
     input  wire [7:0]  tec,
     input  wire [7:0]  rec,
     input  wire        bus_off,
@@ -148,7 +149,10 @@ module can_regs (
     assign irq = peli ? ((|ir[7:1]) | ri_live) : ((|ir[4:1]) | ri_live);
 
     // reset mode: PeliCAN shows RS = TS = 1 (waiting for bus-free), BasicCAN 0
-    wire [7:0] sr = {bus_off, warn, rm ? peli : ts, rm ? peli : rs, tcs, tbs, dos, rbs};
+    // TS/RS keep their reset-mode value (PeliCAN 1, BasicCAN 0) until bus-free
+    // is seen after reset mode or sleep ("wait idle")
+    wire       wait_idle = rm || integrating;
+    wire [7:0] sr = {bus_off, warn, wait_idle ? peli : ts, wait_idle ? peli : rs, tcs, tbs, dos, rbs};
 
     // ---- read mux ----
     always @* begin

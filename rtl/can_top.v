@@ -55,7 +55,7 @@ module can_top #(
     wire        tx_done, tx_drop, alc_evt, err_evt;
     wire [4:0]  alc_val;
     wire [7:0]  ecc_val;
-    wire        rs, ts, bus_idle;
+    wire        rs, ts, bus_idle, integrating;
     wire [7:0]  tec, rec;
     wire        bus_off, passive, warn, epi_evt, wr_tec, wr_rec;
     wire        irq;
@@ -81,6 +81,7 @@ module can_top #(
         .dos_set(dos_set), .fifo_wr(fifo_wr),
         .tx_done(tx_done), .tx_drop(tx_drop), .alc_evt(alc_evt), .alc_val(alc_val),
         .err_evt(err_evt), .ecc_val(ecc_val), .rs(rs), .ts(ts), .bus_idle(bus_idle),
+        .integrating(integrating),
         .tec(tec), .rec(rec), .bus_off(bus_off), .warn(warn), .epi_evt(epi_evt),
         .wr_tec(wr_tec), .wr_rec(wr_rec), .rx_i(rx_i), .irq(irq), .clkout(clkout_div),
         .clkout_fosc(clkout_fosc)
@@ -104,7 +105,7 @@ module can_top #(
         .alc_evt(alc_evt), .alc_val(alc_val), .err_evt(err_evt), .ecc_val(ecc_val),
         .tec_add8(tec_add8), .tec_sub1(tec_sub1), .rec_add1(rec_add1), .rec_add8(rec_add8),
         .rec_sub1(rec_sub1), .recov_tick(recov_tick),
-        .rs(rs), .ts(ts), .bus_idle(bus_idle)
+        .rs(rs), .ts(ts), .bus_idle(bus_idle), .integrating(integrating)
     );
 
     can_fce u_fce (
