@@ -863,3 +863,39 @@ fn workload_is_seeded_and_paths_agree() {
     assert_eq!(workload::two_node_exchange(7, 30_000), fast);
     assert_ne!(workload::two_node_exchange(8, 30_000), fast);
 }
+
+/// The accounting check has teeth: a node deaf for a whole frame (its rx
+/// stuck recessive, so it sees no SOF and signals nothing) while another
+/// node acknowledges is reported as a lost delivery.
+#[test]
+fn accounting_reports_a_deaf_node() {
+    use sja1000::bus::AccountingError;
+    let cfg = Config::pelican();
+    let mut bus = bus_of(&[cfg, cfg, cfg]);
+    bus.run_bits(20);
+    let cpb = bus.clocks_per_bit() as u64;
+    let now = bus.clocks();
+    bus.add_fault(StuckAt {
+        level: RECESSIVE,
+        target: Target::Node(2),
+        from: now,
+        until: Some(now + 200 * cpb),
+    });
+    host::transmit(bus.node_mut(0), &std_frame(0x321, &[9]), peli::cmr::TR).unwrap();
+    bus.run_bits(300);
+    assert_eq!(
+        bus.node_mut(0).read(peli::SR) & peli::sr::TCS,
+        peli::sr::TCS,
+        "node 1 acknowledged"
+    );
+    assert_eq!(drain(bus.node_mut(1)).len(), 1);
+    assert_eq!(drain(bus.node_mut(2)).len(), 0);
+    match bus.check_accounting() {
+        Err(AccountingError::Lost {
+            sender: 0,
+            receiver: 2,
+            ..
+        }) => {}
+        other => panic!("expected a lost delivery to node 2, got {other:?}"),
+    }
+}
