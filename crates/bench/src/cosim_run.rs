@@ -11,6 +11,8 @@ use crate::workload::{CLOCKS_PER_BIT, IRQ_TIMEOUT_BITS, SelfTestHost, SelfTestOu
 
 /// The CAN and host clock of the bench, Hz.
 pub const CLOCK_HZ: u64 = 24_000_000;
+/// The DE2's host clock (`wb_clk_i`), Hz, for the two-clock row.
+pub const DE2_HOST_HZ: u64 = 50_000_000;
 
 /// The test bench as a [`SelfTestHost`].
 pub struct CosimHost {
@@ -21,11 +23,17 @@ impl CosimHost {
     /// Builds the bench: our RTL, Wishbone BFM, `rx_i` = `tx_o` (no other
     /// node), with or without the lockstep golden model + comparator.
     pub fn new(lockstep: bool) -> Result<Self, BenchError> {
+        Self::with_host_clock(lockstep, CLOCK_HZ)
+    }
+
+    /// As [`CosimHost::new`] with the host clock at `host_hz` (the DE2
+    /// runs `wb_clk_i` at 50 MHz).
+    pub fn with_host_clock(lockstep: bool, host_hz: u64) -> Result<Self, BenchError> {
         let cfg = TbConfig {
             scenario: "bench self-test loopback".into(),
             dut: DutChoice::Rtl,
             host: HostBfm::Wishbone,
-            host_hz: CLOCK_HZ,
+            host_hz,
             can_hz: CLOCK_HZ,
             rx: RxWiring::Bus,
             tx_on_bus: true,
@@ -67,8 +75,9 @@ pub fn selftest(
     frames: u64,
     seed: u64,
     lockstep: bool,
+    host_hz: u64,
 ) -> Result<(SelfTestOutcome, u64), BenchError> {
-    let mut h = CosimHost::new(lockstep)?;
+    let mut h = CosimHost::with_host_clock(lockstep, host_hz)?;
     let out = crate::workload::run(&mut h, frames, seed)?;
     Ok((out, h.cycles()))
 }

@@ -20,6 +20,7 @@ fn smoke_run_reports_every_figure_finite_and_positive() {
             "model",
             "cosim",
             "cosim-no-lockstep",
+            "cosim-de2-clocks",
             "verilator-raw",
             "icarus"
         ]
@@ -45,7 +46,7 @@ fn smoke_run_reports_every_figure_finite_and_positive() {
     assert!((c - h).abs() / h < 0.10, "co-sim {c} cycles vs harness {h}");
 
     let figures = r.figures();
-    assert!(figures.len() >= 4 * 5 + 5 * 6 + 4);
+    assert!(figures.len() >= 4 * 5 + 6 * 6 + 4);
     for (name, v) in &figures {
         assert!(v.is_finite() && *v > 0.0, "{name} = {v}");
     }
@@ -58,7 +59,7 @@ fn smoke_run_reports_every_figure_finite_and_positive() {
         assert!(table.contains(&t.name), "table lacks {}:\n{table}", t.name);
     }
     let json: serde_json::Value = serde_json::from_str(&r.to_json()).unwrap();
-    assert_eq!(json["selftest"].as_array().unwrap().len(), 5);
+    assert_eq!(json["selftest"].as_array().unwrap().len(), 6);
     assert_eq!(json["scaling"].as_array().unwrap().len(), 4);
 }
 
