@@ -1,5 +1,5 @@
 //! Runs a campaign from the command line until the CLI has its
-//! `campaign` subcommand: `cargo run --release -p campaign --example campaign -- SEED FRAMES [model|rtl] [FIRST_FRAME]`.
+//! `campaign` subcommand: `cargo run --release -p campaign --example campaign -- SEED FRAMES [model|rtl] [FIRST_FRAME] [FAULT_RATE]` (CAMPAIGN_FRAMES=1 lists every frame)`.
 use campaign::{CampaignConfig, DutChoice, run_campaign};
 
 fn main() {
@@ -11,7 +11,13 @@ fn main() {
         _ => DutChoice::Rtl,
     };
     let first_frame = a.get(4).and_then(|s| s.parse().ok()).unwrap_or(0);
-    let r = run_campaign(&CampaignConfig { seed, frames, dut, first_frame, ..CampaignConfig::default() });
+    let fault_rate = a.get(5).and_then(|s| s.parse().ok()).unwrap_or(CampaignConfig::default().fault_rate);
+    let r = run_campaign(&CampaignConfig { seed, frames, dut, first_frame, fault_rate, ..CampaignConfig::default() });
     print!("{}", r.to_text());
+    if std::env::var_os("CAMPAIGN_FRAMES").is_some() {
+        for f in &r.frames {
+            println!("{f:?}");
+        }
+    }
     std::process::exit(if r.passed() { 0 } else { 1 });
 }

@@ -1,9 +1,10 @@
 //! Faults of a campaign: what is injected, where it is aimed, and the one
 //! injector shared by the model nodes' receivers and the DUT's `rx_i`.
 //!
-//! The test bench applies its own fault list to the DUT's receiver without a
-//! frame context, while the `sja1000` bus applies its list to the model
-//! nodes with one. A single [`SharedInjector`] is installed in both places:
+//! The test bench applies one fault list to the DUT's receiver (with a
+//! context from its own bit clock) and the `sja1000` bus another to the
+//! model nodes (with the bus tracker's context). A single
+//! [`SharedInjector`] is installed in both places:
 //! the bus calls it first for every node, it keeps that context, and the
 //! DUT's call in the same CAN clock reuses it. So a fault aimed at "bit 37
 //! of bus frame 12" hits the DUT and the model nodes at the same instant.
@@ -301,7 +302,8 @@ impl FaultInjector for SharedInjector {
     fn apply(&mut self, ctx: &BusContext, node: usize, level: bool) -> bool {
         let mut s = self.0.borrow_mut();
         // The bus clocks its nodes before the test bench computes the DUT's
-        // rx in the same CAN clock: the DUT reuses the bus's frame context.
+        // rx in the same CAN clock: the DUT reuses the bus's frame context,
+        // so frames and bits are counted the same way for every receiver.
         let ctx = if node < s.n_nodes {
             s.last = *ctx;
             *ctx

@@ -159,9 +159,45 @@ impl Disagreement {
     }
 }
 
+/// What one frame did, as the DUT reported it after the bus settled
+/// (the reference agreed, or the frame ended in a disagreement instead).
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub struct FrameRecord {
+    /// Frame index.
+    pub index: u32,
+    /// The fault armed, if any.
+    pub fault: Option<PlannedFault>,
+    /// The aimed fault's bit went by on the wire.
+    pub fault_reached: bool,
+    /// The DUT requested a transmission.
+    pub dut_sent: bool,
+    /// Model nodes that requested one.
+    pub node_senders: Vec<usize>,
+    /// IR, ALC, ECC, RXERR, TXERR and SR as the DUT returned them.
+    pub ir: u8,
+    /// See `ir`.
+    pub alc: u8,
+    /// See `ir`.
+    pub ecc: u8,
+    /// See `ir`.
+    pub rxerr: u8,
+    /// See `ir`.
+    pub txerr: u8,
+    /// See `ir`.
+    pub sr: u8,
+    /// Frames read out of the DUT's RX FIFO.
+    pub received: u32,
+    /// Model nodes that detected a bus error (from their journals).
+    pub node_errors: Vec<bool>,
+    /// Bit times the frame took to settle.
+    pub bits: u64,
+}
+
 /// What a campaign did and found.
 #[derive(Clone, Debug, Default)]
 pub struct CampaignReport {
+    /// Every frame run to the end, in order.
+    pub frames: Vec<FrameRecord>,
     /// Seed.
     pub seed: u64,
     /// First frame index.
@@ -385,13 +421,18 @@ fn build(cfg: &CampaignConfig) -> Result<Segment, TbError> {
         btr0: cfg.btr.0,
         btr1: cfg.btr.1,
         nodes,
+        // One shared injector on the model nodes' receivers and on the DUT's.
         faults: vec![Box::new(inj.clone())],
+        dut_rx_faults: vec![Box::new(inj.clone())],
         lockstep: Some((ReferenceChoice::Model, CompareConfig::default())),
         keep_bits: 64,
         ..TbConfig::default()
     };
     let mut tb = Testbench::new(tbc)?;
-    tb.bus_mut().add_fault(inj.clone());
+    // Each node's journal says whether it signalled an error in a frame.
+    for i in 0..cfg.nodes {
+        tb.bus_mut().node_mut(i).set_journal(true);
+    }
     for (a, d) in pelican_setup(cfg.btr, 0xFF) {
         tb.write(a, d)?;
     }
@@ -545,6 +586,9 @@ fn run_frame(seg: &mut Segment, cfg: &CampaignConfig, plan: &FramePlan, index: u
     } else {
         seg.inj.0.borrow_mut().disarm();
     }
+    for i in 0..cfg.nodes {
+        tb.bus_mut().node_mut(i).take_journal();
+    }
     // DUT first (its buffer takes host cycles), then the nodes right after
     // its CMR.TR, so contending frames start in the same bit.
     if let Some(f) = &plan.dut_frame {
@@ -584,15 +628,17 @@ fn run_frame(seg: &mut Segment, cfg: &CampaignConfig, plan: &FramePlan, index: u
             return Err(Stop::Bench(TbError::Timeout { what: format!("frame {index} to settle (DUT SR 0x{dut_sr:02X})"), bits: cfg.max_bits_per_frame }));
         }
     }
-    if plan.fault.is_some() && seg.inj.0.borrow().reached {
+    let reached = plan.fault.is_some() && seg.inj.0.borrow().reached;
+    if reached {
         rep.faults_reached += 1;
     }
+    let settle_bits = tb.bits() - start;
     seg.inj.0.borrow_mut().disarm();
     // Status, compared with the reference by the lockstep comparator.
     let ir = tb.read(reg::IR)?;
     // Reading ALC and ECC re-arms their capture on both sides.
-    tb.read(reg::ALC)?;
-    tb.read(reg::ECC)?;
+    let alc = tb.read(reg::ALC)?;
+    let ecc = tb.read(reg::ECC)?;
     let rec = tb.read(reg::RXERR)?;
     let tec = tb.read(reg::TXERR)?;
     let _rmc = tb.read(reg::RMC)?;
@@ -614,6 +660,12 @@ fn run_frame(seg: &mut Segment, cfg: &CampaignConfig, plan: &FramePlan, index: u
         s = tb.read(reg::SR)?;
     }
     rep.dut_received += got.len() as u32;
+    // A receiver that signalled an error may miss a frame the transmitter
+    // completes (its flag came too late or was passive): accounted for.
+    let node_errored: Vec<bool> = (0..cfg.nodes)
+        .map(|i| tb.bus_mut().node_mut(i).take_journal().iter().any(|e| matches!(e, sja1000::NodeEvent::BusError { .. })))
+        .collect();
+    let dut_errored = ir & 0x80 != 0;
     let mut node_got: Vec<Vec<CanFrame>> = Vec::new();
     for i in 0..cfg.nodes {
         let mut v = Vec::new();
@@ -660,17 +712,33 @@ fn run_frame(seg: &mut Segment, cfg: &CampaignConfig, plan: &FramePlan, index: u
         && sr_now & sr::BS == 0
     {
         for (i, v) in node_got.iter().enumerate() {
-            if !v.contains(f) && !tb.bus().node(i).bus_off() {
+            if !v.contains(f) && !tb.bus().node(i).bus_off() && !node_errored[i] {
                 return Err(fail(format!("the DUT completed {} but node{} did not receive it", describe(f), i + 1), tb));
             }
         }
     }
     for (i, f) in &plan.node_frames {
         let n = tb.bus().node(*i);
-        if n.peek(reg::SR) & sr::TCS != 0 && !n.bus_off() && sr_now & sr::BS == 0 && !got.contains(&Some(*f)) {
+        if n.peek(reg::SR) & sr::TCS != 0 && !n.bus_off() && sr_now & sr::BS == 0 && !dut_errored && !got.contains(&Some(*f)) {
             return Err(fail(format!("node{} completed {} but the DUT did not deliver it", i + 1, describe(f)), tb));
         }
     }
+    rep.frames.push(FrameRecord {
+        index,
+        fault: plan.fault.clone(),
+        fault_reached: reached,
+        dut_sent: plan.dut_frame.is_some(),
+        node_senders: plan.node_frames.iter().map(|(i, _)| *i).collect(),
+        ir,
+        alc,
+        ecc,
+        rxerr: rec,
+        txerr: tec,
+        sr: sr_now,
+        received: got.len() as u32,
+        node_errors: node_errored.clone(),
+        bits: settle_bits,
+    });
     // IR.ALI and IR.BEI (all interrupts enabled on the DUT).
     if ir & 0x40 != 0 {
         rep.arbitration_lost += 1;

@@ -53,3 +53,50 @@ fn rtl_against_the_model_under_random_faults() {
     assert!(r.passed(), "{}", r.to_text());
     assert_eq!(r.frames_run, 30);
 }
+
+/// Faults reach the DUT's receiver (the test bench gives it no frame
+/// context of its own): a flip of a body bit seen only by the DUT is always
+/// a bus error for the DUT (bit, stuff, form or CRC error), captured in ECC.
+#[test]
+fn a_flip_seen_only_by_the_dut_is_a_bus_error_on_the_dut() {
+    use campaign::{Aim, FaultKind, FaultTarget};
+    let cfg = CampaignConfig { seed: 3, frames: 60, dut: DutChoice::Model, fault_rate: 1.0, ..CampaignConfig::default() };
+    let r = run_campaign(&cfg);
+    assert!(r.passed(), "{}", r.to_text());
+    let hits: Vec<_> = r
+        .frames
+        .iter()
+        .filter(|f| {
+            f.fault.as_ref().is_some_and(|p| {
+                p.fault.kind == FaultKind::Flip && p.fault.target == FaultTarget::Dut && matches!(p.aim, Aim::Control | Aim::Data | Aim::Crc)
+            })
+        })
+        .collect();
+    assert!(!hits.is_empty(), "seed 3 draws such a fault within 60 frames");
+    for f in hits {
+        assert!(f.fault_reached, "{f:?}");
+        assert!(f.ir & 0x80 != 0, "IR.BEI after {f:?}");
+    }
+    // The same on one model node's receiver: that node detects the error.
+    let node_hits: Vec<_> = r
+        .frames
+        .iter()
+        .filter_map(|f| {
+            let p = f.fault.as_ref()?;
+            match p.fault.target {
+                FaultTarget::Node(i) if p.fault.kind == FaultKind::Flip && matches!(p.aim, Aim::Control | Aim::Data | Aim::Crc) => Some((i, f)),
+                _ => None,
+            }
+        })
+        .collect();
+    assert!(!node_hits.is_empty(), "seed 3 draws such a fault within 60 frames");
+    for (i, f) in node_hits {
+        assert!(f.node_errors[i], "node{} after {f:?}", i + 1);
+    }
+    // Frames without a fault see no bus error at all.
+    let cfg = CampaignConfig { fault_rate: 0.0, frames: 20, ..cfg };
+    let r = run_campaign(&cfg);
+    assert!(r.passed(), "{}", r.to_text());
+    assert_eq!(r.faults_injected, 0);
+    assert!(r.frames.iter().all(|f| f.ir & 0x80 == 0 && f.txerr == 0 && f.rxerr == 0 && f.node_errors.iter().all(|e| !e)), "{:?}", r.frames);
+}
