@@ -171,3 +171,16 @@ fn a_node_at_another_bit_rate_is_a_timing_mismatch() {
     assert!(o.diagnosis.what_happened.contains("300000 bit/s"), "{}", o.diagnosis.what_happened);
     assert!(o.diagnosis.fix.contains("BTR0 = 0x"), "{}", o.diagnosis.fix);
 }
+
+#[test]
+fn tx_buffer_written_while_a_transmission_is_pending_is_reported() {
+    // alone on the bus: the first frame never completes, the buffer stays locked
+    let o = inline(
+        "[[step]]\nload_tx = { id = 0x123, data = [1] }\n[[step]]\nwrite = \"CMR\"\nvalue = 1\n[[step]]\nwait_bits = 50\n\
+         [[step]]\nnote = \"overwrite the frame without checking SR.TBS\"\nwrite = \"TXID1\"\nvalue = 0x55\n[run]\nmax_bits = 600\n",
+    );
+    assert_eq!(o.diagnosis.category, Category::TxBufferWriteWhileLocked, "{:?}", o.record.host_ops.last());
+    assert_eq!(o.diagnosis.figures.addr, Some(10));
+    // the cause of the pending transmission is listed too
+    assert!(o.diagnosis.also.iter().any(|f| f.category == Category::NoAcknowledge));
+}
