@@ -73,3 +73,8 @@ fn receive_interrupt_follows_the_rx_buffer() {
     common::receive_interrupt(&mut driver(AVALON, View::Peli), View::Peli);
     common::receive_interrupt(&mut driver(HostBfm::Wishbone, View::Peli), View::Basic);
 }
+
+#[test]
+fn overrun_is_counted_and_cleared() {
+    common::overrun(&mut driver(AVALON, View::Peli));
+}

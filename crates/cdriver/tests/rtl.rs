@@ -222,3 +222,15 @@ fn avalon_can_avalon_receive_interrupt() {
 fn pio_header_can_top_receive_interrupt() {
     common::receive_interrupt(&mut pio(1), View::Peli);
 }
+
+#[test]
+fn avalon_can_avalon_overrun() {
+    common::overrun(&mut avalon(View::Peli));
+}
+
+#[test]
+fn pio_header_with_ack_gate_overrun() {
+    let mut drv = pio(1);
+    drv.host_mut().set_ack_gate(true);
+    common::overrun(&mut drv);
+}

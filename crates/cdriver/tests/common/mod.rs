@@ -240,3 +240,39 @@ where
     drv.host_mut().run_bits(2);
     assert!(!drv.host().irq(), "RRB released the only frame: RI and the line drop");
 }
+
+/// Seven 8-byte frames arrive while the driver does not read: the 64-byte
+/// RX FIFO holds five (11 bytes each in PeliCAN), the rest overrun. The
+/// driver reads the five in order, counts one overrun and clears it
+/// (CMR.CDO with the release).
+pub fn overrun<W>(drv: &mut CDriver<W>)
+where
+    W: Wiring,
+    W::Host: SimHost,
+{
+    drv.init(View::Peli, &Config::accept_all()).unwrap();
+    drv.host_mut().run_bits(16);
+    let sent: Vec<CanFrame> = (0..7u8).map(|i| std_frame(0x100 + i as u16, &[i; 8])).collect();
+    for f in &sent {
+        let mut waited = 0;
+        while drv.host_mut().node(0).peek(peli::SR) & peli::sr::TBS == 0 {
+            assert!(waited < 400, "model node never finished a frame");
+            drv.host_mut().run_bits(4);
+            waited += 4;
+        }
+        node_transmit(drv, 0, f);
+        drv.host_mut().run_bits(4);
+    }
+    drv.host_mut().run_bits(200);
+    let e = drv.read_errors().unwrap();
+    assert!(e.sr & peli::sr::DOS != 0, "SR.DOS after 7 frames into 64 bytes, SR 0x{:02X}", e.sr);
+    let mut got = Vec::new();
+    while let Some(f) = drv.receive().unwrap() {
+        got.push(f);
+        assert!(got.len() <= 7);
+    }
+    assert_eq!(got, sent[..5].to_vec(), "the five frames that fit, in order");
+    assert_eq!(drv.overruns(), 1);
+    let e = drv.read_errors().unwrap();
+    assert_eq!(e.sr & (peli::sr::DOS | peli::sr::RBS), 0, "overrun cleared, FIFO empty, SR 0x{:02X}", e.sr);
+}
