@@ -30,6 +30,8 @@
 //     two rejected.
 // 11. BasicCAN ACR/AMR filter on ID.10..3; an extended frame is stored with
 //     its 11 base ID bits.
+// 12. Triple sampling (BTR1.SAM = 1) on both nodes, SJW 1: a frame goes
+//     through with node 1 still on its drifting clock.
 // Node 1 runs on a clk_i 0.03 % off node 0's, so it resynchronises.
 // Exits with $fatal on the first failure; prints "PASS" at the end.
 `timescale 1ns/1ps
@@ -632,6 +634,24 @@ module tb_can;
         wr(0, 8'd1, 8'h04);
         rd(0, 8'd2, q);
         if (q[0] !== 1'b0) fail("RBS after RRB");
+
+        // ================= 12. triple sampling =================
+        $display("12. triple sampling (SAM = 1)");
+        for (k = 0; k < 2; k = k + 1) begin
+            wr(k, 8'd0, 8'h01);
+            wr(k, 8'd31, 8'h07);                            // both in BasicCAN
+            wr(k, 8'd6, 8'h01); wr(k, 8'd7, 8'hA5);         // SJW 1, SAM, TSEG1 6, TSEG2 3
+            wr(k, 8'd4, 8'h00); wr(k, 8'd5, 8'hFF);
+            wr(k, 8'd0, 8'h00);
+        end
+        wait_bits(14);
+        wr(0, 8'd10, 8'h12); wr(0, 8'd11, 8'h22); wr(0, 8'd12, 8'hC3); wr(0, 8'd13, 8'h3C);
+        wr(0, 8'd1, 8'h01);
+        wait_bits(70);
+        expect_reg(1, 8'd20, 8'h12, "SAM: node 1 RX ID");
+        expect_reg(1, 8'd21, 8'h22, "SAM: node 1 RX ID/RTR/DLC");
+        expect_reg(1, 8'd23, 8'h3C, "SAM: node 1 RX data 2");
+        expect_reg(0, 8'd2, 8'h0C, "SAM: node 0 SR (TBS, TCS)");
 
         $display("PASS (Wishbone accesses %0d..%0d wb_clk_i cycles)", lat_min, lat_max);
         $finish;
