@@ -9,7 +9,9 @@
 // begintransfer (high for one cycle only) and the ack is not left on a
 // conduit: it ends the Avalon transfer through waitrequest.
 // irq is active high for the Nios II interrupt controller.
-module can_avalon (
+module can_avalon #(
+    parameter RX_SYNC = 0      // see can_top: 2 on hardware, 0 in co-simulation
+) (
     input  wire       clk,
     input  wire       reset,
     input  wire [7:0] address,
@@ -30,7 +32,7 @@ module can_avalon (
     wire ack;
     wire irq_n;
 
-    can_top u_can (
+    can_top #(.RX_SYNC(RX_SYNC)) u_can (
         .wb_clk_i(clk), .wb_rst_i(reset),
         .wb_dat_i(writedata), .wb_dat_o(readdata),
         .wb_cyc_i(req), .wb_stb_i(req), .wb_we_i(write), .wb_adr_i(address),

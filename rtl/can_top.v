@@ -8,7 +8,11 @@
 module can_top #(
     // 1: wb_ack_o stays high until cyc&stb fall (for GPIO-polled masters),
     // see can_wb_cdc; 0 (default): classic one-cycle ack pulse
-    parameter ACK_LEVEL = 0
+    parameter ACK_LEVEL = 0,
+    // clk_i flops in front of rx_i: 0 (default) for co-simulation, where
+    // rx_i changes on clk_i edges; 2 on hardware with an asynchronous
+    // transceiver input (adds 2 clk_i of loop delay)
+    parameter RX_SYNC = 0
 ) (
     input  wire       wb_clk_i,
     input  wire       wb_rst_i,
@@ -69,6 +73,22 @@ module can_top #(
     wire        accept;
     wire        run = !rm && !sleep;
 
+    // optional synchroniser for rx_i
+    wire        rx;
+    generate
+        if (RX_SYNC == 1) begin : g_rx_sync1
+            reg rx_q = 1'b1;
+            always @(posedge clk_i) rx_q <= rx_i;
+            assign rx = rx_q;
+        end else if (RX_SYNC > 1) begin : g_rx_sync
+            reg [RX_SYNC-1:0] rx_q = {RX_SYNC{1'b1}};
+            always @(posedge clk_i) rx_q <= {rx_q[RX_SYNC-2:0], rx_i};
+            assign rx = rx_q[RX_SYNC-1];
+        end else begin : g_rx_direct
+            assign rx = rx_i;
+        end
+    endgenerate
+
     can_regs u_regs (
         .clk(clk_i), .rst(rst),
         .acc_stb(acc_stb), .acc_we(acc_we), .acc_adr(acc_adr), .acc_wdat(acc_wdat), .acc_rdat(acc_rdat),
@@ -83,14 +103,14 @@ module can_top #(
         .err_evt(err_evt), .ecc_val(ecc_val), .rs(rs), .ts(ts), .bus_idle(bus_idle),
         .integrating(integrating),
         .tec(tec), .rec(rec), .bus_off(bus_off), .warn(warn), .epi_evt(epi_evt),
-        .wr_tec(wr_tec), .wr_rec(wr_rec), .rx_i(rx_i), .irq(irq), .clkout(clkout_div),
+        .wr_tec(wr_tec), .wr_rec(wr_rec), .rx_i(rx), .irq(irq), .clkout(clkout_div),
         .clkout_fosc(clkout_fosc)
     );
 
     can_btl u_btl (
         .clk(clk_i), .rst(rst), .run(run),
         .brp(btr0[5:0]), .sjw(btr0[7:6]), .tseg1(btr1[3:0]), .tseg2(btr1[6:4]), .sam(btr1[7]),
-        .rx(rx_i), .hard_en(hard_en), .tx_next(tx_next),
+        .rx(rx), .hard_en(hard_en), .tx_next(tx_next),
         .sample(sample), .rx_bit(rx_bit), .tx_o(tx_o)
     );
 

@@ -4,6 +4,7 @@
 // Checks: waitrequest high until the access completes (never a zero-wait
 // access, never a dropped one), the thesis frame goes from node 0 to node 1,
 // irq is active high and is released when the message is released (RRB).
+// Node 1 uses RX_SYNC = 2 (the hardware setting: a 2-flop rx synchroniser).
 `timescale 1ns/1ps
 module tb_avalon;
     reg clk = 0, cclk = 0, reset = 1;
@@ -21,7 +22,7 @@ module tb_avalon;
         .read(rd_s[0]), .write(wr_s[0]), .writedata(wdata[0]), .readdata(rdata0),
         .waitrequest(wait0), .irq(irq0), .can_clk(cclk), .rx(bus), .tx(tx0),
         .bus_off_on(bo0), .clkout(ck0));
-    can_avalon a1 (.clk(clk), .reset(reset), .address(address[1]), .chipselect(cs[1]),
+    can_avalon #(.RX_SYNC(2)) a1 (.clk(clk), .reset(reset), .address(address[1]), .chipselect(cs[1]),
         .read(rd_s[1]), .write(wr_s[1]), .writedata(wdata[1]), .readdata(rdata1),
         .waitrequest(wait1), .irq(irq1), .can_clk(cclk), .rx(bus), .tx(tx1),
         .bus_off_on(bo1), .clkout(ck1));
