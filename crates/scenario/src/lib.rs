@@ -554,10 +554,10 @@ fn build(ctx: &Ctx, raw: RawScenario, file: &Path) -> Result<Scenario, ScenarioE
         }
     }
     let can_hz = clocks.can_mhz * 1e6;
-    if let Some(rate) = clocks.bit_rate {
-        if let Err(e) = BusTiming::for_bit_rate(can_hz as u32, rate) {
-            return Err(ctx.err_key(&cspan, "bit_rate", "clocks.bit_rate", format!("no valid bit timing: {e}")));
-        }
+    if let Some(rate) = clocks.bit_rate
+        && let Err(e) = BusTiming::for_bit_rate(can_hz as u32, rate)
+    {
+        return Err(ctx.err_key(&cspan, "bit_rate", "clocks.bit_rate", format!("no valid bit timing: {e}")));
     }
 
     // [host]

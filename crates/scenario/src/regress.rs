@@ -212,7 +212,7 @@ impl RegressReport {
 
 /// Runs every (scenario, DUT) pair of the shard, in parallel.
 pub fn regress(scenarios: &[Scenario], duts: &[DutSpec], opts: &RegressOptions) -> RegressReport {
-    regress_with(scenarios, duts, opts, |s, o| run(s, o))
+    regress_with(scenarios, duts, opts, run)
 }
 
 /// [`regress`] with the runner given (tests use it to inject outcomes).
