@@ -111,6 +111,7 @@ pub fn run_error(r: &RunRecord) -> Option<Finding> {
 /// A host access that was never acknowledged.
 pub fn host_bus_timeout(r: &RunRecord) -> Option<Finding> {
     let op = r.host_ops.iter().find(|o| o.error.is_some())?;
+    let pio = op.bfm == HostBus::Pio;
     let mut f = base_figures(r);
     f.addr = Some(op.addr);
     f.register = op.reg.clone();
@@ -125,8 +126,16 @@ pub fn host_bus_timeout(r: &RunRecord) -> Option<Finding> {
             op.error.as_deref().unwrap_or(""),
             op.cycles
         ),
-        "the DUT never raised wb_ack_o for this access: it is not clocked (wb_clk_i), held in reset (wb_rst_i), or cyc/stb do not reach it together",
-        "check wb_clk_i and wb_rst_i, and that wb_cyc_i and wb_stb_i are both high for the whole access; with Avalon, use the bundled wrapper so waitrequest follows ack",
+        if pio {
+            "the master polls wb_ack_o through a GPIO (PIO) and drops cyc/stb only after it has seen ack: a slave that answers with a one-cycle wb_ack_o pulse is missed between two polls, and while the strobe stays high the slave may start (and the master abandon) a second transfer"
+        } else {
+            "the DUT never raised wb_ack_o for this access: it is not clocked (wb_clk_i), held in reset (wb_rst_i), or cyc/stb do not reach it together"
+        },
+        if pio {
+            "give a PIO-polled slave a level acknowledge (four-phase handshake: ack stays high until cyc/stb fall; our RTL's ACK_LEVEL = 1), or connect the core through the Avalon wrapper instead of PIO"
+        } else {
+            "check wb_clk_i and wb_rst_i, and that wb_cyc_i and wb_stb_i are both high for the whole access; with Avalon, use the bundled wrapper so waitrequest follows ack"
+        },
         f,
     ))
 }

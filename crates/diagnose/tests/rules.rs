@@ -293,6 +293,13 @@ fn never_acked_access_is_a_timeout() {
     let d = diagnose(&r);
     assert_eq!(d.category, Category::HostBusTimeout);
     assert!(d.what_happened.contains("no wb_ack_o"));
+    assert!(d.root_cause.contains("not clocked"));
+    // through PIO the likely cause is a pulse ack missed by the polling loop
+    let mut op = HostOp::read(2, 0).reg("SR").error("timed out");
+    op.bfm = HostBus::Pio;
+    let d = diagnose(&RunRecord::new("pio", "rtl").op(op));
+    assert!(d.root_cause.contains("one-cycle wb_ack_o pulse"), "{}", d.root_cause);
+    assert!(d.fix.contains("level acknowledge"));
 }
 
 fn broken_dut_record() -> RunRecord {
