@@ -38,6 +38,12 @@ enum Command {
     /// Explain a saved run record (from run --record).
     #[command(after_help = "Examples:\n  cancosim run tb/de2-thesis.toml --record out/thesis.json\n  cancosim diagnose out/thesis.json --json")]
     Diagnose(cmd::diagnose::Args),
+    /// Performance: golden model, co-simulation, raw C++ Verilator harness and Icarus, ratios in one run.
+    #[command(after_help = "Examples:\n  cancosim bench --smoke\n  cancosim bench --frames 1000 --json")]
+    Bench(cmd::bench::Args),
+    /// Seeded random fault-injection campaign, DUT vs golden model.
+    #[command(after_help = "Examples:\n  cancosim campaign --frames 500 --seed 7\n  cancosim campaign --dut model --frames 100")]
+    Campaign(cmd::campaign::Args),
 }
 
 fn main() {
@@ -49,6 +55,8 @@ fn main() {
         Command::Run(a) | Command::Cosim(a) => cmd::run::run_cmd(a),
         Command::Regress(a) => cmd::regress::run(a),
         Command::Diagnose(a) => cmd::diagnose::run(a),
+        Command::Bench(a) => cmd::bench::run_cmd(a),
+        Command::Campaign(a) => cmd::campaign::run_cmd(a),
     };
     match result {
         Ok(code) => std::process::exit(code),

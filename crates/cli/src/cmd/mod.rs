@@ -1,5 +1,7 @@
 //! One module per subcommand.
+pub mod bench;
 pub mod bittiming;
+pub mod campaign;
 pub mod decode;
 pub mod diagnose;
 pub mod regress;
