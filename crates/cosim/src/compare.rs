@@ -10,6 +10,11 @@
 //!   implementation-defined instants: a read of those matches if the
 //!   reference held the same value at some CAN clock within
 //!   `status_tolerance` clocks before the read (or, for SR, after it);
+//! - a start of frame from bus idle may come up to `sof_tolerance` CAN
+//!   clocks earlier or later on the DUT: in bus idle nothing synchronises
+//!   the bit timers, so where a node starts its SOF is its own; the shadow
+//!   model is not on the bus and never hard-synchronises on the DUT's SOF,
+//!   so the lag measured there is compensated until the bus is idle again;
 //! - `irq_on` and `bus_off_on`, which may differ for at most
 //!   `pin_tolerance` CAN clocks in a row.
 //!
@@ -79,6 +84,11 @@ pub struct CompareConfig {
     pub compare_irq: bool,
     /// Compare bus_off_on.
     pub compare_bus_off: bool,
+    /// A start of frame from bus idle may come this many CAN clocks apart on
+    /// the two sides: in bus idle nothing synchronises the bit timers, so
+    /// the phase at which a node starts its SOF is its own (needs a
+    /// reference that reports its field).
+    pub sof_tolerance: u32,
 }
 
 impl Default for CompareConfig {
@@ -89,6 +99,7 @@ impl Default for CompareConfig {
             pin_tolerance: 48,
             compare_irq: true,
             compare_bus_off: true,
+            sof_tolerance: 40,
         }
     }
 }
@@ -97,9 +108,10 @@ impl CompareConfig {
     /// The tolerances in words, for the report.
     pub fn describe(&self) -> String {
         format!(
-            "tx compared at sample points, not within {} CAN clocks of a model tx edge; register reads exact except SR/IR \
+            "tx compared at sample points, not within {} CAN clocks of a model tx edge, a start of frame from bus idle may lag by {} CAN clocks; register reads exact except SR/IR \
              (match if the model held that value within {} CAN clocks); irq_on{} / bus_off_on{} may differ for at most {} CAN clocks",
             self.tx_edge_tolerance,
+            self.sof_tolerance,
             self.status_tolerance,
             if self.compare_irq {
                 ""
@@ -131,6 +143,8 @@ pub struct Stamp {
 
 #[derive(Clone, Copy, Debug)]
 struct TxSample {
+    /// Inside a start-of-frame grace window: not compared.
+    excused: bool,
     ref_tx: bool,
     dut_tx: bool,
     sample: bool,
@@ -151,6 +165,16 @@ pub struct Comparator {
     window: VecDeque<TxSample>,
     sr_hist: VecDeque<u8>,
     ir_hist: VecDeque<u8>,
+    prev_ref_tx: bool,
+    prev_dut_tx: bool,
+    prev_idle: bool,
+    sof_grace: u32,
+    grace_count: u32,
+    grace_by_ref: bool,
+    ref_off: usize,
+    dut_off: usize,
+    ref_hist: VecDeque<bool>,
+    dut_hist: VecDeque<bool>,
     irq_bad: u32,
     irq_since: Stamp,
     bus_bad: u32,
@@ -173,6 +197,16 @@ impl Comparator {
             window: VecDeque::with_capacity(2 * cfg.tx_edge_tolerance as usize + 2),
             sr_hist: VecDeque::new(),
             ir_hist: VecDeque::new(),
+            prev_ref_tx: true,
+            prev_dut_tx: true,
+            prev_idle: false,
+            sof_grace: 0,
+            grace_count: 0,
+            grace_by_ref: false,
+            ref_off: 0,
+            dut_off: 0,
+            ref_hist: VecDeque::new(),
+            dut_hist: VecDeque::new(),
             irq_bad: 0,
             irq_since: Stamp::default(),
             bus_bad: 0,
@@ -236,9 +270,63 @@ impl Comparator {
         }
         // tx with an edge-tolerance window centred on the checked clock.
         let tol = self.cfg.tx_edge_tolerance as usize;
+        // Start of frame from bus idle: either side may go first, and the
+        // shadow model never hard-synchronises on the DUT's SOF (it is not
+        // on the bus), so the lag measured at the SOF is kept for the whole
+        // frame: the earlier side's tx is delayed by it before comparing.
+        let idle_now = matches!(
+            stamp.field,
+            Some(Field::BusIdle | Field::Intermission | Field::SuspendTransmission)
+        );
+        let cap = self.cfg.sof_tolerance as usize + 1;
+        self.ref_hist.push_back(reference.tx);
+        self.dut_hist.push_back(dut.tx);
+        if self.ref_hist.len() > cap {
+            self.ref_hist.pop_front();
+            self.dut_hist.pop_front();
+        }
+        if self.sof_grace > 0 {
+            self.grace_count += 1;
+            if reference.tx == dut.tx {
+                self.sof_grace = 0;
+                if !reference.tx {
+                    if self.grace_by_ref {
+                        self.ref_off = self.grace_count as usize;
+                    } else {
+                        self.dut_off = self.grace_count as usize;
+                    }
+                }
+            } else {
+                self.sof_grace -= 1;
+            }
+        } else {
+            let sof_edge = (self.prev_ref_tx && !reference.tx) || (self.prev_dut_tx && !dut.tx);
+            if sof_edge
+                && (self.prev_idle || stamp.field == Some(Field::Sof))
+                && reference.tx != dut.tx
+                && self.cfg.sof_tolerance > 0
+            {
+                self.sof_grace = self.cfg.sof_tolerance;
+                self.grace_count = 0;
+                self.grace_by_ref = !reference.tx;
+                self.ref_off = 0;
+                self.dut_off = 0;
+            } else if idle_now && reference.tx && dut.tx {
+                self.ref_off = 0;
+                self.dut_off = 0;
+            }
+        }
+        let excused = self.sof_grace > 0;
+        self.prev_ref_tx = reference.tx;
+        self.prev_dut_tx = dut.tx;
+        self.prev_idle = idle_now;
+        let n = self.ref_hist.len();
+        let ref_tx = self.ref_hist[n - 1 - self.ref_off.min(n - 1)];
+        let dut_tx = self.dut_hist[n - 1 - self.dut_off.min(n - 1)];
         self.window.push_back(TxSample {
-            ref_tx: reference.tx,
-            dut_tx: dut.tx,
+            excused,
+            ref_tx,
+            dut_tx,
             sample,
             stamp,
         });
@@ -247,7 +335,7 @@ impl Comparator {
         }
         if self.window.len() == 2 * tol + 1 {
             let mid = self.window[tol];
-            if mid.sample {
+            if mid.sample && !mid.excused {
                 let stable = self.window.iter().all(|w| w.ref_tx == mid.ref_tx);
                 if stable {
                     self.compared_bits += 1;
@@ -429,11 +517,22 @@ mod tests {
     }
 
     fn run(cfg: CompareConfig, ref_tx: &[bool], dut_tx: &[bool], samples: &[usize]) -> Comparator {
+        run_in(cfg, ref_tx, dut_tx, samples, None)
+    }
+
+    fn run_in(
+        cfg: CompareConfig,
+        ref_tx: &[bool],
+        dut_tx: &[bool],
+        samples: &[usize],
+        field: Option<Field>,
+    ) -> Comparator {
         let mut c = Comparator::new(cfg);
         for k in 0..ref_tx.len() {
             let s = Stamp {
                 t_ps: k as u64,
                 bit: k as u64,
+                field,
                 ..Stamp::default()
             };
             c.can_clock(
@@ -473,6 +572,31 @@ mod tests {
             "tolerance printed: {}",
             dv.context
         );
+    }
+
+    #[test]
+    fn a_start_of_frame_from_bus_idle_may_lag_within_the_sof_tolerance() {
+        let cfg = CompareConfig {
+            tx_edge_tolerance: 2,
+            sof_tolerance: 20,
+            ..CompareConfig::default()
+        };
+        // Model SOF at clock 10, DUT SOF at 22 (12 clocks later), sample at 15.
+        let r: Vec<bool> = (0..40).map(|k| k < 10).collect();
+        let d: Vec<bool> = (0..40).map(|k| k < 22).collect();
+        let c = run_in(cfg, &r, &d, &[15, 30], Some(Field::BusIdle));
+        assert!(c.divergence().is_none(), "{:?}", c.divergence());
+        assert_eq!(
+            c.compared_bits, 1,
+            "the sample after the DUT's SOF is compared"
+        );
+        // The same lag inside a frame (not from bus idle) is a divergence.
+        let c = run_in(cfg, &r, &d, &[15, 30], Some(Field::Data));
+        assert_eq!(c.divergence().map(|d| d.time_ps), Some(15));
+        // A DUT that never starts is caught once the grace expires.
+        let d: Vec<bool> = vec![true; 40];
+        let c = run_in(cfg, &r, &d, &[15, 35], Some(Field::BusIdle));
+        assert_eq!(c.divergence().map(|d| d.time_ps), Some(35));
     }
 
     #[test]
