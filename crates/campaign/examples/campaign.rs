@@ -1,5 +1,5 @@
 //! Runs a campaign from the command line until the CLI has its
-//! `campaign` subcommand: `cargo run --release -p campaign --example campaign -- SEED FRAMES [model|rtl] [FIRST_FRAME] [FAULT_RATE]` (CAMPAIGN_FRAMES=1 lists every frame)`.
+//! `campaign` subcommand: `cargo run --release -p campaign --example campaign -- SEED FRAMES [model|rtl] [FIRST_FRAME] [FAULT_RATE]` (CAMPAIGN_FRAMES=1 lists every frame, CAMPAIGN_VCD=path writes the waveform)`.
 use campaign::{CampaignConfig, DutChoice, run_campaign};
 
 fn main() {
@@ -12,7 +12,8 @@ fn main() {
     };
     let first_frame = a.get(4).and_then(|s| s.parse().ok()).unwrap_or(0);
     let fault_rate = a.get(5).and_then(|s| s.parse().ok()).unwrap_or(CampaignConfig::default().fault_rate);
-    let r = run_campaign(&CampaignConfig { seed, frames, dut, first_frame, fault_rate, ..CampaignConfig::default() });
+    let vcd = std::env::var_os("CAMPAIGN_VCD").map(std::path::PathBuf::from);
+    let r = run_campaign(&CampaignConfig { seed, frames, dut, first_frame, fault_rate, vcd, ..CampaignConfig::default() });
     print!("{}", r.to_text());
     if std::env::var_os("CAMPAIGN_FRAMES").is_some() {
         for f in &r.frames {

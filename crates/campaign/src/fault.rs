@@ -201,15 +201,25 @@ impl fmt::Display for PlannedFault {
 }
 
 /// Draws a fault aimed at a random part of `frame` (the frame expected to
-/// be on the wire). `n_nodes` model nodes; `clocks_per_bit` of the bus timing.
-pub fn plan(rng: &mut impl Rng, frame: &CanFrame, n_nodes: usize, clocks_per_bit: u32) -> PlannedFault {
+/// be on the wire). `n_nodes` model nodes; `clocks_per_bit` of the bus
+/// timing; a glitch never overlaps the CAN clocks `keep_out` (first, last)
+/// of the bit, if given.
+pub fn plan(rng: &mut impl Rng, frame: &CanFrame, n_nodes: usize, clocks_per_bit: u32, keep_out: Option<(u32, u32)>) -> PlannedFault {
     let layout = frame.wire_layout();
     let kind = match rng.random_range(0..10u32) {
         0..4 => FaultKind::Flip,
         4..7 => FaultKind::Stuck { level: rng.random_bool(0.5), bits: rng.random_range(1..=6) },
         _ => {
             let cpb = clocks_per_bit.max(2);
-            FaultKind::Glitch { offset: rng.random_range(0..cpb), width: rng.random_range(1..=(cpb / 4).max(1)) }
+            let mut g = (0, 1);
+            for _ in 0..64 {
+                let (offset, width) = (rng.random_range(0..cpb), rng.random_range(1..=(cpb / 4).max(1)));
+                if keep_out.is_none_or(|(lo, hi)| offset + width <= lo || offset > hi) {
+                    g = (offset, width);
+                    break;
+                }
+            }
+            FaultKind::Glitch { offset: g.0, width: g.1 }
         }
     };
     let target = match rng.random_range(0..4u32) {

@@ -87,6 +87,15 @@ pub struct CampaignConfig {
     pub max_disagreements: usize,
     /// BTR0/BTR1 of every node (24 MHz CAN clock).
     pub btr: (u8, u8),
+    /// Glitches stay this many CAN clocks away from the sample point (on
+    /// either side); `None` puts them anywhere. Where exactly within a few
+    /// clocks of the sample point an implementation samples (input
+    /// synchronisers) is its own business, as the comparator's tx edge
+    /// tolerance says for tx.
+    pub glitch_sample_margin: Option<u32>,
+    /// Write the bench's VCD here (rewritten by each segment: use it when
+    /// reproducing one disagreement).
+    pub vcd: Option<std::path::PathBuf>,
 }
 
 impl Default for CampaignConfig {
@@ -101,6 +110,8 @@ impl Default for CampaignConfig {
             max_bits_per_frame: 4000,
             max_disagreements: 10,
             btr: (0x41, 0x25),
+            glitch_sample_margin: Some(6),
+            vcd: None,
         }
     }
 }
@@ -346,7 +357,11 @@ fn plan_frame(cfg: &CampaignConfig, index: u32, cpb: u32) -> FramePlan {
         // Aim at the frame expected to win arbitration (first dominant wins).
         let all: Vec<&CanFrame> = dut_frame.iter().chain(node_frames.iter().map(|(_, f)| f)).collect();
         let winner = all.iter().min_by(|a, b| wire_levels(a).cmp(&wire_levels(b))).copied();
-        winner.map(|w| fault::plan(&mut rng, w, n, cpb))
+        let t = BusTiming::from_btr(cfg.btr.0, cfg.btr.1);
+        // The sample point's clock within the bit, counted from the SOF edge.
+        let sample = (t.tseg1 as u32 + 2) * t.clocks_per_tq() - 1;
+        let keep_out = cfg.glitch_sample_margin.map(|m| (sample.saturating_sub(m), sample + m));
+        winner.map(|w| fault::plan(&mut rng, w, n, cpb, keep_out))
     } else {
         None
     };
@@ -426,6 +441,7 @@ fn build(cfg: &CampaignConfig) -> Result<Segment, TbError> {
         dut_rx_faults: vec![Box::new(inj.clone())],
         lockstep: Some((ReferenceChoice::Model, CompareConfig::default())),
         keep_bits: 64,
+        vcd: cfg.vcd.clone(),
         ..TbConfig::default()
     };
     let mut tb = Testbench::new(tbc)?;
@@ -509,7 +525,13 @@ fn recent_bits(tb: &mut Testbench) -> String {
         .rev()
         .take(6)
         .rev()
-        .map(|o| format!("{:?} {}=0x{:02X}", o.access, o.reg.clone().unwrap_or_else(|| o.addr.to_string()), o.data))
+        .map(|o| {
+            let verdict = match &o.outcome {
+                Some(v) if !matches!(v, diagnose::WriteOutcome::Applied) => format!(" (model: {v:?})"),
+                _ => String::new(),
+            };
+            format!("{:?} {}=0x{:02X}{verdict}", o.access, o.reg.clone().unwrap_or_else(|| o.addr.to_string()), o.data)
+        })
         .collect();
     format!(
         "last bits (bus, DUT tx, model tx, DUT rx): {}\nmodel fields: {}\nmodel events: {}\nlast host ops: {}",
@@ -567,9 +589,17 @@ fn disagreement_from_error(tb: &mut Testbench, e: TbError, seed: u64, segment_st
     }
 }
 
+/// Runs to the middle between two sample points of the bench's bit clock
+/// (less the few CAN clocks a register write takes).
+fn align_mid_bit(tb: &mut Testbench, cpb: u32) -> Result<(), TbError> {
+    tb.run_bits(1)?;
+    tb.run_can_cycles((cpb / 2).saturating_sub(3) as u64)
+}
+
 /// One frame: arm the fault, request the transmissions, wait until the bus
 /// is idle and every transmission done, then read and compare the status.
 fn run_frame(seg: &mut Segment, cfg: &CampaignConfig, plan: &FramePlan, index: u32, segment_start: u32, rep: &mut CampaignReport) -> Result<(), Stop> {
+    let cpb = BusTiming::from_btr(cfg.btr.0, cfg.btr.1).clocks_per_bit();
     let tb = &mut seg.tb;
     if let Some(p) = &plan.fault {
         let next = tb.bus().frames_seen();
@@ -598,11 +628,13 @@ fn run_frame(seg: &mut Segment, cfg: &CampaignConfig, plan: &FramePlan, index: u
             tb.write(reg::FI + i as u8, v)?;
         }
         // The reference takes a write one host cycle after the DUT does
-        // (cosim applies it when the BFM sees the ack). Issue CMR.TR right
-        // after a sample point, far from the bit boundary where either side
-        // decides to start a SOF, so that cycle cannot make the DUT start a
-        // bit earlier than its reference.
-        tb.run_bits(1)?;
+        // (cosim applies it when the BFM sees the ack). Both decide to start
+        // a SOF at a sample point; a CMR.TR landing between the DUT's and
+        // the reference's copy of that instant makes the DUT start a bit
+        // earlier and turns its reference into a receiver. Issue it midway
+        // between two sample points of the bench's bit clock (which may be
+        // a few clocks off the DUT's after glitches).
+        align_mid_bit(tb, cpb)?;
         tb.write(reg::CMR, 0x01)?;
         rep.dut_transmissions += 1;
     }
@@ -749,7 +781,7 @@ fn run_frame(seg: &mut Segment, cfg: &CampaignConfig, plan: &FramePlan, index: u
     // Bus-off: restart (clear MOD.RM) and wait for the recovery sequence.
     if sr_now & sr::BS != 0 {
         rep.bus_offs += 1;
-        tb.run_bits(1)?;
+        align_mid_bit(tb, cpb)?;
         tb.write(reg::MOD, 0x00)?;
         tb.wait_sr(sr::BS, 0, cfg.max_bits_per_frame)?;
     }
@@ -788,6 +820,9 @@ mod tests {
             let w = all.iter().min_by(|a, b| wire_levels(a).cmp(&wire_levels(b))).unwrap();
             let layout = w.wire_layout();
             let b = f.fault.bit as usize;
+            if let FaultKind::Glitch { offset, width } = f.fault.kind {
+                assert!(offset + width <= 27 - 6 || offset > 27 + 6, "glitch {offset}+{width} near the sample point (clock 27)");
+            }
             match f.aim {
                 Aim::StuffBit => assert!(layout[b].stuff),
                 Aim::Intermission => assert!((layout.len()..layout.len() + 3).contains(&b)),

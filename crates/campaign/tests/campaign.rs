@@ -100,3 +100,44 @@ fn a_flip_seen_only_by_the_dut_is_a_bus_error_on_the_dut() {
     assert_eq!(r.faults_injected, 0);
     assert!(r.frames.iter().all(|f| f.ir & 0x80 == 0 && f.txerr == 0 && f.rxerr == 0 && f.node_errors.iter().all(|e| !e)), "{:?}", r.frames);
 }
+
+/// Known disagreement found by `cancosim campaign --seed 1 --frames 2000`
+/// on our RTL (frames 237, 618, 753, 1094, 1321, 1555 of seed 1): when the
+/// DUT goes bus-off (TEC reaches 256, SR 0xC4 then 0x84), the RTL keeps
+/// `irq_on` asserted while the golden model releases it, for more than the
+/// comparator's 48 CAN clocks. Reproduces exactly from seed and frame count.
+#[test]
+#[ignore = "known disagreement: RTL keeps irq_on asserted at bus-off, the model releases it; run with cargo test -p campaign --release -- --ignored rtl_bus_off"]
+fn rtl_bus_off_interrupt_matches_the_model() {
+    let cfg = CampaignConfig { seed: 1, frames: 238, dut: DutChoice::Rtl, ..CampaignConfig::default() };
+    let r = run_campaign(&cfg);
+    assert!(r.passed(), "{}", r.to_text());
+}
+
+/// Known disagreement found by the same run (frames 960, 1381, 1772, 1837
+/// of seed 1): a short recessive glitch inside the SOF bit (clocks 9..15 of
+/// 40), seen by the DUT, makes the RTL and the model synchronise
+/// differently (one treats the glitch's falling edge as a new hard sync,
+/// the other not), so one of them later sends a bit the other does not.
+#[test]
+#[ignore = "known disagreement: RTL and model synchronise differently on a glitch inside SOF; run with cargo test -p campaign --release -- --ignored rtl_sof_glitch"]
+fn rtl_sof_glitch_synchronisation_matches_the_model() {
+    let cfg = CampaignConfig { seed: 1, first_frame: 1556, frames: 217, dut: DutChoice::Rtl, ..CampaignConfig::default() };
+    let r = run_campaign(&cfg);
+    assert!(r.passed(), "{}", r.to_text());
+}
+
+/// Long self-check. Known to fail: the lockstep reference receives each
+/// host write one host cycle after the DUT latched it (cosim applies it
+/// when the BFM sees the ack); a CMR.TR that lands between the DUT's and
+/// the reference's sample point in bus idle makes the DUT start a SOF the
+/// reference then takes as another node's frame (seed 7: frames 140, 376).
+/// The campaign issues CMR.TR midway between the bench's sample points,
+/// which the DUT's own bit timing can be far from after resynchronisations.
+#[test]
+#[ignore = "known lockstep race in cosim (reference write one host cycle after the DUT's); run with cargo test -p campaign --release -- --ignored long_model"]
+fn long_model_self_check() {
+    let cfg = CampaignConfig { seed: 7, frames: 1000, dut: DutChoice::Model, ..CampaignConfig::default() };
+    let r = run_campaign(&cfg);
+    assert!(r.passed(), "{}", r.to_text());
+}
