@@ -118,6 +118,21 @@ pub fn tb_config(s: &Scenario, dut: &DutKind, opts: &RunOptions) -> Result<TbCon
     let avalon_dut = matches!(s.dut, DutKind::AvalonWrapper);
     let choice = match dut {
         DutKind::Rtl | DutKind::AvalonWrapper if avalon_dut && matches!(s.host, HostBfm::Avalon { begintransfer_cyc: false }) => DutChoice::RtlAvalon,
+        // A PIO master polls ack through a GPIO: our RTL needs its level
+        // acknowledge (four-phase handshake, can_top ACK_LEVEL = 1) there,
+        // as the thesis board would.
+        DutKind::Rtl | DutKind::AvalonWrapper if s.host == HostBfm::Pio => {
+            if cosim::bundled_tops().contains(&"can_top_pio") {
+                DutChoice::Bundled("can_top_pio".into())
+            } else {
+                DutChoice::External(ExternalCore {
+                    dir: std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("../../rtl"),
+                    top: "can_top".into(),
+                    extra_args: vec!["-GACK_LEVEL=1".into()],
+                    ..ExternalCore::default()
+                })
+            }
+        }
         DutKind::Rtl | DutKind::AvalonWrapper => DutChoice::Rtl,
         DutKind::Model => DutChoice::Model,
         DutKind::External { path, top, defines, includes } => DutChoice::External(ExternalCore {

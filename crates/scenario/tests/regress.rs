@@ -113,15 +113,26 @@ fn shard_syntax() {
 
 #[test]
 fn table_for_rtl_and_model() {
-    let s = shipped();
+    // The PIO scenarios need the RTL rebuilt with a level ack (see the
+    // ignored full table below); the others run on the bundled RTL.
+    let s: Vec<Scenario> = shipped().into_iter().filter(|s| s.host != scenario::HostBfm::Pio).collect();
+    assert!(s.len() >= 3);
     let rep = regress(&s, &[DutSpec::rtl(), DutSpec::model()], &RegressOptions { jobs: 2, ..Default::default() });
     let table = rep.to_table();
     eprintln!("{table}");
     assert_eq!(rep.cells.len(), s.len() * 2);
+    assert!(rep.passed(), "{table}");
+    assert!(table.contains("de2-avalon-begintransfer | pass (HostBusViolation) | pass (HostBusViolation)"), "{table}");
+}
+
+#[test]
+#[ignore = "builds rtl/ with ACK_LEVEL = 1 for the PIO scenarios (about 60 s the first time); run with --ignored --nocapture to print the table"]
+fn full_table_for_rtl_and_model() {
+    let s = shipped();
+    let rep = regress(&s, &[DutSpec::rtl(), DutSpec::model()], &RegressOptions { jobs: 2, ..Default::default() });
+    let table = rep.to_table();
+    eprintln!("{table}");
+    eprintln!("{}", rep.to_junit());
+    assert_eq!(rep.cells.len(), s.len() * 2);
     assert!(rep.cells.iter().filter(|c| c.dut == "model").all(|c| c.status == Status::Pass), "{table}");
-    // the RTL runs: the Avalon scenarios (no PIO) are diagnosed as expected
-    for n in ["de2-avalon-wrapper", "de2-avalon-begintransfer"] {
-        let c = rep.cells.iter().find(|c| c.dut == "rtl" && c.scenario == n).unwrap();
-        assert_eq!(c.status, Status::Pass, "{n}: {table}");
-    }
 }
