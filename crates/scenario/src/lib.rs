@@ -1,12 +1,69 @@
 //! Scenario files of `tb/` (TOML), validated with file:line:key errors, the
-//! runner that plays a scenario on a test bench and diagnoses the run, and
-//! the regression runner (scenarios x DUTs, parallel, JUnit, table, shards).
+//! runner that plays a scenario on a `cosim` test bench and diagnoses the
+//! run, and the regression runner (scenarios x DUTs, parallel, JUnit, table,
+//! shards).
 //!
 //! A scenario file reads like a CTU CAN FD feature test: a `purpose`, a
-//! numbered `verifies` list and a `sequence`, then the set-up (`[clocks]`,
-//! `[host]`, `[dut]`, `[wiring]`, `[[node]]`), the host program
-//! (`[[step]]`), fault injections (`[[fault]]`) and the expected outcome
-//! (`[expect]`). See `tb/de2-thesis.toml` for a commented example.
+//! numbered `verifies` list and a `sequence`, then the set-up, the host
+//! program, fault injections and the expected outcome. Every table rejects
+//! unknown keys. See `tb/de2-thesis.toml` for a commented example.
+//!
+//! ```toml
+//! name = "optional, defaults to the file stem"
+//! purpose = "one line"
+//! verifies = ["...", "..."]
+//! sequence = ["...", "..."]
+//!
+//! [clocks]            # required
+//! host_mhz = 50.0     # wb_clk_i
+//! can_mhz = 24.0      # clk_i
+//! bit_rate = 125000   # optional: some BTR setting must reach it; the BTR
+//!                     # values the program writes are checked against it
+//! [host]
+//! bfm = "wishbone"    # | "avalon" | "pio"
+//! avalon_map = "wrapper"   # | "begintransfer-cyc" (seed 000 Tableau 3.2)
+//! timeout_cycles = 1000    # host cycles before an access without ack fails
+//! [dut]
+//! kind = "rtl"        # | "avalon-wrapper" | "model" | "external"
+//! path = "..."; top = "can_top"; defines = []; includes = []   # external
+//! [wiring]
+//! rx = "bus"          # | "tied-recessive" | "tied-dominant"
+//! tx_to_bus = true
+//! [run]
+//! max_bits = 20000    # run length limit (bit times)
+//! keep_bits = 256     # bus bits kept in the record
+//!
+//! [[step]]            # exactly one action per step; `note` is echoed
+//! write = "BTR0"      # name (resolved in the view in force: CDR.7), "TXB+1", or address
+//! value = 0x41
+//! view = "peli"       # optional: use that view's address (reproduces confusion)
+//! [[step]]
+//! read = "SR"         # optional check: (read & mask) == expect
+//! expect = 0x0C
+//! mask = 0x0C
+//! [[step]]
+//! wait_irq = true     # or wait_sr_set / wait_sr_clear, or wait_bits = N
+//! timeout_bits = 2000
+//! [[step]]
+//! load_tx = { id = 0x529, data = [0x51] }   # fills the TX buffer (extended, rtr, dlc, raw_dlc)
+//!
+//! [[node]]            # golden-model node on the bus
+//! name = "acker"; btr0 = 0x41; btr1 = 0x25; mode = "basic"; acr = [0xFF]; amr = [0xFF]
+//! listen_only = false; can_mhz = 24.0
+//! send = [{ id = 0x0F, data = [0x0F], at_bit = 100 }]
+//!
+//! [[fault]]
+//! kind = "flip"       # | "stuck-dominant" | "stuck-recessive" | "glitch"
+//! frame = 1; bit_in_frame = 20   # or at_bit = N; duration_bits; target = "bus" | "dut-rx" | node
+//!
+//! [expect]            # checked against the diagnosis
+//! category = "RxNotFollowingTx"  # diagnose::Category name
+//! field = "Sof"; first_attempt_tec = 136; bus_off_attempt = 16; tec = 128; sr = 0x60; attempts = 17
+//! received = { acker = 1 }       # frames each node received
+//! ```
+//!
+//! Entry points: [`Scenario::load`], [`run`](run::run), [`regress`](regress::regress),
+//! [`load_list`] for regression lists (`tb/regression.list`).
 #![warn(missing_docs)]
 
 mod format;
