@@ -365,7 +365,9 @@ pub fn run(s: &Scenario, opts: &RunOptions) -> RunOutcome {
             }
             let mut r = tb.record();
             match result {
-                Ok(()) => {}
+                // Everything completed: a stuck transfer noted by a partial
+                // SR wait (polled in slices so node traffic can fire) is void.
+                Ok(()) => r.stuck = None,
                 Err(TbError::Diverged(_)) => {}
                 Err(TbError::Timeout { what, bits }) => {
                     if r.stuck.is_none() && what.starts_with("transmission requested") {

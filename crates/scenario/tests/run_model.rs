@@ -184,3 +184,23 @@ fn tx_buffer_written_while_a_transmission_is_pending_is_reported() {
     // the cause of the pending transmission is listed too
     assert!(o.diagnosis.also.iter().any(|f| f.category == Category::NoAcknowledge));
 }
+
+#[test]
+fn a_flipped_bit_is_an_error_frame_then_a_good_retransmission() {
+    let mut s = load("de2-with-ack-node");
+    let fault = Scenario::parse(
+        &format!("{BASE}[[node]]\nname = \"acker\"\nbtr0 = 0x41\nbtr1 = 0x25\n[[fault]]\nkind = \"flip\"\nframe = 1\nbit_in_frame = 20\n"),
+        "f.toml",
+    )
+    .unwrap();
+    s.faults = fault.faults;
+    let o = run(&s, &RunOptions { dut: Some(DutSpec::model()), ..Default::default() });
+    eprintln!("{}", o.diagnosis.to_text());
+    assert!(o.passed, "{:?}", o.mismatches);
+    assert!(
+        o.record.events.iter().any(|e| matches!(e.kind, diagnose::EventKind::BusError { .. })),
+        "the flip must cause a bus error: {:?}",
+        o.record.events
+    );
+    assert_eq!(o.received, vec![("acker".to_string(), 1)], "delivered once, after the retransmission");
+}
