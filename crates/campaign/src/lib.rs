@@ -107,7 +107,7 @@ impl Default for CampaignConfig {
             dut: DutChoice::Rtl,
             fault_rate: 0.7,
             nodes: 2,
-            max_bits_per_frame: 4000,
+            max_bits_per_frame: 20_000,
             max_disagreements: 10,
             btr: (0x41, 0x25),
             glitch_sample_margin: Some(6),
@@ -425,6 +425,10 @@ impl From<TbError> for Stop {
 struct Segment {
     tb: Testbench,
     inj: SharedInjector,
+    /// Frames requested lately, by whom (`None` = the DUT): a transmission
+    /// can complete frames later (a node in bus-off recovery, a locked
+    /// buffer), so deliveries are checked against these.
+    requested: std::collections::VecDeque<(Option<usize>, CanFrame)>,
 }
 
 fn build(cfg: &CampaignConfig) -> Result<Segment, TbError> {
@@ -454,7 +458,7 @@ fn build(cfg: &CampaignConfig) -> Result<Segment, TbError> {
     }
     // Bus integration: 11 recessive bits before anyone may transmit.
     tb.run_bits(12)?;
-    Ok(Segment { tb, inj })
+    Ok(Segment { tb, inj, requested: Default::default() })
 }
 
 /// Runs the campaign. Never panics on a bad DUT: build failures, host
@@ -616,8 +620,11 @@ fn run_frame(seg: &mut Segment, cfg: &CampaignConfig, plan: &FramePlan, index: u
     } else {
         seg.inj.0.borrow_mut().disarm();
     }
+    let mut off_bus_at_start = Vec::new();
     for i in 0..cfg.nodes {
         tb.bus_mut().node_mut(i).take_journal();
+        let n = tb.bus().node(i);
+        off_bus_at_start.push(n.bus_off() || n.in_reset_mode());
     }
     // DUT first (its buffer takes host cycles), then the nodes right after
     // its CMR.TR, so contending frames start in the same bit.
@@ -637,10 +644,14 @@ fn run_frame(seg: &mut Segment, cfg: &CampaignConfig, plan: &FramePlan, index: u
         align_mid_bit(tb, cpb)?;
         tb.write(reg::CMR, 0x01)?;
         rep.dut_transmissions += 1;
+        seg.requested.push_back((None, *f));
     }
     for (i, f) in &plan.node_frames {
-        let _ = host::transmit(tb.bus_mut().node_mut(*i), f, 0x01);
-        rep.node_transmissions += 1;
+        // Refused while the node's buffer is locked or it is in reset mode.
+        if host::transmit(tb.bus_mut().node_mut(*i), f, 0x01).is_ok() {
+            rep.node_transmissions += 1;
+            seg.requested.push_back((Some(*i), *f));
+        }
     }
     // Settle: bus idle on every node, every transmit buffer released.
     let start = tb.bits();
@@ -694,8 +705,14 @@ fn run_frame(seg: &mut Segment, cfg: &CampaignConfig, plan: &FramePlan, index: u
     rep.dut_received += got.len() as u32;
     // A receiver that signalled an error may miss a frame the transmitter
     // completes (its flag came too late or was passive): accounted for.
+    // So may a node that went off the bus (bus-off, reset mode) during it.
     let node_errored: Vec<bool> = (0..cfg.nodes)
-        .map(|i| tb.bus_mut().node_mut(i).take_journal().iter().any(|e| matches!(e, sja1000::NodeEvent::BusError { .. })))
+        .map(|i| {
+            off_bus_at_start[i]
+                || tb.bus_mut().node_mut(i).take_journal().iter().any(|e| {
+                    matches!(e, sja1000::NodeEvent::BusError { .. } | sja1000::NodeEvent::FaultState(_) | sja1000::NodeEvent::ResetMode(_))
+                })
+        })
         .collect();
     let dut_errored = ir & 0x80 != 0;
     let mut node_got: Vec<Vec<CanFrame>> = Vec::new();
@@ -723,16 +740,20 @@ fn run_frame(seg: &mut Segment, cfg: &CampaignConfig, plan: &FramePlan, index: u
             context: format!("traffic: {}\n{}", traffic_text(plan), recent_bits(tb)),
         }))
     };
-    // Every frame delivered was sent, by someone else.
+    while seg.requested.len() > 64 {
+        seg.requested.pop_front();
+    }
+    let requested = &seg.requested;
+    // Every frame delivered was requested (lately), by someone else.
     for f in &got {
         match f {
-            Some(f) if plan.node_frames.iter().any(|(_, g)| g == f) => {}
+            Some(f) if requested.iter().any(|(who, g)| who.is_some() && g == f) => {}
             other => return Err(fail(format!("the DUT delivered {} which no node sent", other.map(|f| describe(&f)).unwrap_or("an undecodable frame".into())), tb)),
         }
     }
     for (i, v) in node_got.iter().enumerate() {
         for f in v {
-            let sent = plan.dut_frame.as_ref() == Some(f) || plan.node_frames.iter().any(|(j, g)| *j != i && g == f);
+            let sent = requested.iter().any(|(who, g)| *who != Some(i) && g == f);
             if !sent {
                 return Err(fail(format!("node{} delivered {} which no other node sent", i + 1, describe(f)), tb));
             }
