@@ -364,10 +364,12 @@ impl Engine {
         self.bsp.fc.warning()
     }
 
-    /// SR.RS: a frame is being received (from SOF to the end of its error
-    /// or overload signalling).
+    /// SR.RS: a frame is being received (from SOF to the end of the
+    /// intermission that follows it, error and overload signalling included).
     pub fn is_receiving(&self) -> bool {
-        !self.bsp.role_tx && self.bsp.busy()
+        // The datasheet reads RS = TS = 0 as "bus idle", and the bus is not
+        // idle before the intermission ends: a receiver keeps RS through it.
+        !self.bsp.role_tx && (self.bsp.busy() || self.bsp.phase == bsp::Phase::Intermission)
     }
 
     /// SR.TS: a frame is being transmitted (from SOF until the bus is idle,
