@@ -110,9 +110,10 @@ module can_bsp (
     assign integrating = (st == S_INTEG);
     // SR.TS: the transmitter, from SOF until bus idle (also between automatic
     // retransmissions and during suspend); SR.RS: a receiver inside a frame
-    // or error/overload signalling
+    // or error/overload signalling, and through the intermission after it
+    // (the datasheet reads RS = TS = 0 as bus idle, which starts after it)
     assign ts = txr;
-    assign rs = !txr && busy;
+    assign rs = !txr && (busy || st == S_INTER);
 
     // ---- the level of the bit being sent (tx_cur) for the current state ----
     reg frame_bit;
