@@ -143,3 +143,15 @@ fn long_model_self_check() {
     let r = run_campaign(&cfg);
     assert!(r.passed(), "{}", r.to_text());
 }
+
+/// Known disagreement found by `cancosim campaign --seed 2 --frames 5000`
+/// on our RTL (frames 116 and 944 of seed 2): when a transmitting DUT goes
+/// bus-off, SR reads 0xF0 on the RTL (TBS = 0, the transmit buffer still
+/// locked) and 0xF4 on the model (TBS = 1, released).
+#[test]
+#[ignore = "known disagreement: SR.TBS at bus-off (RTL 0xF0, model 0xF4); run with cargo test -p campaign --release -- --ignored rtl_bus_off_tbs"]
+fn rtl_bus_off_tbs_matches_the_model() {
+    let cfg = CampaignConfig { seed: 2, frames: 117, dut: DutChoice::Rtl, ..CampaignConfig::default() };
+    let r = run_campaign(&cfg);
+    assert!(r.passed(), "{}", r.to_text());
+}
