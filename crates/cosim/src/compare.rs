@@ -19,8 +19,10 @@
 //!   `pin_tolerance` CAN clocks in a row.
 //!
 //! The tolerances are part of the report ([`CompareConfig::describe`]).
-//! The first divergence stops the comparison; the record keeps the bits
-//! before it.
+//! A divergence halts the comparison; the record keeps the bits before it.
+//! The test bench may then hand it to a waiver session (crate `waivers`)
+//! and [`Comparator::resume`]: after a waived divergence (skipping the bits
+//! the waiver allows), or after an unwaived one in collect mode.
 
 use std::collections::VecDeque;
 
@@ -69,6 +71,17 @@ pub trait Reference {
     }
     /// Engine events since the last call.
     fn drain_events(&mut self, _out: &mut Vec<EventKind>) {}
+    /// Takes the DUT's error counters after a waived divergence (waivers
+    /// `adopt-dut-tec` / `adopt-dut-rec`), re-evaluating the fault state;
+    /// false if this reference cannot.
+    fn adopt_counters(&mut self, _tec: Option<u8>, _rec: Option<u8>) -> bool {
+        false
+    }
+    /// Takes the DUT's value of a register after a waived read divergence
+    /// (`adopt-dut-register`); false if this reference cannot.
+    fn adopt_register(&mut self, _addr: u8, _value: u8) -> bool {
+        false
+    }
 }
 
 /// Comparator tolerances.
@@ -181,6 +194,13 @@ pub struct Comparator {
     bus_since: Stamp,
     pending: Vec<PendingRead>,
     divergence: Option<Divergence>,
+    found: VecDeque<Divergence>,
+    halted: bool,
+    last_kind: Option<DivergenceKind>,
+    skip_until_bit: u64,
+    tx_latched: bool,
+    irq_latched: bool,
+    bus_latched: bool,
     /// Reads and sample points compared (for the report).
     pub compared_bits: u64,
     /// Register reads compared.
@@ -213,6 +233,13 @@ impl Comparator {
             bus_since: Stamp::default(),
             pending: Vec::new(),
             divergence: None,
+            found: VecDeque::new(),
+            halted: false,
+            last_kind: None,
+            skip_until_bit: 0,
+            tx_latched: false,
+            irq_latched: false,
+            bus_latched: false,
             compared_bits: 0,
             compared_reads: 0,
             tolerated_reads: 0,
@@ -229,6 +256,41 @@ impl Comparator {
         self.divergence.as_ref()
     }
 
+    /// The next divergence not yet taken (each divergence once, in order).
+    pub fn take_divergence(&mut self) -> Option<Divergence> {
+        self.found.pop_front()
+    }
+
+    /// True while a divergence halts the comparison (until [`Comparator::resume`]).
+    pub fn halted(&self) -> bool {
+        self.halted
+    }
+
+    /// Compares again after the last divergence was handled.
+    ///
+    /// `skip_to_bit`: no tx or pin comparison before this bit index (a
+    /// waiver's `SkipBits(n)` after a divergence at bit `b` gives `b + n`).
+    /// `latch`: the divergence was not waived (collect mode): the same
+    /// mismatch is not reported again until DUT and reference agree, so a
+    /// lasting deviation counts once. Not latched after a waived one, so a
+    /// waiver's bounds see every bit of the deviation.
+    pub fn resume(&mut self, skip_to_bit: Option<u64>, latch: bool) {
+        self.halted = false;
+        if let Some(b) = skip_to_bit {
+            self.skip_until_bit = self.skip_until_bit.max(b);
+        }
+        if latch {
+            match self.last_kind {
+                Some(DivergenceKind::TxBit) => self.tx_latched = true,
+                Some(DivergenceKind::Irq) => self.irq_latched = true,
+                Some(DivergenceKind::BusOff) => self.bus_latched = true,
+                _ => {}
+            }
+        }
+        self.irq_bad = 0;
+        self.bus_bad = 0;
+    }
+
     fn diverge(
         &mut self,
         kind: DivergenceKind,
@@ -238,19 +300,23 @@ impl Comparator {
         seen: u32,
         context: String,
     ) {
+        let d = Divergence {
+            kind,
+            time_ps: s.t_ps,
+            bit: Some(s.bit),
+            frame: s.frame,
+            field: s.field,
+            register,
+            expected,
+            seen,
+            context: format!("{context}; tolerances: {}", self.cfg.describe()),
+        };
         if self.divergence.is_none() {
-            self.divergence = Some(Divergence {
-                kind,
-                time_ps: s.t_ps,
-                bit: Some(s.bit),
-                frame: s.frame,
-                field: s.field,
-                register,
-                expected,
-                seen,
-                context: format!("{context}; tolerances: {}", self.cfg.describe()),
-            });
+            self.divergence = Some(d.clone());
         }
+        self.found.push_back(d);
+        self.halted = true;
+        self.last_kind = Some(kind);
     }
 
     /// One CAN clock, after both sides were clocked: `sample` says whether
@@ -265,9 +331,10 @@ impl Comparator {
         sr: u8,
         ir: u8,
     ) {
-        if self.divergence.is_some() {
+        if self.halted {
             return;
         }
+        let skipping = stamp.bit < self.skip_until_bit;
         // tx with an edge-tolerance window centred on the checked clock.
         let tol = self.cfg.tx_edge_tolerance as usize;
         // Start of frame from bus idle: either side may go first, and the
@@ -335,11 +402,14 @@ impl Comparator {
         }
         if self.window.len() == 2 * tol + 1 {
             let mid = self.window[tol];
-            if mid.sample && !mid.excused {
+            if mid.sample && !mid.excused && mid.stamp.bit >= self.skip_until_bit {
                 let stable = self.window.iter().all(|w| w.ref_tx == mid.ref_tx);
                 if stable {
                     self.compared_bits += 1;
-                    if mid.dut_tx != mid.ref_tx {
+                    if self.tx_latched && mid.dut_tx == mid.ref_tx {
+                        self.tx_latched = false;
+                    }
+                    if mid.dut_tx != mid.ref_tx && !self.tx_latched {
                         let lvl = |b: bool| if b { "recessive" } else { "dominant" };
                         self.diverge(
                             DivergenceKind::TxBit,
@@ -394,7 +464,13 @@ impl Comparator {
             k += 1;
         }
         // Pins: a mismatch may last pin_tolerance clocks.
-        if self.cfg.compare_irq {
+        if self.irq_latched && reference.irq_n == dut.irq_n {
+            self.irq_latched = false;
+        }
+        if self.bus_latched && reference.bus_on == dut.bus_on {
+            self.bus_latched = false;
+        }
+        if self.cfg.compare_irq && !skipping && !self.irq_latched {
             if reference.irq_n != dut.irq_n {
                 if self.irq_bad == 0 {
                     self.irq_since = stamp;
@@ -419,7 +495,7 @@ impl Comparator {
                 self.irq_bad = 0;
             }
         }
-        if self.cfg.compare_bus_off {
+        if self.cfg.compare_bus_off && !skipping && !self.bus_latched {
             if reference.bus_on != dut.bus_on {
                 if self.bus_bad == 0 {
                     self.bus_since = stamp;
@@ -448,7 +524,7 @@ impl Comparator {
     /// A register read completed on both sides: `dut` from the DUT, `model`
     /// from the reference at the same edge.
     pub fn read(&mut self, stamp: Stamp, addr: u8, dut: u8, model: u8, name: Option<String>) {
-        if self.divergence.is_some() {
+        if self.halted {
             return;
         }
         self.compared_reads += 1;
@@ -647,6 +723,138 @@ mod tests {
         assert!(c.divergence().is_none());
         c.read(Stamp::default(), 6, 0x40, 0x41, Some("BTR0".into()));
         assert_eq!(c.divergence().unwrap().register.as_deref(), Some("BTR0"));
+    }
+
+    /// Reference tx all recessive with a sample point every 10 clocks (bit
+    /// k at clock 10k + 5); the DUT drives dominant at the given bits.
+    fn run_bits(
+        c: &mut Comparator,
+        bits: std::ops::Range<u64>,
+        dominant: &[u64],
+        mut on_div: impl FnMut(&mut Comparator, Divergence),
+    ) {
+        for bit in bits {
+            for k in 0..10u64 {
+                let s = Stamp {
+                    t_ps: bit * 10 + k,
+                    bit,
+                    ..Stamp::default()
+                };
+                let dut_tx = !(dominant.contains(&bit) && k >= 2);
+                c.can_clock(s, k == 5, &pins(true), &pins(dut_tx), 0, 0);
+                while let Some(d) = c.take_divergence() {
+                    on_div(c, d);
+                }
+            }
+        }
+    }
+
+    #[test]
+    fn resume_goes_on_after_a_divergence_and_skip_bits_are_not_compared() {
+        let mut c = Comparator::new(CompareConfig {
+            tx_edge_tolerance: 2,
+            ..CompareConfig::default()
+        });
+        let mut seen = vec![];
+        // Without resume: halted at the first one, as before.
+        run_bits(&mut c, 0..20, &[3, 4, 12], |_, d| seen.push(d.bit.unwrap()));
+        assert_eq!(seen, [3]);
+        assert!(c.halted());
+        assert_eq!(c.divergence().unwrap().bit, Some(3));
+        // Resume after each (a waiver with skip-bits 2): bit 4 is skipped, 12 reported.
+        let mut c = Comparator::new(CompareConfig {
+            tx_edge_tolerance: 2,
+            ..CompareConfig::default()
+        });
+        let mut seen = vec![];
+        run_bits(&mut c, 0..20, &[3, 4, 12], |c, d| {
+            seen.push(d.bit.unwrap());
+            c.resume(d.bit.map(|b| b + 2), false);
+        });
+        assert_eq!(seen, [3, 12]);
+        assert_eq!(
+            c.divergence().unwrap().bit,
+            Some(3),
+            "divergence() stays the first"
+        );
+        // Resume without skipping, not latched (waived): every bit reported.
+        let mut c = Comparator::new(CompareConfig {
+            tx_edge_tolerance: 2,
+            ..CompareConfig::default()
+        });
+        let mut seen = vec![];
+        run_bits(&mut c, 0..20, &[3, 4, 12], |c, d| {
+            seen.push(d.bit.unwrap());
+            c.resume(None, false);
+        });
+        assert_eq!(seen, [3, 4, 12]);
+        // Collect mode latches: a lasting deviation counts once until tx agrees again.
+        let mut c = Comparator::new(CompareConfig {
+            tx_edge_tolerance: 2,
+            ..CompareConfig::default()
+        });
+        let mut seen = vec![];
+        run_bits(&mut c, 0..20, &[3, 4, 5, 12], |c, d| {
+            seen.push(d.bit.unwrap());
+            c.resume(None, true);
+        });
+        assert_eq!(seen, [3, 12]);
+    }
+
+    #[test]
+    fn a_waiver_session_drives_the_comparator() {
+        use waivers::{Action, CollectMode, DutInfo, Resync, Session, WaiverSet};
+        let set = WaiverSet::parse(
+            r#"
+[[waiver]]
+id = "late-flag"
+kind = "tx-bit"
+dut = ["fixture"]
+late-bits = 1
+explanation = "one dominant bit late, accepted for this test"
+resync = ["skip-bits 1"]
+"#,
+            "t.toml",
+        )
+        .unwrap();
+        for (mode, dominant, waived, failures) in [
+            (CollectMode::StopAtFirst, vec![3], 1, 0),
+            (CollectMode::StopAtFirst, vec![3, 4], 1, 1),
+            (CollectMode::Collect, vec![3, 4, 5, 15], 2, 1),
+        ] {
+            let mut s = Session::new(set.clone(), DutInfo::new("fixture"), mode);
+            let mut c = Comparator::new(CompareConfig {
+                tx_edge_tolerance: 2,
+                ..CompareConfig::default()
+            });
+            run_bits(&mut c, 0..20, &dominant, |c, d| {
+                let bit = d.bit.unwrap();
+                match s.divergence(d) {
+                    Action::Resync(steps) => {
+                        let skip = steps
+                            .iter()
+                            .map(|r| {
+                                if let Resync::SkipBits(n) = r {
+                                    *n as u64
+                                } else {
+                                    0
+                                }
+                            })
+                            .max();
+                        c.resume(skip.map(|n| bit + n), false);
+                    }
+                    Action::Continue => c.resume(None, true),
+                    Action::Stop => {}
+                }
+            });
+            let (r, _) = s.finish();
+            assert_eq!(
+                (r.waived.len(), r.failures.len()),
+                (waived, failures),
+                "{mode:?} {dominant:?}: {}",
+                r.to_text()
+            );
+        }
     }
 
     #[test]

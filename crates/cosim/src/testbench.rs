@@ -35,6 +35,7 @@ use crate::dut::{Dut, EchoModel, HostPort, VerilatedDut};
 use crate::kernel::{Kernel, KernelError};
 use crate::model::{ModelDut, ModelRef};
 use crate::wave::{Wave, WaveSample};
+use waivers::{Action, CollectMode, DutInfo, Observed, Resync, Session, WaiverReport, WaiverSet};
 
 /// Which device is under test.
 #[derive(Clone, Debug)]
@@ -141,6 +142,13 @@ pub struct TbConfig {
     pub op_timeout_cycles: u64,
     /// Ack limit of the Wishbone monitor, host cycles.
     pub monitor_ack_timeout: u64,
+    /// Known deviations of the DUT (`--waivers`); empty: none accepted.
+    pub waivers: WaiverSet,
+    /// The DUT's revision, matched against the waivers' revision ranges.
+    pub dut_revision: Option<String>,
+    /// Unwaived divergences stop the run or are collected
+    /// (`--stop-at-first` / `--collect`).
+    pub collect: CollectMode,
 }
 
 impl Default for TbConfig {
@@ -165,6 +173,9 @@ impl Default for TbConfig {
             keep_bits: 256,
             op_timeout_cycles: 2_000,
             monitor_ack_timeout: 1_000,
+            waivers: WaiverSet::empty(),
+            dut_revision: None,
+            collect: CollectMode::StopAtFirst,
         }
     }
 }
@@ -292,6 +303,11 @@ pub struct Testbench {
     attempts: u32,
     /// Bit index (bit clock count) of the last SOF.
     sof_bit: u64,
+    waivers: Session,
+    /// A waiver allowed adopting the DUT's TEC/REC whose value the
+    /// comparator could not see: taken from the next TXERR/RXERR read.
+    adopt_tec_at_read: bool,
+    adopt_rec_at_read: bool,
 }
 
 impl Testbench {
@@ -408,6 +424,14 @@ impl Testbench {
             DutChoice::Model => "model".to_string(),
             DutChoice::Echo => "echo model".to_string(),
         };
+        let waivers = Session::new(
+            std::mem::take(&mut cfg.waivers),
+            DutInfo {
+                name: dut_name.clone(),
+                revision: cfg.dut_revision.clone(),
+            },
+            cfg.collect,
+        );
         let mut record = RunRecord::new(&cfg.scenario, &dut_name);
         record.host_bus = host_bus;
         record.timing = diagnose::Timing {
@@ -467,6 +491,9 @@ impl Testbench {
             last_tr: None,
             attempts: 0,
             sof_bit: 0,
+            waivers,
+            adopt_tec_at_read: false,
+            adopt_rec_at_read: false,
         };
         tb.dut.set_reset(true);
         tb.dut.set_rx(RECESSIVE);
@@ -499,6 +526,66 @@ impl Testbench {
     /// The comparator, if lockstep.
     pub fn comparator(&self) -> Option<&Comparator> {
         self.comparator.as_ref()
+    }
+
+    /// Waived divergences, failures and stale waivers so far. In collect
+    /// mode the run goes on after a failure: check `passed()` here.
+    pub fn waiver_report(&self) -> WaiverReport {
+        self.waivers.snapshot()
+    }
+
+    /// Hands each new divergence to the waiver session and applies its
+    /// verdict: resync and go on, go on (collect), or stop.
+    fn handle_divergences(&mut self) {
+        let (Some(c), Some(r)) = (&mut self.comparator, &mut self.reference) else {
+            return;
+        };
+        while let Some(d) = c.take_divergence() {
+            let bit = d.bit;
+            // The DUT is seen through its pins and host reads only.
+            match self
+                .waivers
+                .divergence_observed(d.clone(), &Observed::default())
+            {
+                Action::Resync(steps) => {
+                    let mut skip_to = None;
+                    for step in steps {
+                        let applied = match step {
+                            Resync::SkipBits(n) => {
+                                skip_to = bit.map(|b| b + n as u64);
+                                true
+                            }
+                            Resync::AdoptTec(Some(v)) => r.adopt_counters(Some(v), None),
+                            Resync::AdoptRec(Some(v)) => r.adopt_counters(None, Some(v)),
+                            Resync::AdoptTec(None) => {
+                                self.adopt_tec_at_read = true;
+                                true
+                            }
+                            Resync::AdoptRec(None) => {
+                                self.adopt_rec_at_read = true;
+                                true
+                            }
+                            Resync::AdoptRegister { addr, value } => r.adopt_register(addr, value),
+                        };
+                        if !applied {
+                            self.waivers.note(format!(
+                                "resync {step:?} could not be applied: {} cannot, it keeps its own state",
+                                r.name()
+                            ));
+                        }
+                    }
+                    c.resume(skip_to, false);
+                }
+                Action::Continue => {
+                    self.record.divergence.get_or_insert(d);
+                    c.resume(None, true);
+                }
+                Action::Stop => {
+                    self.record.divergence = Some(d);
+                    self.stopped = true;
+                }
+            }
+        }
     }
 
     /// Protocol violations seen so far.
@@ -812,9 +899,8 @@ impl Testbench {
                 r.peek(SR_ADDR),
                 r.peek(IR_ADDR),
             );
-            if let Some(d) = c.divergence() {
-                self.record.divergence = Some(d.clone());
-                self.stopped = true;
+            if c.halted() {
+                self.handle_divergences();
             }
         }
     }
@@ -976,14 +1062,35 @@ impl Testbench {
                     if write {
                         rec.outcome = refm.write(addr, data);
                     } else {
-                        let mv = refm.read(addr);
+                        // A pending adopt-dut-tec/-rec takes the DUT's counter here.
+                        let (tried, adopt) = match reg.as_deref() {
+                            Some("TXERR") if self.adopt_tec_at_read => {
+                                self.adopt_tec_at_read = false;
+                                (true, refm.adopt_counters(Some(r.data), None))
+                            }
+                            Some("RXERR") if self.adopt_rec_at_read => {
+                                self.adopt_rec_at_read = false;
+                                (true, refm.adopt_counters(None, Some(r.data)))
+                            }
+                            _ => (false, false),
+                        };
+                        if tried && !adopt {
+                            // Never hidden: the waiver asked for it, the reference could not.
+                            self.waivers.note(format!(
+                                "{} cannot adopt the DUT's {} = {} read at {} ps: it keeps its own counter",
+                                refm.name(),
+                                reg.as_deref().unwrap_or("counter"),
+                                r.data,
+                                stamp.t_ps
+                            ));
+                        }
+                        let mv = if adopt { r.data } else { refm.read(addr) };
                         if let Some(c) = &mut self.comparator
                             && !self.stopped
                         {
                             c.read(stamp, addr, r.data, mv, reg.clone());
-                            if let Some(d) = c.divergence() {
-                                self.record.divergence = Some(d.clone());
-                                self.stopped = true;
+                            if c.halted() {
+                                self.handle_divergences();
                             }
                         }
                     }

@@ -304,3 +304,188 @@ fn vcd_has_ports_bus_and_fields_and_verilator_trace_works() {
     );
     let _ = std::fs::remove_dir_all(&dir);
 }
+
+/// The deviant fixture's two deviations (address 4 bit 7 stuck at 0; tx
+/// stuck recessive) against its Rust twin, with 0, 1 and 2 waivers (issue 9).
+const DEVIANT_WAIVERS: &str = r#"
+[[waiver]]
+id = "reg4-bit7"
+kind = "register-read"
+register = "address 4"
+address = 4
+bits = [7]
+seen = [0x7F]
+dut = ["cosim_deviant"]
+explanation = "bit 7 of address 4 is not implemented in this fixture, on purpose"
+resync = ["adopt-dut-register"]
+
+[[waiver]]
+id = "tx-stuck-recessive"
+kind = "tx-bit"
+expected = [0]
+seen = [1]
+dut = ["cosim_deviant"]
+explanation = "tx_o is stuck recessive in this fixture, on purpose (the DE2 thesis symptom)"
+resync = ["none"]
+
+[[waiver]]
+id = "never-matches"
+kind = "irq"
+dut = ["cosim_deviant"]
+explanation = "an irq deviation this fixture does not have: must come out stale"
+resync = ["none"]
+"#;
+
+fn deviant_with(ids: &[&str], collect: waivers::CollectMode) -> Testbench {
+    let all = waivers::WaiverSet::parse(DEVIANT_WAIVERS, "deviant.toml").unwrap();
+    let mut set = waivers::WaiverSet::empty();
+    for w in ids {
+        let one = DEVIANT_WAIVERS
+            .split("[[waiver]]")
+            .find(|t| t.contains(&format!("id = \"{w}\"")))
+            .unwrap();
+        set.merge(waivers::WaiverSet::parse(&format!("[[waiver]]{one}"), "deviant.toml").unwrap())
+            .unwrap();
+    }
+    assert!(all.waivers().len() >= ids.len());
+    let mut c = cfg("cosim_deviant", HostBfm::Wishbone);
+    c.lockstep = Some((
+        ReferenceChoice::Echo,
+        CompareConfig {
+            tx_edge_tolerance: 2,
+            ..CompareConfig::default()
+        },
+    ));
+    c.waivers = set;
+    c.collect = collect;
+    Testbench::new(c).unwrap()
+}
+
+/// Register deviation first, then tx; Ok if the sequence ran to the end.
+fn deviant_sequence(tb: &mut Testbench) -> Result<(), TbError> {
+    tb.write(4, 0xFF)?;
+    assert_eq!(tb.read(4)?, 0x7F);
+    tb.run_bits(3)?;
+    tb.write(0, 0x00)?;
+    tb.run_bits(4)?;
+    tb.write(0, 0x01)?;
+    tb.run_bits(3)?;
+    assert_eq!(
+        tb.read(4)?,
+        0x7F,
+        "the model adopted 0x7F: no new divergence"
+    );
+    Ok(())
+}
+
+#[test]
+fn waivers_let_the_deviant_fixture_run_past_its_deviations() {
+    use waivers::CollectMode::*;
+    // No waiver: stops at the register read.
+    let mut tb = deviant_with(&[], StopAtFirst);
+    assert!(matches!(
+        deviant_sequence(&mut tb),
+        Err(TbError::Diverged(_))
+    ));
+    let r = tb.waiver_report();
+    assert_eq!((r.failures.len(), r.waived.len()), (1, 0));
+    assert_eq!(r.failures[0].kind, DivergenceKind::RegisterRead);
+    // One waiver: stops at the tx bit.
+    let mut tb = deviant_with(&["reg4-bit7"], StopAtFirst);
+    assert!(matches!(
+        deviant_sequence(&mut tb),
+        Err(TbError::Diverged(_))
+    ));
+    let r = tb.waiver_report();
+    assert_eq!((r.failures.len(), r.waived.len()), (1, 1));
+    assert_eq!(r.failures[0].kind, DivergenceKind::TxBit);
+    assert_eq!(
+        tb.record().divergence.as_ref().unwrap().kind,
+        DivergenceKind::TxBit,
+        "the record keeps the first unwaived"
+    );
+    // Both: completes; both listed as waived, the third waiver is stale.
+    let mut tb = deviant_with(
+        &["reg4-bit7", "tx-stuck-recessive", "never-matches"],
+        StopAtFirst,
+    );
+    deviant_sequence(&mut tb).unwrap();
+    let r = tb.waiver_report();
+    assert!(r.passed(), "{}", r.to_text());
+    assert_eq!(r.waived[0].waiver_id, "reg4-bit7");
+    assert!(
+        r.waived.len() >= 3
+            && r.waived[1..]
+                .iter()
+                .all(|w| w.waiver_id == "tx-stuck-recessive"),
+        "{}",
+        r.to_text()
+    );
+    assert_eq!(r.stale.len(), 1);
+    assert!(r.to_text().contains("WARNING stale waiver `never-matches`"));
+    assert!(tb.record().divergence.is_none());
+    // Collect mode without waivers: both deviations, the lasting tx one once.
+    let mut tb = deviant_with(&[], Collect);
+    deviant_sequence(&mut tb).unwrap_or_else(|e| panic!("collect mode does not stop: {e}"));
+    let r = tb.waiver_report();
+    let kinds: Vec<DivergenceKind> = r.failures.iter().map(|d| d.kind).collect();
+    assert_eq!(
+        kinds,
+        [
+            DivergenceKind::RegisterRead,
+            DivergenceKind::TxBit,
+            DivergenceKind::RegisterRead
+        ],
+        "{}",
+        r.to_text()
+    );
+    assert!(!r.passed());
+}
+
+/// A waiver asks the reference to adopt the DUT's TEC; the echo twin has no
+/// error counters, so the report must say the resync was not applied.
+#[test]
+fn a_resync_the_reference_cannot_apply_is_reported_not_hidden() {
+    let set = waivers::WaiverSet::parse(
+        r#"
+[[waiver]]
+id = "tx-stuck-recessive"
+kind = "tx-bit"
+expected = [0]
+seen = [1]
+dut = ["cosim_deviant"]
+dut-tec = [8]
+explanation = "tx_o stuck recessive; pretend the DUT counted one error"
+resync = ["adopt-dut-tec"]
+"#,
+        "adopt.toml",
+    )
+    .unwrap();
+    let mut c = cfg("cosim_deviant", HostBfm::Wishbone);
+    c.lockstep = Some((
+        ReferenceChoice::Echo,
+        CompareConfig {
+            tx_edge_tolerance: 2,
+            ..CompareConfig::default()
+        },
+    ));
+    c.waivers = set;
+    c.dut_revision = Some("r1".into());
+    let mut tb = Testbench::new(c).unwrap();
+    tb.write(0, 0x00).unwrap();
+    tb.run_bits(4).unwrap();
+    tb.write(0, 0x01).unwrap();
+    tb.run_bits(2).unwrap();
+    let r = tb.waiver_report();
+    assert!(r.passed(), "{}", r.to_text());
+    assert!(!r.waived.is_empty());
+    assert_eq!(r.revision.as_deref(), Some("r1"));
+    assert!(
+        r.notes
+            .iter()
+            .any(|n| n.contains("AdoptTec(Some(8)) could not be applied")),
+        "{}",
+        r.to_text()
+    );
+    assert!(r.to_text().contains("could not be applied"));
+}
