@@ -530,8 +530,21 @@ impl Testbench {
 
     /// Waived divergences, failures and stale waivers so far. In collect
     /// mode the run goes on after a failure: check `passed()` here.
+    /// An `adopt-dut-tec`/`-rec` still waiting for a TXERR/RXERR read is
+    /// noted: the model has not taken the DUT's counter yet.
     pub fn waiver_report(&self) -> WaiverReport {
-        self.waivers.snapshot()
+        let mut r = self.waivers.snapshot();
+        for (pending, reg) in [
+            (self.adopt_tec_at_read, "TXERR"),
+            (self.adopt_rec_at_read, "RXERR"),
+        ] {
+            if pending {
+                r.notes.push(format!(
+                    "resync adopt the DUT's {reg} not applied yet: no {reg} read since the waived divergence"
+                ));
+            }
+        }
+        r
     }
 
     /// Hands each new divergence to the waiver session and applies its

@@ -488,4 +488,34 @@ resync = ["adopt-dut-tec"]
         r.to_text()
     );
     assert!(r.to_text().contains("could not be applied"));
+    // Without a measured value the TEC is to be taken at the next TXERR
+    // read; none came, so the report says it is still pending.
+    let set = waivers::WaiverSet::parse(
+        r#"
+[[waiver]]
+id = "tx-stuck-recessive"
+kind = "tx-bit"
+seen = [1]
+dut = ["cosim_deviant"]
+explanation = "tx_o stuck recessive"
+resync = ["adopt-dut-tec"]
+"#,
+        "adopt.toml",
+    )
+    .unwrap();
+    let mut c = cfg("cosim_deviant", HostBfm::Wishbone);
+    c.lockstep = Some((ReferenceChoice::Echo, CompareConfig::default()));
+    c.waivers = set;
+    let mut tb = Testbench::new(c).unwrap();
+    let r = tb.waiver_report();
+    assert!(r.notes.is_empty(), "no divergence yet: {:?}", r.notes);
+    tb.write(0, 0x00).unwrap();
+    tb.run_bits(4).unwrap();
+    let r = tb.waiver_report();
+    assert!(!r.waived.is_empty(), "{}", r.to_text());
+    assert!(
+        r.notes.iter().any(|n| n.contains("TXERR not applied yet")),
+        "{}",
+        r.to_text()
+    );
 }
