@@ -25,3 +25,6 @@ pub use model::{ModelDut, ModelRef};
 pub use testbench::{
     AvalonWiring, DutChoice, HostBfm, NodeConfig, ReferenceChoice, TbConfig, TbError, Testbench,
 };
+/// The waivers crate the test bench takes (`TbConfig::waivers`) and reports
+/// with (`Testbench::waiver_report`), for callers without their own dependency.
+pub use waivers;
