@@ -126,7 +126,6 @@ fn table_for_rtl_and_model() {
 }
 
 #[test]
-#[ignore = "builds rtl/ with ACK_LEVEL = 1 for the PIO scenarios (about 60 s the first time); run with --ignored --nocapture to print the table"]
 fn full_table_for_rtl_and_model() {
     let s = shipped();
     let rep = regress(&s, &[DutSpec::rtl(), DutSpec::model()], &RegressOptions { jobs: 2, ..Default::default() });

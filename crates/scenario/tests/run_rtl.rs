@@ -72,7 +72,6 @@ fn rtl_de2_pelican_selftest() {
 }
 
 #[test]
-#[ignore = "builds rtl/ with ACK_LEVEL = 1 for the PIO master with Verilator (about 60 s the first time); run with --ignored"]
 fn rtl_pio_scenarios_as_shipped() {
     for n in ["de2-thesis", "de2-loopback-no-ack", "de2-with-ack-node"] {
         let o = on_rtl(&load(n));
