@@ -12,6 +12,13 @@ fn main() {
     };
     let first_frame = a.get(4).and_then(|s| s.parse().ok()).unwrap_or(0);
     let fault_rate = a.get(5).and_then(|s| s.parse().ok()).unwrap_or(CampaignConfig::default().fault_rate);
+    if std::env::var_os("CAMPAIGN_PLAN").is_some() {
+        let cfg = CampaignConfig { seed, fault_rate, ..CampaignConfig::default() };
+        for i in first_frame..first_frame + frames {
+            println!("frame {i}: {}", campaign::describe_frame(&cfg, i));
+        }
+        return;
+    }
     let vcd = std::env::var_os("CAMPAIGN_VCD").map(std::path::PathBuf::from);
     let r = run_campaign(&CampaignConfig { seed, frames, dut, first_frame, fault_rate, vcd, ..CampaignConfig::default() });
     print!("{}", r.to_text());

@@ -368,6 +368,17 @@ fn plan_frame(cfg: &CampaignConfig, index: u32, cpb: u32) -> FramePlan {
     FramePlan { dut_frame, node_frames, fault }
 }
 
+/// What frame `index` of a campaign does (traffic and fault), without
+/// running it: the random choices depend on `(cfg.seed, index)` only.
+pub fn describe_frame(cfg: &CampaignConfig, index: u32) -> String {
+    let cpb = BusTiming::from_btr(cfg.btr.0, cfg.btr.1).clocks_per_bit();
+    let p = plan_frame(cfg, index, cpb);
+    match &p.fault {
+        Some(f) => format!("{}; fault: {f}", traffic_text(&p)),
+        None => traffic_text(&p),
+    }
+}
+
 fn describe(f: &CanFrame) -> String {
     let id = if f.is_extended() { format!("{:08X}x", f.raw_id()) } else { format!("{:03X}", f.raw_id()) };
     let data: Vec<String> = f.data().iter().map(|b| format!("{b:02X}")).collect();
@@ -646,12 +657,17 @@ fn run_frame(seg: &mut Segment, cfg: &CampaignConfig, plan: &FramePlan, index: u
         rep.dut_transmissions += 1;
         seg.requested.push_back((None, *f));
     }
+    let mut node_requested = Vec::new();
     for (i, f) in &plan.node_frames {
-        // Refused while the node's buffer is locked or it is in reset mode.
-        if host::transmit(tb.bus_mut().node_mut(*i), f, 0x01).is_ok() {
+        // Refused while the node's buffer is locked or it is in reset mode;
+        // kept among the requests anyway (a partly taken request may still
+        // go out), but only an accepted one is checked for completion.
+        let ok = host::transmit(tb.bus_mut().node_mut(*i), f, 0x01).is_ok();
+        if ok {
             rep.node_transmissions += 1;
-            seg.requested.push_back((Some(*i), *f));
         }
+        node_requested.push(ok);
+        seg.requested.push_back((Some(*i), *f));
     }
     // Settle: bus idle on every node, every transmit buffer released.
     let start = tb.bits();
@@ -740,7 +756,7 @@ fn run_frame(seg: &mut Segment, cfg: &CampaignConfig, plan: &FramePlan, index: u
             context: format!("traffic: {}\n{}", traffic_text(plan), recent_bits(tb)),
         }))
     };
-    while seg.requested.len() > 64 {
+    while seg.requested.len() > 1024 {
         seg.requested.pop_front();
     }
     let requested = &seg.requested;
@@ -770,7 +786,7 @@ fn run_frame(seg: &mut Segment, cfg: &CampaignConfig, plan: &FramePlan, index: u
             }
         }
     }
-    for (i, f) in &plan.node_frames {
+    for ((i, f), _) in plan.node_frames.iter().zip(&node_requested).filter(|(_, ok)| **ok) {
         let n = tb.bus().node(*i);
         if n.peek(reg::SR) & sr::TCS != 0 && !n.bus_off() && sr_now & sr::BS == 0 && !dut_errored && !got.contains(&Some(*f)) {
             return Err(fail(format!("node{} completed {} but the DUT did not deliver it", i + 1, describe(f)), tb));
