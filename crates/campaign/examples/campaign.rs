@@ -1,5 +1,5 @@
 //! Runs a campaign from the command line until the CLI has its
-//! `campaign` subcommand: `cargo run --release -p campaign --example campaign -- SEED FRAMES [model|rtl] [FIRST_FRAME] [FAULT_RATE]` (CAMPAIGN_FRAMES=1 lists every frame, CAMPAIGN_VCD=path writes the waveform)`.
+//! `campaign` subcommand: `cargo run --release -p campaign --example campaign -- SEED FRAMES [model|rtl] [FIRST_FRAME] [FAULT_RATE]` (CAMPAIGN_FRAMES=1 lists every frame, CAMPAIGN_VCD=path writes the waveform, CAMPAIGN_MAX=n stops after n disagreements, CAMPAIGN_PLAN=1 lists the plan only)`.
 use campaign::{CampaignConfig, DutChoice, run_campaign};
 
 fn main() {
@@ -20,7 +20,8 @@ fn main() {
         return;
     }
     let vcd = std::env::var_os("CAMPAIGN_VCD").map(std::path::PathBuf::from);
-    let r = run_campaign(&CampaignConfig { seed, frames, dut, first_frame, fault_rate, vcd, ..CampaignConfig::default() });
+    let max_disagreements = std::env::var("CAMPAIGN_MAX").ok().and_then(|s| s.parse().ok()).unwrap_or(10);
+    let r = run_campaign(&CampaignConfig { seed, frames, dut, first_frame, fault_rate, vcd, max_disagreements, ..CampaignConfig::default() });
     print!("{}", r.to_text());
     if std::env::var_os("CAMPAIGN_FRAMES").is_some() {
         for f in &r.frames {

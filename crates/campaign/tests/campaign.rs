@@ -128,14 +128,14 @@ fn rtl_sof_glitch_synchronisation_matches_the_model() {
     assert!(r.passed(), "{}", r.to_text());
 }
 
-/// Long self-check. Known to fail (seed 11, 10000 frames: 10
-/// disagreements in 8973 frames): glitches inside SOF or the ACK slot make
-/// the DUT and its lockstep reference (two identical golden models with
-/// the same rx) send different bits later. The reference receives each host
-/// write one host cycle after the DUT latched it, so their bit phases can
-/// differ by a CAN clock or more; a glitch edge then falls on different
-/// sides of their sample points. Also three frame-accounting findings on
-/// which DUT and reference agree (seed 11 frames 2626, 7187, 8982).
+/// Long self-check. Known to fail (seed 11: 9 disagreements in 9991
+/// frames, all of them tx or irq_on after a glitch inside SOF or the ACK
+/// slot, or a one-bit stuck level at the ACK delimiter): the DUT and its
+/// lockstep reference, two identical golden models fed the same rx, end up
+/// sending different bits. The reference receives each host write one host
+/// cycle after the DUT latched it and does not drive the bus, so their bit
+/// phases can differ by a CAN clock or more; a glitch edge then falls on
+/// different sides of their sample points. A cosim matter, not a protocol one.
 #[test]
 #[ignore = "known lockstep phase difference between DUT and reference (cosim), see doc; run with cargo test -p campaign --release -- --ignored long_model"]
 fn long_model_self_check() {
@@ -152,6 +152,22 @@ fn long_model_self_check() {
 #[ignore = "known disagreement: SR.TBS at bus-off (RTL 0xF0, model 0xF4); run with cargo test -p campaign --release -- --ignored rtl_bus_off_tbs"]
 fn rtl_bus_off_tbs_matches_the_model() {
     let cfg = CampaignConfig { seed: 2, frames: 117, dut: DutChoice::Rtl, ..CampaignConfig::default() };
+    let r = run_campaign(&cfg);
+    assert!(r.passed(), "{}", r.to_text());
+}
+
+/// Known disagreement found by `cancosim campaign --seed 1 --frames 5000`
+/// (frames 3820 and 4431 of seed 1): the DUT transmits (e.g. ID 0x200), a
+/// receiver signals an error flag early in the identifier, and the flag
+/// overwrites the recessive stuff bit the DUT sends right after RTR; the RTL
+/// captures a stuff error (ECC 0x85: stuff, TX, IDE segment) and the model
+/// a bit error (ECC 0x05). CAN 2.0B exempts a recessive bit sent in the
+/// stuffed arbitration field from bit error detection, which leaves the
+/// stuff error: the model looks like the side to check.
+#[test]
+#[ignore = "known disagreement: ECC error code for a flipped recessive stuff bit in the arbitration field (RTL stuff 0x85, model bit 0x05); run with cargo test -p campaign --release -- --ignored arbitration_stuff"]
+fn arbitration_stuff_bit_error_code_matches() {
+    let cfg = CampaignConfig { seed: 1, first_frame: 3685, frames: 136, dut: DutChoice::Rtl, ..CampaignConfig::default() };
     let r = run_campaign(&cfg);
     assert!(r.passed(), "{}", r.to_text());
 }
