@@ -221,16 +221,8 @@ impl HostMaster for AvalonMaster {
     }
 
     fn set_reset(&mut self, asserted: bool) {
-        if asserted != self.in_reset {
-            log::info!(
-                "{}: reset {}",
-                self.q.name(),
-                if asserted { "asserted" } else { "released" }
-            );
-            if asserted {
-                self.reset();
-            }
-            self.in_reset = asserted;
+        if crate::op::reset_pin_edge(self.q.name(), &mut self.in_reset, asserted) {
+            self.reset();
         }
     }
 

@@ -291,3 +291,14 @@ impl OpQueue {
 pub(crate) fn step_pause(p: &mut Option<Pause>) -> bool {
     p.as_mut().and_then(|it| it.next()).unwrap_or(false)
 }
+
+/// Follows a master's reset pin: logs each change and returns true when the
+/// pin rises, the moment the master flushes its operations.
+pub(crate) fn reset_pin_edge(name: &str, in_reset: &mut bool, asserted: bool) -> bool {
+    if asserted == *in_reset {
+        return false;
+    }
+    log::info!("{name}: reset {}", if asserted { "asserted" } else { "released" });
+    *in_reset = asserted;
+    asserted
+}
