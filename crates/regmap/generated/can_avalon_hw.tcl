@@ -24,11 +24,29 @@ add_fileset QUARTUS_SYNTH QUARTUS_SYNTH "" ""
 set_fileset_property QUARTUS_SYNTH TOP_LEVEL can_avalon
 set_fileset_property QUARTUS_SYNTH ENABLE_RELATIVE_INCLUDE_PATHS false
 add_fileset_file can_avalon.v VERILOG PATH can_avalon.v TOP_LEVEL_FILE
+add_fileset_file can_top.v VERILOG PATH can_top.v
+add_fileset_file can_wb_cdc.v VERILOG PATH can_wb_cdc.v
+add_fileset_file can_regs.v VERILOG PATH can_regs.v
+add_fileset_file can_btl.v VERILOG PATH can_btl.v
+add_fileset_file can_bsp.v VERILOG PATH can_bsp.v
+add_fileset_file can_fce.v VERILOG PATH can_fce.v
+add_fileset_file can_acf.v VERILOG PATH can_acf.v
+add_fileset_file can_rxfifo.v VERILOG PATH can_rxfifo.v
+add_fileset_file sja1000_addr.vh VERILOG_INCLUDE PATH sja1000_addr.vh
 
 add_fileset SIM_VERILOG SIM_VERILOG "" ""
 set_fileset_property SIM_VERILOG TOP_LEVEL can_avalon
 set_fileset_property SIM_VERILOG ENABLE_RELATIVE_INCLUDE_PATHS false
 add_fileset_file can_avalon.v VERILOG PATH can_avalon.v TOP_LEVEL_FILE
+add_fileset_file can_top.v VERILOG PATH can_top.v
+add_fileset_file can_wb_cdc.v VERILOG PATH can_wb_cdc.v
+add_fileset_file can_regs.v VERILOG PATH can_regs.v
+add_fileset_file can_btl.v VERILOG PATH can_btl.v
+add_fileset_file can_bsp.v VERILOG PATH can_bsp.v
+add_fileset_file can_fce.v VERILOG PATH can_fce.v
+add_fileset_file can_acf.v VERILOG PATH can_acf.v
+add_fileset_file can_rxfifo.v VERILOG PATH can_rxfifo.v
+add_fileset_file sja1000_addr.vh VERILOG_INCLUDE PATH sja1000_addr.vh
 
 # Clock and reset of the host bus side.
 add_interface clock clock end

@@ -29,3 +29,25 @@ fn checked_in_generated_files_are_up_to_date() {
         );
     }
 }
+
+/// The `_hw.tcl` file set must carry every RTL file `can_avalon` needs, or
+/// Platform Designer cannot elaborate the component: compare it with `rtl/`
+/// (every file but the `can_top_pio` variant, which the wrapper does not use).
+#[test]
+fn hw_tcl_file_set_is_the_rtl_directory() {
+    let rtl = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("../../rtl");
+    let mut on_disk: Vec<String> = std::fs::read_dir(&rtl)
+        .unwrap()
+        .filter_map(|e| e.ok().map(|e| e.file_name().to_string_lossy().into_owned()))
+        .filter(|n| (n.ends_with(".v") || n.ends_with(".vh")) && n != "can_top_pio.v")
+        .collect();
+    on_disk.sort();
+    let mut listed: Vec<String> = regmap::generate::RTL_FILES.iter().map(|s| s.to_string()).collect();
+    listed.sort();
+    assert_eq!(listed, on_disk, "regmap::generate::RTL_FILES and rtl/ disagree");
+    let tcl = regmap::generate::hw_tcl(&regmap::generate::TclOptions::default());
+    for f in regmap::generate::RTL_FILES {
+        assert!(tcl.contains(&format!("add_fileset_file {f} ")), "{f} missing from the _hw.tcl");
+    }
+    assert!(tcl.contains("add_fileset_file sja1000_addr.vh VERILOG_INCLUDE"));
+}

@@ -11,7 +11,7 @@ mod verilog;
 
 pub use c::{nios_header, pio_header};
 pub use docs::markdown;
-pub use tcl::{hw_tcl, TclOptions};
+pub use tcl::{hw_tcl, TclOptions, RTL_FILES};
 pub use verilog::verilog_include;
 
 

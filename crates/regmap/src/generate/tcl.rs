@@ -19,9 +19,24 @@ pub struct TclOptions {
 
 impl Default for TclOptions {
     fn default() -> Self {
-        TclOptions { name: "can_avalon".to_string(), address_width: 8, files: vec!["can_avalon.v".to_string()] }
+        TclOptions { name: "can_avalon".to_string(), address_width: 8, files: RTL_FILES.iter().map(|f| f.to_string()).collect() }
     }
 }
+
+/// The files of our Avalon component, top level first: every `rtl/` file
+/// `can_avalon` needs (a test checks this list against the directory).
+pub const RTL_FILES: &[&str] = &[
+    "can_avalon.v",
+    "can_top.v",
+    "can_wb_cdc.v",
+    "can_regs.v",
+    "can_btl.v",
+    "can_bsp.v",
+    "can_fce.v",
+    "can_acf.v",
+    "can_rxfifo.v",
+    "sja1000_addr.vh",
+];
 
 /// The ports of the wrapper: (interface, port, role, direction, width).
 /// The RTL's `can_avalon.v` uses exactly these names.
@@ -84,7 +99,8 @@ pub fn hw_tcl(opts: &TclOptions) -> String {
         let _ = writeln!(o, "set_fileset_property {fs} ENABLE_RELATIVE_INCLUDE_PATHS false");
         for (i, f) in opts.files.iter().enumerate() {
             let top = if i == 0 { " TOP_LEVEL_FILE" } else { "" };
-            let _ = writeln!(o, "add_fileset_file {f} VERILOG PATH {f}{top}");
+            let kind = if f.ends_with(".vh") { "VERILOG_INCLUDE" } else { "VERILOG" };
+            let _ = writeln!(o, "add_fileset_file {f} {kind} PATH {f}{top}");
         }
         let _ = writeln!(o);
     }
