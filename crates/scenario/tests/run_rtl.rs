@@ -82,7 +82,6 @@ fn rtl_pio_scenarios_as_shipped() {
 /// A copy of rtl/ with the CRC polynomial off by one bit: the comparator
 /// must stop at the CRC sequence of frame 1 and the diagnoser name it.
 #[test]
-#[ignore = "builds a mutated copy of rtl/ with Verilator (about 60 s on 2 cores); run with --ignored"]
 fn broken_crc_rtl_is_caught_in_the_crc_field() {
     let dir = std::env::temp_dir().join(format!("diag-broken-crc-{}", std::process::id()));
     std::fs::create_dir_all(&dir).unwrap();
