@@ -32,7 +32,9 @@ module can_rxfifo (
     output reg  [5:0]  rbsa,
     output wire        rbs,
     output reg         dos,
-    output reg         dos_set     // pulse: DOS 0 -> 1
+    output reg         dos_set,    // pulse: DOS 0 -> 1
+    output wire        wbusy_o,    // a stored message is being copied into the RAM
+    output wire        commit_o    // its last byte is written now (RMC counts it at this edge)
 );
     reg [7:0] ram [0:63];
     reg [5:0] wr_ptr;
@@ -91,6 +93,8 @@ module can_rxfifo (
     wire fits      = ({3'b000, len} + fill) <= 7'd64;
     wire start     = store && !wbusy && !clr;
     wire commit    = wbusy && (wk == wlen - 4'd1);
+    assign wbusy_o  = wbusy;
+    assign commit_o = commit;
 
     wire [5:0] wr_adr = wr_ptr + {2'b00, wk};       // wraps at 64
     always @(posedge clk) begin

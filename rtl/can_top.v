@@ -57,6 +57,7 @@ module can_top #(
     wire [6:0]  rmc;
     wire        rbs, dos, dos_set, fifo_wr;
     wire        tx_done, tx_drop, alc_evt, err_evt;
+    wire        tx_done_st, fifo_busy, fifo_commit;
     wire [4:0]  alc_val;
     wire [7:0]  ecc_val;
     wire        rs, ts, bus_idle, integrating;
@@ -99,7 +100,7 @@ module can_top #(
         .rrb(rrb), .cdo(cdo), .rbsa_wr(rbsa_wr), .fifo_rd(fifo_rd), .fifo_adr(fifo_adr),
         .fifo_q(fifo_q), .rmc(rmc), .rbsa(rbsa), .rbs(rbs), .dos(dos),
         .dos_set(dos_set), .fifo_wr(fifo_wr),
-        .tx_done(tx_done), .tx_drop(tx_drop), .alc_evt(alc_evt), .alc_val(alc_val),
+        .tx_done(tx_done_st), .tx_drop(tx_drop), .alc_evt(alc_evt), .alc_val(alc_val),
         .err_evt(err_evt), .ecc_val(ecc_val), .rs(rs), .ts(ts), .bus_idle(bus_idle),
         .integrating(integrating),
         .tec(tec), .rec(rec), .bus_off(bus_off), .warn(warn), .epi_evt(epi_evt),
@@ -147,8 +148,23 @@ module can_top #(
         .id(rx_id), .ide(rx_ide), .rtr(rx_rtr), .dlc(rx_dlc), .data(rx_data),
         .rrb(rrb), .cdo(cdo), .rbsa_wr(rbsa_wr), .wdat(acc_wdat),
         .host_wr(fifo_wr), .host_rd(fifo_rd), .host_adr(fifo_adr), .rd_q(fifo_q),
-        .rmc(rmc), .rbsa(rbsa), .rbs(rbs), .dos(dos), .dos_set(dos_set)
+        .rmc(rmc), .rbsa(rbsa), .rbs(rbs), .dos(dos), .dos_set(dos_set),
+        .wbusy_o(fifo_busy), .commit_o(fifo_commit)
     );
+
+    // Self reception: the transmission succeeds and the own frame is stored
+    // at the same bit (end of EOF), so TBS/TCS/TI change together with RBS
+    // (SR is one snapshot of one event: a host never sees the transmission
+    // complete while its self-received copy is still missing). The FIFO
+    // copies the message one byte per clk, so tx_done waits for its commit.
+    reg tx_done_wait;
+    wire self_store = tx_done && rx_valid && accept;
+    assign tx_done_st = (tx_done && !self_store) || (tx_done_wait && (fifo_commit || !fifo_busy));
+    always @(posedge clk_i) begin
+        if (rst) tx_done_wait <= 1'b0;
+        else if (self_store) tx_done_wait <= 1'b1;
+        else if (fifo_commit || !fifo_busy) tx_done_wait <= 1'b0;
+    end
 
     // CLKOUT: the divided clock, or clk_i itself when CDR selects fosc
     // (a clock multiplexer; the switch may glitch, as on the SJA1000 when
