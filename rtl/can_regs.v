@@ -152,7 +152,10 @@ module can_regs (
     // TS/RS keep their reset-mode value (PeliCAN 1, BasicCAN 0) until bus-free
     // is seen after reset mode or sleep ("wait idle")
     wire       wait_idle = rm || integrating;
-    wire [7:0] sr = {bus_off, warn, wait_idle ? peli : ts, wait_idle ? peli : rs, tcs, tbs, dos, rbs};
+    // bus-off releases the TX buffer at the same instant BS rises (one SR
+    // snapshot: BS = 1 with TBS = 0 never shows)
+    wire       tbs_sr = tbs | (bus_off & ~bus_off_q);
+    wire [7:0] sr = {bus_off, warn, wait_idle ? peli : ts, wait_idle ? peli : rs, tcs, tbs_sr, dos, rbs};
 
     // ---- read mux ----
     always @* begin
@@ -288,7 +291,7 @@ module can_regs (
             end
 
             // ---- bus-off sets reset mode ----
-            if (bus_off && !bus_off_q) rm <= 1'b1;
+            if (bus_off && !bus_off_q) begin rm <= 1'b1; tbs <= 1'b1; end
 
             // ---- reads with side effects ----
             if (rd && peli && a == PC_ALC) alc_arm <= 1'b1;
