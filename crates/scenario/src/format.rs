@@ -94,6 +94,8 @@ pub struct RawWiring {
 pub struct RawRun {
     pub max_bits: Option<u64>,
     pub keep_bits: Option<usize>,
+    /// Waiver files, relative to the scenario file.
+    pub waivers: Option<Vec<String>>,
 }
 
 /// One `[[step]]`: exactly one action key.

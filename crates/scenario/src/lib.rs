@@ -32,6 +32,7 @@
 //! [run]
 //! max_bits = 20000    # run length limit (bit times)
 //! keep_bits = 256     # bus bits kept in the record
+//! waivers = ["waivers/x.toml"]   # waiver files, relative to this file
 //!
 //! [[step]]            # exactly one action per step; `note` is echoed
 //! write = "BTR0"      # name (resolved in the view in force: CDR.7), "TXB+1", or address
@@ -350,6 +351,9 @@ pub struct Scenario {
     pub max_bits: u64,
     /// Bus bits kept in the record.
     pub keep_bits: usize,
+    /// Waiver files named in `[run] waivers`, resolved against the
+    /// scenario file's directory.
+    pub waivers: Vec<PathBuf>,
     /// Non-fatal remarks (bit timing off target, ...).
     pub warnings: Vec<String>,
 }
@@ -874,6 +878,13 @@ fn build(ctx: &Ctx, raw: RawScenario, file: &Path) -> Result<Scenario, ScenarioE
         expect,
         max_bits: raw.run.max_bits.unwrap_or(20_000),
         keep_bits: raw.run.keep_bits.unwrap_or(256),
+        waivers: raw
+            .run
+            .waivers
+            .unwrap_or_default()
+            .iter()
+            .map(|w| file.parent().unwrap_or(Path::new("")).join(w))
+            .collect(),
         warnings,
     })
 }

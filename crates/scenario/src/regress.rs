@@ -22,6 +22,12 @@ pub struct RegressOptions {
     pub progress: bool,
     /// Override every scenario's run length (bit times).
     pub max_bits: Option<u64>,
+    /// Waiver files for every run (added to each scenario's own).
+    pub waivers: Vec<std::path::PathBuf>,
+    /// DUT revision the waivers' `revisions` are matched against.
+    pub dut_revision: Option<String>,
+    /// Stop at the first unwaived divergence (default) or collect them all.
+    pub collect: waivers::CollectMode,
 }
 
 /// Parses `--shard k/n` (1 <= k <= n).
@@ -63,6 +69,10 @@ pub struct Cell {
     pub report: String,
     /// Wall time.
     pub wall: Duration,
+    /// Waived divergences: (waiver id, divergence in words).
+    pub waived: Vec<(String, String)>,
+    /// Stale-waiver warnings.
+    pub warnings: Vec<String>,
 }
 
 impl Cell {
@@ -91,7 +101,26 @@ impl Cell {
         } else {
             Status::Failed(o.mismatches.join("; "))
         };
-        Cell { scenario: scenario.into(), dut: o.dut.clone(), status, category: d.category, report: d.to_text(), wall: o.wall }
+        let waived = o
+            .waivers
+            .as_ref()
+            .map(|r| r.waived.iter().map(|w| (w.waiver_id.clone(), waivers::describe(&w.divergence))).collect())
+            .unwrap_or_default();
+        let mut report = d.to_text();
+        if let Some(r) = o.waivers.as_ref().filter(|r| !r.waived.is_empty() || !r.failures.is_empty() || !r.stale.is_empty()) {
+            report.push('\n');
+            report += &r.to_text();
+        }
+        Cell {
+            scenario: scenario.into(),
+            dut: o.dut.clone(),
+            status,
+            category: d.category,
+            report,
+            wall: o.wall,
+            waived,
+            warnings: o.warnings.clone(),
+        }
     }
 }
 
@@ -126,6 +155,7 @@ impl RegressReport {
         let text = |c: Option<&Cell>| match c {
             None => "-".to_string(),
             Some(c) => match &c.status {
+                Status::Pass if !c.waived.is_empty() => format!("pass ({} waived)", c.waived.len()),
                 Status::Pass => format!("pass ({})", c.category),
                 Status::Diverged(w) => format!("diverged ({w})"),
                 Status::Failed(_) => format!("FAIL ({})", c.category),
@@ -150,6 +180,15 @@ impl RegressReport {
         }
         let failed = self.cells.iter().filter(|c| c.status != Status::Pass).count();
         out += &format!("{} run, {} passed, {} not passed\n", self.cells.len(), self.cells.len() - failed, failed);
+        let waived: usize = self.cells.iter().map(|c| c.waived.len()).sum();
+        if waived > 0 {
+            out += &format!("{waived} divergence(s) waived\n");
+        }
+        for c in &self.cells {
+            for w in &c.warnings {
+                out += &format!("WARNING {} on {}: {w}\n", c.scenario, c.dut);
+            }
+        }
         out
     }
 
@@ -170,13 +209,34 @@ impl RegressReport {
         let _ = w.write_event(Event::Start(root));
         for d in &self.duts {
             let cells: Vec<&Cell> = self.cells.iter().filter(|c| &c.dut == d).collect();
+            let waived: usize = cells.iter().map(|c| c.waived.len()).sum();
             let mut suite = BytesStart::new("testsuite");
             suite.push_attribute(("name", d.as_str()));
-            suite.push_attribute(("tests", cells.len().to_string().as_str()));
+            suite.push_attribute(("tests", (cells.len() + waived).to_string().as_str()));
+            if waived > 0 {
+                suite.push_attribute(("skipped", waived.to_string().as_str()));
+            }
             suite.push_attribute(("failures", count(&cells, is_fail).as_str()));
             suite.push_attribute(("errors", count(&cells, is_err).as_str()));
             suite.push_attribute(("time", format!("{:.3}", cells.iter().map(|c| c.wall.as_secs_f64()).sum::<f64>()).as_str()));
             let _ = w.write_event(Event::Start(suite));
+            let warnings: Vec<String> =
+                cells.iter().flat_map(|c| c.warnings.iter().map(move |w| format!("{}: {w}", c.scenario))).collect();
+            for c in &cells {
+                // Each waived divergence is its own skipped testcase, so CI
+                // shows what was let through and by which waiver.
+                for (n, (id, what)) in c.waived.iter().enumerate() {
+                    let name = format!("{} waived {}: {what}", c.scenario, n + 1);
+                    let mut tc = BytesStart::new("testcase");
+                    tc.push_attribute(("classname", format!("{}.waivers", c.dut).as_str()));
+                    tc.push_attribute(("name", name.as_str()));
+                    let _ = w.write_event(Event::Start(tc));
+                    let mut sk = BytesStart::new("skipped");
+                    sk.push_attribute(("message", format!("waived by {id}").as_str()));
+                    let _ = w.write_event(Event::Empty(sk));
+                    let _ = w.write_event(Event::End(BytesEnd::new("testcase")));
+                }
+            }
             for c in cells {
                 let mut tc = BytesStart::new("testcase");
                 tc.push_attribute(("classname", c.dut.as_str()));
@@ -199,6 +259,11 @@ impl RegressReport {
                 let _ = w.write_event(Event::Text(BytesText::new(&c.report)));
                 let _ = w.write_event(Event::End(BytesEnd::new(tag)));
                 let _ = w.write_event(Event::End(BytesEnd::new("testcase")));
+            }
+            if !warnings.is_empty() {
+                let _ = w.write_event(Event::Start(BytesStart::new("system-err")));
+                let _ = w.write_event(Event::Text(BytesText::new(&warnings.join("\n"))));
+                let _ = w.write_event(Event::End(BytesEnd::new("system-err")));
             }
             let _ = w.write_event(Event::End(BytesEnd::new("testsuite")));
         }
@@ -245,7 +310,14 @@ pub fn regress_with(
                     let i = next.fetch_add(1, Ordering::SeqCst);
                     let Some(&(si, di)) = pairs.get(i) else { break };
                     let s = &scenarios[si];
-                    let o = RunOptions { dut: Some(duts[di].clone()), max_bits: opts.max_bits, ..Default::default() };
+                    let o = RunOptions {
+                        dut: Some(duts[di].clone()),
+                        max_bits: opts.max_bits,
+                        waivers: opts.waivers.clone(),
+                        dut_revision: opts.dut_revision.clone(),
+                        collect: opts.collect,
+                        ..Default::default()
+                    };
                     let out = runner(s, &o);
                     let cell = Cell::from_outcome(&s.name, &out);
                     bar.set_message(format!("{} on {}", s.name, duts[di].name));

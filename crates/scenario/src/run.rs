@@ -49,6 +49,12 @@ pub struct RunOptions {
     pub vcd: Option<std::path::PathBuf>,
     /// Override the scenario's run length (bit times).
     pub max_bits: Option<u64>,
+    /// Waiver files added to the scenario's own `[run] waivers`.
+    pub waivers: Vec<std::path::PathBuf>,
+    /// DUT revision the waivers' `revisions` are matched against.
+    pub dut_revision: Option<String>,
+    /// Stop at the first unwaived divergence (default) or collect them all.
+    pub collect: waivers::CollectMode,
 }
 
 /// The result of one run.
@@ -68,6 +74,10 @@ pub struct RunOutcome {
     pub dut: String,
     /// Wall time of the run.
     pub wall: Duration,
+    /// Divergences waived and not, stale waivers (None if no test bench ran).
+    pub waivers: Option<waivers::WaiverReport>,
+    /// Non-fatal remarks: stale waivers.
+    pub warnings: Vec<String>,
 }
 
 /// Frame and bit of a frame-relative fault (frames counted from 1 in files, from 0 on the bus).
@@ -168,6 +178,8 @@ pub fn tb_config(s: &Scenario, dut: &DutKind, opts: &RunOptions) -> Result<TbCon
         };
         faults.push(injector(f, target, cpb));
     }
+    let files: Vec<&std::path::PathBuf> = s.waivers.iter().chain(&opts.waivers).collect();
+    let waiver_set = if files.is_empty() { waivers::WaiverSet::empty() } else { waivers::WaiverSet::load_all(&files).map_err(|e| e.to_string())? };
     Ok(TbConfig {
         scenario: s.name.clone(),
         dut: choice,
@@ -188,6 +200,9 @@ pub fn tb_config(s: &Scenario, dut: &DutKind, opts: &RunOptions) -> Result<TbCon
         vcd: opts.vcd.clone(),
         keep_bits: s.keep_bits,
         op_timeout_cycles: s.timeout_cycles as u64,
+        waivers: waiver_set,
+        dut_revision: opts.dut_revision.clone(),
+        collect: opts.collect,
         ..TbConfig::default()
     })
 }
@@ -344,6 +359,7 @@ pub fn run(s: &Scenario, opts: &RunOptions) -> RunOutcome {
     });
     let max_bits = opts.max_bits.unwrap_or(s.max_bits);
     let mut received = Vec::new();
+    let mut report = None;
     let mut record = match tb_config(s, &dut.kind, opts).map_err(|e| e.to_string()).and_then(|c| Testbench::new(c).map_err(|e| e.to_string())) {
         Err(e) => {
             let mut r = RunRecord::new(&s.name, &dut.name);
@@ -391,6 +407,7 @@ pub fn run(s: &Scenario, opts: &RunOptions) -> RunOutcome {
             }
             complete_record(&mut r, s, &dut);
             received = received_counts(&mut tb, s);
+            report = Some(tb.waiver_report());
             r
         }
     };
@@ -405,7 +422,29 @@ pub fn run(s: &Scenario, opts: &RunOptions) -> RunOutcome {
             mismatches.push(format!("received by {name}: expected {want}, got {}", got.map(|g| g.to_string()).unwrap_or_else(|| "none".into())));
         }
     }
-    RunOutcome { passed: mismatches.is_empty(), record, diagnosis, mismatches, received, dut: dut.name, wall: t0.elapsed() }
+    let mut warnings = Vec::new();
+    if let Some(rep) = &report {
+        // In collect mode the run goes on past an unwaived divergence: the
+        // report is what fails it.
+        if !rep.passed() {
+            mismatches.push(format!("{} unwaived divergence(s) from the golden model", rep.failures.len()));
+        }
+        for w in rep.warnings() {
+            log::warn!("{}: {w}", s.name);
+            warnings.push(w);
+        }
+    }
+    RunOutcome {
+        passed: mismatches.is_empty(),
+        record,
+        diagnosis,
+        mismatches,
+        received,
+        dut: dut.name,
+        wall: t0.elapsed(),
+        waivers: report,
+        warnings,
+    }
 }
 
 /// Scenario facts the test bench cannot know: node timings and listen-only,
