@@ -55,36 +55,13 @@ pub(crate) struct TxRequest {
 
 impl TxRequest {
     pub(crate) fn new(frame: CanFrame, single_shot: bool, self_rx: bool) -> Self {
-        let mut bits = [0u64; 3];
-        let mut len = 0usize;
-        let mut last = RECESSIVE;
-        let mut run = 0u8;
-        let mut push = |b: bool, len: &mut usize| {
-            if b {
-                bits[*len >> 6] |= 1 << (*len & 63);
-            }
-            *len += 1;
-        };
-        frame.for_each_unstuffed_bit(|_, b| {
-            if b == last {
-                run += 1;
-            } else {
-                last = b;
-                run = 1;
-            }
-            push(b, &mut len);
-            if run == 5 {
-                push(!b, &mut len);
-                last = !b;
-                run = 1;
-            }
-        });
+        let (bits, len) = stuff_packed(frame);
         TxRequest {
             frame,
             single_shot,
             self_rx,
             bits,
-            len: len as u8,
+            len,
         }
     }
 
@@ -94,6 +71,64 @@ impl TxRequest {
             .map(|i| (self.bits[(i >> 6) as usize] >> (i & 63)) & 1 != 0)
             .collect()
     }
+}
+
+/// ORs the low `n` bits of `v` into `out` from bit `at` on (bit `i` of
+/// the stream is `out[i / 64] >> (i % 64)`).
+#[inline]
+fn put_bits(out: &mut [u64; 3], mut at: usize, mut v: u128, mut n: usize) {
+    if n < 128 {
+        v &= (1u128 << n) - 1;
+    }
+    while n > 0 {
+        let s = at & 63;
+        let take = (64 - s).min(n);
+        out[at >> 6] |= (v as u64) << s;
+        v = if take < 128 { v >> take } else { 0 };
+        at += take;
+        n -= take;
+    }
+}
+
+/// The stuffed SOF..CRC bits of `frame` (SOF at bit 0) and their number.
+/// Word-wise: each step finds the first run of five equal bits with a
+/// mask (a stuff bit starts the next run), so the cost is one step per
+/// stuff bit rather than one per bit.
+fn stuff_packed(frame: CanFrame) -> ([u64; 3], u8) {
+    let (msb_first, ulen, _) = frame.unstuffed_packed();
+    let ulen = ulen as usize;
+    // SOF at bit 0.
+    let src = msb_first.reverse_bits() >> (128 - ulen);
+    let mut out = [0u64; 3];
+    let mut olen = 0usize;
+    let mut pos = 0usize;
+    // The stuff bit just sent (already in `out`): first bit of the next run.
+    let mut prev: Option<bool> = None;
+    loop {
+        let rem = ulen - pos;
+        let chunk = if pos < 128 { src >> pos } else { 0 };
+        let (w, wl, off) = match prev {
+            Some(p) => ((chunk << 1) | p as u128, rem + 1, 1),
+            None => (chunk, rem, 0),
+        };
+        // same bit i: w[i] == w[i + 1]; five bit i: w[i..=i + 4] equal.
+        let same = !(w ^ (w >> 1)) & ((1u128 << (wl - 1)) - 1);
+        let five = same & (same >> 1) & (same >> 2) & (same >> 3);
+        if five == 0 {
+            put_bits(&mut out, olen, w >> off, wl - off);
+            olen += wl - off;
+            break;
+        }
+        let j = five.trailing_zeros() as usize + 4; // the fifth equal bit
+        put_bits(&mut out, olen, w >> off, j + 1 - off);
+        olen += j + 1 - off;
+        let stuff = (w >> j) & 1 == 0;
+        put_bits(&mut out, olen, stuff as u128, 1);
+        olen += 1;
+        pos += j + 1 - off;
+        prev = Some(stuff);
+    }
+    (out, olen as u8)
 }
 
 /// Frame state machine and the state it needs.
@@ -891,6 +926,44 @@ impl Bsp {
                 Phase::Integrating
             };
             self.cnt = 0;
+        }
+    }
+}
+
+#[cfg(test)]
+mod stuff_tests {
+    use super::TxRequest;
+    use can_proto::{CanFrame, stuff};
+
+    /// The word-wise stuffer gives can-proto's bit-by-bit stuffing on
+    /// random frames (long runs included: all-zero and all-one data).
+    #[test]
+    fn word_stuffing_matches_can_proto_on_random_frames() {
+        let mut seed = 0x9e37_79b9_7f4a_7c15u64;
+        let mut next = || {
+            seed ^= seed << 13;
+            seed ^= seed >> 7;
+            seed ^= seed << 17;
+            seed
+        };
+        for k in 0..3000 {
+            let r = next();
+            let id = if k % 2 == 0 {
+                CanFrame::std_id((r & 0x7ff) as u16).unwrap()
+            } else {
+                CanFrame::ext_id((r & 0x1fff_ffff) as u32).unwrap()
+            };
+            let rtr = (r >> 40) & 7 == 0;
+            let dlc = ((r >> 44) & 15) as u8;
+            let data = match k % 5 {
+                0 => [0u8; 8],
+                1 => [0xff; 8],
+                _ => next().to_le_bytes(),
+            };
+            let n = if rtr { 0 } else { dlc.min(8) as usize };
+            let f = CanFrame::with_dlc(id, rtr, dlc, &data[..n]).unwrap();
+            let want: Vec<bool> = stuff::stuff(&f.unstuffed_bits()).iter().by_vals().collect();
+            assert_eq!(TxRequest::new(f, false, false).stuffed(), want, "{f:?}");
         }
     }
 }

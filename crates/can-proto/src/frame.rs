@@ -3,6 +3,28 @@
 use crate::{Bits, Crc15, Field, Id, RECESSIVE, stuff};
 use embedded_can::{ExtendedId, StandardId};
 
+/// CRC-15 of each byte shifted in from a zero register (eight
+/// [`Crc15::push`] steps at once).
+const CRC15_BYTE: [u16; 256] = {
+    let mut t = [0u16; 256];
+    let mut i = 0;
+    while i < 256 {
+        let mut c = (i as u16) << 7;
+        let mut k = 0;
+        while k < 8 {
+            c = if c & 0x4000 != 0 {
+                ((c << 1) & 0x7fff) ^ crate::crc::POLY
+            } else {
+                (c << 1) & 0x7fff
+            };
+            k += 1;
+        }
+        t[i] = c;
+        i += 1;
+    }
+    t
+};
+
 /// A CAN 2.0A/B data or remote frame.
 ///
 /// The DLC is kept as sent (0..=15): values 9..=15 are legal on the wire and
@@ -106,6 +128,46 @@ impl CanFrame {
         let mut sink = Crc15::new();
         put(Field::Crc, value as u32, 15, &mut sink);
         value
+    }
+
+    /// The bits of [`CanFrame::for_each_unstuffed_bit`] packed into the low
+    /// `len` bits of a `u128`, SOF as the most significant, and the CRC:
+    /// `(bits, len, crc)`. At most 118 bits. No call per bit (the CRC of the
+    /// data bytes goes a byte at a time), for transmitters that prepare a
+    /// frame on every request.
+    pub fn unstuffed_packed(&self) -> (u128, u8, u16) {
+        // SOF (dominant = 0) is the leading zero bit of the header.
+        let (head, head_len): (u64, u32) = match self.id {
+            Id::Standard(s) => {
+                // SOF, ID, RTR, IDE = 0, r0 = 0, DLC.
+                let h = ((s.as_raw() as u64) << 7) | ((self.rtr as u64) << 6) | self.dlc as u64;
+                (h, 19)
+            }
+            Id::Extended(e) => {
+                let raw = e.as_raw() as u64;
+                // SOF, base ID, SRR = 1, IDE = 1, ext ID, RTR, r1 = 0, r0 = 0, DLC.
+                let h = ((raw >> 18) << 27)
+                    | (0b11 << 25)
+                    | ((raw & 0x3ffff) << 7)
+                    | ((self.rtr as u64) << 6)
+                    | self.dlc as u64;
+                (h, 39)
+            }
+        };
+        let mut crc = Crc15::new();
+        for i in (0..head_len).rev() {
+            crc.push((head >> i) & 1 != 0);
+        }
+        let mut c = crc.value();
+        let mut bits = head as u128;
+        let mut len = head_len;
+        for &byte in &self.data[..self.data_len()] {
+            c = ((c << 8) & 0x7fff) ^ CRC15_BYTE[(((c >> 7) as u8) ^ byte) as usize];
+            bits = (bits << 8) | byte as u128;
+            len += 8;
+        }
+        bits = (bits << 15) | c as u128;
+        (bits, (len + 15) as u8, c)
     }
 
     /// The CRC-15 of this frame.
@@ -274,6 +336,38 @@ mod tests {
         assert_eq!(l[45].field, Field::AckSlot);
         assert!(l[47..].iter().all(|b| b.field == Field::Eof));
         assert_eq!(l[12].field, Field::SrrRtr);
+    }
+
+    /// The packed bits and CRC are exactly the per-bit encoder's.
+    #[test]
+    fn unstuffed_packed_matches_encoder() {
+        let mut seed = 0x1234_5678_9abc_def1u64;
+        let mut next = || {
+            seed ^= seed << 13;
+            seed ^= seed >> 7;
+            seed ^= seed << 17;
+            seed
+        };
+        for k in 0..2000 {
+            let r = next();
+            let id = if k % 2 == 0 {
+                CanFrame::std_id((r & 0x7ff) as u16).unwrap()
+            } else {
+                CanFrame::ext_id((r & 0x1fff_ffff) as u32).unwrap()
+            };
+            let rtr = (r >> 40) & 7 == 0;
+            let dlc = ((r >> 44) & 15) as u8;
+            let data = next().to_le_bytes();
+            let n = if rtr { 0 } else { dlc.min(8) as usize };
+            let f = CanFrame::with_dlc(id, rtr, dlc, &data[..n]).unwrap();
+            let mut want = alloc::vec::Vec::new();
+            let crc = f.for_each_unstuffed_bit(|_, b| want.push(b));
+            let (bits, len, c) = f.unstuffed_packed();
+            assert_eq!(c, crc);
+            let got: alloc::vec::Vec<bool> =
+                (0..len).rev().map(|i| (bits >> i) & 1 != 0).collect();
+            assert_eq!(got, want, "{f:?}");
+        }
     }
 
     #[test]
