@@ -1,0 +1,153 @@
+//! Waivers at scenario level (issue 9): the deviant fixture (address 4 bit 7
+//! stuck at 0) as an external DUT against the golden model, with waiver
+//! files named in `[run] waivers` and in `RunOptions::waivers`.
+
+use diagnose::DivergenceKind;
+use scenario::regress::{RegressOptions, regress};
+use scenario::{DutSpec, RunOptions, RunOutcome, Scenario, run};
+use std::path::{Path, PathBuf};
+
+/// Reset mode, ACR (address 4) written 0xFF and read back: the fixture
+/// answers 0x7F, the model 0xFF. Then a few idle bits (tx agrees: recessive).
+const SCENARIO: &str = r#"purpose = "deviant fixture: a known register-read deviation"
+verifies = ["a waived divergence lets the run pass"]
+[clocks]
+host_mhz = 50.0
+can_mhz = 24.0
+[host]
+bfm = "wishbone"
+[run]
+max_bits = 2000
+WAIVERS
+[[step]]
+write = "CR"
+value = 0x01
+[[step]]
+write = "ACR"
+value = 0xFF
+[[step]]
+read = "ACR"
+[[step]]
+wait_bits = 20
+"#;
+
+const REG4: &str = r#"[[waiver]]
+id = "reg4-bit7"
+kind = "register-read"
+address = 4
+bits = [7]
+seen = [0x7F]
+dut = ["*cosim_deviant*"]
+explanation = "bit 7 of address 4 is not implemented in the fixture, on purpose"
+resync = ["none"]
+"#;
+
+const STALE: &str = r#"[[waiver]]
+id = "never-matches"
+kind = "irq"
+dut = ["*cosim_deviant*"]
+explanation = "an irq deviation the fixture does not have: must come out stale"
+resync = ["none"]
+"#;
+
+/// A directory with the fixture alone (the external DUT) and the waiver files.
+fn workdir() -> PathBuf {
+    let root = PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("../..");
+    let dir = std::env::temp_dir().join(format!("scenario-waivers-{}", std::process::id()));
+    let core = dir.join("cosim_deviant");
+    std::fs::create_dir_all(&core).unwrap();
+    std::fs::copy(root.join("tb/fixtures/cosim_deviant.v"), core.join("cosim_deviant.v")).unwrap();
+    std::fs::write(dir.join("reg4.toml"), REG4).unwrap();
+    std::fs::write(dir.join("stale.toml"), STALE).unwrap();
+    dir
+}
+
+fn deviant(dir: &Path) -> DutSpec {
+    DutSpec::external("cosim_deviant", dir.join("cosim_deviant"), "cosim_deviant")
+}
+
+/// The scenario written next to the waiver files, naming `files` in `[run]`.
+fn scenario(dir: &Path, name: &str, files: &[&str]) -> Scenario {
+    let list = if files.is_empty() {
+        String::new()
+    } else {
+        format!("waivers = [{}]", files.iter().map(|f| format!("\"{f}\"")).collect::<Vec<_>>().join(", "))
+    };
+    let path = dir.join(format!("{name}.toml"));
+    std::fs::write(&path, SCENARIO.replace("WAIVERS", &list)).unwrap();
+    Scenario::load(&path).unwrap()
+}
+
+fn show(o: &RunOutcome) {
+    eprintln!(
+        "{}\n{}\nmismatches {:?}\nwall {:?}",
+        o.diagnosis.to_text(),
+        o.waivers.as_ref().map(|r| r.to_text()).unwrap_or_default(),
+        o.mismatches,
+        o.wall
+    );
+}
+
+#[test]
+fn the_deviant_fixture_fails_without_waivers_and_passes_with_them() {
+    let dir = workdir();
+    let dut = deviant(&dir);
+
+    // No waiver: the run fails at the register read.
+    let s = scenario(&dir, "none", &[]);
+    let o = run(&s, &RunOptions { dut: Some(dut.clone()), ..Default::default() });
+    show(&o);
+    assert!(o.record.error.is_none(), "the fixture builds and runs: {:?}", o.record.error);
+    assert!(!o.passed);
+    let d = o.record.divergence.as_ref().expect("a divergence");
+    assert_eq!(d.kind, DivergenceKind::RegisterRead);
+    let r = o.waivers.as_ref().expect("a waiver report");
+    assert_eq!((r.failures.len(), r.waived.len()), (1, 0));
+    assert!(r.stopped_early || r.failures[0].kind == DivergenceKind::RegisterRead);
+
+    // The scenario names the waiver file: passes, the divergence is waived.
+    let s = scenario(&dir, "waived", &["reg4.toml"]);
+    assert_eq!(s.waivers, [dir.join("reg4.toml")], "relative to the scenario file");
+    let o = run(&s, &RunOptions { dut: Some(dut.clone()), ..Default::default() });
+    show(&o);
+    assert!(o.passed, "{:?}", o.mismatches);
+    assert!(o.record.divergence.is_none());
+    let r = o.waivers.as_ref().unwrap();
+    assert!(r.passed());
+    assert_eq!(r.waived.len(), 1);
+    assert_eq!(r.waived[0].waiver_id, "reg4-bit7");
+    assert_eq!(r.waived[0].divergence.kind, DivergenceKind::RegisterRead);
+    assert!(o.warnings.is_empty(), "{:?}", o.warnings);
+
+    // A second file from the options with a waiver that never matches:
+    // still passes, with a stale-waiver warning.
+    let o = run(&s, &RunOptions { dut: Some(dut.clone()), waivers: vec![dir.join("stale.toml")], ..Default::default() });
+    show(&o);
+    assert!(o.passed, "{:?}", o.mismatches);
+    assert_eq!(o.warnings.len(), 1, "{:?}", o.warnings);
+    assert!(o.warnings[0].contains("never-matches"), "{:?}", o.warnings);
+
+    // Collect mode without waivers: run_bits goes on, the report fails it.
+    let s0 = scenario(&dir, "collect", &[]);
+    let o = run(&s0, &RunOptions { dut: Some(dut.clone()), collect: waivers::CollectMode::Collect, ..Default::default() });
+    show(&o);
+    assert!(!o.passed);
+    assert!(o.mismatches.iter().any(|m| m.contains("unwaived")), "{:?}", o.mismatches);
+
+    // Regression: the table says how many were waived, JUnit lists them as skipped.
+    let rep = regress(
+        &[s],
+        &[dut],
+        &RegressOptions { jobs: 1, waivers: vec![dir.join("stale.toml")], ..Default::default() },
+    );
+    let table = rep.to_table();
+    eprintln!("{table}");
+    assert!(rep.passed(), "{table}");
+    assert!(table.contains("pass (1 waived)"), "{table}");
+    assert!(table.contains("WARNING") && table.contains("never-matches"), "{table}");
+    let junit = rep.to_junit();
+    assert!(junit.contains("<skipped message=\"waived by reg4-bit7\"/>"), "{junit}");
+    assert!(junit.contains("skipped=\"1\""), "{junit}");
+    assert!(junit.contains("<system-err>"), "{junit}");
+    let _ = std::fs::remove_dir_all(&dir);
+}
