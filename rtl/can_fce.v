@@ -6,6 +6,7 @@ module can_fce (
     input  wire       clk,
     input  wire       rst,
     input  wire       freeze,       // listen-only mode: counters stopped
+    input  wire       hold,         // reset mode: ES/EPI changes wait until it is left
     input  wire       tec_add8,     // rules 3, 4, 6 (transmitter)
     input  wire       tec_sub1,     // rule 7 (successful transmission)
     input  wire       rec_add1,     // rule 1
@@ -27,10 +28,18 @@ module can_fce (
     wire [8:0] rec_up = {1'b0, rec} + (rec_add8 ? 9'd8 : 9'd1);
 
     assign passive = !bus_off && (tec[7] || rec[7]);
-    assign warn    = (tec >= ewl) || (rec >= ewl);
+
+    // SR.ES: held set while bus-off (cleared with the counters at the end of
+    // the recovery, datasheet SR note 1). A change caused by a TXERR/RXERR
+    // write in reset mode shows (ES, EI, EPI) only when reset mode is left
+    // (datasheet RXERR/TXERR: "will not occur until the reset mode is
+    // cancelled again"); bus-off itself shows at once.
+    wire warn_live = bus_off || (tec >= ewl) || (rec >= ewl);
+    reg  warn_held;
+    assign warn    = (hold && !bus_off) ? warn_held : warn_live;
 
     reg passive_q;
-    assign epi_evt = (passive != passive_q) && !bus_off;
+    assign epi_evt = (passive != passive_q) && !bus_off && !hold;
 
     always @(posedge clk) begin
         if (rst) begin
@@ -38,8 +47,10 @@ module can_fce (
             rec       <= 8'd0;
             bus_off   <= 1'b0;
             passive_q <= 1'b0;
+            warn_held <= 1'b0;
         end else begin
-            passive_q <= passive;
+            if (!hold) passive_q <= passive;
+            warn_held <= warn;
             if (wr_rec && !bus_off) rec <= wdat;   // ignored while bus-off
             if (wr_tec) begin
                 if (wdat == 8'd255 && !bus_off) begin

@@ -130,7 +130,7 @@ module can_top #(
     );
 
     can_fce u_fce (
-        .clk(clk_i), .rst(rst), .freeze(lom),
+        .clk(clk_i), .rst(rst), .freeze(lom), .hold(rm),
         .tec_add8(tec_add8), .tec_sub1(tec_sub1), .rec_add1(rec_add1), .rec_add8(rec_add8),
         .rec_sub1(rec_sub1), .recov_tick(recov_tick),
         .wr_tec(wr_tec), .wr_rec(wr_rec), .wdat(acc_wdat), .ewl(ewlr),
