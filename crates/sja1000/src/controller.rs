@@ -1126,14 +1126,18 @@ impl Sja1000 {
     /// Enters or leaves sleep; `None` when it took effect or nothing changed.
     fn set_sleep(&mut self, on: bool, command: &'static str) -> Option<WriteOutcome> {
         if on && !self.sleeping {
-            // §6.4.3: sleep is entered only with no interrupt pending and no bus activity.
+            // §6.4.3: sleep is entered only with no interrupt pending and no bus
+            // activity; a refused request raises WUI (datasheet note on SM/GTS:
+            // a wake-up interrupt is also generated then).
             if self.irq() {
+                self.raise(WUI);
                 return Some(WriteOutcome::CommandIgnored {
                     command,
                     reason: "an interrupt is pending",
                 });
             }
             if self.engine.is_receiving() || self.engine.is_transmitting() {
+                self.raise(WUI);
                 return Some(WriteOutcome::CommandIgnored {
                     command,
                     reason: "the bus is active",
@@ -1143,9 +1147,11 @@ impl Sja1000 {
             self.engine.set_sleep(true);
             self.log(NodeEvent::Sleep(true));
         } else if !on && self.sleeping {
+            // Clearing SM/GTS is a wake-up: WUI, as for bus activity (GTS note).
             self.sleeping = false;
             self.engine.set_sleep(false);
             self.log(NodeEvent::Sleep(false));
+            self.raise(WUI);
         }
         None
     }
