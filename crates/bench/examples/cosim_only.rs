@@ -1,0 +1,21 @@
+//! The co-simulation rows alone, repeated, for profiling and for quick
+//! before/after figures of an optimisation (min of the repetitions):
+//! `cargo run --release -p bench --example cosim_only -- [frames] [reps]`.
+
+fn main() -> Result<(), bench::BenchError> {
+    let mut args = std::env::args().skip(1);
+    let frames: u64 = args.next().and_then(|v| v.parse().ok()).unwrap_or(300);
+    let reps: u32 = args.next().and_then(|v| v.parse().ok()).unwrap_or(5);
+    for (name, lockstep) in [("cosim", true), ("cosim-no-lockstep", false)] {
+        let mut best = f64::MAX;
+        for _ in 0..reps {
+            let ((out, cycles), cost) = bench::measure::in_process(|| {
+                bench::cosim_run::selftest(frames, 1, lockstep, bench::cosim_run::CLOCK_HZ)
+            })?;
+            assert!(out.frames == frames && out.errors == 0, "self-test failed");
+            best = best.min(cost.cpu_s * 1e9 / cycles as f64);
+        }
+        println!("{name:<18} {best:8.1} ns CPU per CAN cycle (min of {reps})");
+    }
+    Ok(())
+}
