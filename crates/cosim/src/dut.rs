@@ -21,7 +21,7 @@ pub enum HostPort {
 }
 
 /// The CAN-side outputs of a DUT.
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
 pub struct CanPins {
     /// `tx_o`: `true` = recessive.
     pub tx: bool,
@@ -110,9 +110,52 @@ pub struct VerilatedDut {
     irq_active_high: bool,
     bus_off_on: Port,
     clkout: Port,
+    /// Outputs read once after each eval: `can()`/`wb()`/`av()` are called
+    /// several times per tick and must not go back to the ports each time.
+    out: OutCache,
+    /// Last values written to the host inputs, to write only changes.
+    wb_in: Option<WbMasterOut>,
+}
+
+/// The DUT's outputs as of the last eval.
+#[derive(Clone, Copy, Debug, Default)]
+struct OutCache {
+    can: CanPins,
+    wb: WbSlaveOut,
+    av: AvSlaveOut,
 }
 
 impl VerilatedDut {
+    /// Reads every output pin into the cache (after each eval).
+    #[inline]
+    fn refresh(&mut self) {
+        let m = &self.m;
+        let irq = m.get(self.irq) != 0;
+        self.out.can = CanPins {
+            tx: m.get(self.tx) != 0,
+            irq_n: if self.irq_active_high { !irq } else { irq },
+            bus_on: m.get(self.bus_off_on) != 0,
+            clkout: m.get(self.clkout) != 0,
+        };
+        match &self.host {
+            HostPorts::Wb(w) => {
+                self.out.wb = WbSlaveOut {
+                    ack: m.get(w.ack) != 0,
+                    dat: m.get(w.dat_o) as u8,
+                    err: false,
+                    rty: false,
+                }
+            }
+            HostPorts::Av(a) => {
+                self.out.av = AvSlaveOut {
+                    readdata: m.get(a.readdata) as u8,
+                    waitrequest: m.get(a.waitrequest) != 0,
+                    readdatavalid: false,
+                }
+            }
+        }
+    }
+
     /// Binds a model with the given host port list. Missing ports or wrong
     /// widths are reported in one paragraph listing the ports it has.
     pub fn new(m: Model, kind: HostPort) -> Result<VerilatedDut, BridgeError> {
@@ -131,7 +174,7 @@ impl VerilatedDut {
                     adr: p("wb_adr_i", 8)?,
                     ack: p("wb_ack_o", 1)?,
                 });
-                Ok(VerilatedDut {
+                Ok(VerilatedDut::cached(VerilatedDut {
                     host,
                     can_clk: p("clk_i", 1)?,
                     rx: p("rx_i", 1)?,
@@ -140,8 +183,10 @@ impl VerilatedDut {
                     irq_active_high: false,
                     bus_off_on: p("bus_off_on", 1)?,
                     clkout: p("clkout_o", 1)?,
+                    out: OutCache::default(),
+                    wb_in: None,
                     m,
-                })
+                }))
             }
             HostPort::Avalon => {
                 let k = "can_avalon";
@@ -157,7 +202,7 @@ impl VerilatedDut {
                     readdata: p("readdata", 8)?,
                     waitrequest: p("waitrequest", 1)?,
                 });
-                Ok(VerilatedDut {
+                Ok(VerilatedDut::cached(VerilatedDut {
                     host,
                     can_clk: p("can_clk", 1)?,
                     rx: p("rx", 1)?,
@@ -166,10 +211,17 @@ impl VerilatedDut {
                     irq_active_high: true,
                     bus_off_on: p("bus_off_on", 1)?,
                     clkout: p("clkout", 1)?,
+                    out: OutCache::default(),
+                    wb_in: None,
                     m,
-                })
+                }))
             }
         }
+    }
+
+    fn cached(mut d: VerilatedDut) -> VerilatedDut {
+        d.refresh();
+        d
     }
 
     /// A bundled top (`can_top`, `can_avalon` or a fixture).
@@ -177,8 +229,11 @@ impl VerilatedDut {
         VerilatedDut::new(Model::bundled(top, trace)?, kind)
     }
 
-    /// The underlying model (for extra ports).
+    /// The underlying model (for extra ports). Inputs set through it are
+    /// seen at the next eval, as are outputs; the input cache is dropped so
+    /// the next `set_wb` writes every pin.
     pub fn model(&mut self) -> &mut Model {
+        self.wb_in = None;
         &mut self.m
     }
 }
@@ -202,6 +257,10 @@ impl Dut for VerilatedDut {
     }
     #[inline]
     fn set_wb(&mut self, x: &WbMasterOut) {
+        if self.wb_in == Some(*x) {
+            return;
+        }
+        self.wb_in = Some(*x);
         if let HostPorts::Wb(w) = &self.host {
             let (cyc, stb, we, adr, dat) = (w.cyc, w.stb, w.we, w.adr, w.dat_i);
             self.m.set(cyc, x.cyc as u64);
@@ -213,15 +272,7 @@ impl Dut for VerilatedDut {
     }
     #[inline]
     fn wb(&self) -> WbSlaveOut {
-        match &self.host {
-            HostPorts::Wb(w) => WbSlaveOut {
-                ack: self.m.get(w.ack) != 0,
-                dat: self.m.get(w.dat_o) as u8,
-                err: false,
-                rty: false,
-            },
-            HostPorts::Av(_) => WbSlaveOut::default(),
-        }
+        self.out.wb
     }
     fn set_av(&mut self, x: &AvMasterOut) {
         if let HostPorts::Av(a) = &self.host {
@@ -234,14 +285,7 @@ impl Dut for VerilatedDut {
         }
     }
     fn av(&self) -> AvSlaveOut {
-        match &self.host {
-            HostPorts::Av(a) => AvSlaveOut {
-                readdata: self.m.get(a.readdata) as u8,
-                waitrequest: self.m.get(a.waitrequest) != 0,
-                readdatavalid: false,
-            },
-            HostPorts::Wb(_) => AvSlaveOut::default(),
-        }
+        self.out.av
     }
     #[inline]
     fn set_rx(&mut self, rx: bool) {
@@ -250,13 +294,7 @@ impl Dut for VerilatedDut {
     }
     #[inline]
     fn can(&self) -> CanPins {
-        let irq = self.m.get(self.irq) != 0;
-        CanPins {
-            tx: self.m.get(self.tx) != 0,
-            irq_n: if self.irq_active_high { !irq } else { irq },
-            bus_on: self.m.get(self.bus_off_on) != 0,
-            clkout: self.m.get(self.clkout) != 0,
-        }
+        self.out.can
     }
     #[inline]
     fn eval(&mut self, host_clk: bool, can_clk: bool) {
@@ -268,6 +306,7 @@ impl Dut for VerilatedDut {
         self.m.set(hc, host_clk as u64);
         self.m.set(cc, can_clk as u64);
         self.m.eval();
+        self.refresh();
     }
     fn trace_open(&mut self, path: &Path) -> Result<(), BridgeError> {
         self.m.trace_open(path)
