@@ -10,24 +10,58 @@ pub struct ClockGen {
     /// Edges already made.
     edges: u64,
     level: bool,
+    /// Time of edge `edges + 1`, ps: n half periods rounded down, kept as
+    /// quotient and remainder of `n * 1e12 / (2 f)` so each edge costs an
+    /// add and a compare instead of a 128-bit division.
+    next_t: u64,
+    /// `(edges + 1) * 1e12 - next_t * 2 f`, always below `2 f`.
+    next_rem: u64,
+    /// Half period, ps: `1e12 / (2 f)` and its remainder.
+    half_q: u64,
+    half_r: u64,
 }
+
+/// Picoseconds per second.
+const PS_PER_S: u64 = 1_000_000_000_000;
 
 impl ClockGen {
     fn new(freq_hz: u64) -> ClockGen {
+        let d = 2 * freq_hz;
+        let (half_q, half_r) = (PS_PER_S / d, PS_PER_S % d);
         ClockGen {
             freq_hz,
             edges: 0,
             level: false,
+            next_t: half_q,
+            next_rem: half_r,
+            half_q,
+            half_r,
         }
     }
 
     /// Time of edge number `n` (n >= 1): n half periods, rounded down.
+    #[cfg(test)]
     fn edge_time(&self, n: u64) -> u64 {
-        ((n as u128 * 1_000_000_000_000u128) / (2 * self.freq_hz as u128)) as u64
+        ((n as u128 * PS_PER_S as u128) / (2 * self.freq_hz as u128)) as u64
     }
 
+    #[inline(always)]
     fn next_edge(&self) -> u64 {
-        self.edge_time(self.edges + 1)
+        self.next_t
+    }
+
+    /// Makes the next edge.
+    #[inline(always)]
+    fn step(&mut self) {
+        self.edges += 1;
+        self.level = !self.level;
+        self.next_t += self.half_q;
+        self.next_rem += self.half_r;
+        let d = 2 * self.freq_hz;
+        if self.next_rem >= d {
+            self.next_rem -= d;
+            self.next_t += 1;
+        }
     }
 
     /// Frequency in Hz.
@@ -110,14 +144,12 @@ impl Kernel {
             ..Tick::default()
         };
         if th == t {
-            self.host.edges += 1;
-            self.host.level = !self.host.level;
+            self.host.step();
             tick.host_rise = self.host.level;
             tick.host_fall = !self.host.level;
         }
         if tc == t {
-            self.can.edges += 1;
-            self.can.level = !self.can.level;
+            self.can.step();
             tick.can_rise = self.can.level;
             tick.can_fall = !self.can.level;
         }
@@ -174,6 +206,17 @@ mod tests {
             }
         }
         assert_eq!(again, can_rises);
+    }
+
+    #[test]
+    fn incremental_edge_times_equal_the_division() {
+        for hz in [1, 3, 7_000_001, 24_000_000, 50_000_000, 33_333_333, 500_000_000_000] {
+            let mut c = ClockGen::new(hz);
+            for n in 1..=20_000u64 {
+                assert_eq!(c.next_edge(), c.edge_time(n), "{hz} Hz edge {n}");
+                c.step();
+            }
+        }
     }
 
     #[test]
