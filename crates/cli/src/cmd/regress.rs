@@ -30,6 +30,8 @@ pub struct Args {
     /// Override every scenario's run length, in bit times.
     #[arg(long)]
     max_bits: Option<u64>,
+    #[command(flatten)]
+    waivers: super::run::WaiverArgs,
 }
 
 /// Runs the subcommand: exit 0 only when every pair passed.
@@ -64,6 +66,9 @@ pub fn run(a: Args) -> anyhow::Result<i32> {
         shard: a.shard,
         progress: std::io::IsTerminal::is_terminal(&std::io::stderr()),
         max_bits: a.max_bits,
+        waivers: a.waivers.waivers.clone(),
+        dut_revision: a.waivers.dut_revision.clone(),
+        collect: a.waivers.mode(),
     };
     let report = regress(&scenarios, &duts, &opts);
     print!("{}", report.to_table());

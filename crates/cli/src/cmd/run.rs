@@ -48,6 +48,30 @@ impl DutArgs {
     }
 }
 
+/// Waivers of known DUT deviations (issue 9), shared by `run`/`cosim` and `regress`.
+#[derive(clap::Args, Clone, Debug, Default)]
+pub struct WaiverArgs {
+    /// Waiver file (repeatable), added to the scenario's own `[run] waivers`.
+    #[arg(long = "waivers", value_name = "FILE")]
+    pub waivers: Vec<PathBuf>,
+    /// DUT revision the waivers' `revisions` ranges are matched against.
+    #[arg(long, value_name = "R")]
+    pub dut_revision: Option<String>,
+    /// Keep comparing after an unwaived divergence to see them all (default: stop at the first).
+    #[arg(long, conflicts_with = "stop_at_first")]
+    pub collect: bool,
+    /// Stop the comparison at the first unwaived divergence (the default).
+    #[arg(long)]
+    pub stop_at_first: bool,
+}
+
+impl WaiverArgs {
+    /// The comparator's mode these flags select.
+    pub fn mode(&self) -> waivers::CollectMode {
+        if self.collect { waivers::CollectMode::Collect } else { waivers::CollectMode::StopAtFirst }
+    }
+}
+
 /// Arguments of `cancosim run` / `cancosim cosim`.
 #[derive(clap::Args)]
 pub struct Args {
@@ -67,12 +91,21 @@ pub struct Args {
     /// Override the scenario's run length, in bit times.
     #[arg(long)]
     max_bits: Option<u64>,
+    #[command(flatten)]
+    waivers: WaiverArgs,
 }
 
 /// Runs the subcommand: exit 0 when the outcome matches the scenario's `[expect]`.
 pub fn run_cmd(a: Args) -> anyhow::Result<i32> {
     let s = Scenario::load(&a.scenario)?;
-    let opts = RunOptions { dut: a.dut.spec(), vcd: a.vcd.clone(), max_bits: a.max_bits };
+    let opts = RunOptions {
+        dut: a.dut.spec(),
+        vcd: a.vcd.clone(),
+        max_bits: a.max_bits,
+        waivers: a.waivers.waivers.clone(),
+        dut_revision: a.waivers.dut_revision.clone(),
+        collect: a.waivers.mode(),
+    };
     if !a.json {
         println!("{}", s.header());
     }
@@ -90,6 +123,9 @@ pub fn run_cmd(a: Args) -> anyhow::Result<i32> {
         }
         println!();
         println!("{}", out.diagnosis.to_text());
+        if let Some(r) = out.waivers.as_ref().filter(|r| !r.waiver_file.is_empty() || !r.failures.is_empty()) {
+            println!("{}", r.to_text());
+        }
         if let Some(p) = &a.vcd {
             println!("waveform: {}", p.display());
         }
