@@ -324,6 +324,35 @@ impl Model {
         }
     }
 
+    /// Whether `p` is a port of this model.
+    #[inline(always)]
+    pub(crate) fn owns(&self, p: Port) -> bool {
+        p.model == self.id
+    }
+
+    /// Reads a port of 8 bits or fewer without the per-call checks.
+    ///
+    /// # Safety
+    /// `p` is a port of this model ([`Model::owns`]) at most 8 bits wide.
+    #[inline(always)]
+    pub(crate) unsafe fn get_u8_unchecked(&self, p: Port) -> u8 {
+        debug_assert!(self.owns(p) && p.width <= 8);
+        // SAFETY: by the caller's contract the pointer is this live model's
+        // byte-sized port storage.
+        unsafe { *p.ptr }
+    }
+
+    /// Writes a 1-bit port without the per-call checks.
+    ///
+    /// # Safety
+    /// `p` is a port of this model ([`Model::owns`]) 1 bit wide.
+    #[inline(always)]
+    pub(crate) unsafe fn set_bit_unchecked(&mut self, p: Port, v: bool) {
+        debug_assert!(self.owns(p) && p.width == 1);
+        // SAFETY: by the caller's contract, this live model's 1-bit port.
+        unsafe { *p.ptr = v as u8 }
+    }
+
     /// Evaluates the model after input changes (one call per edge).
     #[inline(always)]
     pub fn eval(&mut self) {

@@ -130,26 +130,31 @@ impl VerilatedDut {
     #[inline]
     fn refresh(&mut self) {
         let m = &self.m;
-        let irq = m.get(self.irq) != 0;
+        // Every port was bound from this model with a width of 1 or 8 (see
+        // `new`); `model()` could have swapped the model: `eval` checks.
+        debug_assert!(m.owns(self.tx));
+        // SAFETY: ports of `m`, 8 bits or fewer (checked above and at bind).
+        let get = |p: Port| unsafe { m.get_u8_unchecked(p) };
+        let irq = get(self.irq) != 0;
         self.out.can = CanPins {
-            tx: m.get(self.tx) != 0,
+            tx: get(self.tx) != 0,
             irq_n: if self.irq_active_high { !irq } else { irq },
-            bus_on: m.get(self.bus_off_on) != 0,
-            clkout: m.get(self.clkout) != 0,
+            bus_on: get(self.bus_off_on) != 0,
+            clkout: get(self.clkout) != 0,
         };
         match &self.host {
             HostPorts::Wb(w) => {
                 self.out.wb = WbSlaveOut {
-                    ack: m.get(w.ack) != 0,
-                    dat: m.get(w.dat_o) as u8,
+                    ack: get(w.ack) != 0,
+                    dat: get(w.dat_o),
                     err: false,
                     rty: false,
                 }
             }
             HostPorts::Av(a) => {
                 self.out.av = AvSlaveOut {
-                    readdata: m.get(a.readdata) as u8,
-                    waitrequest: m.get(a.waitrequest) != 0,
+                    readdata: get(a.readdata),
+                    waitrequest: get(a.waitrequest) != 0,
                     readdatavalid: false,
                 }
             }
@@ -303,8 +308,12 @@ impl Dut for VerilatedDut {
             HostPorts::Av(a) => a.clk,
         };
         let cc = self.can_clk;
-        self.m.set(hc, host_clk as u64);
-        self.m.set(cc, can_clk as u64);
+        assert!(self.m.owns(hc), "VerilatedDut: the model was replaced");
+        // SAFETY: both clocks are 1-bit ports of this model (bound in `new`).
+        unsafe {
+            self.m.set_bit_unchecked(hc, host_clk);
+            self.m.set_bit_unchecked(cc, can_clk);
+        }
         self.m.eval();
         self.refresh();
     }
