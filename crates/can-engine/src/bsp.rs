@@ -408,23 +408,19 @@ impl Bsp {
                 return self.error(ErrorKind::Bit, false);
             }
         }
-        if rx == self.last {
-            self.run += 1;
-        } else {
-            self.last = rx;
-            self.run = 1;
-        }
+        // Random data makes these data-dependent branches unpredictable:
+        // written as selects.
+        self.run = if rx == self.last { self.run + 1 } else { 1 };
+        self.last = rx;
         self.field_bit(rx);
         self.next_tx_bit();
     }
 
     #[inline]
     fn crc_push(&mut self, b: bool) {
-        let fb = (self.crc >> 14) & 1 != 0;
-        self.crc = (self.crc << 1) & 0x7fff;
-        if fb != b {
-            self.crc ^= 0x4599;
-        }
+        let fb = (self.crc >> 14) & 1;
+        let xor = 0u16.wrapping_sub(fb ^ b as u16) & 0x4599;
+        self.crc = ((self.crc << 1) & 0x7fff) ^ xor;
     }
 
     #[inline]

@@ -225,6 +225,30 @@ struct Tracker {
 }
 
 impl Tracker {
+    /// Threshold for bit times of `cpb` clocks (hoisted out of the loop).
+    #[inline]
+    fn set_cpb(&mut self, cpb: u64) {
+        if self.threshold_cpb != cpb {
+            self.threshold_cpb = cpb;
+            self.threshold = 10 * cpb - cpb / 2;
+        }
+    }
+
+    /// [`Tracker::step`] for one whole bit after [`Tracker::set_cpb`]: the
+    /// level itself (random on a busy bus) selects, only a SOF branches.
+    #[inline]
+    fn step_bit(&mut self, clock: u64, level: bool, cpb: u64) {
+        if !level && self.recessive_clocks >= self.threshold {
+            self.frame = Some(self.next_frame);
+            self.next_frame += 1;
+            self.start = clock;
+            if self.record {
+                self.starts.push(clock);
+            }
+        }
+        self.recessive_clocks = if level { self.recessive_clocks + cpb } else { 0 };
+    }
+
     #[inline]
     fn step(&mut self, clock: u64, level: bool, clocks: u64, cpb: u64) {
         if level {
@@ -564,9 +588,10 @@ impl Bus {
         if self.faults.is_empty() && !self.accounting {
             // The hot loop: no fault to apply, no journal to collect.
             let mut level = self.level;
+            self.tracker.set_cpb(cpb);
             for _ in 0..n {
                 level = self.nodes.iter().fold(RECESSIVE, |l, n| l & n.tx());
-                self.tracker.step(self.clock, level, cpb, cpb);
+                self.tracker.step_bit(self.clock, level, cpb);
                 for node in &mut self.nodes {
                     node.sample_bit(level);
                 }
