@@ -228,6 +228,13 @@ impl Reference for ModelRef {
     fn clock(&mut self, rx: bool) {
         self.m.clock(rx);
     }
+    fn adopt_counters(&mut self, tec: Option<u8>, rec: Option<u8>) -> bool {
+        self.m.adopt_counters(tec, rec);
+        true
+    }
+    fn adopt_register(&mut self, addr: u8, value: u8) -> bool {
+        self.m.adopt_register(addr, value)
+    }
     fn pins(&self) -> CanPins {
         pins_of(&self.m)
     }

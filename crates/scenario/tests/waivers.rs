@@ -161,3 +161,44 @@ fn the_deviant_fixture_fails_without_waivers_and_passes_with_them() {
     assert!(junit.contains("<system-err>"), "{junit}");
     let _ = std::fs::remove_dir_all(&dir);
 }
+
+/// The golden model adopts a DUT's counters in operating mode: error
+/// warning and error passive are re-evaluated at once (SR.ES, the engine's
+/// fault state, IR.EI/EPI), and back to active when they drop again.
+#[test]
+fn the_model_adopts_counters_in_operating_mode_and_reevaluates_its_fault_state() {
+    use cosim::Reference;
+    use sja1000::{FaultState, Sja1000};
+    let mut m = Sja1000::new();
+    // PeliCAN, every interrupt enabled, operating mode.
+    m.write(0, 0x01);
+    m.write(31, 0x80);
+    m.write(4, 0xFF);
+    m.write(0, 0x00);
+    assert!(!m.in_reset_mode());
+    let es = |m: &Sja1000| m.peek(2) & 0x40 != 0;
+    assert!(!es(&m));
+    m.adopt_counters(Some(100), None);
+    assert_eq!((m.engine().tec(), m.engine().fault_state()), (100, FaultState::ErrorActive));
+    assert!(es(&m), "TEC 100 >= EWL 96: SR.ES at once, not at the next reset-mode exit");
+    assert_ne!(m.peek(3) & 0x04, 0, "IR.EI on the error-status change");
+    m.adopt_counters(None, Some(130));
+    assert_eq!(m.engine().fault_state(), FaultState::ErrorPassive);
+    assert_eq!(m.peek(14), 130, "RXERR reads the adopted value");
+    m.adopt_counters(Some(0), Some(0));
+    assert_eq!(m.engine().fault_state(), FaultState::ErrorActive);
+    assert!(!es(&m));
+    // Storage registers adopt; derived ones refuse (nothing changed).
+    assert!(m.adopt_register(4, 0x05), "IER");
+    assert_eq!(m.peek(4), 0x05);
+    assert!(!m.adopt_register(2, 0x00), "SR is derived state");
+    assert!(m.adopt_register(15, 42), "TXERR via adopt_counters");
+    assert_eq!(m.engine().tec(), 42);
+    assert!(m.adopt_register(14, 9), "RXERR via adopt_counters");
+    assert_eq!(m.engine().rec(), 9);
+    // The lockstep reference forwards both hooks.
+    let mut r = cosim::ModelRef::new();
+    assert!(r.adopt_counters(Some(7), Some(3)));
+    assert_eq!((r.model().engine().tec(), r.model().engine().rec()), (7, 3));
+    assert!(!r.adopt_register(2, 0x00));
+}

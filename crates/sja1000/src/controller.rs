@@ -728,6 +728,52 @@ impl Sja1000 {
         })
     }
 
+    /// Takes another device's error counters (lockstep resync after a
+    /// waived divergence), in operating mode too, then re-evaluates the
+    /// fault state now: error warning (EWL), error passive at 128. The
+    /// datasheet TXERR/RXERR semantics hold: TEC 255 forces bus-off, a TEC
+    /// while bus-off clears it, REC is ignored while bus-off.
+    pub fn adopt_counters(&mut self, tec: Option<u8>, rec: Option<u8>) {
+        if let Some(r) = rec {
+            self.engine.set_rec(r);
+        }
+        if let Some(t) = tec {
+            self.engine.set_tec(t);
+        }
+        if !self.engine.in_reset_mode() {
+            // The engine defers warning/passive changes of a counter write
+            // to leaving reset mode; re-applying its options re-evaluates
+            // them at once (the only public path to that update).
+            let o = self.engine.options();
+            self.engine.set_options(o);
+        }
+        if self.engine.has_events() {
+            self.handle_events();
+        }
+    }
+
+    /// Sets a plain storage register (IER, OCR, TEST, ACR/AMR where the
+    /// address reaches them now) to `value` without any other effect, so a
+    /// reference can adopt a DUT's value; TXERR/RXERR go through
+    /// [`Sja1000::adopt_counters`]. False (nothing changed) for derived or
+    /// side-effecting registers (SR, IR, MOD, CMR, FIFO, ...) or when the
+    /// register would not read back `value`.
+    pub fn adopt_register(&mut self, addr: u8, value: u8) -> bool {
+        let Ok(d) = decoded(self.mode, self.opmode(), Access::Read, addr) else {
+            return false;
+        };
+        let Target::Register(r) = d.view.target else {
+            return false;
+        };
+        match d.r {
+            R::TxErr => self.adopt_counters(Some(value), None),
+            R::RxErr => self.adopt_counters(None, Some(value)),
+            R::Ier | R::Ocr | R::Test | R::Acr(_) | R::Amr(_) => self.poke(r, value),
+            _ => return false,
+        }
+        self.peek(addr) == value
+    }
+
     /// What a read would return, without side effects (diagnostics).
     pub fn peek(&self, addr: u8) -> u8 {
         match decoded(self.mode, self.opmode(), Access::Read, addr) {
