@@ -96,7 +96,10 @@ module can_bsp (
                        st == S_INTER || st == S_SUSP);
     wire stuffed   = (st >= S_IDA) && (st <= S_CRC);
     wire is_stuff  = ((st >= S_IDA) && (st <= S_CRCD)) && (scnt == 3'd5);
-    wire in_arb    = (st == S_IDA) || (st == S_SRTR) || (st == S_IDE) ||
+    // arbitration field up to RTR; IDE belongs to it only in an extended
+    // frame (a stuff bit seen in S_IDE of a standard frame follows RTR:
+    // no rule 3 exception 2 there, a plain bit error)
+    wire in_arb    = (st == S_IDA) || (st == S_SRTR) || (st == S_IDE && tx_ide) ||
                      (st == S_IDB) || (st == S_RTR);
     // data bytes mod 8 (8 bytes -> 0, so that 8 * ndata - 1 wraps to 63)
     wire [2:0] ndata = rx_dlc[3] ? 3'd0 : rx_dlc[2:0];
