@@ -238,7 +238,8 @@ impl Tracker {
     /// level itself (random on a busy bus) selects, only a SOF branches.
     #[inline]
     fn step_bit(&mut self, clock: u64, level: bool, cpb: u64) {
-        if !level && self.recessive_clocks >= self.threshold {
+        // `&`, not `&&`: no branch on the level itself.
+        if !level & (self.recessive_clocks >= self.threshold) {
             self.frame = Some(self.next_frame);
             self.next_frame += 1;
             self.start = clock;
@@ -246,7 +247,7 @@ impl Tracker {
                 self.starts.push(clock);
             }
         }
-        self.recessive_clocks = if level { self.recessive_clocks + cpb } else { 0 };
+        self.recessive_clocks = (self.recessive_clocks + cpb) & 0u64.wrapping_sub(level as u64);
     }
 
     #[inline]
