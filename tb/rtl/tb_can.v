@@ -101,6 +101,11 @@ module tb_can;
         begin $display("FAIL: %0s (t=%0t)", msg, $time); $fatal(1); end
     endtask
 
+    // step 2: a self reception changes SR in one step (TCS never without RBS)
+    reg self_chk = 0;
+    always @(posedge clk0)
+        if (self_chk && n0.u_regs.sr[3] && !n0.u_regs.sr[0]) fail("SR: TCS = 1 before RBS after a self reception");
+
     // one Wishbone classic access; checks the ack is a single-cycle pulse
     task automatic wb(input integer n, input w, input [7:0] a, input [7:0] d, output [7:0] q);
         integer t;
@@ -369,6 +374,7 @@ module tb_can;
         build_std(11'b10100101001, 1'b0, 4'd1, {8'h51, 56'd0}, 1'b0);
         start_capture;
         wr(0, 8'd1, 8'h10);                 // CMR: self reception request
+        self_chk = 1;
         check_frame(1'b1, "self-test frame");
         wait_bits(4);
         expect_reg(0, 8'd29, 8'd1, "RMC");
@@ -380,6 +386,7 @@ module tb_can;
         expect_reg(0, 8'd3, 8'h03, "IR (RI, TI)");
         expect_reg(0, 8'd3, 8'h01, "IR after read (RI stays)");
         expect_reg(0, 8'd15, 8'd0, "TXERR");
+        self_chk = 0;
         wr(0, 8'd1, 8'h04);                 // RRB
         expect_reg(0, 8'd29, 8'd0, "RMC after RRB");
         expect_reg(0, 8'd30, 8'd4, "RBSA after RRB");
