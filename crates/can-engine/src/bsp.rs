@@ -229,7 +229,7 @@ impl Bsp {
     #[inline(always)]
     pub(crate) fn bit(&mut self, rx: bool) {
         if self.phase == Phase::Stuffed {
-            self.stuffed(rx)
+            self.stuffed_fast(rx)
         } else {
             self.bit_other(rx)
         }
@@ -388,7 +388,31 @@ impl Bsp {
         }
     }
 
-    #[inline]
+    /// [`Bsp::stuffed`] inlined for its common case: no stuff bit due, no
+    /// transmitter mismatch, a bit inside a field that ends no field and
+    /// completes no data byte (then `field_bit` only shifts it in). Every
+    /// other bit goes to `stuffed`, so the result is the same.
+    #[inline(always)]
+    fn stuffed_fast(&mut self, rx: bool) {
+        let next = self.idx + 1;
+        let plain = (self.run != 5)
+            & !(self.role_tx & (rx != self.tx))
+            & (next < self.flen)
+            & ((self.fld != Field::Data) | (next & 7 != 0));
+        if !plain {
+            return self.stuffed(rx);
+        }
+        self.run = if rx == self.last { self.run + 1 } else { 1 };
+        self.last = rx;
+        if self.fld != Field::Crc {
+            self.crc_push(rx);
+        }
+        self.acc = (self.acc << 1) | rx as u32;
+        self.idx = next;
+        self.next_tx_bit();
+    }
+
+    #[inline(never)]
     fn stuffed(&mut self, rx: bool) {
         let sent = self.tx;
         if self.run == 5 {
