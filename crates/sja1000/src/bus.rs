@@ -238,8 +238,10 @@ impl Tracker {
     /// level itself (random on a busy bus) selects, only a SOF branches.
     #[inline]
     fn step_bit(&mut self, clock: u64, level: bool, cpb: u64) {
-        // `&`, not `&&`: no branch on the level itself.
-        if !level & (self.recessive_clocks >= self.threshold) {
+        // One well-predicted branch, none on the level itself: a recessive
+        // level masks the count to 0, below any threshold.
+        let run = self.recessive_clocks & 0u64.wrapping_sub(!level as u64);
+        if run >= self.threshold {
             self.frame = Some(self.next_frame);
             self.next_frame += 1;
             self.start = clock;
