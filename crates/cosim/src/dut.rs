@@ -295,7 +295,9 @@ impl Dut for VerilatedDut {
     #[inline]
     fn set_rx(&mut self, rx: bool) {
         let p = self.rx;
-        self.m.set(p, rx as u64);
+        assert!(self.m.owns(p), "VerilatedDut: the model was replaced");
+        // SAFETY: `rx_i`/`rx` is a 1-bit port of this model (bound in `new`).
+        unsafe { self.m.set_bit_unchecked(p, rx) }
     }
     #[inline]
     fn can(&self) -> CanPins {

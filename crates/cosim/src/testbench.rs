@@ -278,6 +278,8 @@ pub struct Testbench {
     wb_mon: WishboneMonitor,
     /// Master pins and slave outputs the Wishbone monitor saw last.
     wb_mon_seen: Option<(WbMasterOut, WbSlaveOut)>,
+    /// The DUT's CAN-side pins as of its last eval (read once per tick).
+    dut_pins: crate::dut::CanPins,
     av_mon: Option<AvalonMonitor>,
     host_cycle: u64,
     reset_left: u64,
@@ -469,6 +471,7 @@ impl Testbench {
             applied_av: AvMasterOut::default(),
             wb_mon: WishboneMonitor::new("wishbone monitor", cfg.monitor_ack_timeout),
             wb_mon_seen: None,
+            dut_pins: crate::dut::CanPins::default(),
             av_mon,
             host_cycle: 0,
             reset_left: cfg.reset_cycles.max(1),
@@ -501,6 +504,7 @@ impl Testbench {
         };
         tb.dut.set_reset(true);
         tb.dut.set_rx(RECESSIVE);
+        tb.dut_pins = tb.dut.can();
         while tb.reset_left > 0 {
             tb.tick();
         }
@@ -627,7 +631,7 @@ impl Testbench {
 
     /// The DUT's CAN-side pins now.
     pub fn pins(&self) -> crate::dut::CanPins {
-        self.dut.can()
+        self.dut_pins
     }
 
     /// One kernel instant.
@@ -636,7 +640,7 @@ impl Testbench {
         let t = self.kernel.advance();
         if t.can_rise {
             let dut_tx = if self.tx_on_bus {
-                self.dut.can().tx
+                self.dut_pins.tx
             } else {
                 RECESSIVE
             };
@@ -672,6 +676,7 @@ impl Testbench {
         }
         self.dut
             .eval(self.kernel.host().level(), self.kernel.can().level());
+        self.dut_pins = self.dut.can();
         if t.host_rise {
             self.host_edge();
         }
@@ -855,7 +860,7 @@ impl Testbench {
                 }
             }
             if !self.stopped {
-                let dut_tx = self.dut.can().tx;
+                let dut_tx = self.dut_pins.tx;
                 let (model_tx, mfield) = match &self.reference {
                     Some(r) => (r.pins().tx, r.field()),
                     None => (dut_tx, None),
@@ -924,7 +929,7 @@ impl Testbench {
                 stamp,
                 sample,
                 &r.pins(),
-                &self.dut.can(),
+                &self.dut_pins,
                 r.peek(SR_ADDR),
                 r.peek(IR_ADDR),
             );
@@ -1000,7 +1005,7 @@ impl Testbench {
 
     /// Waits for `irq_on` to go low (interrupt pending).
     pub fn wait_irq(&mut self, max_bits: u64) -> Result<u64, TbError> {
-        self.run_until("irq_on low (interrupt)", max_bits, |tb| !tb.dut.can().irq_n)
+        self.run_until("irq_on low (interrupt)", max_bits, |tb| !tb.dut_pins.irq_n)
     }
 
     /// Polls SR through the host BFM until `SR & mask == value`.
