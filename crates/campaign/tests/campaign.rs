@@ -101,13 +101,12 @@ fn a_flip_seen_only_by_the_dut_is_a_bus_error_on_the_dut() {
     assert!(r.frames.iter().all(|f| f.ir & 0x80 == 0 && f.txerr == 0 && f.rxerr == 0 && f.node_errors.iter().all(|e| !e)), "{:?}", r.frames);
 }
 
-/// Known disagreement found by `cancosim campaign --seed 1 --frames 2000`
-/// on our RTL (frames 237, 618, 753, 1094, 1321, 1555 of seed 1): when the
+/// Regression test for a disagreement found by `cancosim campaign --seed 1 --frames 2000`
+/// on our RTL (fixed in the RTL: ES now stays set through bus-off recovery) (frames 237, 618, 753, 1094, 1321, 1555 of seed 1): when the
 /// DUT goes bus-off (TEC reaches 256, SR 0xC4 then 0x84), the RTL keeps
 /// `irq_on` asserted while the golden model releases it, for more than the
 /// comparator's 48 CAN clocks. Reproduces exactly from seed and frame count.
 #[test]
-#[ignore = "known disagreement: RTL keeps irq_on asserted at bus-off, the model releases it; run with cargo test -p campaign --release -- --ignored rtl_bus_off"]
 fn rtl_bus_off_interrupt_matches_the_model() {
     let cfg = CampaignConfig { seed: 1, frames: 238, dut: DutChoice::Rtl, ..CampaignConfig::default() };
     let r = run_campaign(&cfg);
@@ -144,20 +143,19 @@ fn long_model_self_check() {
     assert!(r.passed(), "{}", r.to_text());
 }
 
-/// Known disagreement found by `cancosim campaign --seed 2 --frames 5000`
-/// on our RTL (frames 116 and 944 of seed 2): when a transmitting DUT goes
+/// Regression test for a disagreement found by `cancosim campaign --seed 2 --frames 5000`
+/// on our RTL (fixed in the RTL: TBS rises with BS) (frames 116 and 944 of seed 2): when a transmitting DUT goes
 /// bus-off, SR reads 0xF0 on the RTL (TBS = 0, the transmit buffer still
 /// locked) and 0xF4 on the model (TBS = 1, released).
 #[test]
-#[ignore = "known disagreement: SR.TBS at bus-off (RTL 0xF0, model 0xF4); run with cargo test -p campaign --release -- --ignored rtl_bus_off_tbs"]
 fn rtl_bus_off_tbs_matches_the_model() {
     let cfg = CampaignConfig { seed: 2, frames: 117, dut: DutChoice::Rtl, ..CampaignConfig::default() };
     let r = run_campaign(&cfg);
     assert!(r.passed(), "{}", r.to_text());
 }
 
-/// Known disagreement found by `cancosim campaign --seed 1 --frames 5000`
-/// (frames 3820 and 4431 of seed 1): the DUT transmits (e.g. ID 0x200), a
+/// Regression test for a disagreement found by `cancosim campaign --seed 1 --frames 5000`
+/// (fixed in the RTL: rule 3 exception 2 covers stuff bits before RTR only) (frames 3820 and 4431 of seed 1): the DUT transmits (e.g. ID 0x200), a
 /// receiver signals an error flag early in the identifier, and the flag
 /// overwrites the recessive stuff bit the DUT sends right after RTR; the RTL
 /// captures a stuff error (ECC 0x85: stuff, TX, IDE segment) and the model
@@ -165,7 +163,6 @@ fn rtl_bus_off_tbs_matches_the_model() {
 /// stuffed arbitration field from bit error detection, which leaves the
 /// stuff error: the model looks like the side to check.
 #[test]
-#[ignore = "known disagreement: ECC error code for a flipped recessive stuff bit in the arbitration field (RTL stuff 0x85, model bit 0x05); run with cargo test -p campaign --release -- --ignored arbitration_stuff"]
 fn arbitration_stuff_bit_error_code_matches() {
     let cfg = CampaignConfig { seed: 1, first_frame: 3685, frames: 136, dut: DutChoice::Rtl, ..CampaignConfig::default() };
     let r = run_campaign(&cfg);

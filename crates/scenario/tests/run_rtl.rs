@@ -65,7 +65,6 @@ fn rtl_avalon_scenarios_as_shipped() {
 }
 
 #[test]
-#[ignore = "RTL diverges from the model on SR.RBS after a self-test self reception (reported); run with --ignored"]
 fn rtl_de2_pelican_selftest() {
     let o = on_rtl(&wishbone("de2-pelican-selftest"));
     assert!(o.passed, "{:?}", o.mismatches);
