@@ -51,9 +51,9 @@ resync = ["none"]
 "#;
 
 /// A directory with the fixture alone (the external DUT) and the waiver files.
-fn workdir() -> PathBuf {
+fn workdir(test: &str) -> PathBuf {
     let root = PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("../..");
-    let dir = std::env::temp_dir().join(format!("scenario-waivers-{}", std::process::id()));
+    let dir = std::env::temp_dir().join(format!("scenario-waivers-{test}-{}", std::process::id()));
     std::fs::create_dir_all(&dir).unwrap();
     // A fixed path for the core: the run-time build cache is keyed on the
     // sources' paths too, so only the first run verilates (about 15 s).
@@ -61,7 +61,10 @@ fn workdir() -> PathBuf {
     std::fs::create_dir_all(&core).unwrap();
     let src = std::fs::read(root.join("tb/fixtures/cosim_deviant.v")).unwrap();
     if std::fs::read(core.join("cosim_deviant.v")).ok().as_deref() != Some(&src[..]) {
-        std::fs::write(core.join("cosim_deviant.v"), src).unwrap();
+        // Written aside and renamed: the other test may be reading it.
+        let tmp = core.with_file_name(format!("cosim_deviant.v.{test}.{}", std::process::id()));
+        std::fs::write(&tmp, src).unwrap();
+        std::fs::rename(&tmp, core.join("cosim_deviant.v")).unwrap();
     }
     std::fs::write(dir.join("reg4.toml"), REG4).unwrap();
     std::fs::write(dir.join("stale.toml"), STALE).unwrap();
@@ -100,7 +103,7 @@ fn show(o: &RunOutcome) {
 
 #[test]
 fn the_deviant_fixture_fails_without_waivers_and_passes_with_them() {
-    let dir = workdir();
+    let dir = workdir("fail-pass");
     let dut = deviant();
 
     // No waiver: the run fails at the register read.
@@ -201,4 +204,23 @@ fn the_model_adopts_counters_in_operating_mode_and_reevaluates_its_fault_state()
     assert!(r.adopt_counters(Some(7), Some(3)));
     assert_eq!((r.model().engine().tec(), r.model().engine().rec()), (7, 3));
     assert!(!r.adopt_register(2, 0x00));
+}
+
+/// `resync = ["adopt-dut-register"]`: the golden model takes the fixture's
+/// 0x7F, so a second read of ACR agrees (no second divergence, no note).
+#[test]
+fn an_adopted_register_is_not_reported_again() {
+    let dir = workdir("adopt");
+    std::fs::write(dir.join("adopt.toml"), REG4.replace("resync = [\"none\"]", "resync = [\"adopt-dut-register\"]")).unwrap();
+    let path = dir.join("adopt-scenario.toml");
+    let text = SCENARIO.replace("WAIVERS", "waivers = [\"adopt.toml\"]") + "[[step]]\nread = \"ACR\"\n";
+    std::fs::write(&path, text).unwrap();
+    let s = Scenario::load(&path).unwrap();
+    let o = run(&s, &RunOptions { dut: Some(deviant()), ..Default::default() });
+    show(&o);
+    let r = o.waivers.as_ref().unwrap();
+    assert!(o.passed, "{:?}", o.mismatches);
+    assert_eq!(r.waived.len(), 1, "one waived read; the second read agrees with the adopted value: {}", r.to_text());
+    assert!(r.notes.is_empty(), "the model applied the resync: {:?}", r.notes);
+    let _ = std::fs::remove_dir_all(&dir);
 }
