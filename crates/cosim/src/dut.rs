@@ -164,7 +164,9 @@ impl VerilatedDut {
     /// Binds a model with the given host port list. Missing ports or wrong
     /// widths are reported in one paragraph listing the ports it has.
     pub fn new(m: Model, kind: HostPort) -> Result<VerilatedDut, BridgeError> {
-        match kind {
+        // The CAN-side pins differ only in name (and irq polarity) between
+        // the two tops: (can clock, rx, tx, irq, bus_off_on, clkout).
+        let (host, can_names, irq_active_high, k) = match kind {
             HostPort::Wishbone => {
                 let k = "can_top Wishbone";
                 let p = |n: &str, w: u32| m.port(n, Some(w), k);
@@ -179,19 +181,7 @@ impl VerilatedDut {
                     adr: p("wb_adr_i", 8)?,
                     ack: p("wb_ack_o", 1)?,
                 });
-                Ok(VerilatedDut::cached(VerilatedDut {
-                    host,
-                    can_clk: p("clk_i", 1)?,
-                    rx: p("rx_i", 1)?,
-                    tx: p("tx_o", 1)?,
-                    irq: p("irq_on", 1)?,
-                    irq_active_high: false,
-                    bus_off_on: p("bus_off_on", 1)?,
-                    clkout: p("clkout_o", 1)?,
-                    out: OutCache::default(),
-                    wb_in: None,
-                    m,
-                }))
+                (host, ["clk_i", "rx_i", "tx_o", "irq_on", "bus_off_on", "clkout_o"], false, k)
             }
             HostPort::Avalon => {
                 let k = "can_avalon";
@@ -207,21 +197,23 @@ impl VerilatedDut {
                     readdata: p("readdata", 8)?,
                     waitrequest: p("waitrequest", 1)?,
                 });
-                Ok(VerilatedDut::cached(VerilatedDut {
-                    host,
-                    can_clk: p("can_clk", 1)?,
-                    rx: p("rx", 1)?,
-                    tx: p("tx", 1)?,
-                    irq: p("irq", 1)?,
-                    irq_active_high: true,
-                    bus_off_on: p("bus_off_on", 1)?,
-                    clkout: p("clkout", 1)?,
-                    out: OutCache::default(),
-                    wb_in: None,
-                    m,
-                }))
+                (host, ["can_clk", "rx", "tx", "irq", "bus_off_on", "clkout"], true, k)
             }
-        }
+        };
+        let p = |i: usize| m.port(can_names[i], Some(1), k);
+        Ok(VerilatedDut::cached(VerilatedDut {
+            host,
+            can_clk: p(0)?,
+            rx: p(1)?,
+            tx: p(2)?,
+            irq: p(3)?,
+            irq_active_high,
+            bus_off_on: p(4)?,
+            clkout: p(5)?,
+            out: OutCache::default(),
+            wb_in: None,
+            m,
+        }))
     }
 
     fn cached(mut d: VerilatedDut) -> VerilatedDut {
