@@ -1,12 +1,18 @@
 //! The co-simulation rows alone, repeated, for profiling and for quick
 //! before/after figures of an optimisation (min of the repetitions):
-//! `cargo run --release -p bench --example cosim_only -- [frames] [reps]`.
+//! `cargo run --release -p bench --example cosim_only -- [frames] [reps] [both|lockstep|plain]`.
 
 fn main() -> Result<(), bench::BenchError> {
     let mut args = std::env::args().skip(1);
     let frames: u64 = args.next().and_then(|v| v.parse().ok()).unwrap_or(300);
     let reps: u32 = args.next().and_then(|v| v.parse().ok()).unwrap_or(5);
-    for (name, lockstep) in [("cosim", true), ("cosim-no-lockstep", false)] {
+    let which = args.next().unwrap_or_else(|| "both".into());
+    let rows: &[(&str, bool)] = match which.as_str() {
+        "lockstep" => &[("cosim", true)],
+        "plain" => &[("cosim-no-lockstep", false)],
+        _ => &[("cosim", true), ("cosim-no-lockstep", false)],
+    };
+    for &(name, lockstep) in rows {
         let mut best = f64::MAX;
         for _ in 0..reps {
             let ((out, cycles), cost) = bench::measure::in_process(|| {

@@ -36,6 +36,22 @@ pub const SR_ADDR: u8 = 2;
 /// IR address (both register views).
 pub const IR_ADDR: u8 = 3;
 
+/// What the comparator needs from the reference after one CAN clock
+/// ([`Reference::step`]).
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub struct RefView {
+    /// Output pins ([`Reference::pins`]).
+    pub pins: CanPins,
+    /// Field ([`Reference::field`]).
+    pub field: Option<Field>,
+    /// SR as a peek would return it.
+    pub sr: u8,
+    /// IR as a peek would return it.
+    pub ir: u8,
+    /// [`Reference::drain_events`] may have something (false: it has nothing).
+    pub events: bool,
+}
+
 /// A reference the DUT is compared with: host access by direct calls and
 /// one CAN clock at a time.
 pub trait Reference {
@@ -51,6 +67,20 @@ pub trait Reference {
     fn peek(&self, addr: u8) -> u8;
     /// One CAN clock with rx level `rx`.
     fn clock(&mut self, rx: bool);
+    /// One CAN clock with rx level `rx`, then everything the test bench
+    /// and the comparator look at after it, in one call. The default asks
+    /// the other methods; a reference may answer from a cache, as long as
+    /// it is exactly what they would return.
+    fn step(&mut self, rx: bool) -> RefView {
+        self.clock(rx);
+        RefView {
+            pins: self.pins(),
+            field: self.field(),
+            sr: self.peek(SR_ADDR),
+            ir: self.peek(IR_ADDR),
+            events: true,
+        }
+    }
     /// Output pins after the last clock.
     fn pins(&self) -> CanPins;
     /// Field of the bit stream the reference is in, if it knows.
@@ -154,8 +184,11 @@ pub struct Stamp {
     pub frame: Option<u32>,
 }
 
+/// A sample point waiting to reach the middle of the tx window.
 #[derive(Clone, Copy, Debug)]
 struct TxSample {
+    /// Its position in the window's push sequence.
+    index: u64,
     /// Inside a start-of-frame grace window: not compared.
     excused: bool,
     ref_tx: bool,
@@ -175,9 +208,21 @@ struct PendingRead {
 /// The comparator's state.
 pub struct Comparator {
     cfg: CompareConfig,
-    window: VecDeque<TxSample>,
-    sr_hist: VecDeque<u8>,
-    ir_hist: VecDeque<u8>,
+    /// Clocks pushed into the tx window and the tx histories (every clock
+    /// compared while not halted). The window is the last `2 * tol + 1`
+    /// pushes; only what its check needs is kept: the sample points not
+    /// yet in the middle, and where the (delayed) reference tx last changed.
+    pushed: u64,
+    samples: VecDeque<TxSample>,
+    /// Push index of the last change of the window's reference tx.
+    ref_changed_at: u64,
+    last_win_ref_tx: bool,
+    /// Status history for tolerant reads: the last `status_tolerance + 1`
+    /// values of SR and IR, kept as runs (value, index of its first clock
+    /// in `status_pushed`).
+    status_pushed: u64,
+    sr_hist: VecDeque<(u8, u64)>,
+    ir_hist: VecDeque<(u8, u64)>,
     prev_ref_tx: bool,
     prev_dut_tx: bool,
     prev_idle: bool,
@@ -186,8 +231,8 @@ pub struct Comparator {
     grace_by_ref: bool,
     ref_off: usize,
     dut_off: usize,
-    ref_hist: VecDeque<bool>,
-    dut_hist: VecDeque<bool>,
+    ref_hist: BitRing,
+    dut_hist: BitRing,
     irq_bad: u32,
     irq_since: Stamp,
     bus_bad: u32,
@@ -214,7 +259,11 @@ impl Comparator {
     pub fn new(cfg: CompareConfig) -> Comparator {
         Comparator {
             cfg,
-            window: VecDeque::with_capacity(2 * cfg.tx_edge_tolerance as usize + 2),
+            pushed: 0,
+            samples: VecDeque::new(),
+            ref_changed_at: 0,
+            last_win_ref_tx: true,
+            status_pushed: 0,
             sr_hist: VecDeque::new(),
             ir_hist: VecDeque::new(),
             prev_ref_tx: true,
@@ -225,8 +274,8 @@ impl Comparator {
             grace_by_ref: false,
             ref_off: 0,
             dut_off: 0,
-            ref_hist: VecDeque::new(),
-            dut_hist: VecDeque::new(),
+            ref_hist: BitRing::new(cfg.sof_tolerance as u64 + 1),
+            dut_hist: BitRing::new(cfg.sof_tolerance as u64 + 1),
             irq_bad: 0,
             irq_since: Stamp::default(),
             bus_bad: 0,
@@ -345,13 +394,10 @@ impl Comparator {
             stamp.field,
             Some(Field::BusIdle | Field::Intermission | Field::SuspendTransmission)
         );
-        let cap = self.cfg.sof_tolerance as usize + 1;
-        self.ref_hist.push_back(reference.tx);
-        self.dut_hist.push_back(dut.tx);
-        if self.ref_hist.len() > cap {
-            self.ref_hist.pop_front();
-            self.dut_hist.pop_front();
-        }
+        let pushed = self.pushed;
+        self.pushed += 1;
+        self.ref_hist.push(pushed, reference.tx);
+        self.dut_hist.push(pushed, dut.tx);
         if self.sof_grace > 0 {
             self.grace_count += 1;
             if reference.tx == dut.tx {
@@ -387,54 +433,81 @@ impl Comparator {
         self.prev_ref_tx = reference.tx;
         self.prev_dut_tx = dut.tx;
         self.prev_idle = idle_now;
-        let n = self.ref_hist.len();
-        let ref_tx = self.ref_hist[n - 1 - self.ref_off.min(n - 1)];
-        let dut_tx = self.dut_hist[n - 1 - self.dut_off.min(n - 1)];
-        self.window.push_back(TxSample {
-            excused,
-            ref_tx,
-            dut_tx,
-            sample,
-            stamp,
-        });
-        if self.window.len() > 2 * tol + 1 {
-            self.window.pop_front();
+        // The tx histories hold the last `sof_tolerance + 1` clocks.
+        let n = self.pushed.min(self.cfg.sof_tolerance as u64 + 1);
+        let ref_tx = if self.ref_off == 0 {
+            reference.tx
+        } else {
+            self.ref_hist.back((self.ref_off as u64).min(n - 1))
+        };
+        let dut_tx = if self.dut_off == 0 {
+            dut.tx
+        } else {
+            self.dut_hist.back((self.dut_off as u64).min(n - 1))
+        };
+        // The window of the last 2 * tol + 1 clocks, centred on the checked
+        // one: it is stable when the reference tx did not change after its
+        // oldest clock.
+        if pushed > 0 && ref_tx != self.last_win_ref_tx {
+            self.ref_changed_at = pushed;
         }
-        if self.window.len() == 2 * tol + 1 {
-            let mid = self.window[tol];
-            if mid.sample && !mid.excused && mid.stamp.bit >= self.skip_until_bit {
-                let stable = self.window.iter().all(|w| w.ref_tx == mid.ref_tx);
-                if stable {
-                    self.compared_bits += 1;
-                    if self.tx_latched && mid.dut_tx == mid.ref_tx {
-                        self.tx_latched = false;
-                    }
-                    if mid.dut_tx != mid.ref_tx && !self.tx_latched {
-                        let lvl = |b: bool| if b { "recessive" } else { "dominant" };
-                        self.diverge(
-                            DivergenceKind::TxBit,
-                            mid.stamp,
-                            None,
-                            mid.ref_tx as u32,
-                            mid.dut_tx as u32,
-                            format!(
-                                "at the sample point the model drives {} and the DUT's tx_o is {}",
-                                lvl(mid.ref_tx),
-                                lvl(mid.dut_tx)
-                            ),
-                        );
-                        return;
+        self.last_win_ref_tx = ref_tx;
+        if sample {
+            self.samples.push_back(TxSample {
+                index: pushed,
+                excused,
+                ref_tx,
+                dut_tx,
+                sample,
+                stamp,
+            });
+        }
+        let width = 2 * tol as u64;
+        if pushed >= width && !self.samples.is_empty() {
+            let mid_index = pushed - tol as u64;
+            // Sample points before the first full window are never checked.
+            while self.samples.front().is_some_and(|m| m.index < mid_index) {
+                self.samples.pop_front();
+            }
+            if self.samples.front().is_some_and(|m| m.index == mid_index) {
+                let mid = self.samples.pop_front().expect("front checked above");
+                if mid.sample && !mid.excused && mid.stamp.bit >= self.skip_until_bit {
+                    let stable = self.ref_changed_at <= pushed - width;
+                    if stable {
+                        self.compared_bits += 1;
+                        if self.tx_latched && mid.dut_tx == mid.ref_tx {
+                            self.tx_latched = false;
+                        }
+                        if mid.dut_tx != mid.ref_tx && !self.tx_latched {
+                            let lvl = |b: bool| if b { "recessive" } else { "dominant" };
+                            self.diverge(
+                                DivergenceKind::TxBit,
+                                mid.stamp,
+                                None,
+                                mid.ref_tx as u32,
+                                mid.dut_tx as u32,
+                                format!(
+                                    "at the sample point the model drives {} and the DUT's tx_o is {}",
+                                    lvl(mid.ref_tx),
+                                    lvl(mid.dut_tx)
+                                ),
+                            );
+                            return;
+                        }
                     }
                 }
             }
         }
-        // Status history for tolerant reads.
-        let depth = self.cfg.status_tolerance as usize + 1;
-        self.sr_hist.push_back(sr);
-        self.ir_hist.push_back(ir);
-        if self.sr_hist.len() > depth {
-            self.sr_hist.pop_front();
-            self.ir_hist.pop_front();
+        // Status history for tolerant reads (runs of equal values).
+        let at = self.status_pushed;
+        self.status_pushed += 1;
+        if self.sr_hist.back().is_none_or(|r| r.0 != sr) {
+            self.sr_hist.push_back((sr, at));
+            prune_runs(&mut self.sr_hist, self.status_pushed, self.cfg.status_tolerance);
+        }
+        if self.ir_hist.back().is_none_or(|r| r.0 != ir) {
+            self.ir_hist.push_back((ir, at));
+            prune_runs(&mut self.ir_hist, self.status_pushed, self.cfg.status_tolerance);
         }
         // Pending SR reads: look forward.
         let mut k = 0;
@@ -531,13 +604,15 @@ impl Comparator {
         if dut == model {
             return;
         }
+        let (pushed, tol) = (self.status_pushed, self.cfg.status_tolerance);
         let hist = match addr {
-            SR_ADDR => Some(&self.sr_hist),
-            IR_ADDR => Some(&self.ir_hist),
+            SR_ADDR => Some(&mut self.sr_hist),
+            IR_ADDR => Some(&mut self.ir_hist),
             _ => None,
         };
         if let Some(h) = hist {
-            if h.iter().any(|v| *v == dut) {
+            prune_runs(h, pushed, tol);
+            if h.iter().any(|v| v.0 == dut) {
                 self.tolerated_reads += 1;
                 return;
             }
@@ -571,11 +646,496 @@ impl Comparator {
     }
 }
 
+/// Drops the runs that ended before the last `tolerance + 1` of `pushed`
+/// clocks (a run ends where the next one starts; the last one is current).
+#[inline]
+fn prune_runs(h: &mut VecDeque<(u8, u64)>, pushed: u64, tolerance: u32) {
+    let first = pushed.saturating_sub(tolerance as u64 + 1);
+    while h.len() >= 2 && h[1].1 <= first {
+        h.pop_front();
+    }
+}
+
+/// The last `cap` bits pushed, indexed back from the newest. Grows to the
+/// next power of two above `cap` only as bits come, like the deque it
+/// replaces, so a huge tolerance costs no memory up front.
+struct BitRing {
+    buf: Vec<bool>,
+    size: u64,
+    /// Index of the newest push.
+    last: u64,
+}
+
+impl BitRing {
+    fn new(cap: u64) -> BitRing {
+        BitRing {
+            buf: Vec::new(),
+            size: cap.max(1).next_power_of_two(),
+            last: 0,
+        }
+    }
+
+    /// Stores push number `index` (0, 1, 2, ...: every push, in order).
+    #[inline]
+    fn push(&mut self, index: u64, v: bool) {
+        let len = self.buf.len() as u64;
+        if index >= len && len < self.size {
+            // Not wrapped yet: positions are indices, growing keeps them.
+            let new_len = (len * 2).max(64).min(self.size);
+            self.buf.resize(new_len as usize, false);
+        }
+        let mask = self.buf.len() as u64 - 1;
+        self.buf[(index & mask) as usize] = v;
+        self.last = index;
+    }
+
+    /// The bit pushed `k` pushes before the newest (`k` below `cap` and
+    /// below the number of pushes).
+    #[inline]
+    fn back(&self, k: u64) -> bool {
+        let mask = self.buf.len() as u64 - 1;
+        self.buf[((self.last - k) & mask) as usize]
+    }
+}
+
 fn reg_label(addr: u8) -> String {
     match addr {
         SR_ADDR => "SR".into(),
         IR_ADDR => "IR".into(),
         a => format!("address {a}"),
+    }
+}
+
+/// The comparator as it was before its per-clock work was made cheaper
+/// (a deque entry per clock for the tx window, the tx histories and the
+/// status history): the differential test below checks that the current
+/// one reaches exactly the same verdicts.
+#[cfg(test)]
+#[allow(dead_code, missing_docs)]
+mod before {
+    use std::collections::VecDeque;
+
+    use can_proto::Field;
+    use diagnose::{Divergence, DivergenceKind};
+
+    use super::{CompareConfig, IR_ADDR, SR_ADDR, Stamp, reg_label};
+    use crate::dut::CanPins;
+
+    #[derive(Clone, Copy, Debug)]
+    struct OldTxSample {
+        /// Inside a start-of-frame grace window: not compared.
+        excused: bool,
+        ref_tx: bool,
+        dut_tx: bool,
+        sample: bool,
+        stamp: Stamp,
+    }
+
+    struct OldPendingRead {
+        addr: u8,
+        dut: u8,
+        model: u8,
+        clocks_left: u32,
+        stamp: Stamp,
+    }
+
+    /// The comparator's state.
+    pub struct OldComparator {
+        cfg: CompareConfig,
+        window: VecDeque<OldTxSample>,
+        sr_hist: VecDeque<u8>,
+        ir_hist: VecDeque<u8>,
+        prev_ref_tx: bool,
+        prev_dut_tx: bool,
+        prev_idle: bool,
+        sof_grace: u32,
+        grace_count: u32,
+        grace_by_ref: bool,
+        ref_off: usize,
+        dut_off: usize,
+        ref_hist: VecDeque<bool>,
+        dut_hist: VecDeque<bool>,
+        irq_bad: u32,
+        irq_since: Stamp,
+        bus_bad: u32,
+        bus_since: Stamp,
+        pending: Vec<OldPendingRead>,
+        divergence: Option<Divergence>,
+        found: VecDeque<Divergence>,
+        halted: bool,
+        last_kind: Option<DivergenceKind>,
+        skip_until_bit: u64,
+        tx_latched: bool,
+        irq_latched: bool,
+        bus_latched: bool,
+        /// Reads and sample points compared (for the report).
+        pub compared_bits: u64,
+        /// Register reads compared.
+        pub compared_reads: u64,
+        /// Reads accepted only thanks to the status tolerance.
+        pub tolerated_reads: u64,
+    }
+
+    impl OldComparator {
+        /// A comparator with these tolerances.
+        pub fn new(cfg: CompareConfig) -> OldComparator {
+            OldComparator {
+                cfg,
+                window: VecDeque::with_capacity(2 * cfg.tx_edge_tolerance as usize + 2),
+                sr_hist: VecDeque::new(),
+                ir_hist: VecDeque::new(),
+                prev_ref_tx: true,
+                prev_dut_tx: true,
+                prev_idle: false,
+                sof_grace: 0,
+                grace_count: 0,
+                grace_by_ref: false,
+                ref_off: 0,
+                dut_off: 0,
+                ref_hist: VecDeque::new(),
+                dut_hist: VecDeque::new(),
+                irq_bad: 0,
+                irq_since: Stamp::default(),
+                bus_bad: 0,
+                bus_since: Stamp::default(),
+                pending: Vec::new(),
+                divergence: None,
+                found: VecDeque::new(),
+                halted: false,
+                last_kind: None,
+                skip_until_bit: 0,
+                tx_latched: false,
+                irq_latched: false,
+                bus_latched: false,
+                compared_bits: 0,
+                compared_reads: 0,
+                tolerated_reads: 0,
+            }
+        }
+
+        /// The tolerances.
+        pub fn config(&self) -> &CompareConfig {
+            &self.cfg
+        }
+
+        /// The first divergence, once found.
+        pub fn divergence(&self) -> Option<&Divergence> {
+            self.divergence.as_ref()
+        }
+
+        /// The next divergence not yet taken (each divergence once, in order).
+        pub fn take_divergence(&mut self) -> Option<Divergence> {
+            self.found.pop_front()
+        }
+
+        /// True while a divergence halts the comparison (until [`Comparator::resume`]).
+        pub fn halted(&self) -> bool {
+            self.halted
+        }
+
+        /// Compares again after the last divergence was handled.
+        ///
+        /// `skip_to_bit`: no tx or pin comparison before this bit index (a
+        /// waiver's `SkipBits(n)` after a divergence at bit `b` gives `b + n`).
+        /// `latch`: the divergence was not waived (collect mode): the same
+        /// mismatch is not reported again until DUT and reference agree, so a
+        /// lasting deviation counts once. Not latched after a waived one, so a
+        /// waiver's bounds see every bit of the deviation.
+        pub fn resume(&mut self, skip_to_bit: Option<u64>, latch: bool) {
+            self.halted = false;
+            if let Some(b) = skip_to_bit {
+                self.skip_until_bit = self.skip_until_bit.max(b);
+            }
+            if latch {
+                match self.last_kind {
+                    Some(DivergenceKind::TxBit) => self.tx_latched = true,
+                    Some(DivergenceKind::Irq) => self.irq_latched = true,
+                    Some(DivergenceKind::BusOff) => self.bus_latched = true,
+                    _ => {}
+                }
+            }
+            self.irq_bad = 0;
+            self.bus_bad = 0;
+        }
+
+        fn diverge(
+            &mut self,
+            kind: DivergenceKind,
+            s: Stamp,
+            register: Option<String>,
+            expected: u32,
+            seen: u32,
+            context: String,
+        ) {
+            let d = Divergence {
+                kind,
+                time_ps: s.t_ps,
+                bit: Some(s.bit),
+                frame: s.frame,
+                field: s.field,
+                register,
+                expected,
+                seen,
+                context: format!("{context}; tolerances: {}", self.cfg.describe()),
+            };
+            if self.divergence.is_none() {
+                self.divergence = Some(d.clone());
+            }
+            self.found.push_back(d);
+            self.halted = true;
+            self.last_kind = Some(kind);
+        }
+
+        /// One CAN clock, after both sides were clocked: `sample` says whether
+        /// it is a sample point; `sr`/`ir` are the reference's peeks.
+        #[inline]
+        pub fn can_clock(
+            &mut self,
+            stamp: Stamp,
+            sample: bool,
+            reference: &CanPins,
+            dut: &CanPins,
+            sr: u8,
+            ir: u8,
+        ) {
+            if self.halted {
+                return;
+            }
+            let skipping = stamp.bit < self.skip_until_bit;
+            // tx with an edge-tolerance window centred on the checked clock.
+            let tol = self.cfg.tx_edge_tolerance as usize;
+            // Start of frame from bus idle: either side may go first, and the
+            // shadow model never hard-synchronises on the DUT's SOF (it is not
+            // on the bus), so the lag measured at the SOF is kept for the whole
+            // frame: the earlier side's tx is delayed by it before comparing.
+            let idle_now = matches!(
+                stamp.field,
+                Some(Field::BusIdle | Field::Intermission | Field::SuspendTransmission)
+            );
+            let cap = self.cfg.sof_tolerance as usize + 1;
+            self.ref_hist.push_back(reference.tx);
+            self.dut_hist.push_back(dut.tx);
+            if self.ref_hist.len() > cap {
+                self.ref_hist.pop_front();
+                self.dut_hist.pop_front();
+            }
+            if self.sof_grace > 0 {
+                self.grace_count += 1;
+                if reference.tx == dut.tx {
+                    self.sof_grace = 0;
+                    if !reference.tx {
+                        if self.grace_by_ref {
+                            self.ref_off = self.grace_count as usize;
+                        } else {
+                            self.dut_off = self.grace_count as usize;
+                        }
+                    }
+                } else {
+                    self.sof_grace -= 1;
+                }
+            } else {
+                let sof_edge = (self.prev_ref_tx && !reference.tx) || (self.prev_dut_tx && !dut.tx);
+                if sof_edge
+                    && (self.prev_idle || stamp.field == Some(Field::Sof))
+                    && reference.tx != dut.tx
+                    && self.cfg.sof_tolerance > 0
+                {
+                    self.sof_grace = self.cfg.sof_tolerance;
+                    self.grace_count = 0;
+                    self.grace_by_ref = !reference.tx;
+                    self.ref_off = 0;
+                    self.dut_off = 0;
+                } else if idle_now && reference.tx && dut.tx {
+                    self.ref_off = 0;
+                    self.dut_off = 0;
+                }
+            }
+            let excused = self.sof_grace > 0;
+            self.prev_ref_tx = reference.tx;
+            self.prev_dut_tx = dut.tx;
+            self.prev_idle = idle_now;
+            let n = self.ref_hist.len();
+            let ref_tx = self.ref_hist[n - 1 - self.ref_off.min(n - 1)];
+            let dut_tx = self.dut_hist[n - 1 - self.dut_off.min(n - 1)];
+            self.window.push_back(OldTxSample {
+                excused,
+                ref_tx,
+                dut_tx,
+                sample,
+                stamp,
+            });
+            if self.window.len() > 2 * tol + 1 {
+                self.window.pop_front();
+            }
+            if self.window.len() == 2 * tol + 1 {
+                let mid = self.window[tol];
+                if mid.sample && !mid.excused && mid.stamp.bit >= self.skip_until_bit {
+                    let stable = self.window.iter().all(|w| w.ref_tx == mid.ref_tx);
+                    if stable {
+                        self.compared_bits += 1;
+                        if self.tx_latched && mid.dut_tx == mid.ref_tx {
+                            self.tx_latched = false;
+                        }
+                        if mid.dut_tx != mid.ref_tx && !self.tx_latched {
+                            let lvl = |b: bool| if b { "recessive" } else { "dominant" };
+                            self.diverge(
+                                DivergenceKind::TxBit,
+                                mid.stamp,
+                                None,
+                                mid.ref_tx as u32,
+                                mid.dut_tx as u32,
+                                format!(
+                                    "at the sample point the model drives {} and the DUT's tx_o is {}",
+                                    lvl(mid.ref_tx),
+                                    lvl(mid.dut_tx)
+                                ),
+                            );
+                            return;
+                        }
+                    }
+                }
+            }
+            // Status history for tolerant reads.
+            let depth = self.cfg.status_tolerance as usize + 1;
+            self.sr_hist.push_back(sr);
+            self.ir_hist.push_back(ir);
+            if self.sr_hist.len() > depth {
+                self.sr_hist.pop_front();
+                self.ir_hist.pop_front();
+            }
+            // Pending SR reads: look forward.
+            let mut k = 0;
+            while k < self.pending.len() {
+                let p = &mut self.pending[k];
+                if p.addr == SR_ADDR && sr == p.dut {
+                    self.tolerated_reads += 1;
+                    self.pending.swap_remove(k);
+                    continue;
+                }
+                if p.clocks_left == 0 {
+                    let p = self.pending.swap_remove(k);
+                    self.diverge(
+                        DivergenceKind::RegisterRead,
+                        p.stamp,
+                        Some(reg_label(p.addr)),
+                        p.model as u32,
+                        p.dut as u32,
+                        format!(
+                            "read of address {} returned 0x{:02X}, the model 0x{:02X}",
+                            p.addr, p.dut, p.model
+                        ),
+                    );
+                    return;
+                }
+                p.clocks_left -= 1;
+                k += 1;
+            }
+            // Pins: a mismatch may last pin_tolerance clocks.
+            if self.irq_latched && reference.irq_n == dut.irq_n {
+                self.irq_latched = false;
+            }
+            if self.bus_latched && reference.bus_on == dut.bus_on {
+                self.bus_latched = false;
+            }
+            if self.cfg.compare_irq && !skipping && !self.irq_latched {
+                if reference.irq_n != dut.irq_n {
+                    if self.irq_bad == 0 {
+                        self.irq_since = stamp;
+                    }
+                    self.irq_bad += 1;
+                    if self.irq_bad > self.cfg.pin_tolerance {
+                        let s = self.irq_since;
+                        self.diverge(
+                            DivergenceKind::Irq,
+                            s,
+                            None,
+                            reference.irq_n as u32,
+                            dut.irq_n as u32,
+                            format!(
+                                "irq_on (active low) differs for more than {} CAN clocks",
+                                self.cfg.pin_tolerance
+                            ),
+                        );
+                        return;
+                    }
+                } else {
+                    self.irq_bad = 0;
+                }
+            }
+            if self.cfg.compare_bus_off && !skipping && !self.bus_latched {
+                if reference.bus_on != dut.bus_on {
+                    if self.bus_bad == 0 {
+                        self.bus_since = stamp;
+                    }
+                    self.bus_bad += 1;
+                    if self.bus_bad > self.cfg.pin_tolerance {
+                        let s = self.bus_since;
+                        self.diverge(
+                            DivergenceKind::BusOff,
+                            s,
+                            None,
+                            reference.bus_on as u32,
+                            dut.bus_on as u32,
+                            format!(
+                                "bus_off_on (high = on the bus) differs for more than {} CAN clocks",
+                                self.cfg.pin_tolerance
+                            ),
+                        );
+                    }
+                } else {
+                    self.bus_bad = 0;
+                }
+            }
+        }
+
+        /// A register read completed on both sides: `dut` from the DUT, `model`
+        /// from the reference at the same edge.
+        pub fn read(&mut self, stamp: Stamp, addr: u8, dut: u8, model: u8, name: Option<String>) {
+            if self.halted {
+                return;
+            }
+            self.compared_reads += 1;
+            if dut == model {
+                return;
+            }
+            let hist = match addr {
+                SR_ADDR => Some(&self.sr_hist),
+                IR_ADDR => Some(&self.ir_hist),
+                _ => None,
+            };
+            if let Some(h) = hist {
+                if h.iter().any(|v| *v == dut) {
+                    self.tolerated_reads += 1;
+                    return;
+                }
+                if addr == SR_ADDR && self.cfg.status_tolerance > 0 {
+                    self.pending.push(OldPendingRead {
+                        addr,
+                        dut,
+                        model,
+                        clocks_left: self.cfg.status_tolerance,
+                        stamp,
+                    });
+                    return;
+                }
+            }
+            let label = name.unwrap_or_else(|| reg_label(addr));
+            self.diverge(
+                DivergenceKind::RegisterRead,
+                stamp,
+                Some(label.clone()),
+                model as u32,
+                dut as u32,
+                format!(
+                    "read of {label} (address {addr}) returned 0x{dut:02X}, the model 0x{model:02X}"
+                ),
+            );
+        }
+
+        /// Reads still waiting for their tolerance window to close.
+        pub fn pending_reads(&self) -> usize {
+            self.pending.len()
+        }
     }
 }
 
@@ -898,5 +1458,125 @@ resync = ["skip-bits 1"]
         }
         let dv = c.divergence().expect("irq divergence");
         assert_eq!((dv.kind, dv.time_ps), (DivergenceKind::Irq, 10));
+    }
+
+    /// The comparator reaches exactly the verdicts of the one it replaced
+    /// (`before::OldComparator`) on random pin, status and read sequences,
+    /// with halts, resumes, skips and latches, for several tolerances.
+    #[test]
+    fn same_verdicts_as_the_per_clock_deque_comparator() {
+        let mut seed = 0x9E37_79B9_7F4A_7C15u64;
+        let mut rnd = move |n: u64| {
+            seed ^= seed << 13;
+            seed ^= seed >> 7;
+            seed ^= seed << 17;
+            seed % n
+        };
+        let fields = [
+            None,
+            Some(Field::BusIdle),
+            Some(Field::Sof),
+            Some(Field::Data),
+            Some(Field::Intermission),
+            Some(Field::Crc),
+            Some(Field::SuspendTransmission),
+        ];
+        let statuses = [0x0C, 0x1C, 0x3C, 0x0D, 0x00];
+        let mut divergences = 0;
+        for (tx_tol, sof_tol, st_tol, pin_tol) in [
+            (4, 40, 48, 48),
+            (0, 0, 0, 0),
+            (1, 3, 2, 1),
+            (2, 20, 3, 3),
+            (3, 100, 70, 5),
+            (8, 63, 1, 60),
+        ] {
+            let cfg = CompareConfig {
+                tx_edge_tolerance: tx_tol,
+                status_tolerance: st_tol,
+                pin_tolerance: pin_tol,
+                compare_irq: rnd(4) != 0,
+                compare_bus_off: rnd(4) != 0,
+                sof_tolerance: sof_tol,
+            };
+            let mut new = Comparator::new(cfg);
+            let mut old = before::OldComparator::new(cfg);
+            let mut ref_tx_hist = vec![true; 64];
+            let (mut lag, mut field, mut phase) = (0usize, None, 5u64);
+            let (mut rp, mut dp) = (pins(true), pins(true));
+            let (mut sr, mut ir) = (0x0C, 0);
+            for clk in 0..60_000u64 {
+                // Reference tx in runs; the DUT follows it late by `lag`, with glitches.
+                let last = *ref_tx_hist.last().unwrap();
+                ref_tx_hist.push(if rnd(12) == 0 { !last } else { last });
+                if rnd(400) == 0 {
+                    lag = [0, 1, 2, 5, 12, 30, 45][rnd(7) as usize];
+                }
+                let n = ref_tx_hist.len();
+                rp.tx = ref_tx_hist[n - 1];
+                dp.tx = ref_tx_hist[n - 1 - lag] ^ (rnd(300) == 0);
+                if rnd(60) == 0 {
+                    field = fields[rnd(fields.len() as u64) as usize];
+                }
+                if rnd(50) == 0 {
+                    rp.irq_n = !rp.irq_n;
+                }
+                if rnd(50) == 0 {
+                    rp.bus_on = !rp.bus_on;
+                }
+                if rnd(7) == 0 {
+                    dp.irq_n = rp.irq_n ^ (rnd(9) == 0);
+                    dp.bus_on = rp.bus_on ^ (rnd(9) == 0);
+                }
+                if rnd(20) == 0 {
+                    sr = statuses[rnd(5) as usize];
+                }
+                if rnd(30) == 0 {
+                    ir = statuses[rnd(5) as usize];
+                }
+                if rnd(500) == 0 {
+                    phase = rnd(10);
+                }
+                let stamp = Stamp {
+                    t_ps: clk,
+                    bit: clk / 10,
+                    field,
+                    frame: Some((clk / 1000) as u32),
+                };
+                let sample = clk % 10 == phase;
+                new.can_clock(stamp, sample, &rp, &dp, sr, ir);
+                old.can_clock(stamp, sample, &rp, &dp, sr, ir);
+                if rnd(90) == 0 {
+                    let addr = [SR_ADDR, IR_ADDR, 6][rnd(3) as usize];
+                    let dut = statuses[rnd(5) as usize];
+                    let model = if rnd(2) == 0 { sr } else { statuses[rnd(5) as usize] };
+                    new.read(stamp, addr, dut, model, None);
+                    old.read(stamp, addr, dut, model, None);
+                }
+                loop {
+                    let (a, b) = (new.take_divergence(), old.take_divergence());
+                    assert_eq!(a, b, "clock {clk}, config {cfg:?}");
+                    if a.is_none() {
+                        break;
+                    }
+                    divergences += 1;
+                }
+                assert_eq!(new.halted(), old.halted(), "clock {clk}");
+                if new.halted() && rnd(3) != 0 {
+                    let skip = (rnd(2) == 0).then(|| clk / 10 + rnd(5));
+                    let latch = rnd(2) == 0;
+                    new.resume(skip, latch);
+                    old.resume(skip, latch);
+                }
+            }
+            assert_eq!(new.divergence(), old.divergence());
+            assert_eq!(
+                (new.compared_bits, new.compared_reads, new.tolerated_reads, new.pending_reads()),
+                (old.compared_bits, old.compared_reads, old.tolerated_reads, old.pending_reads()),
+                "{cfg:?}"
+            );
+            assert!(new.compared_bits > 100, "{cfg:?}: too few bits compared to mean anything");
+        }
+        assert!(divergences > 100, "the sequences exercise divergences ({divergences})");
     }
 }

@@ -10,7 +10,7 @@ use diagnose::{CanMode, EventKind, WriteOutcome as RecOutcome};
 use regmap::{Access, Mode, Target};
 use sja1000::{NodeEvent, Sja1000, WriteOutcome};
 
-use crate::compare::Reference;
+use crate::compare::{IR_ADDR, RefView, Reference, SR_ADDR};
 use crate::dut::{CanPins, Dut, HostPort};
 
 /// The model's write verdict as record data.
@@ -166,9 +166,18 @@ impl Dut for ModelDut {
 }
 
 /// The golden model as the reference of a lockstep run.
+///
+/// [`Reference::step`] answers from a cache of what the comparator looks
+/// at (pins, field, SR, IR, journal): between two time-quantum boundaries
+/// a CAN clock only counts (and moves CLKOUT), so the cache is recomputed
+/// at each boundary and after every host access, reset or adoption, and
+/// is always what the uncached methods would return.
 #[derive(Debug)]
 pub struct ModelRef {
     m: Sja1000,
+    view: RefView,
+    /// Something other than a clock changed the model: recompute `view`.
+    stale: bool,
 }
 
 impl Default for ModelRef {
@@ -182,7 +191,23 @@ impl ModelRef {
     pub fn new() -> ModelRef {
         let mut m = Sja1000::new();
         m.set_journal(true);
-        ModelRef { m }
+        ModelRef {
+            m,
+            view: RefView::default(),
+            stale: true,
+        }
+    }
+
+    /// Recomputes the cached view from the model.
+    fn observe(&mut self) {
+        self.view = RefView {
+            pins: pins_of(&self.m),
+            field: Some(self.m.engine().field()),
+            sr: self.m.peek(SR_ADDR),
+            ir: self.m.peek(IR_ADDR),
+            events: self.m.journal_pending(),
+        };
+        self.stale = false;
     }
 
     /// The model inside.
@@ -212,13 +237,17 @@ impl Reference for ModelRef {
         "golden model (sja1000)".into()
     }
     fn hard_reset(&mut self) {
+        self.stale = true;
         self.m.hard_reset();
         self.m.set_journal(true);
     }
     fn write(&mut self, addr: u8, data: u8) -> Option<RecOutcome> {
+        self.stale = true;
         Some(outcome_record(self.m.write(addr, data)))
     }
     fn read(&mut self, addr: u8) -> u8 {
+        // Reads have side effects (IR, the receive buffer's status).
+        self.stale = true;
         self.m.read(addr)
     }
     fn peek(&self, addr: u8) -> u8 {
@@ -226,13 +255,31 @@ impl Reference for ModelRef {
     }
     #[inline]
     fn clock(&mut self, rx: bool) {
+        self.stale = true;
         self.m.clock(rx);
     }
+    #[inline]
+    fn step(&mut self, rx: bool) -> RefView {
+        // `Engine::clock` does nothing but count unless this clock ends a
+        // time quantum (`clocks_to_next_tq() == 1`); events only come from
+        // a quantum's work or a host access. So outside a boundary only
+        // CLKOUT can move.
+        let boundary = self.m.engine().clocks_to_next_tq() <= 1;
+        self.m.clock(rx);
+        if boundary || self.stale {
+            self.observe();
+        } else {
+            self.view.pins.clkout = self.m.clkout();
+        }
+        self.view
+    }
     fn adopt_counters(&mut self, tec: Option<u8>, rec: Option<u8>) -> bool {
+        self.stale = true;
         self.m.adopt_counters(tec, rec);
         true
     }
     fn adopt_register(&mut self, addr: u8, value: u8) -> bool {
+        self.stale = true;
         self.m.adopt_register(addr, value)
     }
     fn pins(&self) -> CanPins {
@@ -260,6 +307,7 @@ impl Reference for ModelRef {
         if !self.m.journal_pending() {
             return;
         }
+        self.view.events = false;
         let field = self.m.engine().field();
         for e in self.m.take_journal() {
             out.push(match e {
@@ -279,5 +327,110 @@ impl Reference for ModelRef {
                 NodeEvent::ResetMode(_) | NodeEvent::Sleep(_) => continue,
             });
         }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// What `step` must return: the uncached answers after a plain clock.
+    fn uncached(m: &Sja1000) -> RefView {
+        RefView {
+            pins: pins_of(m),
+            field: Some(m.engine().field()),
+            sr: m.peek(SR_ADDR),
+            ir: m.peek(IR_ADDR),
+            events: m.journal_pending(),
+        }
+    }
+
+    /// The cached view of `ModelRef::step` is, at every clock, what the
+    /// model says uncached: self-test frames looped back with glitches on
+    /// rx (errors, error frames, retransmissions), host reads and writes
+    /// between clocks, bit timing changes and a hard reset.
+    #[test]
+    fn step_view_is_always_the_uncached_view() {
+        let mut r = ModelRef::new();
+        let mut plain = Sja1000::new();
+        plain.set_journal(true);
+        let mut seed = 0x2545_F491_4F6C_DD1Du64;
+        let mut rnd = move |n: u64| {
+            seed ^= seed << 13;
+            seed ^= seed >> 7;
+            seed ^= seed << 17;
+            seed % n
+        };
+        let config: &[(u8, u8)] = &[
+            (0, 0x01),
+            (31, 0xC8),
+            (0, 0x01),
+            (6, 0x41),
+            (7, 0x25),
+            (20, 0xFF),
+            (21, 0xFF),
+            (22, 0xFF),
+            (23, 0xFF),
+            (4, 0xFF),
+            (0, 0x04),
+        ];
+        let both_write = |r: &mut ModelRef, p: &mut Sja1000, a: u8, d: u8| {
+            assert_eq!(Reference::write(r, a, d), Some(outcome_record(p.write(a, d))));
+        };
+        for &(a, d) in config {
+            both_write(&mut r, &mut plain, a, d);
+        }
+        let (mut ev_a, mut ev_b) = (Vec::new(), Vec::new());
+        let mut events = 0;
+        for clk in 0..400_000u64 {
+            if clk % 6_000 == 100 {
+                // A frame with self reception.
+                both_write(&mut r, &mut plain, 16, 0x08);
+                for a in 17..27 {
+                    let d = rnd(256) as u8;
+                    both_write(&mut r, &mut plain, a, d);
+                }
+                both_write(&mut r, &mut plain, 1, 0x10);
+            }
+            if rnd(3_000) == 0 {
+                let a = [2, 3, 11, 12, 14, 15, 29][rnd(7) as usize];
+                assert_eq!(Reference::read(&mut r, a), plain.read(a));
+            }
+            if rnd(40_000) == 0 {
+                both_write(&mut r, &mut plain, 1, 0x04);
+            }
+            if clk == 200_000 {
+                Reference::hard_reset(&mut r);
+                plain.hard_reset();
+                plain.set_journal(true);
+                for &(a, d) in config {
+                    both_write(&mut r, &mut plain, a, d);
+                }
+                // Another bit timing: 3 clocks per quantum.
+                both_write(&mut r, &mut plain, 0, 0x01);
+                both_write(&mut r, &mut plain, 6, 0x02);
+                both_write(&mut r, &mut plain, 0, 0x04);
+            }
+            let rx = plain.tx() ^ (rnd(2_500) == 0);
+            let v = r.step(rx);
+            plain.clock(rx);
+            assert_eq!(v, uncached(&plain), "clock {clk}");
+            if v.events {
+                r.drain_events(&mut ev_a);
+                // The same journal, translated the same way.
+                let mut twin = ModelRef {
+                    m: std::mem::replace(&mut plain, Sja1000::new()),
+                    view: RefView::default(),
+                    stale: true,
+                };
+                twin.drain_events(&mut ev_b);
+                plain = twin.m;
+                assert_eq!(ev_a, ev_b, "clock {clk}");
+                events += ev_a.len();
+                ev_a.clear();
+                ev_b.clear();
+            }
+        }
+        assert!(events > 50, "the run made events ({events})");
     }
 }

@@ -845,9 +845,11 @@ impl Testbench {
         let level = self.bus_level;
         let sample = self.bitclock.clock(level);
         self.sample_now = sample;
-        if let Some(r) = &mut self.reference {
-            r.clock(self.dut_rx);
-        }
+        // Everything read from the reference this clock, in one call.
+        let view = match &mut self.reference {
+            Some(r) => Some(r.step(self.dut_rx)),
+            None => None,
+        };
         let bit = self.bitclock.bits();
         if sample {
             for e in self.decoder.push(level) {
@@ -861,8 +863,8 @@ impl Testbench {
             }
             if !self.stopped {
                 let dut_tx = self.dut_pins.tx;
-                let (model_tx, mfield) = match &self.reference {
-                    Some(r) => (r.pins().tx, r.field()),
+                let (model_tx, mfield) = match &view {
+                    Some(v) => (v.pins.tx, v.field),
                     None => (dut_tx, None),
                 };
                 self.record.push_bit(
@@ -883,7 +885,9 @@ impl Testbench {
                 );
             }
         }
-        if let Some(r) = &mut self.reference {
+        if let Some(r) = &mut self.reference
+            && view.is_some_and(|v| v.events)
+        {
             r.drain_events(&mut self.events);
             if !self.events.is_empty() {
                 let counters = r.counters();
@@ -912,27 +916,20 @@ impl Testbench {
                 }
             }
         }
-        if let (Some(c), Some(r)) = (&mut self.comparator, &self.reference)
+        if let (Some(c), Some(v)) = (&mut self.comparator, &view)
             && !self.stopped
         {
             let stamp = Stamp {
                 t_ps,
                 bit,
-                field: r.field().or(self.field),
+                field: v.field.or(self.field),
                 frame: if self.frame > 0 {
                     Some(self.frame)
                 } else {
                     None
                 },
             };
-            c.can_clock(
-                stamp,
-                sample,
-                &r.pins(),
-                &self.dut_pins,
-                r.peek(SR_ADDR),
-                r.peek(IR_ADDR),
-            );
+            c.can_clock(stamp, sample, &v.pins, &self.dut_pins, v.sr, v.ir);
             if c.halted() {
                 self.handle_divergences();
             }
