@@ -170,10 +170,27 @@ pub fn tb_config(s: &Scenario, dut: &DutKind, opts: &RunOptions) -> Result<TbCon
     let (btr0, btr1) = s.dut_timing();
     let cpb = can_proto::timing::BusTiming::from_btr(btr0, btr1).clocks_per_bit() as u64;
     let mut faults = Vec::new();
+    let mut dut_rx_faults = Vec::new();
     for f in &s.faults {
         let target = match f.target.as_str() {
-            "bus" => Target::All,
-            "dut-rx" => Target::Node(s.nodes.len()),
+            // Everyone on the bus: each model node, and the DUT through the
+            // bench's rx_i injectors (the bench gives the DUT the bus level
+            // before the bus's own injectors, so `Target::All` would not
+            // reach it; one injector per node keeps a bench that does route
+            // them from applying the fault twice).
+            "bus" => {
+                for i in 0..s.nodes.len() {
+                    faults.push(injector(f, Target::Node(i), cpb));
+                }
+                dut_rx_faults.push(injector(f, Target::Node(s.nodes.len()), cpb));
+                continue;
+            }
+            // What the DUT (and its shadow model) receive: the bench applies
+            // these on rx_i, the DUT being node index `nodes.len()` there.
+            "dut-rx" => {
+                dut_rx_faults.push(injector(f, Target::Node(s.nodes.len()), cpb));
+                continue;
+            }
             name => Target::Node(s.nodes.iter().position(|n| n.name == name).ok_or(format!("fault target `{name}` is not a node"))?),
         };
         faults.push(injector(f, target, cpb));
@@ -196,6 +213,7 @@ pub fn tb_config(s: &Scenario, dut: &DutKind, opts: &RunOptions) -> Result<TbCon
         tx_on_bus: s.tx_to_bus,
         nodes: s.nodes.iter().map(|n| NodeConfig { name: n.name.clone(), init: node_init(n) }).collect(),
         faults,
+        dut_rx_faults,
         lockstep: Some((ReferenceChoice::Model, cosim::CompareConfig::default())),
         vcd: opts.vcd.clone(),
         keep_bits: s.keep_bits,
@@ -268,7 +286,11 @@ fn play(tb: &mut Testbench, s: &Scenario, traffic: &mut Vec<(u64, usize, can_pro
                 let start = tb.bits();
                 loop {
                     fire_traffic(tb, traffic);
-                    match tb.wait_sr(mask, *set, 64.min(*timeout_bits)) {
+                    // Poll in slices that end where the next node frame is
+                    // due, so node traffic starts at its `at_bit`.
+                    let now = tb.bits();
+                    let due = traffic.iter().map(|t| t.0).min().unwrap_or(u64::MAX).saturating_sub(now + 1);
+                    match tb.wait_sr(mask, *set, 64.min(*timeout_bits).min(due)) {
                         Ok(_) => break,
                         Err(TbError::Timeout { .. }) if tb.bits() - start < *timeout_bits => continue,
                         Err(e) => return Err(e),
