@@ -106,7 +106,13 @@ module can_bsp (
     assign rx_id = rx_ide ? id_sr : {id_sr[10:0], 18'd0};
     wire can_tx    = req && !lom;
 
-    assign hard_en  = (st == S_IDLE) || (st == S_SUSP) || (st == S_SOF) ||
+    // Hard sync only while the bus is idle for us (CAN 2.0B 9.2.4 rule 3).
+    // S_SOF: a request decided at the last sample point; until our SOF is
+    // on the wire another node's SOF edge hard-synchronises us (and starts
+    // our SOF with it). Once we drive the SOF, its edge (in SYNC_SEG) was
+    // the one synchronisation of the bit (rule 1): a later edge before the
+    // sample point is a positive phase error of a dominant sender, ignored.
+    assign hard_en  = (st == S_IDLE) || (st == S_SUSP) || ((st == S_SOF) && tx_cur) ||
                       (st == S_INTEG) || (st == S_BUSOFF) ||
                       ((st == S_INTER) && (cnt == 6'd2));
     assign bus_idle = (st == S_IDLE);
