@@ -359,6 +359,11 @@ pub struct Bus {
     tracker: Tracker,
     ledger: Vec<Entry>,
     accounting: bool,
+    /// Run [`Bus::check_accounting`] when the bus is dropped (see [`Drop`]).
+    check_on_drop: bool,
+    /// Longest bit time (clocks) the bus has run with: the accounting's
+    /// matching window, whatever node 0's timing is when it is checked.
+    max_cpb: u64,
     external: bool,
     last_ctx: BusContext,
 }
@@ -386,6 +391,8 @@ impl Bus {
             },
             ledger: Vec::new(),
             accounting: true,
+            check_on_drop: true,
+            max_cpb: 1,
             external: false,
             last_ctx: BusContext::default(),
         }
@@ -459,12 +466,40 @@ impl Bus {
 
     /// Turns the journal and the accounting check on or off (the
     /// benchmark turns it off; every test keeps it on).
+    /// Turning it on after nodes were added records where each node is
+    /// now (reset mode, asleep, bus-off), so the check starts from there.
     pub fn set_accounting(&mut self, on: bool) {
+        if on && !self.accounting {
+            self.ledger = self.node_states();
+        }
         self.accounting = on;
         self.tracker.record = on;
         for n in &mut self.nodes {
             n.set_journal(on);
         }
+    }
+
+    /// Journal entries stating where every node is now.
+    fn node_states(&self) -> Vec<Entry> {
+        let mut v = vec![];
+        for (r, n) in self.nodes.iter().enumerate() {
+            let at = |event| Entry { clock: self.clock, node: r, event };
+            v.push(at(NodeEvent::ResetMode(n.in_reset_mode())));
+            if n.is_sleeping() {
+                v.push(at(NodeEvent::Sleep(true)));
+            }
+            if n.bus_off() {
+                v.push(at(NodeEvent::FaultState(FaultState::BusOff)));
+            }
+        }
+        v
+    }
+
+    /// Whether dropping the bus runs the accounting check (default on; see
+    /// the [`Drop`] impl). Turn it off only in a test that loses a frame on
+    /// purpose and checks [`Bus::check_accounting`] itself.
+    pub fn set_check_on_drop(&mut self, on: bool) {
+        self.check_on_drop = on;
     }
 
     /// The current wired-AND level (before faults).
@@ -543,6 +578,7 @@ impl Bus {
         }
         self.level = level;
         let cpb = self.clocks_per_bit() as u64;
+        self.max_cpb = self.max_cpb.max(cpb);
         self.tracker.step(self.clock, level, 1, cpb);
         let sub = ((self.clock - self.tracker.start) % cpb) as u32;
         let ctx = self.context(sub);
@@ -588,6 +624,7 @@ impl Bus {
             return;
         }
         let cpb = self.clocks_per_bit() as u64;
+        self.max_cpb = self.max_cpb.max(cpb);
         if self.faults.is_empty() && !self.accounting {
             // The hot loop: no fault to apply, no journal to collect.
             let mut level = self.level;
@@ -612,6 +649,7 @@ impl Bus {
     pub fn run_until(&mut self, max_bits: u64, mut done: impl FnMut(&mut Bus) -> bool) -> bool {
         let fast = self.fast_path_ok();
         let cpb = self.clocks_per_bit() as u64;
+        self.max_cpb = self.max_cpb.max(cpb);
         for _ in 0..max_bits {
             if done(self) {
                 return true;
@@ -676,8 +714,15 @@ impl Bus {
     /// error frame that node signalled; every frame a node received was
     /// sent by someone (or is a double reception explained by an error
     /// frame, or came from an external participant).
+    ///
+    /// Its time windows are in the longest bit time the bus has run with
+    /// (not node 0's current one: a reset or a BTR write changes that).
     pub fn check_accounting(&self) -> Result<Accounting, AccountingError> {
-        let cpb = self.clocks_per_bit() as u64;
+        let cpb = self
+            .nodes
+            .iter()
+            .map(|n| n.engine().timing().clocks_per_bit() as u64)
+            .fold(self.max_cpb, u64::max);
         let max_delay = self.delays.iter().copied().max().unwrap_or(0) as u64 * 2;
         let window = 4 * cpb + max_delay;
         let mut acc = Accounting::default();
@@ -773,33 +818,18 @@ impl Bus {
         Ok(acc)
     }
 
+    /// The accounting check, once, at the end of a run: the totals, or the
+    /// first frame it cannot explain. The bus is consumed, so its [`Drop`]
+    /// check does not run again.
+    pub fn finish(mut self) -> Result<Accounting, AccountingError> {
+        self.check_on_drop = false;
+        self.check_accounting()
+    }
+
     /// Forgets the journal so far (long runs: check, then clear). Node
     /// states are carried over so later checks still know who is off the bus.
     pub fn clear_accounting(&mut self) {
-        let mut carry = vec![];
-        for r in 0..self.nodes.len() {
-            let n = &self.nodes[r];
-            carry.push(Entry {
-                clock: self.clock,
-                node: r,
-                event: NodeEvent::ResetMode(n.in_reset_mode()),
-            });
-            if n.is_sleeping() {
-                carry.push(Entry {
-                    clock: self.clock,
-                    node: r,
-                    event: NodeEvent::Sleep(true),
-                });
-            }
-            if n.bus_off() {
-                carry.push(Entry {
-                    clock: self.clock,
-                    node: r,
-                    event: NodeEvent::FaultState(FaultState::BusOff),
-                });
-            }
-        }
-        self.ledger = carry;
+        self.ledger = self.node_states();
         let last = self.tracker.starts.last().copied();
         self.tracker.starts.clear();
         self.tracker.starts.extend(last);
@@ -832,5 +862,25 @@ impl Bus {
             .iter()
             .take_while(|x| x.clock <= to)
             .any(|x| x.node == r && matches!(x.event, NodeEvent::BusError { .. }))
+    }
+}
+
+/// Every run with the journal on ends with the accounting check (issue 8
+/// item 4): a test cannot forget it. A bus whose accounting is on and that
+/// is dropped with a frame the check cannot explain panics with the
+/// [`AccountingError`] (unless the thread is already panicking, so the
+/// first failure is the one reported). Buses with accounting off (the
+/// benchmark, the co-simulation test bench) skip it.
+impl Drop for Bus {
+    fn drop(&mut self) {
+        if !self.accounting || !self.check_on_drop || std::thread::panicking() {
+            return;
+        }
+        if let Err(e) = self.check_accounting() {
+            panic!(
+                "accounting check when the bus was dropped: {e} \
+                 (a test that loses a frame on purpose calls Bus::set_check_on_drop(false))"
+            );
+        }
     }
 }

@@ -898,4 +898,79 @@ fn accounting_reports_a_deaf_node() {
         }) => {}
         other => panic!("expected a lost delivery to node 2, got {other:?}"),
     }
+    // Lost on purpose: the end-of-run check would report it again.
+    bus.set_check_on_drop(false);
+}
+
+/// A bus with a deaf node, as above.
+fn bus_with_deaf_node() -> Bus {
+    let cfg = Config::pelican();
+    let mut bus = bus_of(&[cfg, cfg, cfg]);
+    bus.run_bits(20);
+    let cpb = bus.clocks_per_bit() as u64;
+    let now = bus.clocks();
+    bus.add_fault(StuckAt {
+        level: RECESSIVE,
+        target: Target::Node(2),
+        from: now,
+        until: Some(now + 200 * cpb),
+    });
+    host::transmit(bus.node_mut(0), &std_frame(0x321, &[9]), peli::cmr::TR).unwrap();
+    bus.run_bits(300);
+    bus
+}
+
+/// The accounting check runs by itself at the end of every test: a test
+/// that loses a frame and never calls `check_accounting` still fails when
+/// its bus is dropped.
+#[test]
+#[should_panic(expected = "never reached node 2")]
+fn lost_frame_fails_the_test_without_an_explicit_check() {
+    let bus = bus_with_deaf_node();
+    drop(bus);
+}
+
+/// `Bus::finish` reports the loss as a value and disarms the drop check.
+#[test]
+fn finish_returns_the_loss_and_disarms_the_drop_check() {
+    use sja1000::bus::AccountingError;
+    let bus = bus_with_deaf_node();
+    assert!(matches!(
+        bus.finish(),
+        Err(AccountingError::Lost { sender: 0, receiver: 2, .. })
+    ));
+    // and a clean run finishes with its totals
+    let cfg = Config::pelican();
+    let mut bus = bus_of(&[cfg, cfg, cfg]);
+    host::transmit(bus.node_mut(0), &std_frame(0x321, &[9]), peli::cmr::TR).unwrap();
+    bus.run_bits(300);
+    let acc = bus.finish().unwrap();
+    assert_eq!((acc.sent, acc.deliveries, acc.stored), (1, 2, 2));
+}
+
+/// A panicking test reports its own failure, not the accounting's.
+#[test]
+#[should_panic(expected = "the test's own failure")]
+fn drop_check_does_not_mask_an_earlier_panic() {
+    let _bus = bus_with_deaf_node();
+    panic!("the test's own failure");
+}
+
+/// Found by `fuzz_host`: the accounting matched a reception with its
+/// sender's completion within a window of node 0's *current* bit time; a
+/// hardware reset of node 0 just after it sent a frame (BTR back to 0: 6
+/// clocks per bit instead of 40) shrank the window and the delivered
+/// frame was reported lost. The window now uses the longest bit time run.
+#[test]
+fn accounting_window_survives_a_timing_change_of_node_0() {
+    let cfg = Config::basic(0, 0xFF);
+    let mut bus = bus_of(&[cfg, cfg]);
+    let cpb = bus.clocks_per_bit();
+    host::transmit(bus.node_mut(0), &std_frame(0, &[]), basic::cmr::TR).unwrap();
+    assert!(bus.run_until(200, |b| b.node(0).peek(basic::SR) & basic::sr::TCS != 0));
+    bus.node_mut(0).hard_reset();
+    assert!(bus.clocks_per_bit() < cpb, "node 0's bit time changed");
+    bus.run_bits(100);
+    let acc = bus.check_accounting().unwrap();
+    assert_eq!((acc.sent, acc.stored), (1, 1));
 }
