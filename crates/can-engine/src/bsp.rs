@@ -834,6 +834,12 @@ impl Bsp {
 
     /// A recessive-to-dominant edge now would be a start of frame.
     #[inline]
+    /// A transmission decided at the last sample point whose SOF bit has
+    /// not been sampled yet (the BTL drives it from the next bit start).
+    pub(crate) fn sof_pending(&self) -> bool {
+        self.phase == Phase::Stuffed && self.role_tx && self.fld == Field::Sof
+    }
+
     pub(crate) fn hard_sync_allowed(&self) -> bool {
         match self.phase {
             Phase::Idle

@@ -105,6 +105,16 @@ impl Btl {
         self.synced = false;
     }
 
+    /// Starts from scratch as after reset mode: prescaler at zero, a fresh
+    /// bit on the next clock, the bus taken as recessive since the last
+    /// look and at the last sample point (an edge at the first look counts).
+    pub(crate) fn restart_idle(&mut self) {
+        self.restart();
+        self.prev_rx = true;
+        self.hist = 7;
+        self.last_sample = true;
+    }
+
     /// CAN clocks until the next time-quantum boundary (1 = the next clock
     /// is one); lets a kernel skip clocks in which nothing can happen.
     pub(crate) fn clocks_to_next_tq(&self) -> u32 {

@@ -207,9 +207,16 @@ impl Engine {
     /// Leaving it starts bus integration (11 recessive bits), or while
     /// bus-off the recovery count (128 x 11 recessive bits).
     pub fn set_reset_mode(&mut self, on: bool) {
+        let leaving = !on && self.bsp.reset_mode;
         self.bsp.set_reset_mode(on);
         if on {
             self.tx_out = RECESSIVE;
+        }
+        if leaving {
+            // The bit timing logic stands still in reset mode: its
+            // prescaler starts from zero when the mode is left, so the time
+            // quanta line up with that instant (as in rtl/can_btl.v).
+            self.btl.restart_idle();
         }
     }
 
@@ -255,7 +262,11 @@ impl Engine {
             self.tx_out = RECESSIVE;
             return RECESSIVE;
         }
-        let hard = self.bsp.hard_sync_allowed();
+        // Until our own SOF is on the wire the bus is idle for us: another
+        // node's SOF edge hard-synchronises (CAN 2.0B §9.2.4 rule 3) and
+        // starts our SOF with it. Once we drive it, its edge was the bit's
+        // one synchronisation (rule 1).
+        let hard = self.bsp.hard_sync_allowed() || (self.tx_out == RECESSIVE && self.bsp.sof_pending());
         match self.btl.tq(rx, hard, !self.tx_out) {
             Tq::Quiet => {}
             Tq::Sample(v) => {
