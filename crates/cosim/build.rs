@@ -219,7 +219,7 @@ fn main() {
         let p = shimgen::symbol_prefix(name);
         let _ = writeln!(
             rs,
-            "    fn {p}new(trace: i32) -> *mut c_void;\n    fn {p}delete(h: *mut c_void);\n    fn {p}eval(h: *mut c_void);\n    fn {p}ports(h: *mut c_void, out: *mut *const c_void) -> u32;\n    fn {p}trace_open(h: *mut c_void, path: *const c_char) -> i32;\n    fn {p}trace_dump(h: *mut c_void, t: u64);\n    fn {p}trace_close(h: *mut c_void);"
+            "    fn {p}new(trace: i32) -> *mut c_void;\n    fn {p}delete(h: *mut c_void);\n    fn {p}eval(h: *mut c_void);\n    fn {p}run(h: *mut c_void, b: *const c_void) -> u32;\n    fn {p}ports(h: *mut c_void, out: *mut *const c_void) -> u32;\n    fn {p}trace_open(h: *mut c_void, path: *const c_char) -> i32;\n    fn {p}trace_dump(h: *mut c_void, t: u64);\n    fn {p}trace_close(h: *mut c_void);"
         );
     }
     rs.push_str("}\n\n/// The tops compiled into this crate.\npub(crate) static BUNDLED: &[(&str, VTable)] = &[\n");
@@ -227,7 +227,7 @@ fn main() {
         let p = shimgen::symbol_prefix(name);
         let _ = writeln!(
             rs,
-            "    (\"{name}\", VTable {{ new: {p}new, delete: {p}delete, eval: {p}eval, ports: {p}ports, trace_open: {p}trace_open, trace_dump: {p}trace_dump, trace_close: {p}trace_close }}),"
+            "    (\"{name}\", VTable {{ new: {p}new, delete: {p}delete, eval: {p}eval, run: {p}run, ports: {p}ports, trace_open: {p}trace_open, trace_dump: {p}trace_dump, trace_close: {p}trace_close }}),"
         );
     }
     rs.push_str("];\n");

@@ -46,6 +46,21 @@ impl CosimHost {
         })
     }
 
+    /// Turns the test bench's batches off or on ([`Testbench::set_batching`]).
+    pub fn set_batching(&mut self, on: bool) {
+        self.tb.set_batching(on);
+    }
+
+    /// The run record so far (for comparing two runs).
+    pub fn record(&mut self) -> diagnose::RunRecord {
+        self.tb.record()
+    }
+
+    /// Host clock cycles simulated so far.
+    pub fn host_cycles(&self) -> u64 {
+        self.tb.host_cycles()
+    }
+
     /// CAN clock cycles simulated so far.
     pub fn cycles(&self) -> u64 {
         self.tb.can_cycles()
@@ -77,7 +92,19 @@ pub fn selftest(
     lockstep: bool,
     host_hz: u64,
 ) -> Result<(SelfTestOutcome, u64), BenchError> {
+    selftest_batching(frames, seed, lockstep, host_hz, true)
+}
+
+/// As [`selftest`], with the test bench's batches on or off.
+pub fn selftest_batching(
+    frames: u64,
+    seed: u64,
+    lockstep: bool,
+    host_hz: u64,
+    batching: bool,
+) -> Result<(SelfTestOutcome, u64), BenchError> {
     let mut h = CosimHost::with_host_clock(lockstep, host_hz)?;
+    h.set_batching(batching);
     let out = crate::workload::run(&mut h, frames, seed)?;
     Ok((out, h.cycles()))
 }

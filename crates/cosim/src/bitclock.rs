@@ -13,23 +13,32 @@ pub struct BitClock {
     count: u32,
     prev: bool,
     bits: u64,
+    /// `sample_clock()` and `clocks_per_bit()` of `timing`, kept (asked every clock).
+    sample_at: u32,
+    per_bit: u32,
 }
 
 impl BitClock {
     /// A bit clock for `timing`, bus idle (recessive).
     pub fn new(timing: BusTiming) -> BitClock {
-        BitClock {
+        let mut c = BitClock {
             timing,
             count: 0,
             prev: true,
             bits: 0,
-        }
+            sample_at: 0,
+            per_bit: 0,
+        };
+        c.set_timing(timing);
+        c
     }
 
     /// Changes the timing (the host wrote BTR0/BTR1).
     pub fn set_timing(&mut self, timing: BusTiming) {
         self.timing = timing;
         self.count = 0;
+        self.sample_at = self.sample_clock();
+        self.per_bit = self.clocks_per_bit();
     }
 
     /// The timing in use.
@@ -65,9 +74,9 @@ impl BitClock {
             self.count = 0;
         }
         self.prev = level;
-        let sample = self.count == self.sample_clock();
+        let sample = self.count == self.sample_at;
         self.count += 1;
-        if self.count >= self.clocks_per_bit() {
+        if self.count >= self.per_bit {
             self.count = 0;
         }
         if sample {

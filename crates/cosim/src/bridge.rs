@@ -19,6 +19,8 @@ pub(crate) struct VTable {
     pub(crate) new: unsafe extern "C" fn(i32) -> *mut c_void,
     pub(crate) delete: unsafe extern "C" fn(*mut c_void),
     pub(crate) eval: unsafe extern "C" fn(*mut c_void),
+    /// Runs a [`Batch`] (its address), returns the instants made.
+    pub(crate) run: unsafe extern "C" fn(*mut c_void, *const c_void) -> u32,
     pub(crate) ports: unsafe extern "C" fn(*mut c_void, *mut *const c_void) -> u32,
     pub(crate) trace_open: unsafe extern "C" fn(*mut c_void, *const c_char) -> i32,
     pub(crate) trace_dump: unsafe extern "C" fn(*mut c_void, u64),
@@ -154,6 +156,49 @@ pub struct Port {
 }
 
 static NEXT_MODEL_ID: AtomicU64 = AtomicU64::new(1);
+
+/// The ports a batch drives and watches (all of one model, 8 bits or fewer).
+#[derive(Clone, Copy, Debug)]
+pub(crate) struct BatchPins {
+    pub(crate) host_clk: Port,
+    pub(crate) can_clk: Port,
+    pub(crate) rx: Port,
+    pub(crate) tx: Port,
+    pub(crate) irq: Port,
+    pub(crate) bus_off: Port,
+    pub(crate) clkout: Port,
+    pub(crate) ack: Port,
+    pub(crate) dat: Port,
+}
+
+/// Several instants in one foreign call, for stretches in which nothing
+/// but the two clocks and the DUT's own tx drive its inputs (the host
+/// master idle, no other node, no fault on rx). Per instant `k`,
+/// `levels[k]` has bit 0 the host clock level, bit 1 the CAN clock level,
+/// bit 2 "the CAN clock rises": then `rx` takes `rx_mode` (0 or 1), or
+/// `tx` (2), before the eval.
+/// After the eval, `out[k]` gets bit 0 `tx`, bit 1 `irq`, bit 2 `bus_off`,
+/// bit 3 `clkout` (nonzero = 1). The call returns after an instant whose
+/// `ack` or `dat` differs from before the call, or whose `irq` equals
+/// `stop_irq` (2: never), so the caller can replay every instant's
+/// outputs exactly. Layout shared with the generated shim.
+#[repr(C)]
+struct Batch {
+    host_clk: *mut u8,
+    can_clk: *mut u8,
+    rx: *mut u8,
+    tx: *const u8,
+    irq: *const u8,
+    bus_off: *const u8,
+    clkout: *const u8,
+    ack: *const u8,
+    dat: *const u8,
+    levels: *const u8,
+    out: *mut u8,
+    n: u32,
+    rx_mode: u8,
+    stop_irq: u8,
+}
 
 /// One instance of a Verilated top. Not `Send`: Verilator models belong to
 /// the thread that made them; run several on several threads.
@@ -358,6 +403,44 @@ impl Model {
     pub fn eval(&mut self) {
         // SAFETY: handle is live.
         unsafe { (self.vt.eval)(self.handle) }
+    }
+
+    /// Makes `levels.len()` instants in one foreign call (see [`Batch`];
+    /// `rx`: the level `rx` takes at each CAN rising edge, `None`: `tx`);
+    /// returns how many were made (it stops early after an instant that
+    /// changed `ack` or `dat`, or whose `irq` equals `stop_irq`).
+    ///
+    /// # Safety
+    /// Every port of `pins` belongs to this model and is 8 bits or fewer;
+    /// `out` is at least as long as `levels`.
+    pub(crate) unsafe fn run_batch(
+        &mut self,
+        pins: &BatchPins,
+        levels: &[u8],
+        out: &mut [u8],
+        rx: Option<bool>,
+        stop_irq: Option<bool>,
+    ) -> usize {
+        debug_assert!(out.len() >= levels.len());
+        let b = Batch {
+            host_clk: pins.host_clk.ptr,
+            can_clk: pins.can_clk.ptr,
+            rx: pins.rx.ptr,
+            tx: pins.tx.ptr,
+            irq: pins.irq.ptr,
+            bus_off: pins.bus_off.ptr,
+            clkout: pins.clkout.ptr,
+            ack: pins.ack.ptr,
+            dat: pins.dat.ptr,
+            levels: levels.as_ptr(),
+            out: out.as_mut_ptr(),
+            n: levels.len() as u32,
+            rx_mode: rx.map_or(2, |v| v as u8),
+            stop_irq: stop_irq.map_or(2, |v| v as u8),
+        };
+        // SAFETY: handle is live; the batch's pointers are this model's
+        // byte-sized ports (caller's contract) and the two buffers.
+        unsafe { (self.vt.run)(self.handle, &b as *const Batch as *const c_void) as usize }
     }
 
     /// Starts Verilator's VCD trace of every signal of the design.
@@ -735,6 +818,7 @@ impl ExternalCore {
             new: sym!("new", unsafe extern "C" fn(i32) -> *mut c_void),
             delete: sym!("delete", unsafe extern "C" fn(*mut c_void)),
             eval: sym!("eval", unsafe extern "C" fn(*mut c_void)),
+            run: sym!("run", unsafe extern "C" fn(*mut c_void, *const c_void) -> u32),
             ports: sym!(
                 "ports",
                 unsafe extern "C" fn(*mut c_void, *mut *const c_void) -> u32

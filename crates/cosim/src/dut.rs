@@ -9,7 +9,7 @@ use std::path::Path;
 
 use bfm::{AvMasterOut, AvSlaveOut, WbMasterOut, WbSlaveOut};
 
-use crate::bridge::{BridgeError, Model, Port};
+use crate::bridge::{BatchPins, BridgeError, Model, Port};
 
 /// Which host interface a DUT has natively.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -126,9 +126,11 @@ struct OutCache {
 }
 
 impl VerilatedDut {
-    /// Reads every output pin into the cache (after each eval).
+    /// Reads every output pin into the cache (after each eval); returns
+    /// the CAN-side pins (from registers: the caller need not read back
+    /// the cache it just wrote, byte by byte).
     #[inline]
-    fn refresh(&mut self) {
+    fn refresh(&mut self) -> CanPins {
         let m = &self.m;
         // Every port was bound from this model with a width of 1 or 8 (see
         // `new`); `model()` could have swapped the model: `eval` checks.
@@ -136,12 +138,13 @@ impl VerilatedDut {
         // SAFETY: ports of `m`, 8 bits or fewer (checked above and at bind).
         let get = |p: Port| unsafe { m.get_u8_unchecked(p) };
         let irq = get(self.irq) != 0;
-        self.out.can = CanPins {
+        let can = CanPins {
             tx: get(self.tx) != 0,
             irq_n: if self.irq_active_high { !irq } else { irq },
             bus_on: get(self.bus_off_on) != 0,
             clkout: get(self.clkout) != 0,
         };
+        self.out.can = can;
         match &self.host {
             HostPorts::Wb(w) => {
                 self.out.wb = WbSlaveOut {
@@ -159,6 +162,88 @@ impl VerilatedDut {
                 }
             }
         }
+        can
+    }
+
+    /// Makes `levels.len()` instants in one call while only the clocks
+    /// and `rx` drive the inputs, `rx` taking at each CAN rising edge the
+    /// level given, or (`None`) the DUT's own `tx` (see `bridge::Batch` for the encodings); returns how many were
+    /// made: it stops after an instant that changed the Wishbone outputs,
+    /// or, with `stop_on_irq`, that shows an interrupt pending. `None` for
+    /// a DUT without the Wishbone port list. The output cache is left as it
+    /// was before the call: [`VerilatedDut::sync_outputs`] brings it up to date.
+    pub(crate) fn run_batch(
+        &mut self,
+        levels: &[u8],
+        out: &mut [u8],
+        rx: Option<bool>,
+        stop_on_irq: bool,
+    ) -> Option<usize> {
+        let HostPorts::Wb(w) = &self.host else {
+            return None;
+        };
+        assert!(out.len() >= levels.len());
+        let pins = BatchPins {
+            host_clk: w.clk,
+            can_clk: self.can_clk,
+            rx: self.rx,
+            tx: self.tx,
+            irq: self.irq,
+            bus_off: self.bus_off_on,
+            clkout: self.clkout,
+            ack: w.ack,
+            dat: w.dat_o,
+        };
+        assert!(
+            self.m.owns(w.clk) && self.m.owns(self.tx),
+            "VerilatedDut: the model was replaced"
+        );
+        // An interrupt pending is `irq_n` low.
+        let stop = stop_on_irq.then_some(self.irq_active_high);
+        // SAFETY: every port above was bound from this model in `new` with
+        // a width of 1 or 8; `out` is long enough (asserted).
+        Some(unsafe { self.m.run_batch(&pins, levels, out, rx, stop) })
+    }
+
+    /// The CAN-side pins of one `out` byte of [`VerilatedDut::run_batch`]
+    /// (`irq_active_high`: [`VerilatedDut::irq_active_high`]).
+    #[inline]
+    pub(crate) fn batch_pins(o: u8, irq_active_high: bool) -> CanPins {
+        let irq = o & 2 != 0;
+        CanPins {
+            tx: o & 1 != 0,
+            irq_n: if irq_active_high { !irq } else { irq },
+            bus_on: o & 4 != 0,
+            clkout: o & 8 != 0,
+        }
+    }
+
+    /// The top's interrupt output is active high (`can_avalon`'s `irq`).
+    pub(crate) fn irq_active_high(&self) -> bool {
+        self.irq_active_high
+    }
+
+    /// Reads every output into the cache (after a batch).
+    pub(crate) fn sync_outputs(&mut self) {
+        let _ = self.refresh();
+    }
+
+    /// [`Dut::eval`], returning the CAN-side pins after it.
+    #[inline]
+    pub fn eval_pins(&mut self, host_clk: bool, can_clk: bool) -> CanPins {
+        let hc = match &self.host {
+            HostPorts::Wb(w) => w.clk,
+            HostPorts::Av(a) => a.clk,
+        };
+        let cc = self.can_clk;
+        assert!(self.m.owns(hc), "VerilatedDut: the model was replaced");
+        // SAFETY: both clocks are 1-bit ports of this model (bound in `new`).
+        unsafe {
+            self.m.set_bit_unchecked(hc, host_clk);
+            self.m.set_bit_unchecked(cc, can_clk);
+        }
+        self.m.eval();
+        self.refresh()
     }
 
     /// Binds a model with the given host port list. Missing ports or wrong
@@ -217,7 +302,7 @@ impl VerilatedDut {
     }
 
     fn cached(mut d: VerilatedDut) -> VerilatedDut {
-        d.refresh();
+        let _ = d.refresh();
         d
     }
 
@@ -297,25 +382,83 @@ impl Dut for VerilatedDut {
     }
     #[inline]
     fn eval(&mut self, host_clk: bool, can_clk: bool) {
-        let hc = match &self.host {
-            HostPorts::Wb(w) => w.clk,
-            HostPorts::Av(a) => a.clk,
-        };
-        let cc = self.can_clk;
-        assert!(self.m.owns(hc), "VerilatedDut: the model was replaced");
-        // SAFETY: both clocks are 1-bit ports of this model (bound in `new`).
-        unsafe {
-            self.m.set_bit_unchecked(hc, host_clk);
-            self.m.set_bit_unchecked(cc, can_clk);
-        }
-        self.m.eval();
-        self.refresh();
+        let _ = self.eval_pins(host_clk, can_clk);
     }
     fn trace_open(&mut self, path: &Path) -> Result<(), BridgeError> {
         self.m.trace_open(path)
     }
     fn trace_dump(&mut self, t_ps: u64) {
         self.m.trace_dump(t_ps);
+    }
+}
+
+/// The DUT of a test bench: a Verilated top called directly (the hot
+/// path: no dynamic dispatch per edge), anything else through [`Dut`].
+/// Dereferences to `dyn Dut` for everything off the hot path.
+pub enum AnyDut {
+    /// A Verilated top.
+    Verilated(VerilatedDut),
+    /// Any other implementation.
+    Other(Box<dyn Dut>),
+}
+
+impl std::ops::Deref for AnyDut {
+    type Target = dyn Dut;
+    fn deref(&self) -> &(dyn Dut + 'static) {
+        match self {
+            AnyDut::Verilated(d) => d,
+            AnyDut::Other(d) => d.as_ref(),
+        }
+    }
+}
+
+impl std::ops::DerefMut for AnyDut {
+    fn deref_mut(&mut self) -> &mut (dyn Dut + 'static) {
+        match self {
+            AnyDut::Verilated(d) => d,
+            AnyDut::Other(d) => d.as_mut(),
+        }
+    }
+}
+
+impl AnyDut {
+    /// [`Dut::eval`] then [`Dut::can`].
+    #[inline(always)]
+    pub fn eval_pins(&mut self, host_clk: bool, can_clk: bool) -> CanPins {
+        match self {
+            AnyDut::Verilated(d) => d.eval_pins(host_clk, can_clk),
+            AnyDut::Other(d) => {
+                d.eval(host_clk, can_clk);
+                d.can()
+            }
+        }
+    }
+
+    /// [`Dut::set_rx`].
+    #[inline(always)]
+    pub fn set_rx(&mut self, rx: bool) {
+        match self {
+            AnyDut::Verilated(d) => d.set_rx(rx),
+            AnyDut::Other(d) => d.set_rx(rx),
+        }
+    }
+
+    /// [`Dut::wb`].
+    #[inline(always)]
+    pub fn wb(&self) -> WbSlaveOut {
+        match self {
+            AnyDut::Verilated(d) => d.wb(),
+            AnyDut::Other(d) => d.wb(),
+        }
+    }
+
+    /// [`Dut::set_wb`].
+    #[inline(always)]
+    pub fn set_wb(&mut self, m: &WbMasterOut) {
+        match self {
+            AnyDut::Verilated(d) => d.set_wb(m),
+            AnyDut::Other(d) => d.set_wb(m),
+        }
     }
 }
 

@@ -192,6 +192,30 @@ pub fn gen_shim(top: &str, ports: &[PortDecl], trace: bool) -> String {
         "uint32_t {p}ports(void* h, const void** out) {{ auto* i = (CosimInst_{top}*)h; *out = i->ports; return {n}u; }}",
         n = ports.len()
     );
+    // Several instants in one call while nothing but the clocks and rx
+    // drive the inputs (see `bridge::Batch`, same layout).
+    let _ = writeln!(
+        s,
+        "struct CosimBatch_{top} {{\n  uint8_t* host_clk; uint8_t* can_clk; uint8_t* rx; const uint8_t* tx; const uint8_t* irq;\n  \
+         const uint8_t* bus_off; const uint8_t* clkout; const uint8_t* ack; const uint8_t* dat;\n  \
+         const uint8_t* levels; uint8_t* out; uint32_t n; uint8_t rx_mode; uint8_t stop_irq;\n}};\n\
+         uint32_t {p}run(void* h, const void* bp) {{\n  \
+         auto* m = ((CosimInst_{top}*)h)->m;\n  \
+         const auto* b = (const CosimBatch_{top}*)bp;\n  \
+         const uint8_t ack0 = *b->ack, dat0 = *b->dat;\n  \
+         for (uint32_t k = 0; k < b->n; ++k) {{\n    \
+         const uint8_t l = b->levels[k];\n    \
+         if (l & 4) *b->rx = b->rx_mode == 2 ? *b->tx : b->rx_mode;\n    \
+         *b->host_clk = l & 1;\n    \
+         *b->can_clk = (l >> 1) & 1;\n    \
+         m->eval();\n    \
+         const uint8_t irq = *b->irq != 0;\n    \
+         b->out[k] = (uint8_t)((*b->tx != 0) | (irq << 1) | ((*b->bus_off != 0) << 2) | ((*b->clkout != 0) << 3));\n    \
+         if (*b->ack != ack0 || *b->dat != dat0 || irq == b->stop_irq) return k + 1;\n  \
+         }}\n  \
+         return b->n;\n\
+         }}"
+    );
     // trace
     if trace {
         let _ = writeln!(
