@@ -32,8 +32,8 @@ use sja1000::{Bus, BusContext, FaultInjector, Sja1000};
 use crate::bitclock::BitClock;
 use crate::bridge::{BridgeError, ExternalCore};
 use crate::compare::{Comparator, CompareConfig, IR_ADDR, Reference, SR_ADDR, Stamp};
-use crate::dut::{Dut, EchoModel, HostPort, VerilatedDut};
-use crate::kernel::{Kernel, KernelError};
+use crate::dut::{AnyDut, CanPins, EchoModel, HostPort, VerilatedDut};
+use crate::kernel::{Kernel, KernelError, Tick};
 use crate::model::{ModelDut, ModelRef};
 use crate::wave::{Wave, WaveSample};
 use waivers::{Action, CollectMode, DutInfo, Observed, Resync, Session, WaiverReport, WaiverSet};
@@ -290,7 +290,7 @@ fn rule_id(prefix: &str, r: bfm::Rule) -> String {
 /// The test bench.
 pub struct Testbench {
     kernel: Kernel,
-    dut: Box<dyn Dut>,
+    dut: AnyDut,
     dut_name: String,
     master: Master,
     host_bus: HostBus,
@@ -336,7 +336,15 @@ pub struct Testbench {
     adopt_rec_at_read: bool,
     /// When the reference takes a host access (Wishbone master only).
     ref_timing: RefTiming,
+    /// Batches allowed (see [`Testbench::set_batching`]).
+    batching: bool,
+    /// Buffers of `run_batch` (clock levels in, pins out), kept between calls.
+    batch_levels: Vec<u8>,
+    batch_out: Vec<u8>,
 }
+
+/// Instants per batch (see `Testbench::run_batch`).
+const BATCH: usize = 512;
 
 impl Testbench {
     /// Builds the DUT, the BFM, the bus and the reference, and runs the
@@ -344,24 +352,26 @@ impl Testbench {
     pub fn new(mut cfg: TbConfig) -> Result<Testbench, TbError> {
         let kernel = Kernel::new(cfg.host_hz, cfg.can_hz)?;
         let trace = cfg.dut_trace.is_some();
-        let mut dut: Box<dyn Dut> = match &cfg.dut {
-            DutChoice::Rtl => {
-                Box::new(VerilatedDut::bundled("can_top", HostPort::Wishbone, trace)?)
-            }
-            DutChoice::RtlAvalon => Box::new(VerilatedDut::bundled(
+        let mut dut = match &cfg.dut {
+            DutChoice::Rtl => AnyDut::Verilated(VerilatedDut::bundled(
+                "can_top",
+                HostPort::Wishbone,
+                trace,
+            )?),
+            DutChoice::RtlAvalon => AnyDut::Verilated(VerilatedDut::bundled(
                 "can_avalon",
                 HostPort::Avalon,
                 trace,
             )?),
             DutChoice::Bundled(top) => {
-                Box::new(VerilatedDut::bundled(top, HostPort::Wishbone, trace)?)
+                AnyDut::Verilated(VerilatedDut::bundled(top, HostPort::Wishbone, trace)?)
             }
-            DutChoice::External(core) => Box::new(VerilatedDut::new(
+            DutChoice::External(core) => AnyDut::Verilated(VerilatedDut::new(
                 core.build()?.instantiate(trace),
                 HostPort::Wishbone,
             )?),
-            DutChoice::Model => Box::new(ModelDut::new()),
-            DutChoice::Echo => Box::new(EchoModel::new()),
+            DutChoice::Model => AnyDut::Other(Box::new(ModelDut::new())),
+            DutChoice::Echo => AnyDut::Other(Box::new(EchoModel::new())),
         };
         if let Some(p) = &cfg.dut_trace {
             dut.trace_open(p)?;
@@ -534,6 +544,9 @@ impl Testbench {
             adopt_tec_at_read: false,
             adopt_rec_at_read: false,
             ref_timing,
+            batching: true,
+            batch_levels: Vec::new(),
+            batch_out: Vec::new(),
         };
         tb.dut.set_reset(true);
         tb.dut.set_rx(RECESSIVE);
@@ -542,6 +555,15 @@ impl Testbench {
             tb.tick();
         }
         Ok(tb)
+    }
+
+    /// Lets `run_can_cycles` and `wait_irq` make the instants in which only
+    /// the clocks and the DUT's own tx drive its inputs in batches inside
+    /// the Verilated model (on by default). The same instants and the same
+    /// record either way; off, every instant goes through Rust (to check
+    /// that, or to measure the difference).
+    pub fn set_batching(&mut self, on: bool) {
+        self.batching = on;
     }
 
     /// The DUT's description.
@@ -672,44 +694,61 @@ impl Testbench {
     fn tick(&mut self) {
         let t = self.kernel.advance();
         if t.can_rise {
-            let dut_tx = if self.tx_on_bus {
-                self.dut_pins.tx
-            } else {
-                RECESSIVE
-            };
-            let level = if self.bus.is_empty() {
-                dut_tx
-            } else {
-                self.bus.clock_with(dut_tx)
-            };
-            self.bus_level = level;
-            let rx = match self.rx_wiring {
-                RxWiring::Bus => {
-                    let mut rx = level;
-                    if !self.dut_faults.is_empty() {
-                        let ctx = BusContext {
-                            clock: self.can_clocks,
-                            frame: self.frame.checked_sub(1).map(u64::from),
-                            frame_bit: (self.bitclock.bits() - self.sof_bit) as u32,
-                            sub: self.bitclock.sub(),
-                            clocks_per_bit: self.bitclock.clocks_per_bit(),
-                        };
-                        let me = self.bus.len();
-                        for f in &mut self.dut_faults {
-                            rx = f.apply(&ctx, me, rx);
-                        }
-                    }
-                    rx
-                }
-                RxWiring::TiedRecessive => true,
-                RxWiring::TiedDominant => false,
-            };
-            self.dut_rx = rx;
+            let rx = self.can_rise_rx();
             self.dut.set_rx(rx);
         }
-        self.dut
-            .eval(self.kernel.host().level(), self.kernel.can().level());
-        self.dut_pins = self.dut.can();
+        let pins = self
+            .dut
+            .eval_pins(self.kernel.host().level(), self.kernel.can().level());
+        self.after_eval(t, pins);
+    }
+
+    /// At a CAN rising edge, before the DUT's eval: the bus level (wired-AND
+    /// of the DUT's tx and the model nodes, which are clocked with it) and
+    /// the DUT's rx from it; both kept for `can_edge`.
+    #[inline]
+    fn can_rise_rx(&mut self) -> bool {
+        let dut_tx = if self.tx_on_bus {
+            self.dut_pins.tx
+        } else {
+            RECESSIVE
+        };
+        let level = if self.bus.is_empty() {
+            dut_tx
+        } else {
+            self.bus.clock_with(dut_tx)
+        };
+        self.bus_level = level;
+        let rx = match self.rx_wiring {
+            RxWiring::Bus => {
+                let mut rx = level;
+                if !self.dut_faults.is_empty() {
+                    let ctx = BusContext {
+                        clock: self.can_clocks,
+                        frame: self.frame.checked_sub(1).map(u64::from),
+                        frame_bit: (self.bitclock.bits() - self.sof_bit) as u32,
+                        sub: self.bitclock.sub(),
+                        clocks_per_bit: self.bitclock.clocks_per_bit(),
+                    };
+                    let me = self.bus.len();
+                    for f in &mut self.dut_faults {
+                        rx = f.apply(&ctx, me, rx);
+                    }
+                }
+                rx
+            }
+            RxWiring::TiedRecessive => true,
+            RxWiring::TiedDominant => false,
+        };
+        self.dut_rx = rx;
+        rx
+    }
+
+    /// The rest of an instant once the DUT was evaluated: its pins `pins`
+    /// after the eval, the host edge, the CAN edge, the traces.
+    #[inline]
+    fn after_eval(&mut self, t: Tick, pins: CanPins) {
+        self.dut_pins = pins;
         if t.host_rise {
             self.host_edge();
         }
@@ -722,6 +761,108 @@ impl Testbench {
         if self.wave.is_some() {
             self.dump_wave(t.t_ps);
         }
+    }
+
+    /// How the DUT's rx is driven if the next instants can run as one
+    /// batch in the Verilated model (`Some(None)`: its own tx, looped
+    /// back; `Some(Some(level))`: tied), or `None` if they cannot: then
+    /// something besides the clocks and its own tx would drive its inputs
+    /// (a host access or reset, model nodes or faults on the bus), or an
+    /// instant needs the DUT between evals (its VCD or ours).
+    fn batch_rx(&self) -> Option<Option<bool>> {
+        if !self.batching
+            || !matches!(self.dut, AnyDut::Verilated(_))
+            || self.reset_left > 0
+            || self.tracing
+            || self.wave.is_some()
+            || !self.bus.is_empty()
+            || !self.dut_faults.is_empty()
+        {
+            return None;
+        }
+        // The master starts nothing and drives idle wires (only `op` queues).
+        match &self.master {
+            Master::Wb(m) if m.in_flight() == 0 && self.applied_wb == WbMasterOut::default() => {}
+            _ => return None,
+        }
+        Some(match self.rx_wiring {
+            RxWiring::Bus if self.tx_on_bus => None,
+            RxWiring::Bus => Some(RECESSIVE),
+            RxWiring::TiedRecessive => Some(true),
+            RxWiring::TiedDominant => Some(false),
+        })
+    }
+
+    /// Makes the next instants, up to the one with the `can_rises`-th CAN
+    /// rising edge (at most [`BATCH`]), in one call into the Verilated
+    /// model, then replays each through [`Testbench::after_eval`] with the
+    /// pins it had: the same instants, in the same order, with the same
+    /// DUT outputs as [`Testbench::tick`] would make. The model stops early
+    /// after an instant that changed its Wishbone outputs (the host edge
+    /// after it sees them) or, with `stop_on_irq`, that shows an interrupt
+    /// pending. False (nothing done) when a batch cannot run now.
+    fn run_batch(&mut self, can_rises: u64, stop_on_irq: bool) -> Result<bool, TbError> {
+        let Some(rx) = self.batch_rx() else {
+            return Ok(false);
+        };
+        if can_rises == 0 {
+            return Ok(false);
+        }
+        // The instants ahead: clock levels, and which ones the CAN clock rises at.
+        let mut k = self.kernel.clone();
+        let mut levels = std::mem::take(&mut self.batch_levels);
+        let mut out = std::mem::take(&mut self.batch_out);
+        levels.clear();
+        let mut rises = 0;
+        while levels.len() < BATCH && rises < can_rises {
+            let t = k.advance();
+            rises += t.can_rise as u64;
+            levels.push(
+                k.host().level() as u8 | (k.can().level() as u8) << 1 | (t.can_rise as u8) << 2,
+            );
+        }
+        out.resize(levels.len(), 0);
+        let AnyDut::Verilated(d) = &mut self.dut else {
+            unreachable!("batch_rx checked the DUT");
+        };
+        let active_high = d.irq_active_high();
+        let made = d
+            .run_batch(&levels, &mut out, rx, stop_on_irq)
+            .unwrap_or(0);
+        let mut result = Ok(made > 0);
+        // The master stays idle (only `op` starts anything) and, but for the
+        // last instant, the DUT's Wishbone outputs stay as they are now: once
+        // the monitor has seen these idle wires, a host edge is a no-op but
+        // for its count (see `host_edge`).
+        let s0 = self.dut.wb();
+        let quiet_wires = !(s0.ack || s0.err || s0.rty);
+        let mut quiet = quiet_wires && self.wb_mon_seen == Some((self.applied_wb, s0));
+        for (i, &o) in out[..made].iter().enumerate() {
+            let last = i + 1 == made;
+            let t = self.kernel.advance();
+            if t.can_rise {
+                let _ = self.can_rise_rx();
+            }
+            if last && let AnyDut::Verilated(d) = &mut self.dut {
+                // The host edge of the last instant may see new outputs.
+                d.sync_outputs();
+            }
+            let pins = VerilatedDut::batch_pins(o, active_high);
+            if t.host_rise && quiet && !last {
+                self.host_cycle += 1;
+                self.after_eval(Tick { host_rise: false, ..t }, pins);
+            } else {
+                self.after_eval(t, pins);
+                quiet = quiet_wires && self.wb_mon_seen == Some((self.applied_wb, s0));
+            }
+            if let Err(e) = self.check_stopped() {
+                result = Err(e);
+                break;
+            }
+        }
+        self.batch_levels = levels;
+        self.batch_out = out;
+        result
     }
 
     fn dump_wave(&mut self, t_ps: u64) {
@@ -993,8 +1134,10 @@ impl Testbench {
     pub fn run_can_cycles(&mut self, n: u64) -> Result<(), TbError> {
         let end = self.can_clocks + n;
         while self.can_clocks < end {
-            self.tick();
-            self.check_stopped()?;
+            if !self.run_batch(end - self.can_clocks, false)? {
+                self.tick();
+                self.check_stopped()?;
+            }
         }
         Ok(())
     }
@@ -1033,9 +1176,25 @@ impl Testbench {
         Ok(self.bitclock.bits() - start)
     }
 
-    /// Waits for `irq_on` to go low (interrupt pending).
+    /// Waits for `irq_on` to go low (interrupt pending). The same instants
+    /// as `run_until` with that condition, in batches when it can.
     pub fn wait_irq(&mut self, max_bits: u64) -> Result<u64, TbError> {
-        self.run_until("irq_on low (interrupt)", max_bits, |tb| !tb.dut_pins.irq_n)
+        let start = self.bitclock.bits();
+        let max_clocks = (max_bits + 1) * self.bitclock.clocks_per_bit() as u64;
+        let end = self.can_clocks + max_clocks;
+        while self.dut_pins.irq_n {
+            if self.can_clocks >= end {
+                return Err(TbError::Timeout {
+                    what: "irq_on low (interrupt)".into(),
+                    bits: max_bits,
+                });
+            }
+            if !self.run_batch(end - self.can_clocks, true)? {
+                self.tick();
+                self.check_stopped()?;
+            }
+        }
+        Ok(self.bitclock.bits() - start)
     }
 
     /// Polls SR through the host BFM until `SR & mask == value`.
