@@ -63,6 +63,9 @@ pub struct RawHost {
     pub avalon_map: Option<String>,
     /// Host cycles before an access with no ack is a timeout.
     pub timeout_cycles: Option<u32>,
+    /// Why the host wiring is the point of this scenario: a run with a
+    /// host override (`--host`) skips it with this reason.
+    pub fixed: Option<String>,
 }
 
 /// `[dut]`.

@@ -23,6 +23,8 @@
 //! bfm = "wishbone"    # | "avalon" | "pio"
 //! avalon_map = "wrapper"   # | "begintransfer-cyc" (seed 000 Tableau 3.2)
 //! timeout_cycles = 1000    # host cycles before an access without ack fails
+//! fixed = "why"       # the host wiring is this scenario's point: a run
+//!                     # with a host override (--host) skips it, saying why
 //! [dut]
 //! kind = "rtl"        # | "avalon-wrapper" | "model" | "external"
 //! path = "..."; top = "can_top"; defines = []; includes = []   # external
@@ -137,6 +139,35 @@ pub enum HostBfm {
     },
     /// Nios-style PIO bit-banging (seed 000 annexe 4).
     Pio,
+}
+
+impl HostBfm {
+    /// The host given by name on a command line: `wishbone`, `avalon` (our
+    /// Avalon-MM wrapper with the Avalon BFM) or `pio`.
+    pub fn from_name(name: &str) -> Option<HostBfm> {
+        match name.to_ascii_lowercase().as_str() {
+            "wishbone" | "wb" => Some(HostBfm::Wishbone),
+            "avalon" => Some(HostBfm::Avalon { begintransfer_cyc: false }),
+            "pio" => Some(HostBfm::Pio),
+            _ => None,
+        }
+    }
+
+    /// Short name, as `from_name` takes it (`avalon-begintransfer` for the seed 000 map).
+    pub fn name(&self) -> &'static str {
+        match self {
+            HostBfm::Wishbone => "wishbone",
+            HostBfm::Avalon { begintransfer_cyc: false } => "avalon",
+            HostBfm::Avalon { begintransfer_cyc: true } => "avalon-begintransfer",
+            HostBfm::Pio => "pio",
+        }
+    }
+}
+
+impl std::fmt::Display for HostBfm {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.write_str(self.name())
+    }
 }
 
 /// Which DUT the scenario asks for (the regression may override it).
@@ -333,6 +364,9 @@ pub struct Scenario {
     pub host: HostBfm,
     /// Host cycles before a non-acked access times out.
     pub timeout_cycles: u32,
+    /// Set when the host wiring is the scenario's point (`[host] fixed`):
+    /// why a host override does not apply.
+    pub host_fixed: Option<String>,
     /// DUT.
     pub dut: DutKind,
     /// rx_i wiring.
@@ -869,6 +903,7 @@ fn build(ctx: &Ctx, raw: RawScenario, file: &Path) -> Result<Scenario, ScenarioE
         can_hz,
         host,
         timeout_cycles: raw.host.timeout_cycles.unwrap_or(1000),
+        host_fixed: raw.host.fixed.clone(),
         dut,
         rx,
         tx_to_bus: raw.wiring.tx_to_bus.unwrap_or(true),

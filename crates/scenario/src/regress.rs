@@ -28,6 +28,8 @@ pub struct RegressOptions {
     pub dut_revision: Option<String>,
     /// Stop at the first unwaived divergence (default) or collect them all.
     pub collect: waivers::CollectMode,
+    /// Host override for every run (see [`RunOptions::host`]).
+    pub host: Option<crate::HostBfm>,
 }
 
 /// Parses `--shard k/n` (1 <= k <= n).
@@ -52,6 +54,16 @@ pub enum Status {
     Failed(String),
     /// The run could not be made (DUT build, bench error).
     Error(String),
+    /// Not run, and why (a host override on a scenario whose point is its
+    /// host wiring). Not a failure.
+    Skipped(String),
+}
+
+impl Status {
+    /// Passed, or skipped on purpose.
+    pub fn ok(&self) -> bool {
+        matches!(self, Status::Pass | Status::Skipped(_))
+    }
 }
 
 /// One cell of the table.
@@ -78,7 +90,9 @@ pub struct Cell {
 impl Cell {
     fn from_outcome(scenario: &str, o: &RunOutcome) -> Cell {
         let d = &o.diagnosis;
-        let status = if o.passed {
+        let status = if let Some(why) = &o.skipped {
+            Status::Skipped(why.clone())
+        } else if o.passed {
             Status::Pass
         } else if d.category == Category::DutDeviatesFromModel {
             let f = &d.figures;
@@ -138,7 +152,7 @@ pub struct RegressReport {
 impl RegressReport {
     /// True if every cell passed.
     pub fn passed(&self) -> bool {
-        self.cells.iter().all(|c| c.status == Status::Pass)
+        self.cells.iter().all(|c| c.status.ok())
     }
 
     /// Process exit code: 0 if all passed, 1 otherwise.
@@ -160,6 +174,7 @@ impl RegressReport {
                 Status::Diverged(w) => format!("diverged ({w})"),
                 Status::Failed(_) => format!("FAIL ({})", c.category),
                 Status::Error(e) => format!("error ({})", e.chars().take(40).collect::<String>()),
+                Status::Skipped(_) => "skipped (host fixed)".to_string(),
             },
         };
         let mut rows: Vec<Vec<String>> = vec![std::iter::once("scenario".to_string()).chain(self.duts.iter().cloned()).collect()];
@@ -178,8 +193,20 @@ impl RegressReport {
                 out.push('\n');
             }
         }
-        let failed = self.cells.iter().filter(|c| c.status != Status::Pass).count();
-        out += &format!("{} run, {} passed, {} not passed\n", self.cells.len(), self.cells.len() - failed, failed);
+        let failed = self.cells.iter().filter(|c| !c.status.ok()).count();
+        let skipped: Vec<&Cell> = self.cells.iter().filter(|c| matches!(c.status, Status::Skipped(_))).collect();
+        out += &format!(
+            "{} run, {} passed, {} not passed{}\n",
+            self.cells.len() - skipped.len(),
+            self.cells.len() - failed - skipped.len(),
+            failed,
+            if skipped.is_empty() { String::new() } else { format!(", {} skipped", skipped.len()) }
+        );
+        for c in &skipped {
+            if let Status::Skipped(why) = &c.status {
+                out += &format!("skipped {} on {}: {why}\n", c.scenario, c.dut);
+            }
+        }
         let waived: usize = self.cells.iter().map(|c| c.waived.len()).sum();
         if waived > 0 {
             out += &format!("{waived} divergence(s) waived\n");
@@ -210,11 +237,12 @@ impl RegressReport {
         for d in &self.duts {
             let cells: Vec<&Cell> = self.cells.iter().filter(|c| &c.dut == d).collect();
             let waived: usize = cells.iter().map(|c| c.waived.len()).sum();
+            let skipped = waived + cells.iter().filter(|c| matches!(c.status, Status::Skipped(_))).count();
             let mut suite = BytesStart::new("testsuite");
             suite.push_attribute(("name", d.as_str()));
             suite.push_attribute(("tests", (cells.len() + waived).to_string().as_str()));
-            if waived > 0 {
-                suite.push_attribute(("skipped", waived.to_string().as_str()));
+            if skipped > 0 {
+                suite.push_attribute(("skipped", skipped.to_string().as_str()));
             }
             suite.push_attribute(("failures", count(&cells, is_fail).as_str()));
             suite.push_attribute(("errors", count(&cells, is_err).as_str()));
@@ -245,6 +273,14 @@ impl RegressReport {
                 let (tag, msg) = match &c.status {
                     Status::Pass => {
                         let _ = w.write_event(Event::Empty(tc));
+                        continue;
+                    }
+                    Status::Skipped(why) => {
+                        let _ = w.write_event(Event::Start(tc));
+                        let mut sk = BytesStart::new("skipped");
+                        sk.push_attribute(("message", why.as_str()));
+                        let _ = w.write_event(Event::Empty(sk));
+                        let _ = w.write_event(Event::End(BytesEnd::new("testcase")));
                         continue;
                     }
                     Status::Diverged(x) => ("failure", format!("diverged from the golden model: {x}")),
@@ -316,6 +352,7 @@ pub fn regress_with(
                         waivers: opts.waivers.clone(),
                         dut_revision: opts.dut_revision.clone(),
                         collect: opts.collect,
+                        host: opts.host,
                         ..Default::default()
                     };
                     let out = runner(s, &o);

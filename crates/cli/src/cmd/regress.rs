@@ -31,6 +31,8 @@ pub struct Args {
     #[arg(long)]
     max_bits: Option<u64>,
     #[command(flatten)]
+    host: super::run::HostArgs,
+    #[command(flatten)]
     waivers: super::run::WaiverArgs,
 }
 
@@ -69,8 +71,12 @@ pub fn run(a: Args) -> anyhow::Result<i32> {
         waivers: a.waivers.waivers.clone(),
         dut_revision: a.waivers.dut_revision.clone(),
         collect: a.waivers.mode(),
+        host: a.host.bfm(),
     };
     let report = regress(&scenarios, &duts, &opts);
+    if let Some(h) = opts.host {
+        println!("host: {h} (override of every scenario's own host)");
+    }
     print!("{}", report.to_table());
     if let Some(p) = &a.junit {
         std::fs::write(p, report.to_junit()).with_context(|| format!("writing {}", p.display()))?;

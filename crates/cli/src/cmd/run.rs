@@ -92,7 +92,26 @@ pub struct Args {
     #[arg(long)]
     max_bits: Option<u64>,
     #[command(flatten)]
+    host: HostArgs,
+    #[command(flatten)]
     waivers: WaiverArgs,
+}
+
+/// Host override, shared by `run`/`cosim` and `regress`.
+#[derive(clap::Args, Clone, Debug, Default)]
+pub struct HostArgs {
+    /// Drive the DUT through this host instead of the scenario's own: `wishbone` (can_top),
+    /// `avalon` (our can_avalon wrapper with the Avalon-MM BFM), `pio` (GPIO bit-banging,
+    /// can_top_pio). Scenarios whose point is their host wiring (`[host] fixed`) are skipped.
+    #[arg(long, value_parser = ["wishbone", "avalon", "pio"])]
+    pub host: Option<String>,
+}
+
+impl HostArgs {
+    /// The host these arguments select, if any.
+    pub fn bfm(&self) -> Option<scenario::HostBfm> {
+        self.host.as_deref().and_then(scenario::HostBfm::from_name)
+    }
 }
 
 /// Runs the subcommand: exit 0 when the outcome matches the scenario's `[expect]`.
@@ -105,11 +124,16 @@ pub fn run_cmd(a: Args) -> anyhow::Result<i32> {
         waivers: a.waivers.waivers.clone(),
         dut_revision: a.waivers.dut_revision.clone(),
         collect: a.waivers.mode(),
+        host: a.host.bfm(),
     };
     if !a.json {
         println!("{}", s.header());
     }
     let out = run(&s, &opts);
+    if let Some(why) = &out.skipped {
+        println!("scenario: SKIPPED ({why})");
+        return Ok(0);
+    }
     if let Some(p) = &a.record {
         let json = serde_json::to_string_pretty(&out.record).context("serialising the run record")?;
         std::fs::write(p, json).with_context(|| format!("writing {}", p.display()))?;
@@ -117,7 +141,8 @@ pub fn run_cmd(a: Args) -> anyhow::Result<i32> {
     if a.json {
         println!("{}", out.diagnosis.to_json());
     } else {
-        println!("DUT: {}   wall time: {:.2} s", out.dut, out.wall.as_secs_f64());
+        let host = opts.host.map(|h| format!("   host: {h} (override)")).unwrap_or_default();
+        println!("DUT: {}{host}   wall time: {:.2} s", out.dut, out.wall.as_secs_f64());
         for (node, n) in &out.received {
             println!("node {node}: {n} frame(s) received");
         }
