@@ -457,6 +457,23 @@ fn parse_mode(ctx: &Ctx, span: &std::ops::Range<usize>, key: &str, path: &str, s
     }
 }
 
+/// The key a TOML error span belongs to: the `key =` before it on its line
+/// (the last key of an inline table), else the span's own text (a table
+/// header), else `?`. Never empty, so every message names a key.
+fn key_before(text: &str, span: &std::ops::Range<usize>) -> String {
+    let start = span.start.min(text.len());
+    let line = text.get(..start).map_or("", |t| &t[t.rfind('\n').map_or(0, |i| i + 1)..]);
+    if let Some(eq) = line.rfind('=') {
+        let k = line[..eq].rsplit(['{', ',']).next().unwrap_or("").trim();
+        if !k.is_empty() {
+            return k.to_string();
+        }
+    }
+    let own = text.get(start..span.end.min(text.len())).unwrap_or("");
+    let own = own.split(['=', '\n']).next().unwrap_or("").trim().trim_matches(['[', ']']).trim();
+    if own.is_empty() { "?".into() } else { own.to_string() }
+}
+
 impl Scenario {
     /// Reads and validates a scenario file.
     pub fn load(path: impl AsRef<Path>) -> Result<Scenario, ScenarioError> {
@@ -478,11 +495,7 @@ impl Scenario {
                 .nth(1)
                 .filter(|_| msg.starts_with("unknown field") || msg.starts_with("missing field") || msg.starts_with("duplicate"))
                 .map(str::to_string)
-                .unwrap_or_else(|| {
-                    let s = &text[span.start.min(text.len())..span.end.min(text.len())];
-                    let s = s.split(['=', '\n']).next().unwrap_or("").trim();
-                    if s.is_empty() { "?".into() } else { s.trim_matches(['[', ']']).to_string() }
-                });
+                .unwrap_or_else(|| key_before(text, &span));
             let msg = if msg.starts_with("unknown field") {
                 format!("unknown key; {msg}")
             } else {
@@ -575,15 +588,21 @@ fn resolve(
     }
 }
 
+/// An identifier as written: hex, or decimal when negative (hex would
+/// show its two's complement).
+fn show_id(id: i64) -> String {
+    if id < 0 { id.to_string() } else { format!("0x{id:X}") }
+}
+
 fn frame(ctx: &Ctx, span: &std::ops::Range<usize>, path: &str, f: &RawFrame) -> Result<can_proto::CanFrame, ScenarioError> {
     let id = if f.extended {
         if !(0..=0x1FFF_FFFF).contains(&f.id) {
-            return Err(ctx.err_key(span, "id", &format!("{path}.id"), format!("identifier 0x{:X} is out of range for an extended frame (0..=0x1FFFFFFF)", f.id)));
+            return Err(ctx.err_key(span, "id", &format!("{path}.id"), format!("identifier {} is out of range for an extended frame (0..=0x1FFFFFFF)", show_id(f.id))));
         }
         can_proto::CanFrame::ext_id(f.id as u32)
     } else {
         if !(0..=0x7FF).contains(&f.id) {
-            return Err(ctx.err_key(span, "id", &format!("{path}.id"), format!("identifier 0x{:X} is out of range for a standard frame (0..=0x7FF); set extended = true for a 29-bit identifier", f.id)));
+            return Err(ctx.err_key(span, "id", &format!("{path}.id"), format!("identifier {} is out of range for a standard frame (0..=0x7FF); set extended = true for a 29-bit identifier", show_id(f.id))));
         }
         can_proto::CanFrame::std_id(f.id as u16)
     }
@@ -977,6 +996,26 @@ pub fn register_name(mode: Mode, reset_mode: bool, write: bool, addr: u8) -> Opt
     let v = regmap::lookup(mode, op, acc, addr)?;
     let r = v.register()?;
     Some(if r.len > 1 { format!("{}+{}", r.name, addr - r.addr) } else { r.name.to_string() })
+}
+
+/// Reads a regression list and loads each scenario on its own: the path of
+/// every entry with its scenario or the reason it could not be loaded, so
+/// one bad file does not hide the others ([`regress::regress_inputs`]).
+/// Only an unreadable list is an error.
+pub fn load_list_entries(path: impl AsRef<Path>) -> Result<Vec<(PathBuf, Result<Scenario, ScenarioError>)>, ScenarioError> {
+    let path = path.as_ref();
+    let text = std::fs::read_to_string(path).map_err(|source| ScenarioError::Io { file: path.display().to_string(), source })?;
+    let dir = path.parent().unwrap_or(Path::new("."));
+    Ok(text
+        .lines()
+        .map(|line| line.split('#').next().unwrap_or("").trim())
+        .filter(|l| !l.is_empty())
+        .map(|l| {
+            let p = dir.join(l);
+            let s = Scenario::load(&p);
+            (p, s)
+        })
+        .collect())
 }
 
 /// Reads a regression list (one scenario path per line, `#` comments),

@@ -3,7 +3,7 @@
 //! JUnit XML, a DUT x scenario table, and shards for CI matrices.
 
 use crate::run::{DutSpec, RunOptions, RunOutcome, run};
-use crate::Scenario;
+use crate::{Scenario, ScenarioError};
 use diagnose::Category;
 use quick_xml::Writer;
 use quick_xml::events::{BytesEnd, BytesStart, BytesText, Event};
@@ -370,4 +370,52 @@ pub fn regress_with(
         duts: duts.iter().map(|d| d.name.clone()).collect(),
         cells: results.into_inner().unwrap_or_default().into_iter().flatten().collect(),
     }
+}
+
+/// A scenario that could not be loaded: its name (the file stem) and why.
+fn unloadable(path: &std::path::Path, e: &ScenarioError) -> (String, String) {
+    let name = path.file_stem().map(|s| s.to_string_lossy().into_owned()).unwrap_or_else(|| path.display().to_string());
+    (name, e.to_string())
+}
+
+/// Loads every input (a `.toml` scenario or a regression list) and runs
+/// [`regress`]. A scenario that cannot be loaded (bad key, missing file)
+/// does not stop the others: it becomes an error cell on every DUT with its
+/// `file:line:col: key` message, and the exit code is non-zero. Only an
+/// unreadable list is an error. With a shard, those cells go to shard 1.
+pub fn regress_inputs(inputs: &[std::path::PathBuf], duts: &[DutSpec], opts: &RegressOptions) -> Result<RegressReport, ScenarioError> {
+    let mut scenarios = Vec::new();
+    let mut bad = Vec::new();
+    for p in inputs {
+        let entries = if p.extension().is_some_and(|e| e == "toml") {
+            vec![(p.clone(), Scenario::load(p))]
+        } else {
+            crate::load_list_entries(p)?
+        };
+        for (path, r) in entries {
+            match r {
+                Ok(s) => scenarios.push(s),
+                Err(e) => bad.push(unloadable(&path, &e)),
+            }
+        }
+    }
+    let mut report = regress(&scenarios, duts, opts);
+    if opts.shard.is_none_or(|(k, _)| k == 1) {
+        for (name, msg) in bad {
+            for d in duts {
+                report.cells.push(Cell {
+                    scenario: name.clone(),
+                    dut: d.name.clone(),
+                    status: Status::Error(msg.clone()),
+                    category: Category::RunError,
+                    report: msg.clone(),
+                    wall: Duration::ZERO,
+                    waived: Vec::new(),
+                    warnings: Vec::new(),
+                });
+            }
+            report.scenarios.push(name);
+        }
+    }
+    Ok(report)
 }
