@@ -974,3 +974,46 @@ fn accounting_window_survives_a_timing_change_of_node_0() {
     let acc = bus.check_accounting().unwrap();
     assert_eq!((acc.sent, acc.stored), (1, 1));
 }
+
+/// Found by `fuzz_host`: node 0 asleep with a frame pending wakes on node
+/// 1's SOF (so it may not receive that frame, data sheet MOD.SM) and sends
+/// its own frame at the first bit after intermission. The accounting took
+/// that SOF (stamped at the clock node 1's completion is stamped with) as
+/// the start of node 1's frame, missed node 0's sleep, and reported a loss.
+#[test]
+fn accounting_with_the_next_sof_right_after_intermission() {
+    let mut bus = bus_of(&[Config::pelican(), Config::pelican()]);
+    host::transmit(bus.node_mut(0), &std_frame(0, &[]), peli::cmr::TR).unwrap();
+    bus.node_mut(1).write(peli::MOD, peli::r#mod::RM);
+    bus.node_mut(1).write(peli::MOD, peli::r#mod::STM);
+    let m = bus.node(0).peek(peli::MOD);
+    bus.node_mut(0).write(peli::MOD, (m | peli::r#mod::SM) & !peli::r#mod::RM);
+    assert!(bus.node(0).is_sleeping());
+    let remote = CanFrame::with_dlc(CanFrame::ext_id(22158987).unwrap(), true, 7, &[]).unwrap();
+    host::transmit(bus.node_mut(1), &remote, peli::cmr::TR).unwrap();
+    bus.run_bits(200);
+    assert!(!bus.node(0).is_sleeping(), "woken by node 1's frame");
+    let acc = bus.check_accounting().unwrap();
+    assert_eq!(acc.off_bus, 1, "node 0 missed node 1's frame while waking: {acc:?}");
+}
+
+/// Found by `fuzz_host`: two nodes that request the identical frame in
+/// the same bit send one frame on the wire (arbitration cannot tell them
+/// apart) and both complete; the third node receives it once. Each
+/// sender's delivery to the other is a co-transmission, not a loss.
+#[test]
+fn identical_frames_sent_at_once_are_one_frame_and_no_loss() {
+    let cfg = Config::pelican();
+    let mut bus = bus_of(&[cfg, cfg, cfg]);
+    bus.run_bits(11);
+    let f = std_frame(0x55, &[1, 2]);
+    host::transmit(bus.node_mut(0), &f, peli::cmr::TR).unwrap();
+    host::transmit(bus.node_mut(1), &f, peli::cmr::TR).unwrap();
+    bus.run_bits(200);
+    for i in 0..2 {
+        assert_ne!(bus.node_mut(i).read(peli::SR) & peli::sr::TCS, 0, "node {i} completed");
+    }
+    assert_eq!(drain(bus.node_mut(2)), vec![f]);
+    let acc = bus.check_accounting().unwrap();
+    assert_eq!((acc.sent, acc.co_transmitted, acc.stored), (2, 2, 2), "{acc:?}");
+}
