@@ -231,8 +231,12 @@ pub struct Comparator {
     grace_by_ref: bool,
     ref_off: usize,
     dut_off: usize,
-    ref_hist: BitRing,
-    dut_hist: BitRing,
+    /// Reference tx (bit 0) and DUT tx (bit 1) of the last
+    /// `sof_tolerance + 1` clocks.
+    tx_hist: TxRing,
+    /// The newest SR and IR of the histories (256: none yet).
+    sr_last: u16,
+    ir_last: u16,
     irq_bad: u32,
     irq_since: Stamp,
     bus_bad: u32,
@@ -274,8 +278,9 @@ impl Comparator {
             grace_by_ref: false,
             ref_off: 0,
             dut_off: 0,
-            ref_hist: BitRing::new(cfg.sof_tolerance as u64 + 1),
-            dut_hist: BitRing::new(cfg.sof_tolerance as u64 + 1),
+            tx_hist: TxRing::new(cfg.sof_tolerance as u64 + 1),
+            sr_last: 256,
+            ir_last: 256,
             irq_bad: 0,
             irq_since: Stamp::default(),
             bus_bad: 0,
@@ -396,8 +401,7 @@ impl Comparator {
         );
         let pushed = self.pushed;
         self.pushed += 1;
-        self.ref_hist.push(pushed, reference.tx);
-        self.dut_hist.push(pushed, dut.tx);
+        self.tx_hist.push(pushed, reference.tx as u8 | (dut.tx as u8) << 1);
         if self.sof_grace > 0 {
             self.grace_count += 1;
             if reference.tx == dut.tx {
@@ -438,12 +442,12 @@ impl Comparator {
         let ref_tx = if self.ref_off == 0 {
             reference.tx
         } else {
-            self.ref_hist.back((self.ref_off as u64).min(n - 1))
+            self.tx_hist.back(pushed, (self.ref_off as u64).min(n - 1)) & 1 != 0
         };
         let dut_tx = if self.dut_off == 0 {
             dut.tx
         } else {
-            self.dut_hist.back((self.dut_off as u64).min(n - 1))
+            self.tx_hist.back(pushed, (self.dut_off as u64).min(n - 1)) & 2 != 0
         };
         // The window of the last 2 * tol + 1 clocks, centred on the checked
         // one: it is stable when the reference tx did not change after its
@@ -501,11 +505,13 @@ impl Comparator {
         // Status history for tolerant reads (runs of equal values).
         let at = self.status_pushed;
         self.status_pushed += 1;
-        if self.sr_hist.back().is_none_or(|r| r.0 != sr) {
+        if sr as u16 != self.sr_last {
+            self.sr_last = sr as u16;
             self.sr_hist.push_back((sr, at));
             prune_runs(&mut self.sr_hist, self.status_pushed, self.cfg.status_tolerance);
         }
-        if self.ir_hist.back().is_none_or(|r| r.0 != ir) {
+        if ir as u16 != self.ir_last {
+            self.ir_last = ir as u16;
             self.ir_hist.push_back((ir, at));
             prune_runs(&mut self.ir_hist, self.status_pushed, self.cfg.status_tolerance);
         }
@@ -656,45 +662,47 @@ fn prune_runs(h: &mut VecDeque<(u8, u64)>, pushed: u64, tolerance: u32) {
     }
 }
 
-/// The last `cap` bits pushed, indexed back from the newest. Grows to the
-/// next power of two above `cap` only as bits come, like the deque it
-/// replaces, so a huge tolerance costs no memory up front.
-struct BitRing {
-    buf: Vec<bool>,
+/// The last `cap` values pushed (a byte each), indexed back from the
+/// newest. Grows to the next power of two above `cap` only as values come,
+/// like the deques it replaces, so a huge tolerance costs no memory up front.
+struct TxRing {
+    buf: Vec<u8>,
+    /// `buf.len() - 1` (a power of two minus one once anything was pushed).
+    mask: u64,
     size: u64,
-    /// Index of the newest push.
-    last: u64,
+    /// `buf` has reached `size`: positions wrap.
+    full: bool,
 }
 
-impl BitRing {
-    fn new(cap: u64) -> BitRing {
-        BitRing {
+impl TxRing {
+    fn new(cap: u64) -> TxRing {
+        TxRing {
             buf: Vec::new(),
+            mask: 0,
             size: cap.max(1).next_power_of_two(),
-            last: 0,
+            full: false,
         }
     }
 
     /// Stores push number `index` (0, 1, 2, ...: every push, in order).
     #[inline]
-    fn push(&mut self, index: u64, v: bool) {
-        let len = self.buf.len() as u64;
-        if index >= len && len < self.size {
+    fn push(&mut self, index: u64, v: u8) {
+        if !self.full && index >= self.buf.len() as u64 {
             // Not wrapped yet: positions are indices, growing keeps them.
+            let len = self.buf.len() as u64;
             let new_len = (len * 2).max(64).min(self.size);
-            self.buf.resize(new_len as usize, false);
+            self.buf.resize(new_len as usize, 0);
+            self.mask = new_len - 1;
+            self.full = new_len == self.size;
         }
-        let mask = self.buf.len() as u64 - 1;
-        self.buf[(index & mask) as usize] = v;
-        self.last = index;
+        self.buf[(index & self.mask) as usize] = v;
     }
 
-    /// The bit pushed `k` pushes before the newest (`k` below `cap` and
-    /// below the number of pushes).
+    /// The value pushed `k` pushes before push number `newest` (`k` below
+    /// `cap` and at most `newest`).
     #[inline]
-    fn back(&self, k: u64) -> bool {
-        let mask = self.buf.len() as u64 - 1;
-        self.buf[((self.last - k) & mask) as usize]
+    fn back(&self, newest: u64, k: u64) -> u8 {
+        self.buf[((newest - k) & self.mask) as usize]
     }
 }
 

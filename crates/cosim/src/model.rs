@@ -198,7 +198,8 @@ impl ModelRef {
         }
     }
 
-    /// Recomputes the cached view from the model.
+    /// Recomputes the cached view from the model (its `tx` and `clkout`
+    /// are read afresh by `step` at every clock).
     fn observe(&mut self) {
         self.view = RefView {
             pins: pins_of(&self.m),
@@ -261,17 +262,31 @@ impl Reference for ModelRef {
     #[inline]
     fn step(&mut self, rx: bool) -> RefView {
         // `Engine::clock` does nothing but count unless this clock ends a
-        // time quantum (`clocks_to_next_tq() == 1`); events only come from
-        // a quantum's work or a host access. So outside a boundary only
-        // CLKOUT can move.
-        let boundary = self.m.engine().clocks_to_next_tq() <= 1;
+        // time quantum (`clocks_to_next_tq() == 1`). At a quantum's end
+        // the bit stream processor (and so the field, the status and the
+        // events the controller turns into flags and interrupts) runs only
+        // at a sample point (`bits_sampled()` counts them); otherwise the
+        // quantum may only start a bit, which moves tx. Host accesses set
+        // `stale`. CLKOUT moves on its own.
+        let engine = self.m.engine();
+        let boundary = engine.clocks_to_next_tq() <= 1;
+        let bits = engine.bits_sampled();
         self.m.clock(rx);
-        if boundary || self.stale {
+        if self.stale || (boundary && self.m.engine().bits_sampled() != bits) {
             self.observe();
-        } else {
-            self.view.pins.clkout = self.m.clkout();
         }
-        self.view
+        // tx and CLKOUT read afresh, the rest from the cache. Not stored
+        // back: writing two bytes of the cache and reading it whole at the
+        // next clock would cost a store-forwarding stall per clock.
+        let v = self.view;
+        RefView {
+            pins: CanPins {
+                tx: self.m.tx(),
+                clkout: self.m.clkout(),
+                ..v.pins
+            },
+            ..v
+        }
     }
     fn adopt_counters(&mut self, tec: Option<u8>, rec: Option<u8>) -> bool {
         self.stale = true;

@@ -108,7 +108,10 @@ enum RefTiming {
     /// read sees the registers as of `read`, a write lands at `write`, a
     /// command (CMR) at `command` (rtl/can_wb_cdc.v: a 2-flop synchroniser
     /// and a registered strobe; can_regs captures read data and writes
-    /// registers at the 4th edge, its command pulses are registered once more).
+    /// registers at the 4th edge; its command pulses are registered once
+    /// more, but the bit stream processor also acts on a sample point one
+    /// clock after the bit timing finds it, so a TR taken at the 4th edge
+    /// is in time for a sample point at the 5th, as for the model).
     CanEdges { read: u32, write: u32, command: u32 },
 }
 
@@ -341,6 +344,7 @@ pub struct Testbench {
     /// Buffers of `run_batch` (clock levels in, pins out), kept between calls.
     batch_levels: Vec<u8>,
     batch_out: Vec<u8>,
+    batch_ticks: Vec<Tick>,
 }
 
 /// Instants per batch (see `Testbench::run_batch`).
@@ -498,7 +502,7 @@ impl Testbench {
             (DutChoice::Rtl, HostBfm::Wishbone) => RefTiming::CanEdges {
                 read: 3,
                 write: 4,
-                command: 5,
+                command: 4,
             },
             (DutChoice::Model, HostBfm::Wishbone) => RefTiming::LaunchEdge,
             _ => RefTiming::AtAck,
@@ -547,6 +551,7 @@ impl Testbench {
             batching: true,
             batch_levels: Vec::new(),
             batch_out: Vec::new(),
+            batch_ticks: Vec::new(),
         };
         tb.dut.set_reset(true);
         tb.dut.set_rx(RECESSIVE);
@@ -753,7 +758,7 @@ impl Testbench {
             self.host_edge();
         }
         if t.can_rise {
-            self.can_edge(t.t_ps);
+            self.can_edge(t.t_ps, pins);
         }
         if self.tracing {
             self.dut.trace_dump(t.t_ps);
@@ -812,11 +817,14 @@ impl Testbench {
         let mut k = self.kernel.clone();
         let mut levels = std::mem::take(&mut self.batch_levels);
         let mut out = std::mem::take(&mut self.batch_out);
+        let mut ticks = std::mem::take(&mut self.batch_ticks);
         levels.clear();
+        ticks.clear();
         let mut rises = 0;
         while levels.len() < BATCH && rises < can_rises {
             let t = k.advance();
             rises += t.can_rise as u64;
+            ticks.push(t);
             levels.push(
                 k.host().level() as u8 | (k.can().level() as u8) << 1 | (t.can_rise as u8) << 2,
             );
@@ -837,31 +845,57 @@ impl Testbench {
         let s0 = self.dut.wb();
         let quiet_wires = !(s0.ack || s0.err || s0.rty);
         let mut quiet = quiet_wires && self.wb_mon_seen == Some((self.applied_wb, s0));
-        for (i, &o) in out[..made].iter().enumerate() {
+        let mut replayed = 0;
+        let tx_on_bus = self.tx_on_bus;
+        // The DUT's tx after the previous instant, kept in a register (read
+        // back from `dut_pins`, stored byte by byte, it stalls each instant).
+        let mut prev_tx = self.dut_pins.tx;
+        for (i, (&o, &t)) in out[..made].iter().zip(&ticks).enumerate() {
             let last = i + 1 == made;
-            let t = self.kernel.advance();
+            replayed += 1;
             if t.can_rise {
-                let _ = self.can_rise_rx();
+                // `can_rise_rx` without model nodes or faults (see `batch_rx`).
+                let level = if tx_on_bus { prev_tx } else { RECESSIVE };
+                self.bus_level = level;
+                self.dut_rx = rx.unwrap_or(level);
             }
             if last && let AnyDut::Verilated(d) = &mut self.dut {
                 // The host edge of the last instant may see new outputs.
                 d.sync_outputs();
             }
+            // `after_eval` without the traces (see `batch_rx`).
             let pins = VerilatedDut::batch_pins(o, active_high);
-            if t.host_rise && quiet && !last {
-                self.host_cycle += 1;
-                self.after_eval(Tick { host_rise: false, ..t }, pins);
-            } else {
-                self.after_eval(t, pins);
-                quiet = quiet_wires && self.wb_mon_seen == Some((self.applied_wb, s0));
+            prev_tx = pins.tx;
+            self.dut_pins = pins;
+            if t.host_rise {
+                if quiet && !last {
+                    self.host_cycle += 1;
+                } else {
+                    self.host_edge();
+                    quiet = quiet_wires && self.wb_mon_seen == Some((self.applied_wb, s0));
+                }
             }
-            if let Err(e) = self.check_stopped() {
+            if t.can_rise {
+                self.can_edge(t.t_ps, pins);
+            }
+            if self.stopped
+                && let Err(e) = self.check_stopped()
+            {
                 result = Err(e);
                 break;
             }
         }
+        // The kernel at the last instant replayed.
+        if replayed == ticks.len() {
+            self.kernel = k;
+        } else {
+            for _ in 0..replayed {
+                self.kernel.advance();
+            }
+        }
         self.batch_levels = levels;
         self.batch_out = out;
+        self.batch_ticks = ticks;
         result
     }
 
@@ -1014,7 +1048,9 @@ impl Testbench {
         }
     }
 
-    fn can_edge(&mut self, t_ps: u64) {
+    /// A CAN rising edge, after the DUT's eval: `pins` are its pins now
+    /// (`dut_pins`, passed in registers).
+    fn can_edge(&mut self, t_ps: u64, pins: CanPins) {
         self.can_clocks += 1;
         let level = self.bus_level;
         let sample = self.bitclock.clock(level);
@@ -1036,7 +1072,7 @@ impl Testbench {
                 }
             }
             if !self.stopped {
-                let dut_tx = self.dut_pins.tx;
+                let dut_tx = pins.tx;
                 let (model_tx, mfield) = match &view {
                     Some(v) => (v.pins.tx, v.field),
                     None => (dut_tx, None),
@@ -1103,7 +1139,7 @@ impl Testbench {
                     None
                 },
             };
-            c.can_clock(stamp, sample, &v.pins, &self.dut_pins, v.sr, v.ir);
+            c.can_clock(stamp, sample, &v.pins, &pins, v.sr, v.ir);
             if c.halted() {
                 self.handle_divergences();
             }
