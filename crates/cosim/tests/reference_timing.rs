@@ -1,0 +1,115 @@
+//! The lockstep reference takes each host access at the CAN clock the DUT's
+//! CAN side takes it (our RTL behind `can_wb_cdc`, the golden model as a
+//! Wishbone slave), so the two run clock for clock: their tx pins never
+//! differ, not even by a CAN clock around a bit edge. Before, the reference
+//! took a write at the ack, left reset mode a few CAN clocks after the DUT
+//! and placed its time quanta (and so every tx edge) that far apart.
+
+use cosim::{CompareConfig, DutChoice, NodeConfig, ReferenceChoice, TbConfig, Testbench};
+
+/// PeliCAN, accept all, 600 kbit/s at 24 MHz, every interrupt enabled.
+fn setup(ier: u8) -> Vec<(u8, u8)> {
+    let mut v = vec![(0u8, 0x01u8), (31, 0x80)];
+    for i in 0..4 {
+        v.push((16 + i, 0x00));
+        v.push((20 + i, 0xFF));
+    }
+    v.extend([(6, 0x41), (7, 0x25), (8, 0xDA), (4, ier), (0, 0x00)]);
+    v
+}
+
+/// Instants (VCD times) after the reset at which the DUT's tx_o and the
+/// reference's tx differ, from the VCD the bench wrote.
+fn tx_mismatches(vcd: &str) -> Vec<u64> {
+    let (mut id_tx, mut id_model, mut id_rst) = (String::new(), String::new(), String::new());
+    for l in vcd.lines().filter(|l| l.starts_with("$var")) {
+        let p: Vec<&str> = l.split_whitespace().collect();
+        match p.get(4) {
+            Some(&"tx_o") => id_tx = p[3].to_string(),
+            Some(&"model_tx") => id_model = p[3].to_string(),
+            Some(&"wb_rst_i") => id_rst = p[3].to_string(),
+            _ => {}
+        }
+    }
+    assert!(!id_tx.is_empty() && !id_model.is_empty() && !id_rst.is_empty(), "tx_o, model_tx and wb_rst_i in the VCD");
+    let (mut tx, mut model, mut rst) = ('1', '1', '1');
+    let mut t = 0u64;
+    let mut bad = Vec::new();
+    let mut check = |t: u64, tx: char, model: char, rst: char| {
+        if tx != model && rst == '0' {
+            bad.push(t);
+        }
+    };
+    for l in vcd.lines() {
+        if let Some(v) = l.strip_prefix('#') {
+            check(t, tx, model, rst);
+            t = v.parse().unwrap();
+        } else if let Some(c) = l.chars().next().filter(|c| *c == '0' || *c == '1') {
+            if l[1..] == id_tx {
+                tx = c;
+            } else if l[1..] == id_model {
+                model = c;
+            } else if l[1..] == id_rst {
+                rst = c;
+            }
+        }
+    }
+    check(t, tx, model, rst);
+    bad
+}
+
+fn run(dut: DutChoice, name: &str) {
+    let vcd = std::env::temp_dir().join(format!("cosim-reference-timing-{name}-{}.vcd", std::process::id()));
+    let mut node = setup(0x00);
+    node.push((0, 0x00));
+    let mut tb = Testbench::new(TbConfig {
+        scenario: "reference timing".into(),
+        dut,
+        nodes: vec![NodeConfig { name: "node1".into(), init: node }],
+        lockstep: Some((
+            ReferenceChoice::Model,
+            CompareConfig { tx_edge_tolerance: 0, sof_tolerance: 0, ..CompareConfig::default() },
+        )),
+        vcd: Some(vcd.clone()),
+        ..TbConfig::default()
+    })
+    .unwrap();
+    for (a, d) in setup(0xFF) {
+        tb.write(a, d).unwrap();
+    }
+    tb.run_bits(12).unwrap();
+    // Transmission requests at many phases of the bit (a CMR.TR just before
+    // a sample point starts a SOF on one side only if the two disagree on
+    // when it landed), and reset-mode round trips (each restarts the bit timing) at several host-clock phases.
+    for k in 0..14u64 {
+        if k % 3 == 2 {
+            tb.write(0, 0x01).unwrap();
+            tb.run_host_cycles(k).unwrap();
+            tb.write(0, 0x00).unwrap();
+            tb.run_bits(12).unwrap();
+        }
+        for (i, b) in [0x08u8, 0x20 + k as u8, 0x40, 0xA5, 0x5A, 0x0F, 0xF0, 0x33, 0xCC].iter().enumerate() {
+            tb.write(16 + i as u8, *b).unwrap();
+        }
+        tb.run_can_cycles(k * 3).unwrap();
+        tb.write(1, 0x01).unwrap();
+        tb.wait_sr(0x0C, 0x0C, 400).unwrap();
+        tb.read(3).unwrap();
+    }
+    tb.flush().unwrap();
+    let text = std::fs::read_to_string(&vcd).unwrap();
+    let _ = std::fs::remove_file(&vcd);
+    let bad = tx_mismatches(&text);
+    assert!(bad.is_empty(), "{name}: DUT and reference tx differ at {} instants: {:?} ps", bad.len(), &bad[..bad.len().min(20)]);
+    assert!(text.matches("\n0").count() > 100, "{name}: the VCD shows transmissions");
+}
+
+#[test]
+fn reference_tx_follows_the_rtl_clock_for_clock() {
+    run(DutChoice::Rtl, "rtl");
+}
+
+#[test]
+fn reference_tx_follows_the_model_dut_clock_for_clock() {
+    run(DutChoice::Model, "model");
+}
