@@ -49,6 +49,9 @@
 //! timeout_bits = 2000
 //! [[step]]
 //! load_tx = { id = 0x529, data = [0x51] }   # fills the TX buffer (extended, rtr, dlc, raw_dlc)
+//! # The steps may instead be one array of inline tables at the top of the
+//! # file, before any [table], one step per line (tb/pelican-*.toml):
+//! # step = [ { write = "CR", value = 0x01 }, { wait_irq = true }, ... ]
 //!
 //! [[node]]            # golden-model node on the bus
 //! name = "acker"; btr0 = 0x41; btr1 = 0x25; mode = "basic"; acr = [0xFF]; amr = [0xFF]
@@ -58,6 +61,9 @@
 //! [[fault]]
 //! kind = "flip"       # | "stuck-dominant" | "stuck-recessive" | "glitch"
 //! frame = 1; bit_in_frame = 20   # or at_bit = N; duration_bits; target = "bus" | "dut-rx" | node
+//!                     # "bus": every model node and the DUT; "dut-rx": what the DUT (and
+//!                     # its shadow model) receive only; frames count SOFs on the bus from 1,
+//!                     # bits are wire bits from SOF = 0, stuff bits included
 //!
 //! [expect]            # checked against the diagnosis
 //! category = "RxNotFollowingTx"  # diagnose::Category name
