@@ -817,10 +817,12 @@ impl Bus {
             let start = frame_start(e.clock);
             let dup = (0..self.nodes.len())
                 .any(|s| s != e.node && self.has_error(s, start, e.clock + window));
-            // The sender left the bus (reset mode, sleep, bus-off) after the
-            // receivers took the frame and before its own last EOF bit.
+            // The sender left the bus (reset mode, sleep, bus-off) before
+            // its own last EOF bit: if that was in the ACK delimiter or EOF,
+            // the receivers still see the recessive bits of a valid frame
+            // (found by fuzz_host: reset mode entered in the ACK field).
             let cut = (0..self.nodes.len())
-                .any(|s| s != e.node && self.off_bus(s, e.clock, e.clock + window));
+                .any(|s| s != e.node && self.left_bus(s, start, e.clock + window));
             if e.clock + window > self.clock {
                 // The sender completes one bit after the receivers (EOF):
                 // the run stopped in between.
@@ -878,6 +880,18 @@ impl Bus {
             }
         }
         reset || sleep || busoff
+    }
+
+    /// True if node `r` entered reset mode, sleep or bus-off in `from..=to`.
+    fn left_bus(&self, r: usize, from: u64, to: u64) -> bool {
+        let lo = self.ledger.partition_point(|x| x.clock < from);
+        self.ledger[lo..].iter().take_while(|x| x.clock <= to).any(|x| {
+            x.node == r
+                && matches!(
+                    x.event,
+                    NodeEvent::ResetMode(true) | NodeEvent::Sleep(true) | NodeEvent::FaultState(FaultState::BusOff)
+                )
+        })
     }
 
     fn has_error(&self, r: usize, from: u64, to: u64) -> bool {

@@ -1017,3 +1017,23 @@ fn identical_frames_sent_at_once_are_one_frame_and_no_loss() {
     let acc = bus.check_accounting().unwrap();
     assert_eq!((acc.sent, acc.co_transmitted, acc.stored), (2, 2, 2), "{acc:?}");
 }
+
+/// Found by `fuzz_host`: a sender that enters reset mode in the ACK field
+/// leaves the bus recessive, which is what its ACK delimiter and EOF would
+/// have been: the receivers take a valid frame the sender never completes.
+/// The accounting explains it by the sender leaving the bus in that frame.
+#[test]
+fn sender_leaving_the_bus_in_its_ack_field_is_no_phantom() {
+    let cfg = Config::basic(0, 0xFF);
+    let mut bus = bus_of(&[cfg, cfg]);
+    let f = std_frame(0, &[0]);
+    host::transmit(bus.node_mut(1), &f, basic::cmr::TR).unwrap();
+    bus.run_clocks(2268);
+    bus.node_mut(1).write(basic::CR, basic::cr::RR);
+    bus.node_mut(1).write(basic::CR, 0);
+    bus.run_bits(200);
+    assert_eq!(drain(bus.node_mut(0)), vec![f], "node 0 took the frame");
+    assert_eq!(bus.node_mut(1).read(basic::SR) & basic::sr::TCS, 0, "node 1 never completed it");
+    let acc = bus.check_accounting().unwrap();
+    assert_eq!((acc.sent, acc.sender_cut_off), (0, 1), "{acc:?}");
+}
