@@ -1,5 +1,6 @@
 //! Verilates the bundled tops (our RTL `can_top` and `can_avalon`, and the
-//! test fixtures in `tb/fixtures/`), generates the `extern "C"` shim of
+//! test fixtures in `tb/fixtures/`; Verilator `-O3` as the bench's raw C++
+//! harness, plus `--trace` for `dut_trace`), generates the `extern "C"` shim of
 //! each from its `V<top>.h`, and compiles model + shim as one translation
 //! unit per top with `-O3 -fno-semantic-interposition`, plus Verilator's
 //! runtime. Source lists come from the generated `V<top>_classes.mk`.
@@ -102,6 +103,7 @@ fn main() {
             let mut cmd = Command::new("verilator");
             cmd.args([
                 "--cc",
+                "-O3",
                 "--trace",
                 "--no-timing",
                 "-Wno-fatal",

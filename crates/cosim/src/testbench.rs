@@ -344,7 +344,8 @@ pub struct Testbench {
     /// Buffers of `run_batch` (clock levels in, pins out), kept between calls.
     batch_levels: Vec<u8>,
     batch_out: Vec<u8>,
-    batch_ticks: Vec<Tick>,
+    /// Instants of a batch with a rising edge: (index, tick).
+    batch_edges: Vec<(usize, Tick)>,
 }
 
 /// Instants per batch (see `Testbench::run_batch`).
@@ -551,7 +552,7 @@ impl Testbench {
             batching: true,
             batch_levels: Vec::new(),
             batch_out: Vec::new(),
-            batch_ticks: Vec::new(),
+            batch_edges: Vec::new(),
         };
         tb.dut.set_reset(true);
         tb.dut.set_rx(RECESSIVE);
@@ -813,18 +814,21 @@ impl Testbench {
         if can_rises == 0 {
             return Ok(false);
         }
-        // The instants ahead: clock levels, and which ones the CAN clock rises at.
+        // The instants ahead: clock levels for the model, and the instants
+        // with a rising edge (the only ones with work besides the pins).
         let mut k = self.kernel.clone();
         let mut levels = std::mem::take(&mut self.batch_levels);
         let mut out = std::mem::take(&mut self.batch_out);
-        let mut ticks = std::mem::take(&mut self.batch_ticks);
+        let mut edges = std::mem::take(&mut self.batch_edges);
         levels.clear();
-        ticks.clear();
+        edges.clear();
         let mut rises = 0;
         while levels.len() < BATCH && rises < can_rises {
             let t = k.advance();
             rises += t.can_rise as u64;
-            ticks.push(t);
+            if t.host_rise || t.can_rise {
+                edges.push((levels.len(), t));
+            }
             levels.push(
                 k.host().level() as u8 | (k.can().level() as u8) << 1 | (t.can_rise as u8) << 2,
             );
@@ -845,16 +849,21 @@ impl Testbench {
         let s0 = self.dut.wb();
         let quiet_wires = !(s0.ack || s0.err || s0.rty);
         let mut quiet = quiet_wires && self.wb_mon_seen == Some((self.applied_wb, s0));
-        let mut replayed = 0;
         let tx_on_bus = self.tx_on_bus;
-        // The DUT's tx after the previous instant, kept in a register (read
-        // back from `dut_pins`, stored byte by byte, it stalls each instant).
-        let mut prev_tx = self.dut_pins.tx;
-        for (i, (&o, &t)) in out[..made].iter().zip(&ticks).enumerate() {
+        let before = self.dut_pins.tx;
+        // Instants made and replayed: all of them unless a divergence stops the run.
+        let mut replayed = made;
+        // An instant without a rising edge only changes the pins: `after_eval`
+        // (without the traces, see `batch_rx`) for the others.
+        for &(i, t) in &edges {
+            if i >= made {
+                break;
+            }
             let last = i + 1 == made;
-            replayed += 1;
             if t.can_rise {
-                // `can_rise_rx` without model nodes or faults (see `batch_rx`).
+                // `can_rise_rx` without model nodes or faults (see
+                // `batch_rx`), with the DUT's tx of the instant before.
+                let prev_tx = if i == 0 { before } else { out[i - 1] & 1 != 0 };
                 let level = if tx_on_bus { prev_tx } else { RECESSIVE };
                 self.bus_level = level;
                 self.dut_rx = rx.unwrap_or(level);
@@ -863,10 +872,7 @@ impl Testbench {
                 // The host edge of the last instant may see new outputs.
                 d.sync_outputs();
             }
-            // `after_eval` without the traces (see `batch_rx`).
-            let pins = VerilatedDut::batch_pins(o, active_high);
-            prev_tx = pins.tx;
-            self.dut_pins = pins;
+            let pins = VerilatedDut::batch_pins(out[i], active_high);
             if t.host_rise {
                 if quiet && !last {
                     self.host_cycle += 1;
@@ -882,11 +888,19 @@ impl Testbench {
                 && let Err(e) = self.check_stopped()
             {
                 result = Err(e);
+                replayed = i + 1;
                 break;
             }
         }
+        if replayed > 0 {
+            self.dut_pins = VerilatedDut::batch_pins(out[replayed - 1], active_high);
+        }
+        if let AnyDut::Verilated(d) = &mut self.dut {
+            // For the instants after this batch (the last one may not have been an edge).
+            d.sync_outputs();
+        }
         // The kernel at the last instant replayed.
-        if replayed == ticks.len() {
+        if replayed == levels.len() {
             self.kernel = k;
         } else {
             for _ in 0..replayed {
@@ -895,7 +909,7 @@ impl Testbench {
         }
         self.batch_levels = levels;
         self.batch_out = out;
-        self.batch_ticks = ticks;
+        self.batch_edges = edges;
         result
     }
 
