@@ -415,6 +415,10 @@ pub fn run(s: &Scenario, opts: &RunOptions) -> RunOutcome {
     let max_bits = opts.max_bits.unwrap_or(s.max_bits);
     let mut received = Vec::new();
     let mut report = None;
+    // Issue 8 item 4: with two or more golden-model nodes, every frame one
+    // of them sends must reach the others or be explained (error frame,
+    // overrun, off the bus); checked at the end of every run.
+    let mut lost = None;
     let mut record = match tb_config(s, &dut.kind, opts).map_err(|e| e.to_string()).and_then(|c| Testbench::new(c).map_err(|e| e.to_string())) {
         Err(e) => {
             let mut r = RunRecord::new(&s.name, &dut.name);
@@ -422,6 +426,11 @@ pub fn run(s: &Scenario, opts: &RunOptions) -> RunOutcome {
             r
         }
         Ok(mut tb) => {
+            let account = tb.bus().len() > 1;
+            if account {
+                tb.bus_mut().set_accounting(true);
+                tb.bus_mut().set_check_on_drop(false);
+            }
             let mut traffic: Vec<(u64, usize, can_proto::CanFrame)> = s
                 .nodes
                 .iter()
@@ -462,6 +471,10 @@ pub fn run(s: &Scenario, opts: &RunOptions) -> RunOutcome {
             }
             complete_record(&mut r, s, &dut);
             received = received_counts(&mut tb, s);
+            if account {
+                let names: Vec<String> = s.nodes.iter().enumerate().map(|(i, n)| format!("{i} = {}", n.name)).collect();
+                lost = tb.bus().check_accounting().err().map(|e| format!("frame accounting between the model nodes: {e} (nodes {})", names.join(", ")));
+            }
             report = Some(tb.waiver_report());
             r
         }
@@ -471,6 +484,7 @@ pub fn run(s: &Scenario, opts: &RunOptions) -> RunOutcome {
     }
     let diagnosis = diagnose(&record);
     let mut mismatches = check_expect(s, &diagnosis);
+    mismatches.extend(lost);
     for (name, want) in &s.expect.received {
         let got = received.iter().find(|(n, _)| n == name).map(|(_, c)| *c);
         if record.error.is_none() && got != Some(*want) {
