@@ -28,7 +28,7 @@ pub struct BusContext {
     pub frame_bit: u32,
     /// Clock within the bit (always 0 on the fast path).
     pub sub: u32,
-    /// Clocks per bit of the reference timing (node 0).
+    /// Clocks per bit of the reference timing ([`Bus::clocks_per_bit`]).
     pub clocks_per_bit: u32,
 }
 
@@ -516,11 +516,18 @@ impl Bus {
         self.clock
     }
 
-    /// Clocks per bit of the reference timing (node 0).
+    /// Clocks per bit of the reference timing: the first node out of
+    /// reset mode (node 0 unless it is in reset mode, where its BTR may
+    /// hold anything, e.g. the reset value after a hardware reset), else
+    /// node 0. Found by `fuzz_host`: with node 0 reset to 6 clocks per bit
+    /// the frame tracker took another node's ACK bit for a SOF.
     pub fn clocks_per_bit(&self) -> u32 {
-        self.nodes
-            .first()
-            .map_or(1, |n| n.engine().timing().clocks_per_bit())
+        let n = self
+            .nodes
+            .iter()
+            .find(|n| !n.in_reset_mode())
+            .or(self.nodes.first());
+        n.map_or(1, |n| n.engine().timing().clocks_per_bit())
     }
 
     /// Bit times run so far (reference timing).

@@ -969,7 +969,7 @@ fn accounting_window_survives_a_timing_change_of_node_0() {
     host::transmit(bus.node_mut(0), &std_frame(0, &[]), basic::cmr::TR).unwrap();
     assert!(bus.run_until(200, |b| b.node(0).peek(basic::SR) & basic::sr::TCS != 0));
     bus.node_mut(0).hard_reset();
-    assert!(bus.clocks_per_bit() < cpb, "node 0's bit time changed");
+    assert!(bus.node(0).engine().timing().clocks_per_bit() < cpb, "node 0's bit time changed");
     bus.run_bits(100);
     let acc = bus.check_accounting().unwrap();
     assert_eq!((acc.sent, acc.stored), (1, 1));
@@ -1034,6 +1034,30 @@ fn sender_leaving_the_bus_in_its_ack_field_is_no_phantom() {
     bus.run_bits(200);
     assert_eq!(drain(bus.node_mut(0)), vec![f], "node 0 took the frame");
     assert_eq!(bus.node_mut(1).read(basic::SR) & basic::sr::TCS, 0, "node 1 never completed it");
+    let acc = bus.check_accounting().unwrap();
+    assert_eq!((acc.sent, acc.sender_cut_off), (0, 1), "{acc:?}");
+}
+
+/// Found by `fuzz_host` (large run): node 0 hardware-reset in the CRC of
+/// its own frame (its BTR back to the reset value, 6 clocks per bit); the
+/// remaining CRC bits happened to be recessive, so node 1 acknowledged and
+/// took the frame. The frame tracker, timed by node 0's BTR, took node 1's
+/// ACK bit for a SOF, and the accounting looked for the sender in the
+/// wrong frame. The reference timing is now the first node out of reset.
+#[test]
+fn reference_timing_ignores_a_node_in_reset_mode() {
+    let cfg = Config::basic(0, 0xFF);
+    let mut bus = bus_of(&[cfg, cfg]);
+    let cpb = bus.clocks_per_bit();
+    bus.run_bits(9);
+    let f = CanFrame::with_dlc(CanFrame::std_id(243).unwrap(), true, 9, &[]).unwrap();
+    host::transmit(bus.node_mut(0), &f, basic::cmr::TR | basic::cmr::RRB).unwrap();
+    bus.run_bits(35);
+    bus.node_mut(0).hard_reset();
+    assert_eq!(bus.clocks_per_bit(), cpb, "node 1's timing is the reference");
+    bus.run_bits(65);
+    assert_eq!(drain(bus.node_mut(1)), vec![f]);
+    bus.run_bits(200);
     let acc = bus.check_accounting().unwrap();
     assert_eq!((acc.sent, acc.sender_cut_off), (0, 1), "{acc:?}");
 }
