@@ -345,6 +345,46 @@ impl Reference for ModelRef {
     }
 }
 
+/// The reference of a test bench: the golden model called directly (its
+/// `step` runs every CAN clock: no dynamic dispatch there), anything else
+/// through [`Reference`]. Dereferences to `dyn Reference` off the hot path.
+pub enum AnyRef {
+    /// The golden model.
+    Model(ModelRef),
+    /// Any other reference.
+    Other(Box<dyn Reference>),
+}
+
+impl std::ops::Deref for AnyRef {
+    type Target = dyn Reference;
+    fn deref(&self) -> &(dyn Reference + 'static) {
+        match self {
+            AnyRef::Model(m) => m,
+            AnyRef::Other(r) => r.as_ref(),
+        }
+    }
+}
+
+impl std::ops::DerefMut for AnyRef {
+    fn deref_mut(&mut self) -> &mut (dyn Reference + 'static) {
+        match self {
+            AnyRef::Model(m) => m,
+            AnyRef::Other(r) => r.as_mut(),
+        }
+    }
+}
+
+impl AnyRef {
+    /// [`Reference::step`].
+    #[inline(always)]
+    pub fn step(&mut self, rx: bool) -> RefView {
+        match self {
+            AnyRef::Model(m) => m.step(rx),
+            AnyRef::Other(r) => r.step(rx),
+        }
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;

@@ -31,10 +31,10 @@ use sja1000::{Bus, BusContext, FaultInjector, Sja1000};
 
 use crate::bitclock::BitClock;
 use crate::bridge::{BridgeError, ExternalCore};
-use crate::compare::{Comparator, CompareConfig, IR_ADDR, Reference, SR_ADDR, Stamp};
+use crate::compare::{Comparator, CompareConfig, IR_ADDR, SR_ADDR, Stamp};
 use crate::dut::{AnyDut, CanPins, EchoModel, HostPort, VerilatedDut};
 use crate::kernel::{Kernel, KernelError, Tick};
-use crate::model::{ModelDut, ModelRef};
+use crate::model::{AnyRef, ModelDut, ModelRef};
 use crate::wave::{Wave, WaveSample};
 use waivers::{Action, CollectMode, DutInfo, Observed, Resync, Session, WaiverReport, WaiverSet};
 
@@ -307,7 +307,7 @@ pub struct Testbench {
     av_mon: Option<AvalonMonitor>,
     host_cycle: u64,
     reset_left: u64,
-    reference: Option<Box<dyn Reference>>,
+    reference: Option<AnyRef>,
     comparator: Option<Comparator>,
     bitclock: BitClock,
     decoder: Decoder,
@@ -446,14 +446,16 @@ impl Testbench {
             bus.add_fault(BoxedFault(f));
         }
         let dut_faults: Vec<Box<dyn FaultInjector>> = cfg.dut_rx_faults.drain(..).collect();
-        let (reference, comparator): (Option<Box<dyn Reference>>, _) = match cfg.lockstep {
+        let (reference, comparator) = match cfg.lockstep {
             None => (None, None),
-            Some((ReferenceChoice::Model, c)) => {
-                (Some(Box::new(ModelRef::new())), Some(Comparator::new(c)))
-            }
-            Some((ReferenceChoice::Echo, c)) => {
-                (Some(Box::new(EchoModel::new())), Some(Comparator::new(c)))
-            }
+            Some((ReferenceChoice::Model, c)) => (
+                Some(AnyRef::Model(ModelRef::new())),
+                Some(Comparator::new(c)),
+            ),
+            Some((ReferenceChoice::Echo, c)) => (
+                Some(AnyRef::Other(Box::new(EchoModel::new()))),
+                Some(Comparator::new(c)),
+            ),
         };
         let wave = match &cfg.vcd {
             Some(p) => Some(Wave::create(p)?),
