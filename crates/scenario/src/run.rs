@@ -102,10 +102,50 @@ pub struct RunOutcome {
     pub skipped: Option<String>,
 }
 
+/// A level forced from a bit of a frame on, for `bits` bit times (a
+/// frame-relative stuck-dominant / stuck-recessive fault).
+#[derive(Debug)]
+struct StuckInFrame {
+    level: bool,
+    target: Target,
+    /// Frame index (0 = first SOF on the bus).
+    frame: u64,
+    /// Wire bit of that frame where the fault starts.
+    bit: u32,
+    /// Length in bit times.
+    bits: u64,
+    /// First clock after the fault, once started.
+    until: Option<u64>,
+}
+
+impl FaultInjector for StuckInFrame {
+    fn apply(&mut self, ctx: &sja1000::BusContext, node: usize, level: bool) -> bool {
+        if self.until.is_none() && ctx.frame == Some(self.frame) && ctx.frame_bit == self.bit {
+            self.until = Some(ctx.clock + self.bits * u64::from(ctx.clocks_per_bit));
+        }
+        let hits = match self.target {
+            Target::All => true,
+            Target::Node(n) => n == node,
+        };
+        match self.until {
+            Some(u) if hits && ctx.clock < u => self.level,
+            _ => level,
+        }
+    }
+}
+
 /// Frame and bit of a frame-relative fault (frames counted from 1 in files, from 0 on the bus).
 fn injector(f: &FaultSpec, target: Target, clocks_per_bit: u64) -> Box<dyn FaultInjector> {
     match (f.kind, f.frame_bit) {
-        (FaultKind::StuckDominant | FaultKind::StuckRecessive, _) => {
+        (FaultKind::StuckDominant | FaultKind::StuckRecessive, Some((fr, b))) => Box::new(StuckInFrame {
+            level: f.kind == FaultKind::StuckRecessive,
+            target,
+            frame: fr as u64 - 1,
+            bit: b,
+            bits: f.duration_bits,
+            until: None,
+        }),
+        (FaultKind::StuckDominant | FaultKind::StuckRecessive, None) => {
             let level = f.kind == FaultKind::StuckRecessive;
             let from = f.at_bit.unwrap_or(0) * clocks_per_bit;
             Box::new(sja1000::StuckAt { level, target, from, until: Some(from + f.duration_bits * clocks_per_bit) })
