@@ -325,3 +325,13 @@ fn fuzz_decoder_large() {
         r.unwrap();
     }
 }
+
+/// The per-case bound has teeth: a case slower than its bound fails and
+/// names its input.
+#[test]
+#[should_panic(expected = "over its bound of 0.010 s; input: the slow case")]
+fn a_case_over_its_time_bound_fails() {
+    time_bound::within(Duration::from_millis(10), || "the slow case".to_string(), || {
+        std::thread::sleep(Duration::from_millis(50))
+    });
+}
