@@ -1039,8 +1039,13 @@ impl Sja1000 {
     /// Sends configuration to the engine: timing, listen only, self test, EWL.
     fn push_engine_config(&mut self) {
         let peli = self.mode == Mode::PeliCan;
-        self.engine
-            .set_timing(BusTiming::from_btr(self.btr0, self.btr1));
+        // BTR0/BTR1 are written in reset mode only: re-apply the timing only
+        // when it changed, so an operating-mode MOD write (a sleep request
+        // refused during a frame) does not restart the bit timing mid-frame.
+        let timing = BusTiming::from_btr(self.btr0, self.btr1);
+        if self.engine.timing() != timing {
+            self.engine.set_timing(timing);
+        }
         self.engine.set_options(Options {
             listen_only: peli && self.lom,
             self_test: peli && self.stm,
