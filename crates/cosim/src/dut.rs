@@ -395,6 +395,7 @@ impl Dut for VerilatedDut {
 /// The DUT of a test bench: a Verilated top called directly (the hot
 /// path: no dynamic dispatch per edge), anything else through [`Dut`].
 /// Dereferences to `dyn Dut` for everything off the hot path.
+#[allow(clippy::large_enum_variant)] // inline on purpose: no indirection per edge
 pub enum AnyDut {
     /// A Verilated top.
     Verilated(VerilatedDut),

@@ -348,6 +348,7 @@ impl Reference for ModelRef {
 /// The reference of a test bench: the golden model called directly (its
 /// `step` runs every CAN clock: no dynamic dispatch there), anything else
 /// through [`Reference`]. Dereferences to `dyn Reference` off the hot path.
+#[allow(clippy::large_enum_variant)] // inline on purpose: no indirection per edge
 pub enum AnyRef {
     /// The golden model.
     Model(ModelRef),

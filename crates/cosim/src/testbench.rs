@@ -996,9 +996,8 @@ impl Testbench {
         match &mut self.master {
             Master::Wb(m) => {
                 let s = self.dut.wb();
-                let idle_wires = !self.applied_wb.cyc
-                    && !self.applied_wb.stb
-                    && !(s.ack || s.err || s.rty);
+                let idle_wires =
+                    !(self.applied_wb.cyc || self.applied_wb.stb || s.ack || s.err || s.rty);
                 // The monitor would flag nothing and keep its state when
                 // the same idle wires come again: skip it.
                 if !(idle_wires && self.wb_mon_seen == Some((self.applied_wb, s))) {
