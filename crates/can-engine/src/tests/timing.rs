@@ -531,3 +531,86 @@ mod equivalence {
         }
     }
 }
+
+/// The campaign's timing (BTR0 0x41, BTR1 0x25): 4 clocks per tq, TSEG1 6
+/// tq, TSEG2 3 tq, SJW 2 tq; sample point at clock 27 of 40.
+fn campaign_timing() -> BusTiming {
+    BusTiming::from_btr(0x41, 0x25)
+}
+
+/// Clocks an engine with a recessive bus until it is idle.
+fn clocked_idle(t: BusTiming) -> Engine {
+    let mut e = Engine::new(t, Options::default());
+    for _ in 0..12 * t.clocks_per_bit() {
+        e.clock(RECESSIVE);
+    }
+    assert!(e.is_bus_idle());
+    e
+}
+
+/// A node whose SOF is decided (at the last sample point) but not yet on
+/// the wire hard-synchronises on another node's SOF edge in phase segment 2
+/// (CAN 2.0B §9.2.4 rule 3: the bus is still idle) and starts its own SOF
+/// with it: it samples that SOF with a plain receiver that hard-synchronised
+/// on the same edge, not one tq later as a resynchronisation limited to SJW
+/// would make it.
+#[test]
+fn pending_sof_hard_synchronises_on_another_nodes_sof() {
+    let t = campaign_timing();
+    for late in 0..t.tseg2_tq() * t.clocks_per_tq() {
+        let mut tx = clocked_idle(t);
+        let mut rx = clocked_idle(t);
+        tx.request_tx(std_frame(0x100, &[1]), false, false);
+        // Up to the sample point where the request is taken.
+        let mut n = 0;
+        while tx.field() != Field::Sof {
+            let before = tx.bits_sampled();
+            tx.clock(RECESSIVE);
+            rx.clock(RECESSIVE);
+            n += 1;
+            assert!(n < 200 || tx.bits_sampled() == before);
+        }
+        assert_eq!(tx.tx(), RECESSIVE, "decided, not yet driving");
+        for _ in 0..late {
+            tx.clock(RECESSIVE);
+            rx.clock(RECESSIVE);
+        }
+        // Another node's SOF from now on, seen by both.
+        let (mut tx_on, mut tx_sampled, mut rx_sampled) = (None, None, None);
+        for c in 0..2 * t.clocks_per_bit() {
+            let (b0, b1) = (tx.bits_sampled(), rx.bits_sampled());
+            if tx.clock(DOMINANT) == DOMINANT && tx_on.is_none() {
+                tx_on = Some(c);
+            }
+            rx.clock(DOMINANT);
+            if tx.bits_sampled() != b0 && tx_sampled.is_none() {
+                tx_sampled = Some(c);
+            }
+            if rx.bits_sampled() != b1 && rx_sampled.is_none() {
+                rx_sampled = Some(c);
+            }
+        }
+        let on = tx_on.expect("the pending node drives its SOF");
+        assert!(on < t.clocks_per_tq(), "late {late}: SOF driven at the edge's quantum boundary, not {on} clocks after it");
+        assert_eq!(tx_sampled, rx_sampled, "late {late}: the SOF is sampled with the receivers");
+        assert_eq!(tx.field(), Field::BaseId, "late {late}: the node goes on as a transmitter");
+    }
+}
+
+/// The bit timing stands still in reset mode: leaving it starts the
+/// prescaler from zero, whatever phase it had (as rtl/can_btl.v holds it
+/// at zero while not running), so the first time-quantum boundary comes
+/// one whole tq after the host's write.
+#[test]
+fn leaving_reset_mode_restarts_the_prescaler() {
+    let t = campaign_timing();
+    for phase in 0..2 * t.clocks_per_tq() {
+        let mut e = clocked_idle(t);
+        e.set_reset_mode(true);
+        for _ in 0..phase {
+            e.clock(RECESSIVE);
+        }
+        e.set_reset_mode(false);
+        assert_eq!(e.clocks_to_next_tq(), t.clocks_per_tq(), "after {phase} clocks in reset mode");
+    }
+}
