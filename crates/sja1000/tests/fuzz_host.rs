@@ -22,6 +22,7 @@ use proptest::test_runner::{Config as RunnerConfig, TestCaseError, TestRunner};
 use regmap::{Mode, RegError, peli};
 use sja1000::host::{self, Config};
 use sja1000::{Bus, Sja1000};
+use std::sync::atomic::{AtomicU64, Ordering::Relaxed};
 use std::time::{Duration, Instant};
 
 /// Bound of one case: at most ~100 ops of at most 400 bit times on 3 nodes.
@@ -140,6 +141,11 @@ fn snapshot(n: &Sja1000) -> Vec<u8> {
     (0..n.mode().addr_limit()).map(|a| n.peek(a as u8)).collect()
 }
 
+/// Cases whose accounting was checked, frames they sent, mixed-rate cases.
+static ACCOUNTED: AtomicU64 = AtomicU64::new(0);
+static SENT: AtomicU64 = AtomicU64::new(0);
+static MIXED: AtomicU64 = AtomicU64::new(0);
+
 fn run_case(starts: &[(bool, bool)], ops: &[Op]) -> Result<(), TestCaseError> {
     time_bound::within(CASE_BOUND, || format!("starts {starts:?} ops {ops:?}"), || {
         let mut bus = Bus::new();
@@ -223,6 +229,7 @@ fn run_case(starts: &[(bool, bool)], ops: &[Op]) -> Result<(), TestCaseError> {
             mixed |= mixed_timing(&bus);
         }
         if mixed {
+            MIXED.fetch_add(1, Relaxed);
             // The accounting is defined for nodes sharing one bit timing
             // (see `Bus::check_accounting`); no panic and no hang is what
             // a mixed-rate bus is checked for.
@@ -234,7 +241,11 @@ fn run_case(starts: &[(bool, bool)], ops: &[Op]) -> Result<(), TestCaseError> {
         bus.run_bits(200);
         invariants(&bus)?;
         match bus.finish() {
-            Ok(_) => Ok(()),
+            Ok(acc) => {
+                ACCOUNTED.fetch_add(1, Relaxed);
+                SENT.fetch_add(acc.sent as u64, Relaxed);
+                Ok(())
+            }
             Err(e) => Err(TestCaseError::fail(format!("accounting: {e}"))),
         }
     })
@@ -294,8 +305,11 @@ fn fuzz_host_large() {
     let t = Instant::now();
     let r = runner.run(&case(), |(s, ops)| run_case(&s, &ops));
     println!(
-        "fuzz sja1000 host access: {cases} cases in {:.1} s: {}",
+        "fuzz sja1000 host access: {cases} cases in {:.1} s ({} with the accounting checked, {} frames sent; {} on a mixed-rate bus): {}",
         t.elapsed().as_secs_f64(),
+        ACCOUNTED.load(Relaxed),
+        SENT.load(Relaxed),
+        MIXED.load(Relaxed),
         match &r {
             Ok(()) => "no failure".to_string(),
             Err(e) => format!("FAILED: {e}"),
