@@ -1,5 +1,5 @@
 //! Runs a campaign from the command line until the CLI has its
-//! `campaign` subcommand: `cargo run --release -p campaign --example campaign -- SEED FRAMES [model|rtl] [FIRST_FRAME] [FAULT_RATE]` (CAMPAIGN_FRAMES=1 lists every frame, CAMPAIGN_VCD=path writes the waveform, CAMPAIGN_MAX=n stops after n disagreements, CAMPAIGN_PLAN=1 lists the plan only, CAMPAIGN_STRICT=1 compares with no tolerance, CAMPAIGN_TOL=tx,status,pin,sof sets them in CAN clocks)`.
+//! `campaign` subcommand: `cargo run --release -p campaign --example campaign -- SEED FRAMES [model|rtl] [FIRST_FRAME] [FAULT_RATE]` (CAMPAIGN_FRAMES=1 lists every frame, CAMPAIGN_VCD=path writes the waveform, CAMPAIGN_MAX=n stops after n disagreements, CAMPAIGN_PLAN=1 lists the plan only, CAMPAIGN_STRICT=1 compares with no tolerance, CAMPAIGN_TOL=tx,status,pin,sof sets them in CAN clocks, CAMPAIGN_NODES=n model nodes)`.
 use campaign::{CampaignConfig, DutChoice, run_campaign};
 
 fn main() {
@@ -29,7 +29,8 @@ fn main() {
             compare = cosim::CompareConfig { tx_edge_tolerance: tx, status_tolerance: status, pin_tolerance: pin, sof_tolerance: sof, ..compare };
         }
     }
-    let r = run_campaign(&CampaignConfig { seed, frames, dut, first_frame, fault_rate, vcd, max_disagreements, compare: Some(compare), ..CampaignConfig::default() });
+    let nodes = std::env::var("CAMPAIGN_NODES").ok().and_then(|s| s.parse().ok()).unwrap_or(CampaignConfig::default().nodes);
+    let r = run_campaign(&CampaignConfig { seed, frames, dut, first_frame, fault_rate, vcd, max_disagreements, nodes, compare: Some(compare), ..CampaignConfig::default() });
     print!("{}", r.to_text());
     if std::env::var_os("CAMPAIGN_FRAMES").is_some() {
         for f in &r.frames {

@@ -243,3 +243,22 @@ fn arbitration_stuff_bit_error_code_matches() {
     let r = run_campaign(&cfg);
     assert!(r.passed(), "{}", r.to_text());
 }
+
+/// One model node only (`--nodes 1`). Found by `cancosim campaign --seed 202 --frames 5000 --nodes 1`
+/// (frame 156): the DUT, error passive, sends 0734F787x [10]; a flip of its
+/// RTR bit seen by node1 alone makes node1 read a remote frame whose CRC
+/// happens to match the DUT's first data bits; node1's ACK inside the
+/// DUT's data is a bit error for the DUT, whose passive error flag is
+/// recessive, and node1 delivers the remote frame. CAN allows that (no
+/// other receiver flags it); the campaign lists it as an undetected
+/// corruption instead of a disagreement. Seeds 201/202 also stalled when
+/// the lone node or the DUT went bus-off with the other waiting for an
+/// acknowledgement: the settle loop now restarts bus-off nodes nobody else
+/// could replace and lets a node wait for a bus-off DUT.
+#[test]
+fn a_single_model_node_settles_and_undetected_corruptions_are_listed() {
+    let cfg = CampaignConfig { seed: 202, frames: 157, dut: DutChoice::Rtl, nodes: 1, ..CampaignConfig::default() };
+    let r = run_campaign(&cfg);
+    assert!(r.passed(), "{}", r.to_text());
+    assert_eq!(r.undetected, vec!["frame 156: node1 delivered 0734F787x RTR [10] ".to_string()], "{}", r.to_text());
+}
