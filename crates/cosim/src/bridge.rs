@@ -697,21 +697,36 @@ impl ExternalCore {
         let dir = cache_dir().join(&key);
         let lib_path = dir.join(format!("libcosim_{}.so", self.top));
         if !lib_path.exists() {
-            self.build_into(&sources, &dir, &lib_path)?;
+            // One build directory per build, also between threads of one
+            // process (tests run in parallel): two makes in one directory
+            // link each other's half-written objects.
+            static BUILD_SEQ: AtomicU64 = AtomicU64::new(0);
+            let tmp = dir.with_extension(format!(
+                "tmp{}-{}",
+                std::process::id(),
+                BUILD_SEQ.fetch_add(1, Ordering::Relaxed)
+            ));
+            let built = self.build_into(&sources, &tmp, &dir, &lib_path);
+            if built.is_err() {
+                // Keep no half build (the error says what went wrong).
+                let _ = std::fs::remove_dir_all(&tmp);
+            }
+            built?;
         }
         self.load(&lib_path)
     }
 
+    /// Builds in `tmp`, then moves it to `dir`.
     fn build_into(
         &self,
         sources: &[PathBuf],
+        tmp: &Path,
         dir: &Path,
         lib_path: &Path,
     ) -> Result<(), BridgeError> {
         let top = &self.top;
-        let tmp = dir.with_extension(format!("tmp{}", std::process::id()));
-        let _ = std::fs::remove_dir_all(&tmp);
-        std::fs::create_dir_all(&tmp).map_err(io_err(format!("creating {}", tmp.display())))?;
+        let _ = std::fs::remove_dir_all(tmp);
+        std::fs::create_dir_all(tmp).map_err(io_err(format!("creating {}", tmp.display())))?;
         let which = Command::new("verilator").arg("--version").output();
         if which.is_err() {
             return Err(BridgeError::Verilate { top: top.clone(), dir: self.dir.display().to_string(), message: "`verilator` was not found: install Verilator (apt-get install verilator) or run scripts/setup.sh".into() });
@@ -719,7 +734,7 @@ impl ExternalCore {
         let o = Command::new("verilator")
             .args(self.verilator_args(sources))
             .arg("-Mdir")
-            .arg(&tmp)
+            .arg(tmp)
             .output()
             .map_err(io_err("running verilator"))?;
         if !o.status.success() {
@@ -756,7 +771,7 @@ impl ExternalCore {
         run(
             Command::new("make")
                 .arg("-C")
-                .arg(&tmp)
+                .arg(tmp)
                 .arg("-j")
                 .arg(&jobs)
                 .arg("-f")
@@ -774,7 +789,7 @@ impl ExternalCore {
         let cxx = std::env::var("CXX").unwrap_or_else(|_| "g++".into());
         run(
             Command::new(cxx)
-                .current_dir(&tmp)
+                .current_dir(tmp)
                 .args(["-shared", "-Wl,-Bsymbolic", "-o"])
                 .arg(lib_path.file_name().unwrap())
                 .arg("cosim_shim.o")
@@ -784,11 +799,11 @@ impl ExternalCore {
             top,
             "link",
         )?;
-        match std::fs::rename(&tmp, dir) {
+        match std::fs::rename(tmp, dir) {
             Ok(()) => Ok(()),
             // Another process or thread built it first: use theirs.
             Err(_) if lib_path.exists() => {
-                let _ = std::fs::remove_dir_all(&tmp);
+                let _ = std::fs::remove_dir_all(tmp);
                 Ok(())
             }
             Err(e) => Err(io_err(format!("moving the build to {}", dir.display()))(e)),
