@@ -401,12 +401,29 @@ pub fn no_acknowledge(r: &RunRecord) -> Option<Finding> {
         f.tec = Some(p);
     }
     let sr_txt = f.sr.map(sr::describe).unwrap_or_else(|| "?".into());
+    // SR.TBS = 1 with SR.TS = 0 at the end: the request did not live on, an
+    // abort (CMR.AT) or single shot ended it; say so instead of "forever".
+    let released = f.sr.is_some_and(|s| s & 0x04 != 0 && s & 0x20 == 0);
+    let aborted = r.host_ops.iter().any(|o| {
+        o.access == Access::Write && o.addr == 1 && o.data & 0x02 != 0 && o.error.is_none()
+    });
+    let outcome = if released {
+        format!(
+            "TEC reached {} and the retransmissions ended when {}: SR = {sr_txt}, i.e. TBS = 1 (buffer released) and TS = 0; the frame was never sent",
+            plateau.map(|p| p.to_string()).unwrap_or_else(|| "?".into()),
+            if aborted { "the host aborted the request (CMR.AT)" } else { "the request was dropped (single shot, CMR.AT with TR)" }
+        )
+    } else {
+        format!(
+            "From then on TEC stays at {} and the controller retransmits forever: SR = {sr_txt}, i.e. TBS = 0 (buffer locked, 'full') and TS = 1 (transmission in progress)",
+            plateau.map(|p| p.to_string()).unwrap_or_else(|| "128".into())
+        )
+    };
     Some(finding(
         Category::NoAcknowledge,
         format!(
-            "every attempt reached the ACK slot, which stayed {} because no other node acknowledges: ACK error (CAN 2.0B §7.1), TEC +8 per attempt up to 128 (error passive). From then on TEC stays at {} and the controller retransmits forever: SR = {sr_txt}, i.e. TBS = 0 (buffer locked, 'full') and TS = 1 (transmission in progress).{}",
+            "every attempt reached the ACK slot, which stayed {} because no other node acknowledges: ACK error (CAN 2.0B §7.1), TEC +8 per attempt up to 128 (error passive). {outcome}.{}",
             level(true),
-            plateau.map(|p| p.to_string()).unwrap_or_else(|| "128".into()),
             f.attempts.map(|a| format!(" {a} attempts seen.")).unwrap_or_default()
         ),
         "a CAN frame is only complete when another node writes a dominant bit in the ACK slot; alone on the bus (and not in self-test mode) the transmitter never succeeds. CAN 2.0B §8 rule 3, exception 1: an error-passive transmitter that sees an ACK error and no dominant bit during its passive error flag does not increment TEC, so it neither succeeds nor goes bus-off",

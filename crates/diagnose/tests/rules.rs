@@ -173,6 +173,28 @@ fn loopback_without_ack_node_is_no_acknowledge_with_sr_0x60() {
 }
 
 #[test]
+fn aborted_request_without_ack_is_not_called_forever() {
+    // tb/pelican-self-test-abort: two ACK errors, then CMR.AT; SR ends with
+    // TBS = 1, TS = 0. The text must say the request ended, not "forever".
+    let mut r = loopback_no_ack();
+    r.stuck = None;
+    r.tec_trace.truncate(2);
+    r.final_dut = Some(FinalRegs { sr: 0x04, tec: 16, ..Default::default() });
+    r = r.op(HostOp::write(1, 0x02).reg("CMR"));
+    let d = diagnose(&r);
+    assert_eq!(d.category, Category::NoAcknowledge, "{}", d.to_text());
+    assert!(!d.what_happened.contains("forever"), "{}", d.what_happened);
+    assert!(d.what_happened.contains("TBS = 1"), "{}", d.what_happened);
+    assert!(d.what_happened.contains("CMR.AT"), "{}", d.what_happened);
+    // Without the abort write, a released buffer is put down to single shot.
+    let mut r = loopback_no_ack();
+    r.stuck = None;
+    r.final_dut = Some(FinalRegs { sr: 0x04, tec: 8, ..Default::default() });
+    let d = diagnose(&r);
+    assert!(d.what_happened.contains("single shot"), "{}", d.what_happened);
+}
+
+#[test]
 fn self_test_or_ack_node_silences_no_acknowledge() {
     let mut r = loopback_no_ack();
     r.wiring.self_test = true;
