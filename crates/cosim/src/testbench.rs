@@ -822,26 +822,32 @@ impl Testbench {
         let mut levels = std::mem::take(&mut self.batch_levels);
         let mut out = std::mem::take(&mut self.batch_out);
         let mut edges = std::mem::take(&mut self.batch_edges);
-        levels.clear();
-        edges.clear();
-        let mut rises = 0;
-        while levels.len() < BATCH && rises < can_rises {
+        // Sized once; filled through counters kept in registers (a `push`
+        // per instant reloads and stores the length each time).
+        if levels.len() != BATCH {
+            levels.resize(BATCH, 0);
+            out.resize(BATCH, 0);
+            edges.resize(BATCH, (0, Tick::default()));
+        }
+        let (lv, ed) = (&mut levels[..BATCH], &mut edges[..BATCH]);
+        let (mut n, mut n_edges, mut rises) = (0, 0, 0);
+        while n < BATCH && rises < can_rises {
             let t = k.advance();
             rises += t.can_rise as u64;
             if t.host_rise || t.can_rise {
-                edges.push((levels.len(), t));
+                ed[n_edges] = (n, t);
+                n_edges += 1;
             }
-            levels.push(
-                k.host().level() as u8 | (k.can().level() as u8) << 1 | (t.can_rise as u8) << 2,
-            );
+            lv[n] =
+                k.host().level() as u8 | (k.can().level() as u8) << 1 | (t.can_rise as u8) << 2;
+            n += 1;
         }
-        out.resize(levels.len(), 0);
         let AnyDut::Verilated(d) = &mut self.dut else {
             unreachable!("batch_rx checked the DUT");
         };
         let active_high = d.irq_active_high();
         let made = d
-            .run_batch(&levels, &mut out, rx, stop_on_irq)
+            .run_batch(&levels[..n], &mut out[..n], rx, stop_on_irq)
             .unwrap_or(0);
         let mut result = Ok(made > 0);
         // The master stays idle (only `op` starts anything) and, but for the
@@ -857,7 +863,7 @@ impl Testbench {
         let mut replayed = made;
         // An instant without a rising edge only changes the pins: `after_eval`
         // (without the traces, see `batch_rx`) for the others.
-        for &(i, t) in &edges {
+        for &(i, t) in &edges[..n_edges] {
             if i >= made {
                 break;
             }
@@ -902,7 +908,7 @@ impl Testbench {
             d.sync_outputs();
         }
         // The kernel at the last instant replayed.
-        if replayed == levels.len() {
+        if replayed == n {
             self.kernel = k;
         } else {
             for _ in 0..replayed {
