@@ -3,8 +3,14 @@
 //! traffic, never panic, never hang, keep the status invariants, and the
 //! accounting check still explains every frame.
 
+#[path = "../../can-proto/tests/support/time_bound.rs"]
+mod time_bound;
+
 mod common;
 use common::*;
+
+/// Bound of one case (a few thousand bit times on up to 4 nodes).
+const CASE_BOUND: std::time::Duration = std::time::Duration::from_secs(5);
 
 use proptest::prelude::*;
 use regmap::peli;
@@ -53,36 +59,40 @@ proptest! {
 
     #[test]
     fn random_register_traffic_never_breaks_the_model(ops in proptest::collection::vec(op(), 1..100)) {
-        let mut bus = bus_of(&[Config::pelican(), Config::pelican()]);
-        for op in ops {
-            match op {
-                Op::Write { node, addr, data } => {
-                    let _ = bus.node_mut(node).write(addr, data);
-                }
-                Op::Read { node, addr } => {
-                    let n = bus.node_mut(node);
-                    let peeked = n.peek(addr);
-                    let got = n.read(addr);
-                    prop_assert_eq!(peeked, got, "peek and read agree at {}", addr);
-                    prop_assert_eq!(n.try_read(addr).is_err(), addr as u16 >= n.mode().addr_limit());
-                }
-                Op::Send { node, id, len } => {
-                    let data = vec![0x5A; len];
-                    let _ = host::transmit(bus.node_mut(node), &std_frame(id, &data), peli::cmr::TR);
-                }
-                Op::Bits(n) => {
-                    if bus.fast_path_ok() {
-                        bus.run_bits(n);
-                    } else {
-                        bus.run_clocks(n.min(2_000));
+        let input = format!("{ops:?}");
+        time_bound::within(CASE_BOUND, || input, || -> Result<(), TestCaseError> {
+            let mut bus = bus_of(&[Config::pelican(), Config::pelican()]);
+            for op in ops {
+                match op {
+                    Op::Write { node, addr, data } => {
+                        let _ = bus.node_mut(node).write(addr, data);
+                    }
+                    Op::Read { node, addr } => {
+                        let n = bus.node_mut(node);
+                        let peeked = n.peek(addr);
+                        let got = n.read(addr);
+                        prop_assert_eq!(peeked, got, "peek and read agree at {}", addr);
+                        prop_assert_eq!(n.try_read(addr).is_err(), addr as u16 >= n.mode().addr_limit());
+                    }
+                    Op::Send { node, id, len } => {
+                        let data = vec![0x5A; len];
+                        let _ = host::transmit(bus.node_mut(node), &std_frame(id, &data), peli::cmr::TR);
+                    }
+                    Op::Bits(n) => {
+                        if bus.fast_path_ok() {
+                            bus.run_bits(n);
+                        } else {
+                            bus.run_clocks(n.min(2_000));
+                        }
                     }
                 }
+                check_invariants(&bus);
             }
-            check_invariants(&bus);
-        }
-        if let Err(e) = bus.check_accounting() {
-            return Err(TestCaseError::fail(e.to_string()));
-        }
+            if let Err(e) = bus.check_accounting() {
+                return Err(TestCaseError::fail(e.to_string()));
+            }
+            Ok(())
+        })?;
     }
 }
 
@@ -134,40 +144,44 @@ proptest! {
         seed in any::<u64>(),
         faults in proptest::collection::vec(fault(4), 0..4),
     ) {
-        use sja1000::bus::{FlipBit, Glitch, StuckAt, Target};
-        let mut bus = sja1000::workload::pelican_bus(nodes);
-        let cpb = bus.clocks_per_bit() as u64;
-        let t = |n: Option<usize>| n.filter(|&i| i < nodes).map_or(Target::All, Target::Node);
-        for f in &faults {
-            match *f {
-                Fault::Flip { frame, bit, node } => bus.add_fault(FlipBit { frame, bit, target: t(node) }),
-                Fault::Glitch { frame, bit, offset, width, node } => {
-                    bus.add_fault(Glitch { frame, bit, offset, width, target: t(node) })
+        let input = format!("nodes {nodes} seed {seed} faults {faults:?}");
+        time_bound::within(CASE_BOUND, || input, || -> Result<(), TestCaseError> {
+            use sja1000::bus::{FlipBit, Glitch, StuckAt, Target};
+            let mut bus = sja1000::workload::pelican_bus(nodes);
+            let cpb = bus.clocks_per_bit() as u64;
+            let t = |n: Option<usize>| n.filter(|&i| i < nodes).map_or(Target::All, Target::Node);
+            for f in &faults {
+                match *f {
+                    Fault::Flip { frame, bit, node } => bus.add_fault(FlipBit { frame, bit, target: t(node) }),
+                    Fault::Glitch { frame, bit, offset, width, node } => {
+                        bus.add_fault(Glitch { frame, bit, offset, width, target: t(node) })
+                    }
+                    Fault::Stuck { level, node, from_bit, bits } => bus.add_fault(StuckAt {
+                        level,
+                        target: t(node),
+                        from: from_bit * cpb,
+                        until: Some((from_bit + bits) * cpb),
+                    }),
                 }
-                Fault::Stuck { level, node, from_bit, bits } => bus.add_fault(StuckAt {
-                    level,
-                    target: t(node),
-                    from: from_bit * cpb,
-                    until: Some((from_bit + bits) * cpb),
-                }),
             }
-        }
-        let mut rng = <rand::rngs::StdRng as rand::SeedableRng>::seed_from_u64(seed);
-        let st = sja1000::workload::exchange(&mut bus, &mut rng, 1_500);
-        prop_assert!(st.frames_requested >= nodes as u64);
-        // Faults over, no new request: every pending frame goes out.
-        bus.clear_faults();
-        bus.run_bits(3_000);
-        for i in 0..nodes {
-            let n = bus.node(i);
-            prop_assert!(
-                n.in_reset_mode() || n.peek(peli::SR) & peli::sr::TBS != 0,
-                "node {} still has a frame pending (SR {:#04x})", i, n.peek(peli::SR)
-            );
-        }
-        if let Err(e) = bus.check_accounting() {
-            return Err(TestCaseError::fail(format!("{e} (faults {faults:?})")));
-        }
-        check_invariants(&bus);
+            let mut rng = <rand::rngs::StdRng as rand::SeedableRng>::seed_from_u64(seed);
+            let st = sja1000::workload::exchange(&mut bus, &mut rng, 1_500);
+            prop_assert!(st.frames_requested >= nodes as u64);
+            // Faults over, no new request: every pending frame goes out.
+            bus.clear_faults();
+            bus.run_bits(3_000);
+            for i in 0..nodes {
+                let n = bus.node(i);
+                prop_assert!(
+                    n.in_reset_mode() || n.peek(peli::SR) & peli::sr::TBS != 0,
+                    "node {} still has a frame pending (SR {:#04x})", i, n.peek(peli::SR)
+                );
+            }
+            if let Err(e) = bus.check_accounting() {
+                return Err(TestCaseError::fail(format!("{e} (faults {faults:?})")));
+            }
+            check_invariants(&bus);
+            Ok(())
+        })?;
     }
 }
