@@ -155,23 +155,21 @@ impl WishboneMonitor {
         let pm = self.prev_m;
         let mut continues = false;
         if self.pending {
-            let what = format!(
-                "{} at 0x{:02X} started at cycle {}",
-                dir(pm.we),
-                pm.adr,
-                self.started
-            );
+            // Built only when a rule fires: this runs every waiting cycle.
+            let started = self.started;
+            let what = || format!("{} at 0x{:02X} started at cycle {started}", dir(pm.we), pm.adr);
             if !m.cyc {
                 flag(
                     Rule::CycDroppedBeforeAck,
                     format!(
-                        "wb_cyc_i fell while the {what} waited for wb_ack_o (transfer abandoned)"
+                        "wb_cyc_i fell while the {} waited for wb_ack_o (transfer abandoned)",
+                        what()
                     ),
                 );
             } else if !m.stb {
                 flag(
                     Rule::StbDroppedBeforeAck,
-                    format!("wb_stb_i fell while the {what} waited for wb_ack_o"),
+                    format!("wb_stb_i fell while the {} waited for wb_ack_o", what()),
                 );
             } else {
                 continues = true;
@@ -189,8 +187,9 @@ impl WishboneMonitor {
                     flag(
                         Rule::ChangedWhileWaiting,
                         format!(
-                            "{} while the {what} waited for wb_ack_o",
-                            changed.join(", ")
+                            "{} while the {} waited for wb_ack_o",
+                            changed.join(", "),
+                            what()
                         ),
                     );
                 }
@@ -327,17 +326,21 @@ impl AvalonMonitor {
         };
         let mut continues = false;
         if self.pending {
-            let what = format!(
-                "{} at 0x{:02X} started at cycle {}",
-                if pm.write { "write" } else { "read" },
-                pm.address,
-                self.started
-            );
+            // Built only when a rule fires: this runs every waiting cycle.
+            let started = self.started;
+            let what = || {
+                format!(
+                    "{} at 0x{:02X} started at cycle {started}",
+                    if pm.write { "write" } else { "read" },
+                    pm.address
+                )
+            };
             if !m.request() {
                 flag(
                     Rule::WithdrawnWhileWaitrequest,
                     format!(
-                        "the {what} was withdrawn after {} cycles, still held off by {held_by}",
+                        "the {} was withdrawn after {} cycles, still held off by {held_by}",
+                        what(),
                         self.held
                     ),
                 );
@@ -369,8 +372,9 @@ impl AvalonMonitor {
                     flag(
                         Rule::ChangedWhileWaitrequest,
                         format!(
-                            "{} while the {what} was held off by {held_by}",
-                            changed.join(", ")
+                            "{} while the {} was held off by {held_by}",
+                            changed.join(", "),
+                            what()
                         ),
                     );
                 }

@@ -1,7 +1,7 @@
 //! Operations, results, errors, pause generators and the queue every master
 //! shares.
 
-use std::collections::{HashMap, HashSet, VecDeque};
+use std::collections::VecDeque;
 use std::fmt;
 
 /// Default per-operation timeout of the Wishbone and Avalon masters, in host
@@ -138,8 +138,9 @@ pub(crate) struct OpQueue {
     next_id: u64,
     pub timeout: u64,
     pending: VecDeque<PendingOp>,
-    in_flight: HashSet<OpHandle>,
-    done: HashMap<OpHandle, Result<OpResult, BfmError>>,
+    // A handful of entries at most: a Vec beats hashing on the per-cycle path.
+    in_flight: Vec<OpHandle>,
+    done: Vec<(OpHandle, Result<OpResult, BfmError>)>,
 }
 
 impl OpQueue {
@@ -149,8 +150,8 @@ impl OpQueue {
             next_id: 0,
             timeout,
             pending: VecDeque::new(),
-            in_flight: HashSet::new(),
-            done: HashMap::new(),
+            in_flight: Vec::new(),
+            done: Vec::new(),
         }
     }
 
@@ -174,7 +175,7 @@ impl OpQueue {
             extra,
             cycles: 0,
         });
-        self.in_flight.insert(handle);
+        self.in_flight.push(handle);
         log::trace!(
             "{}: queued {handle} {kind} 0x{addr:02X} data 0x{data:02X}",
             self.name
@@ -238,13 +239,14 @@ impl OpQueue {
     }
 
     pub fn complete(&mut self, handle: OpHandle, result: Result<OpResult, BfmError>) {
-        self.in_flight.remove(&handle);
-        self.done.insert(handle, result);
+        self.in_flight.retain(|h| *h != handle);
+        self.done.retain(|(h, _)| *h != handle);
+        self.done.push((handle, result));
     }
 
     pub fn poll(&mut self, handle: OpHandle) -> Option<Result<OpResult, BfmError>> {
-        if let Some(r) = self.done.remove(&handle) {
-            return Some(r);
+        if let Some(i) = self.done.iter().position(|(h, _)| *h == handle) {
+            return Some(self.done.swap_remove(i).1);
         }
         if self.in_flight.contains(&handle) {
             return None;

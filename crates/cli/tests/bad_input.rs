@@ -268,3 +268,21 @@ fn a_dut_that_never_acks_times_out_with_a_diagnosis() {
     assert!(all.contains("scenario: FAIL"), "{all}");
     eprintln!("never-acking DUT: failed cleanly in {:.1} s", t.elapsed().as_secs_f64());
 }
+
+#[test]
+fn a_bad_scenario_in_a_regression_list_does_not_stop_the_others() {
+    // Loses nothing: the good scenario still runs and is reported; the bad
+    // one is an error row naming file, line and key; the exit code says so.
+    let dir = scratch("regress-list");
+    let good = std::fs::read_to_string(root().join("tb/de2-pelican-selftest.toml")).unwrap();
+    std::fs::write(dir.join("good.toml"), &good).unwrap();
+    std::fs::write(dir.join("typo.toml"), good.replace("[clocks]", "[clocks]\nhost_mzh = 1.0")).unwrap();
+    std::fs::write(dir.join("list"), "good.toml\ntypo.toml\n").unwrap();
+    let list = dir.join("list");
+    let (stdout, _stderr) = fails_cleanly(&["regress", list.to_str().unwrap(), "--dut", "model"], Duration::from_secs(60));
+    let row = |name: &str| stdout.lines().find(|l| l.contains(name)).unwrap_or_else(|| panic!("no row for {name}:\n{stdout}")).to_owned();
+    assert!(row("good").to_lowercase().contains("pass"), "{stdout}");
+    let bad = row("typo");
+    assert!(!bad.to_lowercase().contains("pass"), "{stdout}");
+    assert!(stdout.contains("host_mzh"), "the error names the key:\n{stdout}");
+}

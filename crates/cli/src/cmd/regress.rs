@@ -3,7 +3,7 @@
 
 use anyhow::Context;
 use scenario::regress::{RegressOptions, parse_shard};
-use scenario::{DutSpec, regress};
+use scenario::DutSpec;
 use std::path::PathBuf;
 
 /// Arguments of `cancosim regress`.
@@ -15,9 +15,12 @@ pub struct Args {
     /// Bundled DUTs to run against (repeatable): rtl, model.
     #[arg(long = "dut", value_parser = ["rtl", "model"])]
     duts: Vec<String>,
-    /// External core as NAME=DIR (repeatable; top `can_top`, define CAN_WISHBONE_IF, DIR as include dir).
+    /// External core as NAME=DIR (repeatable; define CAN_WISHBONE_IF, DIR as include dir).
     #[arg(long = "external", value_name = "NAME=DIR")]
     externals: Vec<String>,
+    /// Top module of the external cores (the opencores `can_top` port list).
+    #[arg(long, default_value = "can_top")]
+    top: String,
     /// Worker threads (0 = one per core).
     #[arg(long, short, default_value_t = 0)]
     jobs: usize,
@@ -38,14 +41,6 @@ pub struct Args {
 
 /// Runs the subcommand: exit 0 only when every pair passed.
 pub fn run(a: Args) -> anyhow::Result<i32> {
-    let mut scenarios = Vec::new();
-    for p in &a.inputs {
-        if p.extension().is_some_and(|e| e == "toml") {
-            scenarios.push(scenario::Scenario::load(p)?);
-        } else {
-            scenarios.extend(scenario::load_list(p)?);
-        }
-    }
     let mut duts: Vec<DutSpec> = a
         .duts
         .iter()
@@ -53,7 +48,7 @@ pub fn run(a: Args) -> anyhow::Result<i32> {
         .collect();
     for e in &a.externals {
         let (name, dir) = e.split_once('=').with_context(|| format!("--external {e}: expected NAME=DIR"))?;
-        let mut d = DutSpec::external(name, dir, "can_top");
+        let mut d = DutSpec::external(name, dir, &a.top);
         if let scenario::DutKind::External { defines, includes, .. } = &mut d.kind {
             defines.push("CAN_WISHBONE_IF".into());
             includes.push(dir.into());
@@ -73,11 +68,18 @@ pub fn run(a: Args) -> anyhow::Result<i32> {
         collect: a.waivers.mode(),
         host: a.host.bfm(),
     };
-    let report = regress(&scenarios, &duts, &opts);
+    // A scenario that cannot be loaded is an error row; the others still run.
+    let report = scenario::regress::regress_inputs(&a.inputs, &duts, &opts)?;
     if let Some(h) = opts.host {
         println!("host: {h} (override of every scenario's own host)");
     }
     print!("{}", report.to_table());
+    // The table cuts long cells; errors are printed whole (file:line:key).
+    for c in &report.cells {
+        if let scenario::regress::Status::Error(m) = &c.status {
+            println!("error: {} on {}: {m}", c.scenario, c.dut);
+        }
+    }
     if let Some(p) = &a.junit {
         std::fs::write(p, report.to_junit()).with_context(|| format!("writing {}", p.display()))?;
         println!("JUnit: {}", p.display());
