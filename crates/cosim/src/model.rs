@@ -57,13 +57,19 @@ fn pins_of(m: &Sja1000) -> CanPins {
 }
 
 /// The golden model as a Wishbone slave with `can_top`'s pins: `ack` is
-/// registered, one host cycle after `cyc & stb`, as in the fixtures.
+/// registered, one host cycle after `cyc & stb`, as in the fixtures. With
+/// [`ModelDut::with_level_ack`] it behaves like `rtl/can_top_pio.v`: ack
+/// stays high while `cyc & stb` do, and the next access needs them to
+/// fall first (a GPIO-polled host holds them over many cycles).
 #[derive(Debug)]
 pub struct ModelDut {
     m: Sja1000,
     rst: bool,
     wb_in: WbMasterOut,
     ack: bool,
+    level_ack: bool,
+    /// Level-ack mode: the held request has been served.
+    served: bool,
     dat_o: u8,
     rx: bool,
     host_clk: bool,
@@ -86,12 +92,19 @@ impl ModelDut {
             rst: false,
             wb_in: WbMasterOut::default(),
             ack: false,
+            level_ack: false,
+            served: false,
             dat_o: 0,
             rx: true,
             host_clk: false,
             can_clk: false,
             outcomes: Vec::new(),
         }
+    }
+
+    /// A model whose ack is a level held with the request (for PIO hosts).
+    pub fn with_level_ack() -> ModelDut {
+        ModelDut { level_ack: true, ..ModelDut::new() }
     }
 
     /// The model inside.
@@ -147,10 +160,12 @@ impl Dut for ModelDut {
             if self.rst {
                 self.m.hard_reset();
                 self.ack = false;
+                self.served = false;
                 self.dat_o = 0;
             } else {
                 let w = self.wb_in;
-                let go = w.cyc && w.stb && !self.ack;
+                let req = w.cyc && w.stb;
+                let go = if self.level_ack { req && !self.served } else { req && !self.ack };
                 if go {
                     if w.we {
                         let o = self.m.write(w.adr, w.dat);
@@ -159,7 +174,12 @@ impl Dut for ModelDut {
                         self.dat_o = self.m.read(w.adr);
                     }
                 }
-                self.ack = go;
+                if self.level_ack {
+                    self.served = req;
+                    self.ack = req;
+                } else {
+                    self.ack = go;
+                }
             }
         }
     }
@@ -224,7 +244,9 @@ fn error_kind(ecc: u8) -> ErrorKind {
         1 => ErrorKind::Form,
         2 => ErrorKind::Stuff,
         _ => {
-            if ecc & 0x1f == 0x19 || ecc & 0x1f == 0x1b {
+            // Only the ACK slot is an ACK error; "other" at the ACK
+            // delimiter is the CRC error, flagged after the delimiter.
+            if ecc & 0x1f == 0x19 {
                 ErrorKind::Ack
             } else {
                 ErrorKind::Crc
@@ -488,5 +510,42 @@ mod tests {
             }
         }
         assert!(events > 50, "the run made events ({events})");
+    }
+
+    /// One host clock period with the request wires `w`; returns ack.
+    fn host_cycle(d: &mut ModelDut, w: WbMasterOut) -> bool {
+        d.set_wb(&w);
+        d.eval(false, false);
+        d.eval(true, false);
+        d.wb().ack
+    }
+
+    /// A request held for many cycles (a GPIO-polled host) is served once
+    /// by the level-ack model, and the ack stays up until the request falls;
+    /// the classic model serves it again every other cycle.
+    #[test]
+    fn level_ack_serves_a_held_request_once() {
+        // CMR.RRB in reset mode is harmless; count writes through outcomes.
+        let w = WbMasterOut { cyc: true, stb: true, we: true, adr: 4, dat: 0x5A };
+        let mut level = ModelDut::with_level_ack();
+        let acks: Vec<bool> = (0..8).map(|_| host_cycle(&mut level, w)).collect();
+        assert_eq!(acks, vec![true; 8], "ack held with the request");
+        assert_eq!(level.outcomes.len(), 1, "served once: {:?}", level.outcomes);
+        assert!(!host_cycle(&mut level, WbMasterOut::default()), "ack falls with the request");
+        assert!(host_cycle(&mut level, w));
+        assert_eq!(level.outcomes.len(), 2, "a new request is served again");
+        let mut classic = ModelDut::new();
+        for _ in 0..8 {
+            host_cycle(&mut classic, w);
+        }
+        assert_eq!(classic.outcomes.len(), 4, "classic one-cycle ack repeats the access");
+    }
+
+    #[test]
+    fn ecc_other_at_ack_delimiter_is_a_crc_error() {
+        assert_eq!(error_kind(0xD9), ErrorKind::Ack);
+        assert_eq!(error_kind(0xDB), ErrorKind::Crc);
+        assert_eq!(error_kind(0xC8), ErrorKind::Crc);
+        assert_eq!(error_kind(0x1B), ErrorKind::Bit);
     }
 }
