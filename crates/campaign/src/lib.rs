@@ -761,21 +761,22 @@ fn run_frame(seg: &mut Segment, cfg: &CampaignConfig, plan: &FramePlan, index: u
         dut_sr = tb.read(reg::SR)?;
         let dut_off = dut_sr & sr::BS != 0;
         let nodes_on = (0..cfg.nodes).filter(|&i| !tb.bus().node(i).bus_off()).count();
-        // A node left without anyone to acknowledge it (the DUT bus-off,
-        // no other node on the bus) retransmits until the DUT is back:
-        // its frame completes in a later one.
+        // A transmitting node left without anyone to acknowledge it (the
+        // DUT bus-off, no other node on the bus) retransmits until the DUT
+        // is back: its frame completes in a later one.
         let nodes_done = (0..cfg.nodes).all(|i| {
             let n = tb.bus().node(i);
-            n.bus_off() || (n.peek(reg::SR) & sr::TBS != 0 && n.engine().is_bus_idle()) || (dut_off && nodes_on <= 1)
+            let tbs = n.peek(reg::SR) & sr::TBS != 0;
+            n.bus_off() || (tbs && n.engine().is_bus_idle()) || (!tbs && dut_off && nodes_on <= 1)
         });
         let dut_done = dut_off || (dut_sr & sr::TBS != 0 && dut_sr & (sr::TS | sr::RS) == 0);
         if nodes_done && dut_done {
             break;
         }
-        if !dut_done && nodes_on == 0 {
-            // Every model node is bus-off: nobody acknowledges the DUT until
-            // one is restarted, as its host would (recovery then takes 128
-            // x 11 recessive bits).
+        if dut_sr & sr::TBS == 0 && !dut_off && nodes_on == 0 {
+            // The DUT transmits and every model node is bus-off: nobody
+            // acknowledges it until one is restarted, as its host would
+            // (recovery then takes 128 x 11 recessive bits).
             for i in 0..cfg.nodes {
                 if tb.bus().node(i).in_reset_mode() {
                     host::leave_reset(tb.bus_mut().node_mut(i));
