@@ -170,6 +170,8 @@ fn rtl_sof_glitch_synchronisation_matches_the_model() {
     let r = run_campaign(&cfg);
     assert!(r.passed(), "{}", r.to_text());
     assert_eq!(r.frames_run, 217);
+    let f = r.frames.iter().find(|f| f.index == 1772).unwrap();
+    assert!(f.dut_sent && f.fault_reached && matches!(f.fault.as_ref().unwrap().fault.kind, campaign::FaultKind::Glitch { .. }), "{f:?}");
 }
 
 /// Regression test for disagreements found by `cancosim campaign --seed 1 --frames 2000`
@@ -189,6 +191,8 @@ fn rtl_reference_takes_host_writes_with_the_dut() {
         let r = run_campaign(&cfg);
         assert!(r.passed(), "{}", r.to_text());
         assert_eq!(r.frames_run, frames);
+        let last = r.frames.last().unwrap();
+        assert!(last.fault_reached, "{last:?}");
     }
 }
 
