@@ -375,6 +375,10 @@ impl Testbench {
                 core.build()?.instantiate(trace),
                 HostPort::Wishbone,
             )?),
+            // A GPIO-polled host needs the level ack (as can_top_pio).
+            DutChoice::Model if matches!(cfg.host, HostBfm::Pio(_)) => {
+                AnyDut::Other(Box::new(ModelDut::with_level_ack()))
+            }
             DutChoice::Model => AnyDut::Other(Box::new(ModelDut::new())),
             DutChoice::Echo => AnyDut::Other(Box::new(EchoModel::new())),
         };
@@ -501,13 +505,29 @@ impl Testbench {
             listen_only: false,
         };
         let _ = n_nodes;
+        // Our RTL crosses every access through rtl/can_wb_cdc.v, whichever
+        // top wraps it (can_top, can_top_pio, can_avalon); the seed 000
+        // Avalon wiring (cyc from begintransfer) has no well-defined launch.
+        let rtl_cdc = RefTiming::CanEdges {
+            read: 3,
+            write: 4,
+            command: 4,
+        };
+        let seed000 = matches!(
+            cfg.host,
+            HostBfm::Avalon {
+                wiring: AvalonWiring::Seed000,
+                ..
+            }
+        );
         let ref_timing = match (&cfg.dut, cfg.host) {
-            (DutChoice::Rtl, HostBfm::Wishbone) => RefTiming::CanEdges {
-                read: 3,
-                write: 4,
-                command: 4,
-            },
-            (DutChoice::Model, HostBfm::Wishbone) => RefTiming::LaunchEdge,
+            _ if seed000 => RefTiming::AtAck,
+            (DutChoice::Rtl, HostBfm::Wishbone | HostBfm::Avalon { .. }) => rtl_cdc,
+            (DutChoice::RtlAvalon, HostBfm::Avalon { .. }) => rtl_cdc,
+            (DutChoice::Bundled(t), HostBfm::Pio(_)) if t == "can_top_pio" => rtl_cdc,
+            (DutChoice::Model, HostBfm::Wishbone | HostBfm::Pio(_) | HostBfm::Avalon { .. }) => {
+                RefTiming::LaunchEdge
+            }
             _ => RefTiming::AtAck,
         };
         let mut tb = Testbench {
@@ -1301,10 +1321,11 @@ impl Testbench {
         let viol_before = self.record.violations.len();
         // The reference takes the access when the DUT's CAN side does, if
         // the bench knows when that is (see `RefTiming`); else at the ack.
-        let timing = match (&self.master, &self.reference) {
-            (Master::Wb(_), Some(_)) => self.ref_timing,
-            _ => RefTiming::AtAck,
+        let timing = match &self.reference {
+            Some(_) => self.ref_timing,
+            None => RefTiming::AtAck,
         };
+        let native_avalon = matches!(self.master, Master::Av(_, AvalonWiring::Native));
         let due_edges = match timing {
             RefTiming::CanEdges { read, write: w, command } => {
                 if !write {
@@ -1318,6 +1339,7 @@ impl Testbench {
             _ => 0,
         };
         let mut launched = false;
+        let mut acks_seen = 0u32;
         let mut can_edges = 0u32;
         let mut taken: Option<(Option<diagnose::WriteOutcome>, u8)> = None;
         let res = loop {
@@ -1335,7 +1357,11 @@ impl Testbench {
                     self.tick();
                     continue;
                 }
-                let presented = self.applied_wb.cyc && self.applied_wb.stb;
+                let presented = if native_avalon {
+                    self.applied_av.chipselect && (self.applied_av.read || self.applied_av.write)
+                } else {
+                    self.applied_wb.cyc && self.applied_wb.stb
+                };
                 let cc = self.can_clocks;
                 self.tick();
                 if launched {
@@ -1354,6 +1380,13 @@ impl Testbench {
                     }
                 }
             }
+            // For the diagnosis of a failed access: did the DUT answer at all?
+            let answered = if native_avalon {
+                self.applied_av.chipselect && !self.dut.av().waitrequest
+            } else {
+                self.dut.wb().ack
+            };
+            acks_seen += answered as u32;
         };
         let mut rec = HostOp {
             time_ps: t0,
@@ -1368,6 +1401,7 @@ impl Testbench {
             reg: reg.clone(),
             mode,
             reset_mode,
+            acks_seen,
             ..HostOp::default()
         };
         match res {

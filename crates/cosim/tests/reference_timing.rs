@@ -5,7 +5,7 @@
 //! took a write at the ack, left reset mode a few CAN clocks after the DUT
 //! and placed its time quanta (and so every tx edge) that far apart.
 
-use cosim::{CompareConfig, DutChoice, NodeConfig, ReferenceChoice, TbConfig, Testbench};
+use cosim::{AvalonWiring, CompareConfig, DutChoice, HostBfm, NodeConfig, ReferenceChoice, TbConfig, Testbench};
 
 /// PeliCAN, accept all, 600 kbit/s at 24 MHz, every interrupt enabled.
 fn setup(ier: u8) -> Vec<(u8, u8)> {
@@ -59,12 +59,17 @@ fn tx_mismatches(vcd: &str) -> Vec<u64> {
 }
 
 fn run(dut: DutChoice, name: &str) {
+    run_on(dut, HostBfm::Wishbone, name)
+}
+
+fn run_on(dut: DutChoice, host: HostBfm, name: &str) {
     let vcd = std::env::temp_dir().join(format!("cosim-reference-timing-{name}-{}.vcd", std::process::id()));
     let mut node = setup(0x00);
     node.push((0, 0x00));
     let mut tb = Testbench::new(TbConfig {
         scenario: "reference timing".into(),
         dut,
+        host,
         nodes: vec![NodeConfig { name: "node1".into(), init: node }],
         lockstep: Some((
             ReferenceChoice::Model,
@@ -112,4 +117,20 @@ fn reference_tx_follows_the_rtl_clock_for_clock() {
 #[test]
 fn reference_tx_follows_the_model_dut_clock_for_clock() {
     run(DutChoice::Model, "model");
+}
+
+#[test]
+fn reference_tx_follows_the_rtl_through_avalon_clock_for_clock() {
+    let host = HostBfm::Avalon { timing: bfm::AvalonTiming::Waitrequest, wiring: AvalonWiring::Native };
+    run_on(DutChoice::RtlAvalon, host, "rtl-avalon");
+}
+
+#[test]
+fn reference_tx_follows_the_pio_rtl_clock_for_clock() {
+    run_on(DutChoice::Bundled("can_top_pio".into()), HostBfm::Pio(bfm::PioTiming::default()), "rtl-pio");
+}
+
+#[test]
+fn reference_tx_follows_the_model_dut_over_pio_clock_for_clock() {
+    run_on(DutChoice::Model, HostBfm::Pio(bfm::PioTiming::default()), "model-pio");
 }

@@ -162,12 +162,15 @@ fn a_slave_that_never_acks_times_out_with_a_diagnosis() {
         }
         let rec = tb.record();
         assert!(rec.error.is_some() && rec.host_ops.last().unwrap().error.is_some());
+        assert_eq!(rec.host_ops.last().unwrap().acks_seen, 0, "{name}: the DUT never answered");
         let d = diagnose::diagnose(&rec);
         let text = d.to_text();
         assert!(
             text.contains("0x04") || text.to_lowercase().contains("ack"),
             "{name}: the diagnoser explains it: {text}"
         );
+        // Never answered is not the PIO "missed one-cycle pulse" story.
+        assert!(!text.contains("missed between two polls"), "{name}: {text}");
     }
 }
 

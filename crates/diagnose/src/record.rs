@@ -244,6 +244,11 @@ pub struct HostOp {
     pub cycles: u32,
     /// Error (timeout: no ack).
     pub error: Option<String>,
+    /// Host cycles in which the DUT's ack (or Avalon's end of waitrequest)
+    /// was high during the access: 0 on a failed access means the DUT never
+    /// answered, more means the master missed the answer.
+    #[serde(default)]
+    pub acks_seen: u32,
 }
 
 impl HostOp {

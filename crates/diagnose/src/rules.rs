@@ -111,7 +111,8 @@ pub fn run_error(r: &RunRecord) -> Option<Finding> {
 /// A host access that was never acknowledged.
 pub fn host_bus_timeout(r: &RunRecord) -> Option<Finding> {
     let op = r.host_ops.iter().find(|o| o.error.is_some())?;
-    let pio = op.bfm == HostBus::Pio;
+    // The missed-pulse explanation holds only if the DUT did answer.
+    let pio = op.bfm == HostBus::Pio && op.acks_seen > 0;
     let mut f = base_figures(r);
     f.addr = Some(op.addr);
     f.register = op.reg.clone();

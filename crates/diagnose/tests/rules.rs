@@ -316,9 +316,11 @@ fn never_acked_access_is_a_timeout() {
     assert_eq!(d.category, Category::HostBusTimeout);
     assert!(d.what_happened.contains("no wb_ack_o"));
     assert!(d.root_cause.contains("not clocked"));
-    // through PIO the likely cause is a pulse ack missed by the polling loop
+    // through PIO, when the DUT did answer, the cause is a pulse ack missed
+    // by the polling loop
     let mut op = HostOp::read(2, 0).reg("SR").error("timed out");
     op.bfm = HostBus::Pio;
+    op.acks_seen = 2;
     let d = diagnose(&RunRecord::new("pio", "rtl").op(op));
     assert!(d.root_cause.contains("one-cycle wb_ack_o pulse"), "{}", d.root_cause);
     assert!(d.fix.contains("level acknowledge"));
@@ -460,4 +462,21 @@ fn divergence_field_comes_from_the_models_bus_error_at_that_bit() {
     let d = diagnose(&r);
     assert_eq!(d.figures.field, Some(Field::Crc));
     assert!(d.what_happened.contains("CRC sequence"), "{}", d.what_happened);
+}
+
+#[test]
+fn pio_timeout_says_missed_pulse_only_when_the_dut_answered() {
+    let op = |acks: u32| {
+        let mut o = HostOp::read(31, 0).reg("CDR");
+        o.bfm = HostBus::Pio;
+        o.error = Some("timeout".into());
+        o.acks_seen = acks;
+        o
+    };
+    let d = diagnose(&RunRecord::new("pio", "rtl").op(op(1)));
+    assert_eq!(d.category, Category::HostBusTimeout);
+    assert!(d.root_cause.contains("missed between two polls"), "{}", d.root_cause);
+    let d = diagnose(&RunRecord::new("pio", "rtl").op(op(0)));
+    assert_eq!(d.category, Category::HostBusTimeout);
+    assert!(d.root_cause.contains("never raised wb_ack_o"), "{}", d.root_cause);
 }

@@ -137,3 +137,22 @@ fn whole_regression_list_on_rtl_and_model_as_shipped() {
         assert!(o.record.divergence.is_none() && divergences(&o) == 0, "{}: {:?}", sc.name, o.waivers);
     }
 }
+
+/// The whole list through a GPIO-polled (PIO) host, on our RTL (its
+/// `can_top_pio` level-ack top) and on the golden model (level ack too):
+/// every scenario passes in lockstep, nothing waived. The reference takes
+/// each access when the DUT's CAN side does, for PIO as for Wishbone.
+#[test]
+fn whole_regression_list_through_pio_on_rtl_and_model() {
+    let s = shipped();
+    let rep = regress(
+        &s,
+        &[DutSpec::rtl(), DutSpec::model()],
+        &RegressOptions { jobs: 2, host: Some(HostBfm::Pio), collect: waivers::CollectMode::Collect, ..Default::default() },
+    );
+    let table = rep.to_table();
+    eprintln!("{table}");
+    assert_eq!(rep.cells.len(), s.len() * 2);
+    assert!(rep.passed(), "{table}");
+    assert!(rep.cells.iter().all(|c| c.waived.is_empty()), "nothing waived: {table}");
+}
