@@ -24,6 +24,15 @@ pub struct Args {
     /// Golden-model nodes besides the DUT (1..=4).
     #[arg(long, default_value_t = 2)]
     nodes: usize,
+    /// No lockstep tolerance at all (tx, SOF, status and pins compared to
+    /// the clock); the model against itself passes it, our RTL's status
+    /// pipeline (up to ~16 CAN clocks) does not.
+    #[arg(long)]
+    strict: bool,
+    /// Write the bench's VCD here (rewritten by each segment: use it with
+    /// --first-frame to look at one disagreement).
+    #[arg(long)]
+    vcd: Option<std::path::PathBuf>,
 }
 
 /// Runs the subcommand: exit 1 on any disagreement.
@@ -41,6 +50,8 @@ pub fn run_cmd(a: Args) -> anyhow::Result<i32> {
         dut: if a.dut == "model" { DutChoice::Model } else { DutChoice::Rtl },
         fault_rate: a.fault_rate,
         nodes: a.nodes,
+        compare: a.strict.then(CampaignConfig::strict_compare),
+        vcd: a.vcd,
         ..CampaignConfig::default()
     };
     let report = run_campaign(&cfg);
