@@ -176,7 +176,7 @@ pub(crate) struct BatchPins {
 /// master idle, no other node, no fault on rx). Per instant `k`,
 /// `levels[k]` has bit 0 the host clock level, bit 1 the CAN clock level,
 /// bit 2 "the CAN clock rises": then `rx` takes `rx_mode` (0 or 1), or
-/// `tx` (2), before the eval.
+/// `tx` (2), before the eval; other bits are the caller's (ignored).
 /// After the eval, `out[k]` gets bit 0 `tx`, bit 1 `irq`, bit 2 `bus_off`,
 /// bit 3 `clkout` (nonzero = 1). The call returns after an instant whose
 /// `ack` or `dat` differs from before the call, or whose `irq` equals

@@ -722,17 +722,24 @@ impl TxRing {
     }
 
     /// Stores push number `index` (0, 1, 2, ...: every push, in order).
-    #[inline]
+    #[inline(always)]
     fn push(&mut self, index: u64, v: u8) {
         if !self.full && index >= self.buf.len() as u64 {
-            // Not wrapped yet: positions are indices, growing keeps them.
-            let len = self.buf.len() as u64;
-            let new_len = (len * 2).max(64).min(self.size);
-            self.buf.resize(new_len as usize, 0);
-            self.mask = new_len - 1;
-            self.full = new_len == self.size;
+            self.grow();
         }
         self.buf[(index & self.mask) as usize] = v;
+    }
+
+    /// Doubles the buffer (up to `size`): rare, kept out of `push`'s way.
+    /// Not wrapped yet, so positions are indices and growing keeps them.
+    #[cold]
+    #[inline(never)]
+    fn grow(&mut self) {
+        let len = self.buf.len() as u64;
+        let new_len = (len * 2).max(64).min(self.size);
+        self.buf.resize(new_len as usize, 0);
+        self.mask = new_len - 1;
+        self.full = new_len == self.size;
     }
 
     /// The value pushed `k` pushes before push number `newest` (`k` below

@@ -156,6 +156,50 @@ impl Kernel {
         tick
     }
 
+    /// Makes the next instants as [`Kernel::advance`] would, until
+    /// `levels` is full or the instant with the `can_rises`-th CAN rising
+    /// edge (`can_rises` >= 1), and returns how many. Per instant `k`:
+    /// `times[k]` its time, `levels[k]` bit 0 the host clock level after
+    /// it, bit 1 the CAN clock level, bit 2 "the CAN clock rose", bit 3
+    /// "the host clock rose" (the layout of `bridge::Batch`, which ignores
+    /// bit 3). `times` is at least as long as `levels`.
+    pub(crate) fn plan(&mut self, levels: &mut [u8], times: &mut [u64], can_rises: u64) -> usize {
+        let times = &mut times[..levels.len()];
+        let (mut n, mut rises) = (0, 0);
+        if self.host == self.can {
+            // One clock twice (same frequency and phase, as when the host
+            // and the CAN clock are one): every instant moves both, and a
+            // rise of one is a rise of both.
+            let mut c = self.can;
+            while n < levels.len() && rises < can_rises {
+                let t = c.next_edge();
+                c.step();
+                let up = c.level as u8;
+                rises += up as u64;
+                levels[n] = up * 0b1111;
+                times[n] = t;
+                n += 1;
+            }
+            if n > 0 {
+                self.now_ps = times[n - 1];
+            }
+            self.host = c;
+            self.can = c;
+            return n;
+        }
+        while n < levels.len() && rises < can_rises {
+            let t = self.advance();
+            rises += t.can_rise as u64;
+            levels[n] = self.host.level as u8
+                | (self.can.level as u8) << 1
+                | (t.can_rise as u8) << 2
+                | (t.host_rise as u8) << 3;
+            times[n] = t.t_ps;
+            n += 1;
+        }
+        n
+    }
+
     /// Current time, ps.
     pub fn now_ps(&self) -> u64 {
         self.now_ps
@@ -215,6 +259,47 @@ mod tests {
             for n in 1..=20_000u64 {
                 assert_eq!(c.next_edge(), c.edge_time(n), "{hz} Hz edge {n}");
                 c.step();
+            }
+        }
+    }
+
+    /// `plan` makes the instants `advance` makes, with one clock or two
+    /// (locked or not), up to the CAN rise asked for or a full buffer.
+    #[test]
+    fn plan_is_advance_instant_for_instant() {
+        for (host, can) in [
+            (24_000_000, 24_000_000),
+            (50_000_000, 24_000_000),
+            (24_000_000, 50_000_000),
+            (10_000_000, 10_000_000),
+            (33_333_333, 7_000_001),
+        ] {
+            let mut planned = Kernel::new(host, can).unwrap();
+            let mut stepped = planned.clone();
+            for (round, &(len, rises)) in [(512, u64::MAX), (100, 7), (3, 1), (512, 200), (1, 1)]
+                .iter()
+                .cycle()
+                .take(40)
+                .enumerate()
+            {
+                let (mut lv, mut tm) = (vec![0u8; len], vec![0u64; len]);
+                let n = planned.plan(&mut lv, &mut tm, rises);
+                assert!(n >= 1, "{host}/{can} round {round}");
+                let mut seen = 0;
+                for k in 0..n {
+                    let t = stepped.advance();
+                    seen += t.can_rise as u64;
+                    let want = stepped.host().level() as u8
+                        | (stepped.can().level() as u8) << 1
+                        | (t.can_rise as u8) << 2
+                        | (t.host_rise as u8) << 3;
+                    assert_eq!((lv[k], tm[k]), (want, t.t_ps), "{host}/{can} round {round} instant {k}");
+                }
+                assert!(n == len || seen == rises, "{host}/{can} round {round}: stopped early");
+                assert!(seen <= rises, "{host}/{can} round {round}: went past the rise");
+                assert_eq!(planned.now_ps(), stepped.now_ps());
+                assert_eq!(planned.host(), stepped.host());
+                assert_eq!(planned.can(), stepped.can());
             }
         }
     }

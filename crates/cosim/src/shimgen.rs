@@ -202,18 +202,24 @@ pub fn gen_shim(top: &str, ports: &[PortDecl], trace: bool) -> String {
          uint32_t {p}run(void* h, const void* bp) {{\n  \
          auto* m = ((CosimInst_{top}*)h)->m;\n  \
          const auto* b = (const CosimBatch_{top}*)bp;\n  \
-         const uint8_t ack0 = *b->ack, dat0 = *b->dat;\n  \
-         for (uint32_t k = 0; k < b->n; ++k) {{\n    \
-         const uint8_t l = b->levels[k];\n    \
-         if (l & 4) *b->rx = b->rx_mode == 2 ? *b->tx : b->rx_mode;\n    \
-         *b->host_clk = l & 1;\n    \
-         *b->can_clk = (l >> 1) & 1;\n    \
+         /* Locals: the eval writes memory the compiler cannot tell from *b. */\n  \
+         uint8_t* const host_clk = b->host_clk; uint8_t* const can_clk = b->can_clk; uint8_t* const rx = b->rx;\n  \
+         const uint8_t* const tx = b->tx; const uint8_t* const irq_p = b->irq; const uint8_t* const bus_off = b->bus_off;\n  \
+         const uint8_t* const clkout = b->clkout; const uint8_t* const ack = b->ack; const uint8_t* const dat = b->dat;\n  \
+         const uint8_t* const levels = b->levels; uint8_t* const out = b->out;\n  \
+         const uint32_t n = b->n; const uint8_t rx_mode = b->rx_mode, stop_irq = b->stop_irq;\n  \
+         const uint8_t ack0 = *ack, dat0 = *dat;\n  \
+         for (uint32_t k = 0; k < n; ++k) {{\n    \
+         const uint8_t l = levels[k];\n    \
+         if (l & 4) *rx = rx_mode == 2 ? *tx : rx_mode;\n    \
+         *host_clk = l & 1;\n    \
+         *can_clk = (l >> 1) & 1;\n    \
          m->eval();\n    \
-         const uint8_t irq = *b->irq != 0;\n    \
-         b->out[k] = (uint8_t)((*b->tx != 0) | (irq << 1) | ((*b->bus_off != 0) << 2) | ((*b->clkout != 0) << 3));\n    \
-         if (*b->ack != ack0 || *b->dat != dat0 || irq == b->stop_irq) return k + 1;\n  \
+         const uint8_t irq = *irq_p != 0;\n    \
+         out[k] = (uint8_t)((*tx != 0) | (irq << 1) | ((*bus_off != 0) << 2) | ((*clkout != 0) << 3));\n    \
+         if (*ack != ack0 || *dat != dat0 || irq == stop_irq) return k + 1;\n  \
          }}\n  \
-         return b->n;\n\
+         return n;\n\
          }}"
     );
     // trace

@@ -344,8 +344,8 @@ pub struct Testbench {
     /// Buffers of `run_batch` (clock levels in, pins out), kept between calls.
     batch_levels: Vec<u8>,
     batch_out: Vec<u8>,
-    /// Instants of a batch with a rising edge: (index, tick).
-    batch_edges: Vec<(usize, Tick)>,
+    /// Times of a batch's instants.
+    batch_times: Vec<u64>,
 }
 
 /// Instants per batch (see `Testbench::run_batch`).
@@ -574,7 +574,7 @@ impl Testbench {
             batching: true,
             batch_levels: Vec::new(),
             batch_out: Vec::new(),
-            batch_edges: Vec::new(),
+            batch_times: Vec::new(),
         };
         tb.dut.set_reset(true);
         tb.dut.set_rx(RECESSIVE);
@@ -836,32 +836,18 @@ impl Testbench {
         if can_rises == 0 {
             return Ok(false);
         }
-        // The instants ahead: clock levels for the model, and the instants
-        // with a rising edge (the only ones with work besides the pins).
+        // The instants ahead: clock levels (and which clocks rose) for the
+        // model, and their times.
         let mut k = self.kernel.clone();
         let mut levels = std::mem::take(&mut self.batch_levels);
         let mut out = std::mem::take(&mut self.batch_out);
-        let mut edges = std::mem::take(&mut self.batch_edges);
-        // Sized once; filled through counters kept in registers (a `push`
-        // per instant reloads and stores the length each time).
+        let mut times = std::mem::take(&mut self.batch_times);
         if levels.len() != BATCH {
             levels.resize(BATCH, 0);
             out.resize(BATCH, 0);
-            edges.resize(BATCH, (0, Tick::default()));
+            times.resize(BATCH, 0);
         }
-        let (lv, ed) = (&mut levels[..BATCH], &mut edges[..BATCH]);
-        let (mut n, mut n_edges, mut rises) = (0, 0, 0);
-        while n < BATCH && rises < can_rises {
-            let t = k.advance();
-            rises += t.can_rise as u64;
-            if t.host_rise || t.can_rise {
-                ed[n_edges] = (n, t);
-                n_edges += 1;
-            }
-            lv[n] =
-                k.host().level() as u8 | (k.can().level() as u8) << 1 | (t.can_rise as u8) << 2;
-            n += 1;
-        }
+        let n = k.plan(&mut levels[..BATCH], &mut times[..BATCH], can_rises);
         let AnyDut::Verilated(d) = &mut self.dut else {
             unreachable!("batch_rx checked the DUT");
         };
@@ -878,30 +864,34 @@ impl Testbench {
         let quiet_wires = !(s0.ack || s0.err || s0.rty);
         let mut quiet = quiet_wires && self.wb_mon_seen == Some((self.applied_wb, s0));
         let tx_on_bus = self.tx_on_bus;
-        let before = self.dut_pins.tx;
         // Instants made and replayed: all of them unless a divergence stops the run.
         let mut replayed = made;
         // An instant without a rising edge only changes the pins: `after_eval`
         // (without the traces, see `batch_rx`) for the others.
-        for &(i, t) in &edges[..n_edges] {
-            if i >= made {
-                break;
+        let (lv, ot, tm) = (&levels[..made], &out[..made], &times[..made]);
+        // The DUT's tx of the instant before (for the first, as of now).
+        let mut prev_tx = self.dut_pins.tx;
+        for i in 0..made {
+            let l = lv[i];
+            let o = ot[i];
+            if l & 0b1100 == 0 {
+                prev_tx = o & 1 != 0;
+                continue;
             }
             let last = i + 1 == made;
-            if t.can_rise {
+            if l & 4 != 0 {
                 // `can_rise_rx` without model nodes or faults (see
                 // `batch_rx`), with the DUT's tx of the instant before.
-                let prev_tx = if i == 0 { before } else { out[i - 1] & 1 != 0 };
                 let level = if tx_on_bus { prev_tx } else { RECESSIVE };
                 self.bus_level = level;
                 self.dut_rx = rx.unwrap_or(level);
             }
+            prev_tx = o & 1 != 0;
             if last && let AnyDut::Verilated(d) = &mut self.dut {
                 // The host edge of the last instant may see new outputs.
                 d.sync_outputs();
             }
-            let pins = VerilatedDut::batch_pins(out[i], active_high);
-            if t.host_rise {
+            if l & 8 != 0 {
                 if quiet && !last {
                     self.host_cycle += 1;
                 } else {
@@ -909,8 +899,8 @@ impl Testbench {
                     quiet = quiet_wires && self.wb_mon_seen == Some((self.applied_wb, s0));
                 }
             }
-            if t.can_rise {
-                self.can_edge(t.t_ps, pins);
+            if l & 4 != 0 {
+                self.can_edge(tm[i], VerilatedDut::batch_pins(o, active_high));
             }
             if self.stopped
                 && let Err(e) = self.check_stopped()
@@ -937,7 +927,7 @@ impl Testbench {
         }
         self.batch_levels = levels;
         self.batch_out = out;
-        self.batch_edges = edges;
+        self.batch_times = times;
         result
     }
 
