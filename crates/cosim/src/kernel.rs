@@ -162,7 +162,9 @@ impl Kernel {
     /// `times[k]` its time, `levels[k]` bit 0 the host clock level after
     /// it, bit 1 the CAN clock level, bit 2 "the CAN clock rose", bit 3
     /// "the host clock rose" (the layout of `bridge::Batch`, which ignores
-    /// bit 3). `times` is at least as long as `levels`.
+    /// bit 3). `times` is at least as long as `levels`. Not inlined: in a
+    /// function of its own the clock's state stays in registers.
+    #[inline(never)]
     pub(crate) fn plan(&mut self, levels: &mut [u8], times: &mut [u64], can_rises: u64) -> usize {
         let times = &mut times[..levels.len()];
         let (mut n, mut rises) = (0, 0);
@@ -254,7 +256,15 @@ mod tests {
 
     #[test]
     fn incremental_edge_times_equal_the_division() {
-        for hz in [1, 3, 7_000_001, 24_000_000, 50_000_000, 33_333_333, 500_000_000_000] {
+        for hz in [
+            1,
+            3,
+            7_000_001,
+            24_000_000,
+            50_000_000,
+            33_333_333,
+            500_000_000_000,
+        ] {
             let mut c = ClockGen::new(hz);
             for n in 1..=20_000u64 {
                 assert_eq!(c.next_edge(), c.edge_time(n), "{hz} Hz edge {n}");
@@ -293,10 +303,20 @@ mod tests {
                         | (stepped.can().level() as u8) << 1
                         | (t.can_rise as u8) << 2
                         | (t.host_rise as u8) << 3;
-                    assert_eq!((lv[k], tm[k]), (want, t.t_ps), "{host}/{can} round {round} instant {k}");
+                    assert_eq!(
+                        (lv[k], tm[k]),
+                        (want, t.t_ps),
+                        "{host}/{can} round {round} instant {k}"
+                    );
                 }
-                assert!(n == len || seen == rises, "{host}/{can} round {round}: stopped early");
-                assert!(seen <= rises, "{host}/{can} round {round}: went past the rise");
+                assert!(
+                    n == len || seen == rises,
+                    "{host}/{can} round {round}: stopped early"
+                );
+                assert!(
+                    seen <= rises,
+                    "{host}/{can} round {round}: went past the rise"
+                );
                 assert_eq!(planned.now_ps(), stepped.now_ps());
                 assert_eq!(planned.host(), stepped.host());
                 assert_eq!(planned.can(), stepped.can());

@@ -17,8 +17,7 @@ use std::path::PathBuf;
 use bfm::{
     AvMasterOut, AvalonMaster, AvalonMasterConfig, AvalonMonitor, AvalonMonitorConfig,
     AvalonTiming, BfmError, HostMaster, OpHandle, OpResult, PioMaster, PioTiming, WbMasterOut,
-    WbSlaveOut,
-    WishboneMaster, WishboneMonitor, wiring::Wiring as AvWiring,
+    WbSlaveOut, WishboneMaster, WishboneMonitor, wiring::Wiring as AvWiring,
 };
 use can_proto::decode::{DecodeEvent, Decoder};
 use can_proto::timing::BusTiming;
@@ -358,11 +357,9 @@ impl Testbench {
         let kernel = Kernel::new(cfg.host_hz, cfg.can_hz)?;
         let trace = cfg.dut_trace.is_some();
         let mut dut = match &cfg.dut {
-            DutChoice::Rtl => AnyDut::Verilated(VerilatedDut::bundled(
-                "can_top",
-                HostPort::Wishbone,
-                trace,
-            )?),
+            DutChoice::Rtl => {
+                AnyDut::Verilated(VerilatedDut::bundled("can_top", HostPort::Wishbone, trace)?)
+            }
             DutChoice::RtlAvalon => AnyDut::Verilated(VerilatedDut::bundled(
                 "can_avalon",
                 HostPort::Avalon,
@@ -1079,6 +1076,86 @@ impl Testbench {
         }
     }
 
+    /// The sample-point part of [`Testbench::can_edge`]: the decoder and
+    /// the record. Out of line (once per bit), so the per-clock part stays small.
+    #[inline(never)]
+    fn sample_point(
+        &mut self,
+        level: bool,
+        bit: u64,
+        pins: CanPins,
+        view: Option<crate::compare::RefView>,
+    ) {
+        for e in self.decoder.push(level) {
+            if let DecodeEvent::FieldStart { field, .. } = e {
+                self.field = Some(field);
+                if field == Field::Sof {
+                    self.frame += 1;
+                    self.sof_bit = bit - 1;
+                }
+            }
+        }
+        if !self.stopped {
+            let dut_tx = pins.tx;
+            let (model_tx, mfield) = match &view {
+                Some(v) => (v.pins.tx, v.field),
+                None => (dut_tx, None),
+            };
+            self.record.push_bit(
+                BusBit {
+                    bit,
+                    bus: level,
+                    dut_tx,
+                    model_tx,
+                    dut_rx: self.dut_rx,
+                    field: mfield.or(self.field),
+                    frame: if self.frame > 0 {
+                        Some(self.frame)
+                    } else {
+                        None
+                    },
+                },
+                self.keep_bits,
+            );
+        }
+    }
+
+    /// The reference's engine events of this clock into the record (part of
+    /// [`Testbench::can_edge`], out of line: rare).
+    #[inline(never)]
+    fn reference_events(&mut self, bit: u64) {
+        let Some(r) = &mut self.reference else {
+            return;
+        };
+        r.drain_events(&mut self.events);
+        if !self.events.is_empty() {
+            let counters = r.counters();
+            for k in self.events.drain(..) {
+                if matches!(
+                    k,
+                    diagnose::EventKind::TxComplete | diagnose::EventKind::BusError { .. }
+                ) && self.last_tr.is_some()
+                {
+                    self.attempts += 1;
+                    let (tec, _) = counters.unwrap_or((0, 0));
+                    self.record.tec_trace.push(diagnose::TecStep {
+                        node: Side::Model,
+                        attempt: self.attempts,
+                        bit,
+                        tec,
+                        bus_off: tec > 255,
+                    });
+                }
+                let mut e = EngineEvent::new(bit, Side::Model, k);
+                if let Some((tec, rec)) = counters {
+                    e.tec = Some(tec);
+                    e.rec = Some(rec);
+                }
+                self.record.events.push(e);
+            }
+        }
+    }
+
     /// A CAN rising edge, after the DUT's eval: `pins` are its pins now
     /// (`dut_pins`, passed in registers).
     fn can_edge(&mut self, t_ps: u64, pins: CanPins) {
@@ -1093,69 +1170,10 @@ impl Testbench {
         };
         let bit = self.bitclock.bits();
         if sample {
-            for e in self.decoder.push(level) {
-                if let DecodeEvent::FieldStart { field, .. } = e {
-                    self.field = Some(field);
-                    if field == Field::Sof {
-                        self.frame += 1;
-                        self.sof_bit = bit - 1;
-                    }
-                }
-            }
-            if !self.stopped {
-                let dut_tx = pins.tx;
-                let (model_tx, mfield) = match &view {
-                    Some(v) => (v.pins.tx, v.field),
-                    None => (dut_tx, None),
-                };
-                self.record.push_bit(
-                    BusBit {
-                        bit,
-                        bus: level,
-                        dut_tx,
-                        model_tx,
-                        dut_rx: self.dut_rx,
-                        field: mfield.or(self.field),
-                        frame: if self.frame > 0 {
-                            Some(self.frame)
-                        } else {
-                            None
-                        },
-                    },
-                    self.keep_bits,
-                );
-            }
+            self.sample_point(level, bit, pins, view);
         }
-        if let Some(r) = &mut self.reference
-            && view.is_some_and(|v| v.events)
-        {
-            r.drain_events(&mut self.events);
-            if !self.events.is_empty() {
-                let counters = r.counters();
-                for k in self.events.drain(..) {
-                    if matches!(
-                        k,
-                        diagnose::EventKind::TxComplete | diagnose::EventKind::BusError { .. }
-                    ) && self.last_tr.is_some()
-                    {
-                        self.attempts += 1;
-                        let (tec, _) = counters.unwrap_or((0, 0));
-                        self.record.tec_trace.push(diagnose::TecStep {
-                            node: Side::Model,
-                            attempt: self.attempts,
-                            bit,
-                            tec,
-                            bus_off: tec > 255,
-                        });
-                    }
-                    let mut e = EngineEvent::new(bit, Side::Model, k);
-                    if let Some((tec, rec)) = counters {
-                        e.tec = Some(tec);
-                        e.rec = Some(rec);
-                    }
-                    self.record.events.push(e);
-                }
-            }
+        if view.is_some_and(|v| v.events) {
+            self.reference_events(bit);
         }
         if let (Some(c), Some(v)) = (&mut self.comparator, &view)
             && !self.stopped
@@ -1317,7 +1335,11 @@ impl Testbench {
         };
         let native_avalon = matches!(self.master, Master::Av(_, AvalonWiring::Native));
         let due_edges = match timing {
-            RefTiming::CanEdges { read, write: w, command } => {
+            RefTiming::CanEdges {
+                read,
+                write: w,
+                command,
+            } => {
                 if !write {
                     read
                 } else if addr == 1 {
