@@ -108,6 +108,11 @@ pub struct BenchOptions {
     pub root: Option<PathBuf>,
     /// Where builds are cached; default: `$TMPDIR/cancosim-bench`.
     pub work_dir: Option<PathBuf>,
+    /// The co-simulation rows and the raw harness run this many times,
+    /// interleaved, and each keeps its least CPU time: on a shared or
+    /// virtual machine a neighbour's burst slows one run, never speeds one
+    /// up, so the minimum is the figure that compares.
+    pub repeat: u32,
 }
 
 impl BenchOptions {
@@ -122,6 +127,7 @@ impl BenchOptions {
     pub fn smoke() -> Self {
         BenchOptions {
             smoke: true,
+            repeat: 1,
             ..Self::default()
         }
     }
@@ -134,6 +140,7 @@ impl BenchOptions {
             o.icarus_frames = o.icarus_frames.min(Self::SMOKE_ICARUS_FRAMES);
             o.model_bits = o.model_bits.min(Self::SMOKE_MODEL_BITS);
         }
+        o.repeat = o.repeat.max(1);
         o.frames = o.frames.max(1);
         o.icarus_frames = o.icarus_frames.max(1);
         o.model_bits = o.model_bits.max(1_000);
@@ -163,6 +170,7 @@ impl Default for BenchOptions {
             model_bits: 2_000_000,
             root: None,
             work_dir: None,
+            repeat: 3,
         }
     }
 }
@@ -327,45 +335,43 @@ pub fn run(opts: &BenchOptions) -> Result<BenchReport, BenchError> {
         out.errors,
         cost,
     ));
-    let ((out, cycles), cost) =
-        measure::in_process(|| cosim_run::selftest(frames, o.seed, true, cosim_run::CLOCK_HZ))?;
-    st.push(selftest_row(
-        "cosim",
-        "co-simulation: Verilated RTL + Wishbone BFM + golden model + comparator",
-        out.frames,
-        cycles,
-        out.errors,
-        cost,
-    ));
-    let ((out, cycles), cost) =
-        measure::in_process(|| cosim_run::selftest(frames, o.seed, false, cosim_run::CLOCK_HZ))?;
-    st.push(selftest_row(
-        "cosim-no-lockstep",
-        "co-simulation without the lockstep model (RTL + BFM)",
-        out.frames,
-        cycles,
-        out.errors,
-        cost,
-    ));
-    let ((out, cycles), cost) =
-        measure::in_process(|| cosim_run::selftest(frames, o.seed, true, cosim_run::DE2_HOST_HZ))?;
-    st.push(selftest_row(
-        "cosim-de2-clocks",
-        "co-simulation with lockstep, host clock 50 MHz and CAN clock 24 MHz as on the DE2 (not in the ratios)",
-        out.frames,
-        cycles,
-        out.errors,
-        cost,
-    ));
-    let r = external::run_harness(&harness.path, frames, o.seed)?;
-    st.push(selftest_row(
-        "verilator-raw",
-        "raw C++ Verilator harness (-O3, one clock loop)",
-        r.frames,
-        r.cycles,
-        r.errors,
-        r.cost,
-    ));
+    // The rows of the co-sim / raw C++ ratio, interleaved, best of `repeat`.
+    let best = |slot: &mut Option<(workload::SelfTestOutcome, u64, Cost)>, run: (workload::SelfTestOutcome, u64, Cost)| {
+        if slot.as_ref().is_none_or(|b| run.2.cpu_s < b.2.cpu_s) {
+            *slot = Some(run);
+        }
+    };
+    let (mut lock, mut plain, mut de2, mut raw) = (None, None, None, None);
+    for k in 0..o.repeat {
+        let ((out, cycles), cost) =
+            measure::in_process(|| cosim_run::selftest(frames, o.seed, true, cosim_run::CLOCK_HZ))?;
+        best(&mut lock, (out, cycles, cost));
+        let ((out, cycles), cost) =
+            measure::in_process(|| cosim_run::selftest(frames, o.seed, false, cosim_run::CLOCK_HZ))?;
+        best(&mut plain, (out, cycles, cost));
+        if k == 0 {
+            let ((out, cycles), cost) = measure::in_process(|| {
+                cosim_run::selftest(frames, o.seed, true, cosim_run::DE2_HOST_HZ)
+            })?;
+            de2 = Some((out, cycles, cost));
+        }
+        let r = external::run_harness(&harness.path, frames, o.seed)?;
+        let out = workload::SelfTestOutcome { frames: r.frames, errors: r.errors };
+        best(&mut raw, (out, r.cycles, r.cost));
+    }
+    for (name, what, row) in [
+        ("cosim", "co-simulation: Verilated RTL + Wishbone BFM + golden model + comparator", lock),
+        ("cosim-no-lockstep", "co-simulation without the lockstep model (RTL + BFM)", plain),
+        (
+            "cosim-de2-clocks",
+            "co-simulation with lockstep, host clock 50 MHz and CAN clock 24 MHz as on the DE2 (not in the ratios)",
+            de2,
+        ),
+        ("verilator-raw", "raw C++ Verilator harness (-O3, one clock loop)", raw),
+    ] {
+        let (out, cycles, cost) = row.expect("repeat >= 1 ran every row");
+        st.push(selftest_row(name, what, out.frames, cycles, out.errors, cost));
+    }
     let r = external::run_icarus(&icarus.path, o.icarus_frames as u64, o.seed)?;
     st.push(selftest_row(
         "icarus",
@@ -530,7 +536,7 @@ impl BenchReport {
         }
         let _ = writeln!(
             s,
-            "\n2. self-test loopback, 8-byte frames, 40 clocks per bit, same register sequence and frames"
+            "\n2. self-test loopback, 8-byte frames, 40 clocks per bit, same register sequence and frames (co-sim and raw rows: least CPU time of {} interleaved runs)", self.options.repeat
         );
         let _ = writeln!(
             s,

@@ -73,3 +73,19 @@ fn full_bench() {
         assert!(v.is_finite() && v > 0.0, "{name} = {v}");
     }
 }
+
+#[test]
+fn repeated_rows_keep_their_least_cpu_time_and_the_same_workload() {
+    let one = run(&BenchOptions::smoke()).unwrap_or_else(|e| panic!("{e}"));
+    let r = run(&BenchOptions { repeat: 3, ..BenchOptions::smoke() }).unwrap_or_else(|e| panic!("{e}"));
+    r.check().unwrap_or_else(|e| panic!("{e}"));
+    assert_eq!(r.options.repeat, 3);
+    assert!(r.to_table().contains("least CPU time of 3 interleaved runs"));
+    // Same rows, same frames and cycles as a single run: only the timing is the best of three.
+    let key = |r: &bench::BenchReport| -> Vec<(String, u64, u64)> {
+        r.selftest.iter().map(|s| (s.name.clone(), s.frames, s.cycles)).collect()
+    };
+    assert_eq!(key(&r), key(&one));
+    assert_eq!(BenchOptions { repeat: 0, ..BenchOptions::smoke() }.effective().repeat, 1);
+    assert_eq!(BenchOptions::default().repeat, 3);
+}

@@ -17,6 +17,10 @@ pub struct Args {
     /// Seed of every workload.
     #[arg(long)]
     seed: Option<u64>,
+    /// Interleaved runs of the co-sim and raw-harness rows; each keeps its
+    /// least CPU time (default 3; 1 with --smoke).
+    #[arg(long)]
+    repeat: Option<u32>,
     /// Print JSON instead of the table.
     #[arg(long)]
     json: bool,
@@ -33,6 +37,9 @@ pub fn run_cmd(a: Args) -> anyhow::Result<i32> {
     }
     if let Some(s) = a.seed {
         o.seed = s;
+    }
+    if let Some(r) = a.repeat {
+        o.repeat = r;
     }
     let report = run(&o)?;
     if a.json {
