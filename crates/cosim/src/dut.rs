@@ -38,18 +38,22 @@ pub struct CanPins {
 pub trait Dut {
     /// What it is, for reports.
     fn name(&self) -> String;
-    /// Native host interface.
-    fn host_port(&self) -> HostPort;
+    /// Native host interface (default: Wishbone).
+    fn host_port(&self) -> HostPort {
+        HostPort::Wishbone
+    }
     /// Host-side reset (`wb_rst_i` / `reset`), active high.
     fn set_reset(&mut self, on: bool);
     /// Wishbone pins (ignored by an Avalon DUT).
     fn set_wb(&mut self, m: &WbMasterOut);
     /// Wishbone slave outputs (default for an Avalon DUT).
     fn wb(&self) -> WbSlaveOut;
-    /// Avalon pins (ignored by a Wishbone DUT).
-    fn set_av(&mut self, m: &AvMasterOut);
-    /// Avalon slave outputs (default for a Wishbone DUT).
-    fn av(&self) -> AvSlaveOut;
+    /// Avalon pins (ignored by a Wishbone DUT, the default).
+    fn set_av(&mut self, _m: &AvMasterOut) {}
+    /// Avalon slave outputs (idle for a Wishbone DUT, the default).
+    fn av(&self) -> AvSlaveOut {
+        AvSlaveOut::default()
+    }
     /// `rx_i`: `true` = recessive.
     fn set_rx(&mut self, rx: bool);
     /// CAN-side outputs.
@@ -491,9 +495,6 @@ impl Dut for EchoModel {
     fn name(&self) -> String {
         "Rust echo model".into()
     }
-    fn host_port(&self) -> HostPort {
-        HostPort::Wishbone
-    }
     fn set_reset(&mut self, on: bool) {
         self.rst = on;
     }
@@ -507,10 +508,6 @@ impl Dut for EchoModel {
             err: false,
             rty: false,
         }
-    }
-    fn set_av(&mut self, _m: &AvMasterOut) {}
-    fn av(&self) -> AvSlaveOut {
-        AvSlaveOut::default()
     }
     fn set_rx(&mut self, rx: bool) {
         self.rx = rx;

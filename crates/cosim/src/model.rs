@@ -3,7 +3,7 @@
 //! Verilator and the comparator can be checked against the model itself),
 //! and the reference that shadows a DUT ([`ModelRef`]).
 
-use bfm::{AvMasterOut, AvSlaveOut, WbMasterOut, WbSlaveOut};
+use bfm::{WbMasterOut, WbSlaveOut};
 use can_engine::ErrorKind;
 use can_proto::Field;
 use diagnose::{CanMode, EventKind, WriteOutcome as RecOutcome};
@@ -11,7 +11,7 @@ use regmap::{Access, Mode, Target};
 use sja1000::{NodeEvent, Sja1000, WriteOutcome};
 
 use crate::compare::{IR_ADDR, RefView, Reference, SR_ADDR};
-use crate::dut::{CanPins, Dut, HostPort};
+use crate::dut::{CanPins, Dut};
 
 /// The model's write verdict as record data.
 pub fn outcome_record(o: WriteOutcome) -> RecOutcome {
@@ -117,9 +117,6 @@ impl Dut for ModelDut {
     fn name(&self) -> String {
         "golden model (sja1000) as a Wishbone slave".into()
     }
-    fn host_port(&self) -> HostPort {
-        HostPort::Wishbone
-    }
     fn set_reset(&mut self, on: bool) {
         self.rst = on;
     }
@@ -133,10 +130,6 @@ impl Dut for ModelDut {
             err: false,
             rty: false,
         }
-    }
-    fn set_av(&mut self, _m: &AvMasterOut) {}
-    fn av(&self) -> AvSlaveOut {
-        AvSlaveOut::default()
     }
     fn set_rx(&mut self, rx: bool) {
         self.rx = rx;
