@@ -205,6 +205,20 @@ struct PendingRead {
     stamp: Stamp,
 }
 
+/// What a collect-mode [`Comparator::resume`] stops re-reporting after a
+/// divergence: the same difference, until it goes away.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+enum Latch {
+    /// tx: the rest of this frame (bus frame number; `None`: no frame yet,
+    /// until tx agrees again).
+    Tx(Option<u32>),
+    /// A register read: the same DUT and model values at this address,
+    /// until a read of it agrees.
+    Read { addr: u8, dut: u8, model: u8 },
+    Irq,
+    BusOff,
+}
+
 /// The comparator's state.
 pub struct Comparator {
     cfg: CompareConfig,
@@ -246,6 +260,14 @@ pub struct Comparator {
     found: VecDeque<Divergence>,
     halted: bool,
     last_kind: Option<DivergenceKind>,
+    /// The latch of the divergence last found or taken (what `resume` latches).
+    latch_info: Option<Latch>,
+    /// The latches of `found`, in step with it.
+    found_latch: VecDeque<Latch>,
+    /// Frame in which tx was latched (see [`Latch::Tx`]).
+    tx_latch_frame: Option<u32>,
+    /// Latched read differences, one per address: (address, DUT, model).
+    read_latched: Vec<(u8, u8, u8)>,
     skip_until_bit: u64,
     tx_latched: bool,
     irq_latched: bool,
@@ -256,6 +278,9 @@ pub struct Comparator {
     pub compared_reads: u64,
     /// Reads accepted only thanks to the status tolerance.
     pub tolerated_reads: u64,
+    /// Mismatching sample points and reads not listed again because they
+    /// repeat a difference already listed (collect mode latches).
+    pub repeated: u64,
 }
 
 impl Comparator {
@@ -290,6 +315,10 @@ impl Comparator {
             found: VecDeque::new(),
             halted: false,
             last_kind: None,
+            latch_info: None,
+            found_latch: VecDeque::new(),
+            tx_latch_frame: None,
+            read_latched: Vec::new(),
             skip_until_bit: 0,
             tx_latched: false,
             irq_latched: false,
@@ -297,6 +326,7 @@ impl Comparator {
             compared_bits: 0,
             compared_reads: 0,
             tolerated_reads: 0,
+            repeated: 0,
         }
     }
 
@@ -312,7 +342,11 @@ impl Comparator {
 
     /// The next divergence not yet taken (each divergence once, in order).
     pub fn take_divergence(&mut self) -> Option<Divergence> {
-        self.found.pop_front()
+        let d = self.found.pop_front();
+        if d.is_some() {
+            self.latch_info = self.found_latch.pop_front();
+        }
+        d
     }
 
     /// True while a divergence halts the comparison (until [`Comparator::resume`]).
@@ -324,21 +358,34 @@ impl Comparator {
     ///
     /// `skip_to_bit`: no tx or pin comparison before this bit index (a
     /// waiver's `SkipBits(n)` after a divergence at bit `b` gives `b + n`).
-    /// `latch`: the divergence was not waived (collect mode): the same
-    /// mismatch is not reported again until DUT and reference agree, so a
-    /// lasting deviation counts once. Not latched after a waived one, so a
-    /// waiver's bounds see every bit of the deviation.
+    /// `latch`: the divergence (the one last taken) was not waived (collect
+    /// mode): the same difference is not listed again while it lasts, so a
+    /// lasting deviation counts once: tx for the rest of its frame (until
+    /// tx agrees at a sample point of a later frame; before the first
+    /// frame, until it agrees), irq/bus-off until the pins agree, a
+    /// register read while the same address reads the same DUT and model
+    /// values again (any other value, or an agreeing read, ends it: the
+    /// next read is compared afresh). Repeats are counted in `repeated`.
+    /// Not latched after a waived one, so a waiver's bounds see every bit
+    /// of the deviation.
     pub fn resume(&mut self, skip_to_bit: Option<u64>, latch: bool) {
         self.halted = false;
         if let Some(b) = skip_to_bit {
             self.skip_until_bit = self.skip_until_bit.max(b);
         }
         if latch {
-            match self.last_kind {
-                Some(DivergenceKind::TxBit) => self.tx_latched = true,
-                Some(DivergenceKind::Irq) => self.irq_latched = true,
-                Some(DivergenceKind::BusOff) => self.bus_latched = true,
-                _ => {}
+            match self.latch_info {
+                Some(Latch::Tx(frame)) => {
+                    self.tx_latched = true;
+                    self.tx_latch_frame = frame;
+                }
+                Some(Latch::Irq) => self.irq_latched = true,
+                Some(Latch::BusOff) => self.bus_latched = true,
+                Some(Latch::Read { addr, dut, model }) => {
+                    self.read_latched.retain(|l| l.0 != addr);
+                    self.read_latched.push((addr, dut, model));
+                }
+                None => {}
             }
         }
         self.irq_bad = 0;
@@ -371,6 +418,38 @@ impl Comparator {
         self.found.push_back(d);
         self.halted = true;
         self.last_kind = Some(kind);
+        let latch = match kind {
+            DivergenceKind::Irq => Some(Latch::Irq),
+            DivergenceKind::BusOff => Some(Latch::BusOff),
+            DivergenceKind::RegisterRead => None,
+            _ => Some(Latch::Tx(s.frame)),
+        };
+        if let Some(l) = latch {
+            self.found_latch.push_back(l);
+            self.latch_info = Some(l);
+        }
+    }
+
+    /// A register read divergence (latched by its address and values).
+    fn diverge_read(&mut self, s: Stamp, addr: u8, dut: u8, model: u8, label: String, context: String) {
+        self.diverge(DivergenceKind::RegisterRead, s, Some(label), model as u32, dut as u32, context);
+        let l = Latch::Read { addr, dut, model };
+        self.found_latch.push_back(l);
+        self.latch_info = Some(l);
+    }
+
+    /// Is this read difference latched (a repeat, counted, not listed)?
+    fn read_repeats(&mut self, addr: u8, dut: u8, model: u8) -> bool {
+        let r = self.read_latched.contains(&(addr, dut, model));
+        self.repeated += r as u64;
+        r
+    }
+
+    /// A read of `addr` agreed: its latch ends.
+    fn read_agrees(&mut self, addr: u8) {
+        if !self.read_latched.is_empty() {
+            self.read_latched.retain(|l| l.0 != addr);
+        }
     }
 
     /// One CAN clock, after both sides were clocked: `sample` says whether
@@ -539,10 +618,15 @@ impl Comparator {
                     let stable = self.ref_changed_at <= pushed - width;
                     if stable {
                         self.compared_bits += 1;
-                        if self.tx_latched && mid.dut_tx == mid.ref_tx {
+                        if self.tx_latched
+                            && mid.dut_tx == mid.ref_tx
+                            && (self.tx_latch_frame.is_none() || mid.stamp.frame != self.tx_latch_frame)
+                        {
                             self.tx_latched = false;
                         }
-                        if mid.dut_tx != mid.ref_tx && !self.tx_latched {
+                        if mid.dut_tx != mid.ref_tx && self.tx_latched {
+                            self.repeated += 1;
+                        } else if mid.dut_tx != mid.ref_tx {
                             let lvl = |b: bool| if b { "recessive" } else { "dominant" };
                             self.diverge(
                                 DivergenceKind::TxBit,
@@ -556,7 +640,6 @@ impl Comparator {
                                     lvl(mid.dut_tx)
                                 ),
                             );
-                            return;
                         }
                     }
                 }
@@ -589,23 +672,27 @@ impl Comparator {
             let p = &mut self.pending[k];
             if p.addr == SR_ADDR && sr == p.dut {
                 self.tolerated_reads += 1;
+                let addr = p.addr;
                 self.pending.swap_remove(k);
+                self.read_agrees(addr);
                 continue;
             }
             if p.clocks_left == 0 {
                 let p = self.pending.swap_remove(k);
-                self.diverge(
-                    DivergenceKind::RegisterRead,
-                    p.stamp,
-                    Some(reg_label(p.addr)),
-                    p.model as u32,
-                    p.dut as u32,
-                    format!(
-                        "read of address {} returned 0x{:02X}, the model 0x{:02X}",
-                        p.addr, p.dut, p.model
-                    ),
-                );
-                return;
+                if !self.read_repeats(p.addr, p.dut, p.model) {
+                    self.diverge_read(
+                        p.stamp,
+                        p.addr,
+                        p.dut,
+                        p.model,
+                        reg_label(p.addr),
+                        format!(
+                            "read of address {} returned 0x{:02X}, the model 0x{:02X}",
+                            p.addr, p.dut, p.model
+                        ),
+                    );
+                }
+                continue;
             }
             p.clocks_left -= 1;
             k += 1;
@@ -636,7 +723,6 @@ impl Comparator {
                             self.cfg.pin_tolerance
                         ),
                     );
-                    return;
                 }
             } else {
                 self.irq_bad = 0;
@@ -676,6 +762,7 @@ impl Comparator {
         }
         self.compared_reads += 1;
         if dut == model {
+            self.read_agrees(addr);
             return;
         }
         let (pushed, tol) = (self.status_pushed, self.cfg.status_tolerance);
@@ -688,6 +775,7 @@ impl Comparator {
             prune_runs(h, pushed, tol);
             if h.iter().any(|v| v.0 == dut) {
                 self.tolerated_reads += 1;
+                self.read_agrees(addr);
                 return;
             }
             if addr == SR_ADDR && self.cfg.status_tolerance > 0 {
@@ -701,22 +789,44 @@ impl Comparator {
                 return;
             }
         }
+        if self.read_repeats(addr, dut, model) {
+            return;
+        }
         let label = name.unwrap_or_else(|| reg_label(addr));
-        self.diverge(
-            DivergenceKind::RegisterRead,
-            stamp,
-            Some(label.clone()),
-            model as u32,
-            dut as u32,
-            format!(
-                "read of {label} (address {addr}) returned 0x{dut:02X}, the model 0x{model:02X}"
-            ),
+        let context = format!(
+            "read of {label} (address {addr}) returned 0x{dut:02X}, the model 0x{model:02X}"
         );
+        self.diverge_read(stamp, addr, dut, model, label, context);
     }
 
     /// Reads still waiting for their tolerance window to close.
     pub fn pending_reads(&self) -> usize {
         self.pending.len()
+    }
+
+    /// CAN clocks still needed to decide every comparison already under
+    /// way: an SR read waiting for its look-ahead window, a pin mismatch
+    /// within its tolerance, a sample point not yet in the middle of its tx
+    /// window. A run must not end before them, or what the host read last
+    /// goes uncompared ([`crate::Testbench::settle`]). 0 when halted.
+    pub fn open_clocks(&self) -> u32 {
+        if self.halted {
+            return 0;
+        }
+        let reads = self.pending.iter().map(|p| p.clocks_left + 1).max().unwrap_or(0);
+        let pin = |bad: u32| {
+            if bad > 0 {
+                (self.cfg.pin_tolerance + 1).saturating_sub(bad)
+            } else {
+                0
+            }
+        };
+        let tx = if self.samples.is_empty() {
+            0
+        } else {
+            2 * self.cfg.tx_edge_tolerance + 1
+        };
+        reads.max(pin(self.irq_bad)).max(pin(self.bus_bad)).max(tx)
     }
 }
 
@@ -801,7 +911,7 @@ mod before {
     use can_proto::Field;
     use diagnose::{Divergence, DivergenceKind};
 
-    use super::{CompareConfig, IR_ADDR, SR_ADDR, Stamp, reg_label};
+    use super::{CompareConfig, IR_ADDR, Latch, SR_ADDR, Stamp, reg_label};
     use crate::dut::CanPins;
 
     #[derive(Clone, Copy, Debug)]
@@ -847,6 +957,10 @@ mod before {
         found: VecDeque<Divergence>,
         halted: bool,
         last_kind: Option<DivergenceKind>,
+        latch_info: Option<Latch>,
+        found_latch: VecDeque<Latch>,
+        tx_latch_frame: Option<u32>,
+        read_latched: Vec<(u8, u8, u8)>,
         skip_until_bit: u64,
         tx_latched: bool,
         irq_latched: bool,
@@ -857,6 +971,7 @@ mod before {
         pub compared_reads: u64,
         /// Reads accepted only thanks to the status tolerance.
         pub tolerated_reads: u64,
+        pub repeated: u64,
     }
 
     impl OldComparator {
@@ -886,6 +1001,10 @@ mod before {
                 found: VecDeque::new(),
                 halted: false,
                 last_kind: None,
+                latch_info: None,
+                found_latch: VecDeque::new(),
+                tx_latch_frame: None,
+                read_latched: Vec::new(),
                 skip_until_bit: 0,
                 tx_latched: false,
                 irq_latched: false,
@@ -893,6 +1012,7 @@ mod before {
                 compared_bits: 0,
                 compared_reads: 0,
                 tolerated_reads: 0,
+                repeated: 0,
             }
         }
 
@@ -908,7 +1028,11 @@ mod before {
 
         /// The next divergence not yet taken (each divergence once, in order).
         pub fn take_divergence(&mut self) -> Option<Divergence> {
-            self.found.pop_front()
+            let d = self.found.pop_front();
+            if d.is_some() {
+                self.latch_info = self.found_latch.pop_front();
+            }
+            d
         }
 
         /// True while a divergence halts the comparison (until [`Comparator::resume`]).
@@ -920,21 +1044,34 @@ mod before {
         ///
         /// `skip_to_bit`: no tx or pin comparison before this bit index (a
         /// waiver's `SkipBits(n)` after a divergence at bit `b` gives `b + n`).
-        /// `latch`: the divergence was not waived (collect mode): the same
-        /// mismatch is not reported again until DUT and reference agree, so a
-        /// lasting deviation counts once. Not latched after a waived one, so a
-        /// waiver's bounds see every bit of the deviation.
+        /// `latch`: the divergence (the one last taken) was not waived (collect
+        /// mode): the same difference is not listed again while it lasts, so a
+        /// lasting deviation counts once: tx for the rest of its frame (until
+        /// tx agrees at a sample point of a later frame; before the first
+        /// frame, until it agrees), irq/bus-off until the pins agree, a
+        /// register read while the same address reads the same DUT and model
+        /// values again (any other value, or an agreeing read, ends it: the
+        /// next read is compared afresh). Repeats are counted in `repeated`.
+        /// Not latched after a waived one, so a waiver's bounds see every bit
+        /// of the deviation.
         pub fn resume(&mut self, skip_to_bit: Option<u64>, latch: bool) {
             self.halted = false;
             if let Some(b) = skip_to_bit {
                 self.skip_until_bit = self.skip_until_bit.max(b);
             }
             if latch {
-                match self.last_kind {
-                    Some(DivergenceKind::TxBit) => self.tx_latched = true,
-                    Some(DivergenceKind::Irq) => self.irq_latched = true,
-                    Some(DivergenceKind::BusOff) => self.bus_latched = true,
-                    _ => {}
+                match self.latch_info {
+                    Some(Latch::Tx(frame)) => {
+                        self.tx_latched = true;
+                        self.tx_latch_frame = frame;
+                    }
+                    Some(Latch::Irq) => self.irq_latched = true,
+                    Some(Latch::BusOff) => self.bus_latched = true,
+                    Some(Latch::Read { addr, dut, model }) => {
+                        self.read_latched.retain(|l| l.0 != addr);
+                        self.read_latched.push((addr, dut, model));
+                    }
+                    None => {}
                 }
             }
             self.irq_bad = 0;
@@ -967,6 +1104,38 @@ mod before {
             self.found.push_back(d);
             self.halted = true;
             self.last_kind = Some(kind);
+            let latch = match kind {
+                DivergenceKind::Irq => Some(Latch::Irq),
+                DivergenceKind::BusOff => Some(Latch::BusOff),
+                DivergenceKind::RegisterRead => None,
+                _ => Some(Latch::Tx(s.frame)),
+            };
+            if let Some(l) = latch {
+                self.found_latch.push_back(l);
+                self.latch_info = Some(l);
+            }
+        }
+
+        /// A register read divergence (latched by its address and values).
+        fn diverge_read(&mut self, s: Stamp, addr: u8, dut: u8, model: u8, label: String, context: String) {
+            self.diverge(DivergenceKind::RegisterRead, s, Some(label), model as u32, dut as u32, context);
+            let l = Latch::Read { addr, dut, model };
+            self.found_latch.push_back(l);
+            self.latch_info = Some(l);
+        }
+
+        /// Is this read difference latched (a repeat, counted, not listed)?
+        fn read_repeats(&mut self, addr: u8, dut: u8, model: u8) -> bool {
+            let r = self.read_latched.contains(&(addr, dut, model));
+            self.repeated += r as u64;
+            r
+        }
+
+        /// A read of `addr` agreed: its latch ends.
+        fn read_agrees(&mut self, addr: u8) {
+            if !self.read_latched.is_empty() {
+                self.read_latched.retain(|l| l.0 != addr);
+            }
         }
 
         /// One CAN clock, after both sides were clocked: `sample` says whether
@@ -1056,10 +1225,15 @@ mod before {
                     let stable = self.window.iter().all(|w| w.ref_tx == mid.ref_tx);
                     if stable {
                         self.compared_bits += 1;
-                        if self.tx_latched && mid.dut_tx == mid.ref_tx {
+                        if self.tx_latched
+                            && mid.dut_tx == mid.ref_tx
+                            && (self.tx_latch_frame.is_none() || mid.stamp.frame != self.tx_latch_frame)
+                        {
                             self.tx_latched = false;
                         }
-                        if mid.dut_tx != mid.ref_tx && !self.tx_latched {
+                        if mid.dut_tx != mid.ref_tx && self.tx_latched {
+                            self.repeated += 1;
+                        } else if mid.dut_tx != mid.ref_tx {
                             let lvl = |b: bool| if b { "recessive" } else { "dominant" };
                             self.diverge(
                                 DivergenceKind::TxBit,
@@ -1073,7 +1247,6 @@ mod before {
                                     lvl(mid.dut_tx)
                                 ),
                             );
-                            return;
                         }
                     }
                 }
@@ -1092,23 +1265,27 @@ mod before {
                 let p = &mut self.pending[k];
                 if p.addr == SR_ADDR && sr == p.dut {
                     self.tolerated_reads += 1;
+                    let addr = p.addr;
                     self.pending.swap_remove(k);
+                    self.read_agrees(addr);
                     continue;
                 }
                 if p.clocks_left == 0 {
                     let p = self.pending.swap_remove(k);
-                    self.diverge(
-                        DivergenceKind::RegisterRead,
-                        p.stamp,
-                        Some(reg_label(p.addr)),
-                        p.model as u32,
-                        p.dut as u32,
-                        format!(
-                            "read of address {} returned 0x{:02X}, the model 0x{:02X}",
-                            p.addr, p.dut, p.model
-                        ),
-                    );
-                    return;
+                    if !self.read_repeats(p.addr, p.dut, p.model) {
+                        self.diverge_read(
+                            p.stamp,
+                            p.addr,
+                            p.dut,
+                            p.model,
+                            reg_label(p.addr),
+                            format!(
+                                "read of address {} returned 0x{:02X}, the model 0x{:02X}",
+                                p.addr, p.dut, p.model
+                            ),
+                        );
+                    }
+                    continue;
                 }
                 p.clocks_left -= 1;
                 k += 1;
@@ -1139,7 +1316,6 @@ mod before {
                                 self.cfg.pin_tolerance
                             ),
                         );
-                        return;
                     }
                 } else {
                     self.irq_bad = 0;
@@ -1179,6 +1355,7 @@ mod before {
             }
             self.compared_reads += 1;
             if dut == model {
+                self.read_agrees(addr);
                 return;
             }
             let hist = match addr {
@@ -1189,6 +1366,7 @@ mod before {
             if let Some(h) = hist {
                 if h.iter().any(|v| *v == dut) {
                     self.tolerated_reads += 1;
+                    self.read_agrees(addr);
                     return;
                 }
                 if addr == SR_ADDR && self.cfg.status_tolerance > 0 {
@@ -1202,17 +1380,14 @@ mod before {
                     return;
                 }
             }
+            if self.read_repeats(addr, dut, model) {
+                return;
+            }
             let label = name.unwrap_or_else(|| reg_label(addr));
-            self.diverge(
-                DivergenceKind::RegisterRead,
-                stamp,
-                Some(label.clone()),
-                model as u32,
-                dut as u32,
-                format!(
-                    "read of {label} (address {addr}) returned 0x{dut:02X}, the model 0x{model:02X}"
-                ),
+            let context = format!(
+                "read of {label} (address {addr}) returned 0x{dut:02X}, the model 0x{model:02X}"
             );
+            self.diverge_read(stamp, addr, dut, model, label, context);
         }
 
         /// Reads still waiting for their tolerance window to close.

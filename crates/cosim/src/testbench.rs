@@ -622,6 +622,14 @@ impl Testbench {
     /// noted: the model has not taken the DUT's counter yet.
     pub fn waiver_report(&self) -> WaiverReport {
         let mut r = self.waivers.snapshot();
+        if let Some(c) = &self.comparator
+            && c.repeated > 0
+        {
+            r.notes.push(format!(
+                "{} later mismatching sample point(s) or read(s) repeated a difference already listed (tx in the same frame, the same register with the same DUT and model values) and are not listed again",
+                c.repeated
+            ));
+        }
         for (pending, reg) in [
             (self.adopt_tec_at_read, "TXERR"),
             (self.adopt_rec_at_read, "RXERR"),
@@ -682,8 +690,11 @@ impl Testbench {
                     c.resume(None, true);
                 }
                 Action::Stop => {
+                    // The first unwaived one ends the comparison: later ones
+                    // found at the same clock are not handed on.
                     self.record.divergence = Some(d);
                     self.stopped = true;
+                    break;
                 }
             }
         }
@@ -1549,7 +1560,16 @@ impl Testbench {
 
     /// The run record for the diagnoser (final registers by peeking the
     /// reference; the DUT's SR is read through the BFM when it can be).
+    ///
+    /// First [`Testbench::settle`]s the comparator, so that the last reads
+    /// of a run are compared too.
     pub fn record(&mut self) -> RunRecord {
+        if let Err(e) = self.settle()
+            && !matches!(e, TbError::Diverged(_))
+            && self.record.error.is_none()
+        {
+            self.record.error = Some(e.to_string());
+        }
         let mut r = self.record.clone();
         r.bits_simulated = self.bitclock.bits();
         r.dut = self.dut_name.clone();
@@ -1608,6 +1628,24 @@ impl Testbench {
     /// The comparator's tolerances in words (for reports), if lockstep.
     pub fn tolerances(&self) -> Option<String> {
         self.comparator.as_ref().map(|c| c.config().describe())
+    }
+
+    /// Runs the CAN clocks (host idle) that decide the comparisons still
+    /// open ([`Comparator::open_clocks`]: an SR read within its look-ahead
+    /// window, a pin mismatch within its tolerance, the tx window), so a
+    /// run never ends with a read the comparator has not judged. Called by
+    /// [`Testbench::record`]; a no-op when nothing is open or the
+    /// comparison has stopped.
+    pub fn settle(&mut self) -> Result<(), TbError> {
+        if self.stopped {
+            return Ok(());
+        }
+        let n = self.comparator.as_ref().map_or(0, |c| c.open_clocks());
+        if n > 0 {
+            self.run_can_cycles(n as u64)?;
+            self.record.bits_simulated = self.bitclock.bits();
+        }
+        Ok(())
     }
 
     /// Flushes the VCD files.
