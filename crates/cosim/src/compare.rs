@@ -1718,6 +1718,112 @@ resync = ["skip-bits 1"]
         assert_eq!((dv.kind, dv.time_ps), (DivergenceKind::Irq, 10));
     }
 
+    /// Differential test against the declared tolerance (issue 19): on
+    /// random status sequences with random reads, interleaved with tx and
+    /// irq divergences at random clocks, a read diverges exactly when its
+    /// DUT value differs from the model's at the read and from every value
+    /// the model's SR held in the clocks [P - 1 - tol, P + tol] around it
+    /// (IR: [P - 1 - tol, P - 1]; other registers: none), P being the
+    /// clocks before the read. The run ends with `open_clocks()` clocks, as
+    /// the test bench's settle does, so the last reads are judged too.
+    #[test]
+    fn a_read_diverges_exactly_when_the_model_never_held_the_value_in_the_window() {
+        let mut seed = 0x2545_F491_4F6C_DD1Du64;
+        let mut rnd = move |n: u64| {
+            seed ^= seed << 13;
+            seed ^= seed >> 7;
+            seed ^= seed << 17;
+            seed % n
+        };
+        let values = [0x0Cu8, 0x1C, 0x3C, 0x0D, 0x00, 0x04];
+        let (mut bad_total, mut good_total) = (0, 0);
+        for st_tol in [0u32, 1, 3, 48] {
+            let cfg = CompareConfig {
+                tx_edge_tolerance: 1,
+                status_tolerance: st_tol,
+                pin_tolerance: 2,
+                ..CompareConfig::default()
+            };
+            let mut c = Comparator::new(cfg);
+            let clocks = 40_000usize;
+            let total = clocks + 200;
+            let mut sr = vec![0u8; total];
+            let mut ir = vec![0u8; total];
+            for k in 1..total {
+                sr[k] = if rnd(4) == 0 { values[rnd(6) as usize] } else { sr[k - 1] };
+                ir[k] = if rnd(6) == 0 { values[rnd(6) as usize] } else { ir[k - 1] };
+            }
+            // (read id, address, P, DUT value, model value)
+            let mut reads: Vec<(u64, u8, usize, u8, u8)> = Vec::new();
+            let mut flagged = std::collections::BTreeSet::new();
+            let mut clk = 0usize;
+            let step = |c: &mut Comparator, clk: usize, rnd: &mut dyn FnMut(u64) -> u64| {
+                let sample = clk % 10 == 5;
+                // The DUT's tx is wrong at some sample points, its irq now and then.
+                let dut_tx = !(sample && rnd(7) == 0);
+                let irq_bad = clk % 97 < 5 && rnd(3) == 0;
+                let r = pins(true);
+                let d = CanPins { tx: dut_tx, irq_n: !irq_bad, ..pins(true) };
+                let stamp = Stamp { t_ps: clk as u64, bit: clk as u64 / 10, frame: Some(clk as u32 / 200), ..Stamp::default() };
+                c.can_clock(stamp, sample, &r, &d, sr[clk], ir[clk]);
+            };
+            let drain = |c: &mut Comparator, flagged: &mut std::collections::BTreeSet<u64>| {
+                while let Some(d) = c.take_divergence() {
+                    let read = d.kind == DivergenceKind::RegisterRead;
+                    if read {
+                        assert!(flagged.insert(d.time_ps), "one divergence per read");
+                    }
+                    c.resume(None, !read);
+                }
+            };
+            while clk < clocks {
+                step(&mut c, clk, &mut rnd);
+                clk += 1;
+                drain(&mut c, &mut flagged);
+                if rnd(5) == 0 {
+                    let addr = [SR_ADDR, IR_ADDR, 6][rnd(3) as usize];
+                    let model = match addr {
+                        SR_ADDR => sr[clk - 1],
+                        IR_ADDR => ir[clk - 1],
+                        _ => values[rnd(6) as usize],
+                    };
+                    let dut = if rnd(3) == 0 { model } else { values[rnd(6) as usize] };
+                    let id = 1_000_000 + reads.len() as u64;
+                    let stamp = Stamp { t_ps: id, ..Stamp::default() };
+                    c.read(stamp, addr, dut, model, None);
+                    reads.push((id, addr, clk, dut, model));
+                    drain(&mut c, &mut flagged);
+                }
+            }
+            let open = c.open_clocks() as usize;
+            assert!(open <= (st_tol.max(2) + 3) as usize, "open {open}");
+            for _ in 0..open {
+                step(&mut c, clk, &mut rnd);
+                clk += 1;
+                drain(&mut c, &mut flagged);
+            }
+            assert_eq!(c.pending_reads(), 0, "every read judged");
+            let tol = st_tol as usize;
+            for &(id, addr, p, dut, model) in &reads {
+                let held = |h: &[u8], lo: usize, hi: usize| (lo..=hi).any(|k| h[k] == dut);
+                let back = p.saturating_sub(1 + tol);
+                let ok = dut == model
+                    || match addr {
+                        SR_ADDR => held(&sr, back, if tol > 0 { p + tol } else { p - 1 }),
+                        IR_ADDR => held(&ir, back, p - 1),
+                        _ => false,
+                    };
+                assert_eq!(
+                    flagged.contains(&id),
+                    !ok,
+                    "tol {st_tol}: read {id} of {addr} at P = {p}: DUT 0x{dut:02X}, model 0x{model:02X}"
+                );
+                if ok { good_total += 1 } else { bad_total += 1 }
+            }
+        }
+        assert!(bad_total > 1000 && good_total > 1000, "{bad_total} / {good_total}");
+    }
+
     /// The comparator reaches exactly the verdicts of the one it replaced
     /// (`before::OldComparator`) on random pin, status and read sequences,
     /// with halts, resumes, skips and latches, for several tolerances.

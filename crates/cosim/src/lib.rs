@@ -23,7 +23,8 @@ pub use dut::{CanPins, Dut, EchoModel, HostPort, VerilatedDut};
 pub use kernel::{Kernel, KernelError, Tick};
 pub use model::{ModelDut, ModelRef};
 pub use testbench::{
-    AvalonWiring, DutChoice, HostBfm, NodeConfig, ReferenceChoice, TbConfig, TbError, Testbench,
+    AvalonWiring, CustomDut, DutChoice, HostBfm, NodeConfig, ReferenceChoice, TbConfig, TbError,
+    Testbench,
 };
 /// The waivers crate the test bench takes (`TbConfig::waivers`) and reports
 /// with (`Testbench::waiver_report`), for callers without their own dependency.

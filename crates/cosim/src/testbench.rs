@@ -52,6 +52,26 @@ pub enum DutChoice {
     Model,
     /// The Rust twin of the echo fixture.
     Echo,
+    /// A DUT in Rust built by the caller, e.g. the golden model behind a
+    /// wrapper with one deliberate deviation, to show what the comparator
+    /// catches. The reference takes each access at the ack.
+    Custom(CustomDut),
+}
+
+/// A caller-built DUT for [`DutChoice::Custom`]: its name in reports and
+/// how to make one.
+#[derive(Clone)]
+pub struct CustomDut {
+    /// Name in reports.
+    pub name: String,
+    /// Makes a fresh instance.
+    pub make: std::sync::Arc<dyn Fn() -> Box<dyn crate::dut::Dut> + Send + Sync>,
+}
+
+impl std::fmt::Debug for CustomDut {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        write!(f, "CustomDut({})", self.name)
+    }
 }
 
 /// How the Avalon master reaches a Wishbone DUT.
@@ -378,6 +398,7 @@ impl Testbench {
             }
             DutChoice::Model => AnyDut::Other(Box::new(ModelDut::new())),
             DutChoice::Echo => AnyDut::Other(Box::new(EchoModel::new())),
+            DutChoice::Custom(c) => AnyDut::Other((c.make)()),
         };
         if let Some(p) = &cfg.dut_trace {
             dut.trace_open(p)?;
@@ -469,6 +490,7 @@ impl Testbench {
             DutChoice::External(c) => c.dir.display().to_string(),
             DutChoice::Model => "model".to_string(),
             DutChoice::Echo => "echo model".to_string(),
+            DutChoice::Custom(c) => c.name.clone(),
         };
         let waivers = Session::new(
             std::mem::take(&mut cfg.waivers),

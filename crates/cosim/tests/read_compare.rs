@@ -1,0 +1,182 @@
+//! Issue 19, kit defect 3: every register read the host makes in a
+//! lockstep run is compared, up to the last one, in collect mode too, and
+//! after an earlier divergence. The DUT is the golden model behind a
+//! wrapper with one deliberate deviation (the opencores core's: an abort
+//! sets SR.TCS), so no Verilator build and no third-party core is needed.
+
+use std::sync::Arc;
+
+use bfm::{WbMasterOut, WbSlaveOut};
+use cosim::model::ModelDut;
+use cosim::waivers::CollectMode;
+use cosim::{
+    CanPins, CompareConfig, CustomDut, Dut, DutChoice, HostBfm, ReferenceChoice, TbConfig,
+    Testbench,
+};
+use diagnose::DivergenceKind;
+
+const SR: u8 = 2;
+const CMR: u8 = 1;
+
+/// The golden model, except that after CMR.AT its SR reads show TCS (bit 3)
+/// until the next CMR.TR.
+struct TcsAfterAbort {
+    inner: ModelDut,
+    wb_in: WbMasterOut,
+    host_clk: bool,
+    aborted: bool,
+}
+
+impl Dut for TcsAfterAbort {
+    fn name(&self) -> String {
+        "golden model, SR.TCS set by an abort".into()
+    }
+    fn set_reset(&mut self, on: bool) {
+        self.inner.set_reset(on);
+    }
+    fn set_wb(&mut self, m: &WbMasterOut) {
+        self.wb_in = *m;
+        self.inner.set_wb(m);
+    }
+    fn wb(&self) -> WbSlaveOut {
+        let mut o = self.inner.wb();
+        if o.ack && !self.wb_in.we && self.wb_in.adr == SR && self.aborted {
+            o.dat |= 0x08;
+        }
+        o
+    }
+    fn set_rx(&mut self, rx: bool) {
+        self.inner.set_rx(rx);
+    }
+    fn can(&self) -> CanPins {
+        self.inner.can()
+    }
+    fn eval(&mut self, host_clk: bool, can_clk: bool) {
+        let w = self.wb_in;
+        if host_clk && !self.host_clk && w.cyc && w.stb && w.we && w.adr == CMR {
+            if w.dat & 0x01 != 0 {
+                self.aborted = false;
+            } else if w.dat & 0x02 != 0 {
+                self.aborted = true;
+            }
+        }
+        self.host_clk = host_clk;
+        self.inner.eval(host_clk, can_clk);
+    }
+}
+
+fn bench(collect: CollectMode) -> Testbench {
+    let make: Arc<dyn Fn() -> Box<dyn Dut> + Send + Sync> = Arc::new(|| {
+        Box::new(TcsAfterAbort {
+            inner: ModelDut::new(),
+            wb_in: WbMasterOut::default(),
+            host_clk: false,
+            aborted: false,
+        })
+    });
+    Testbench::new(TbConfig {
+        scenario: "tcs-after-abort".into(),
+        dut: DutChoice::Custom(CustomDut {
+            name: "tcs-after-abort".into(),
+            make,
+        }),
+        host: HostBfm::Wishbone,
+        lockstep: Some((ReferenceChoice::Model, CompareConfig::default())),
+        collect,
+        ..TbConfig::default()
+    })
+    .expect("test bench")
+}
+
+/// PeliCAN, listen-only (a transmission request stays pending, nothing on
+/// the bus), one frame loaded and requested.
+fn listen_only_with_a_pending_request(tb: &mut Testbench) {
+    for (a, d) in [
+        (0u8, 0x01u8), // reset mode
+        (31, 0x80),    // PeliCAN
+        (6, 0x41),
+        (7, 0x25),
+        (0, 0x02), // operating mode, listen only
+        (16, 0x01),
+        (17, 0x0A),
+        (18, 0xA0),
+        (19, 0x5A),
+        (CMR, 0x01), // TR: stays pending
+    ] {
+        tb.write(a, d).unwrap();
+    }
+    tb.run_bits(20).unwrap();
+}
+
+/// The hole: the last SR read of a run differs from the model (DUT 0x0C,
+/// model 0x04), and the run ends within the SR look-ahead window. Before
+/// the fix the read stayed pending for ever and the run passed.
+#[test]
+fn the_last_read_of_a_run_is_compared() {
+    let mut tb = bench(CollectMode::StopAtFirst);
+    listen_only_with_a_pending_request(&mut tb);
+    assert_eq!(tb.read(SR).unwrap() & 0x0C, 0x00, "TBS = 0, TCS = 0: pending");
+    tb.write(CMR, 0x02).unwrap();
+    tb.run_bits(2).unwrap();
+    // The last host access of the run.
+    let sr = tb.read(SR).unwrap();
+    assert_eq!(sr & 0x0C, 0x0C, "the wrapper's deviation: TCS after an abort");
+    let d = tb
+        .record()
+        .divergence
+        .expect("the last SR read differs from the model: a divergence");
+    assert_eq!(d.kind, DivergenceKind::RegisterRead);
+    assert_eq!(d.register.as_deref(), Some("SR"));
+    assert_eq!((d.seen, d.expected), (sr as u32, (sr & !0x08) as u32));
+    let r = tb.waiver_report();
+    assert!(!r.passed(), "{}", r.to_text());
+}
+
+/// Collect mode, after an earlier divergence: the same difference read
+/// again is one entry (counted as a repeat), and after a read of SR that
+/// agrees, the next difference is listed again: not latched for ever.
+#[test]
+fn collect_mode_lists_each_read_difference_once_and_compares_again_after_agreement() {
+    let mut tb = bench(CollectMode::Collect);
+    listen_only_with_a_pending_request(&mut tb);
+    tb.write(CMR, 0x02).unwrap();
+    tb.run_bits(2).unwrap();
+    assert_eq!(tb.read(SR).unwrap() & 0x08, 0x08);
+    assert_eq!(tb.read(SR).unwrap() & 0x08, 0x08, "the same difference again");
+    tb.run_bits(3).unwrap();
+    // A new request: TCS clears on both sides, SR agrees.
+    tb.write(CMR, 0x01).unwrap();
+    tb.run_bits(20).unwrap();
+    assert_eq!(tb.read(SR).unwrap() & 0x0C, 0x00);
+    tb.write(CMR, 0x02).unwrap();
+    tb.run_bits(2).unwrap();
+    // The last access of the run, after two divergences.
+    assert_eq!(tb.read(SR).unwrap() & 0x08, 0x08);
+    let rec = tb.record();
+    let r = tb.waiver_report();
+    let listed: Vec<(DivergenceKind, Option<&str>, u32)> = r
+        .failures
+        .iter()
+        .map(|d| (d.kind, d.register.as_deref(), d.seen ^ d.expected))
+        .collect();
+    assert_eq!(
+        listed,
+        [
+            (DivergenceKind::RegisterRead, Some("SR"), 0x08),
+            (DivergenceKind::RegisterRead, Some("SR"), 0x08),
+        ],
+        "{}",
+        r.to_text()
+    );
+    assert_eq!(tb.comparator().unwrap().repeated, 1, "the second read is a repeat");
+    assert!(
+        r.notes.iter().any(|n| n.contains("1 later mismatching")),
+        "the repeat is reported: {}",
+        r.to_text()
+    );
+    assert_eq!(
+        rec.divergence.map(|d| d.time_ps),
+        Some(r.failures[0].time_ps),
+        "the record keeps the first"
+    );
+}
