@@ -128,6 +128,16 @@ pub struct Figures {
     pub register: Option<String>,
     /// Address involved.
     pub addr: Option<u8>,
+    /// The TEC-trace figures (`first_attempt_tec`, `attempts`,
+    /// `bus_off_attempt`, and `tec` when no DUT read gave it) are the
+    /// model's, not the DUT's: the record has no DUT trace, and only the
+    /// model's attempts before the first divergence are used (in lockstep
+    /// the two agreed up to there). The report says so.
+    #[serde(default)]
+    pub counts_from_model: bool,
+    /// `tec` comes from the model's trace, not from a DUT register read.
+    #[serde(default)]
+    pub tec_from_model: bool,
 }
 
 /// One rule's conclusion.
@@ -200,20 +210,23 @@ impl Diagnosis {
         if let (Some(e), Some(g)) = (&f.expected, &f.seen) {
             figs.push(format!("expected {e}, seen {g}"));
         }
+        // Figures from the model's trace are marked as the model's.
+        let model = if f.counts_from_model { " (the model's)" } else { "" };
         if let Some(v) = f.first_attempt_tec {
-            figs.push(format!("TEC after attempt 1 = {v}"));
+            figs.push(format!("TEC after attempt 1 = {v}{model}"));
         }
         if let Some(v) = f.tec {
-            figs.push(format!("TEC {v}"));
+            let whose = if f.tec_from_model { " (the model's)" } else { "" };
+            figs.push(format!("TEC {v}{whose}"));
         }
         if let Some(v) = f.rec {
             figs.push(format!("REC {v}"));
         }
         if let Some(v) = f.attempts {
-            figs.push(format!("{v} attempts"));
+            figs.push(format!("{v} attempts{model}"));
         }
         if let Some(v) = f.bus_off_attempt {
-            figs.push(format!("bus-off in attempt {v}"));
+            figs.push(format!("bus-off in attempt {v}{model}"));
         }
         if let Some(v) = f.sr {
             figs.push(format!("SR {}", sr::describe(v)));

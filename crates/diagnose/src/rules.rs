@@ -7,8 +7,58 @@ use can_engine::ErrorKind;
 use can_proto::Field;
 use can_proto::timing::BusTiming;
 
+/// Rules about the program's register accesses as the model named and
+/// judged them (register view, ignored writes).
+const PROGRAM_RULES: [fn(&RunRecord) -> Option<Finding>; 3] =
+    [address_mode_confusion, config_write_outside_reset, tx_buffer_write_while_locked];
+
 /// Every finding, in priority order (the first is the diagnosis).
+///
+/// The first divergence leads: a program error (wrong register view,
+/// ignored write) only comes before it if the access came before it; the
+/// same rules on later accesses, which the model named and judged after it
+/// had derailed from the DUT, come after every other finding, marked as
+/// later symptoms in the model's view.
 pub fn all(r: &RunRecord) -> Vec<Finding> {
+    let Some(d) = &r.divergence else {
+        return in_order(r);
+    };
+    let before = RunRecord {
+        host_ops: r.host_ops.iter().filter(|o| o.time_ps < d.time_ps).cloned().collect(),
+        ..r.clone()
+    };
+    let mut v = in_order(&before);
+    // `before` differs from `r` only in the host ops: the other rules give
+    // the same findings on both.
+    for rule in PROGRAM_RULES {
+        let (Some(mut later), early) = (rule(r), rule(&before)) else { continue };
+        if early.is_some() {
+            continue;
+        }
+        later.what_happened = format!(
+            "after the first divergence ({} at {} ps{}), in the model's view of the registers, which may no longer be the DUT's: {}",
+            kind_name(d.kind),
+            d.time_ps,
+            d.bit.map(|b| format!(", bit {b}")).unwrap_or_default(),
+            later.what_happened
+        );
+        later.root_cause = format!("a later symptom, not the cause: {}", later.root_cause);
+        v.push(later);
+    }
+    v
+}
+
+fn kind_name(k: DivergenceKind) -> &'static str {
+    match k {
+        DivergenceKind::TxBit => "tx bit",
+        DivergenceKind::RegisterRead => "register read",
+        DivergenceKind::Irq => "irq_on",
+        DivergenceKind::BusOff => "bus_off_on",
+    }
+}
+
+/// The rules in priority order on `r`.
+fn in_order(r: &RunRecord) -> Vec<Finding> {
     // A divergence that happens before the model itself sees any bus error
     // cannot be explained by the wiring (the model shares it): HDL bug first.
     let early_divergence = r.divergence.as_ref().is_some_and(|d| {
@@ -18,14 +68,8 @@ pub fn all(r: &RunRecord) -> Vec<Finding> {
             (None, Some(_)) => d.kind == DivergenceKind::RegisterRead,
         }
     });
-    let mut rules: Vec<fn(&RunRecord) -> Option<Finding>> = vec![
-        host_bus_timeout,
-        host_bus_violation,
-        run_error,
-        address_mode_confusion,
-        config_write_outside_reset,
-        tx_buffer_write_while_locked,
-    ];
+    let mut rules: Vec<fn(&RunRecord) -> Option<Finding>> = vec![host_bus_timeout, host_bus_violation, run_error];
+    rules.extend(PROGRAM_RULES);
     if early_divergence {
         rules.push(dut_deviates);
     }
@@ -37,15 +81,28 @@ pub fn all(r: &RunRecord) -> Vec<Finding> {
     rules.iter().filter_map(|f| f(r)).collect()
 }
 
+/// The DUT's TEC trace when the record has one; else the model's up to
+/// the first divergence (in lockstep the two agree up to there; after it
+/// the model's counts say nothing about the DUT), and `true`: the model's.
+pub fn tec_trace_for_dut(r: &RunRecord) -> (Vec<TecStep>, bool) {
+    let d = r.tec_of(Side::Dut);
+    if !d.is_empty() {
+        return (d, false);
+    }
+    let mut m = r.tec_of(Side::Model);
+    if let Some(b) = r.divergence.as_ref().and_then(|d| d.bit) {
+        m.retain(|t| t.bit < b);
+    }
+    let from_model = !m.is_empty();
+    (m, from_model)
+}
+
 /// Figures every finding starts from: final DUT status and the TEC trace.
 pub fn base_figures(r: &RunRecord) -> Figures {
-    // The DUT's own counters when known, else the model's (in lockstep they
-    // agree up to the first divergence).
-    let dut = {
-        let d = r.tec_of(Side::Dut);
-        if d.is_empty() { r.tec_of(Side::Model) } else { d }
-    };
-    let mut f = Figures::default();
+    // The DUT's own counters when known, else the model's before the first
+    // divergence, marked as the model's.
+    let (dut, from_model) = tec_trace_for_dut(r);
+    let mut f = Figures { counts_from_model: from_model, ..Figures::default() };
     if let Some(fr) = r.final_dut {
         f.tec = Some(fr.tec);
         f.rec = Some(fr.rec);
@@ -60,6 +117,7 @@ pub fn base_figures(r: &RunRecord) -> Figures {
         f.attempts = Some(dut.len() as u32);
         if f.tec.is_none() {
             f.tec = dut.last().map(|t| t.tec);
+            f.tec_from_model = from_model;
         }
     } else if let Some(s) = r.stuck {
         f.attempts = Some(s.attempts);
@@ -79,16 +137,18 @@ fn finding(category: Category, what: String, cause: &str, fix: &str, figures: Fi
 /// A sentence about attempts, TEC and bus-off from the figures.
 fn attempts_sentence(f: &Figures) -> String {
     let mut s = String::new();
+    // Counts from the model's trace are said to be the model's.
+    let who = if f.counts_from_model { "The model (in lockstep with the DUT up to then)" } else { "The controller" };
     if let Some(t) = f.first_attempt_tec {
-        s += &format!(" TEC was {t} after the first attempt.");
+        s += &format!(" {}TEC was {t} after the first attempt.", if f.counts_from_model { "The model's " } else { "" });
     }
     if let Some(a) = f.attempts {
-        s += &format!(" The controller made {a} attempt(s).");
+        s += &format!(" {who} made {a} attempt(s).");
     }
     if let Some(b) = f.bus_off_attempt {
-        s += &format!(" It went bus-off (TEC > 255) during attempt {b}, dropped the request and now keeps tx_o recessive: a logic analyser sees only 1s.");
+        s += &format!(" {who} went bus-off (TEC > 255) during attempt {b}, dropped the request and keeps tx_o recessive: a logic analyser sees only 1s.");
     } else if let Some(t) = f.tec {
-        s += &format!(" TEC is {t}.");
+        s += &format!(" {}TEC is {t}.", if f.tec_from_model { "The model's " } else { "" });
     }
     if let Some(sr) = f.sr {
         s += &format!(" SR = {}.", sr::describe(sr));
@@ -354,12 +414,11 @@ pub fn rx_not_following_tx(r: &RunRecord) -> Option<Finding> {
         _ => "tx_o does not reach the bus that rx_i reads (no transceiver loopback)",
     };
     let field = f.field.unwrap_or(Field::Sof);
-    let trace: Vec<u16> = {
-        let d = r.tec_of(Side::Dut);
-        let t = if d.is_empty() { r.tec_of(Side::Model) } else { d };
-        t.iter().map(|t| t.tec).collect()
-    };
-    let counts = explain_tied_counts(&trace).map(|e| format!(" {e}")).unwrap_or_default();
+    let (trace, from_model) = tec_trace_for_dut(r);
+    let trace: Vec<u16> = trace.iter().map(|t| t.tec).collect();
+    let counts = explain_tied_counts(&trace)
+        .map(|e| if from_model { format!(" The model's counts: {e}") } else { format!(" {e}") })
+        .unwrap_or_default();
     let what = format!(
         "frame 1: the DUT sent {} in the {field} at bit {} and read {} back on rx_i: bit error (CAN 2.0B §7.1, bit monitoring). Its active error flag (six dominant bits) reads back recessive too, so every flag bit is another bit error (+8 each).{}{counts}",
         level(false),
@@ -398,6 +457,8 @@ pub fn no_acknowledge(r: &RunRecord) -> Option<Finding> {
     f.expected = Some(level(false));
     f.seen = Some(level(true));
     let plateau = r.tec_of(Side::Dut).iter().map(|t| t.tec).max().or(f.tec);
+    // Said to be the model's when it is.
+    let pw = if r.tec_of(Side::Dut).is_empty() && f.tec_from_model { "the model's " } else { "" };
     if let Some(p) = plateau {
         f.tec = Some(p);
     }
@@ -410,13 +471,13 @@ pub fn no_acknowledge(r: &RunRecord) -> Option<Finding> {
     });
     let outcome = if released {
         format!(
-            "TEC reached {} and the retransmissions ended when {}: SR = {sr_txt}, i.e. TBS = 1 (buffer released) and TS = 0; the frame was never sent",
+            "{pw}TEC reached {} and the retransmissions ended when {}: SR = {sr_txt}, i.e. TBS = 1 (buffer released) and TS = 0; the frame was never sent",
             plateau.map(|p| p.to_string()).unwrap_or_else(|| "?".into()),
             if aborted { "the host aborted the request (CMR.AT)" } else { "the request was dropped (single shot, CMR.AT with TR)" }
         )
     } else {
         format!(
-            "From then on TEC stays at {} and the controller retransmits forever: SR = {sr_txt}, i.e. TBS = 0 (buffer locked, 'full') and TS = 1 (transmission in progress)",
+            "From then on {pw}TEC stays at {} and the controller retransmits forever: SR = {sr_txt}, i.e. TBS = 0 (buffer locked, 'full') and TS = 1 (transmission in progress)",
             plateau.map(|p| p.to_string()).unwrap_or_else(|| "128".into())
         )
     };

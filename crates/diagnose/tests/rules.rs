@@ -480,3 +480,109 @@ fn pio_timeout_says_missed_pulse_only_when_the_dut_answered() {
     assert_eq!(d.category, Category::HostBusTimeout);
     assert!(d.root_cause.contains("never raised wb_ack_o"), "{}", d.root_cause);
 }
+
+/// Issue 19 defect 4: a record with a first divergence (tx bit at bit 21)
+/// and, later, a read the derailed model names in its own register view
+/// (RXFI intended, ACR0 in the model's reset mode) and a TX-buffer write it
+/// calls locked.
+fn diverged_then_model_view_symptoms(op_time_ps: u64) -> RunRecord {
+    let mut r = RunRecord::new("pelican-frame-kinds", "upstream").with_mode(CanMode::PeliCan);
+    r.divergence = Some(Divergence {
+        kind: DivergenceKind::TxBit,
+        time_ps: 35_000_000,
+        bit: Some(21),
+        frame: Some(1),
+        field: Some(Field::ActiveErrorFlag),
+        register: None,
+        expected: 0,
+        seen: 1,
+        context: "at the sample point the model drives dominant and the DUT's tx_o is recessive".into(),
+    });
+    r.host_ops.push(HostOp::read(16, 0x02).reg("ACR0").intended("RXFI").mode(CanMode::PeliCan, true).at(op_time_ps));
+    r.host_ops.push(
+        HostOp::write(16, 0x43)
+            .reg("TXFI")
+            .mode(CanMode::PeliCan, false)
+            .outcome(WriteOutcome::IgnoredTxBufferLocked)
+            .at(op_time_ps + 1_000),
+    );
+    r
+}
+
+#[test]
+fn the_first_divergence_leads_and_later_model_view_symptoms_follow_it() {
+    let d = diagnose(&diverged_then_model_view_symptoms(900_000_000));
+    assert_eq!(d.category, Category::DutDeviatesFromModel, "{}", d.to_text());
+    assert_eq!(d.figures.bit, Some(21));
+    assert!(d.what_happened.contains("tx_o differs"), "{}", d.what_happened);
+    let later: Vec<&Finding> = d
+        .also
+        .iter()
+        .filter(|f| matches!(f.category, Category::AddressModeConfusion | Category::TxBufferWriteWhileLocked))
+        .collect();
+    assert_eq!(later.len(), 2, "both symptoms are still listed: {}", d.to_text());
+    for f in later {
+        assert!(
+            f.what_happened.starts_with("after the first divergence (tx bit at 35000000 ps, bit 21), in the model's view"),
+            "marked as a later symptom: {}",
+            f.what_happened
+        );
+        assert!(f.root_cause.starts_with("a later symptom"), "{}", f.root_cause);
+    }
+    // A program error before the divergence still leads: it may be its cause.
+    let d = diagnose(&diverged_then_model_view_symptoms(1_000_000));
+    assert_eq!(d.category, Category::AddressModeConfusion, "{}", d.to_text());
+    assert!(!d.what_happened.contains("after the first divergence"));
+}
+
+/// de2-with-ack-node on the upstream core: the model derails at bit 16 and
+/// then counts TEC 136, 144, 152, 160 per attempt, while the core ends
+/// with TEC 0 (its TXERR read). The diagnosis quotes the DUT's TEC and
+/// never presents the model's counts after the divergence as the DUT's.
+#[test]
+fn figures_come_from_the_dut_or_are_marked_as_the_models() {
+    let mut r = RunRecord::new("de2-with-ack-node", "upstream").with_mode(CanMode::PeliCan);
+    r.divergence = Some(Divergence {
+        kind: DivergenceKind::RegisterRead,
+        time_ps: 29_170_000,
+        bit: Some(16),
+        register: Some("SR".into()),
+        expected: 0x00,
+        seen: 0x20,
+        ..Divergence::default()
+    });
+    r.tec_trace = (1..=4u32)
+        .map(|a| TecStep { node: Side::Model, attempt: a, bit: 100 * a as u64, tec: 128 + 8 * a as u16, bus_off: false })
+        .collect();
+    r.final_dut = Some(FinalRegs { sr: 0x0C, ir: 0, tec: 0, rec: 0, ecc: None, alc: None });
+    let d = diagnose(&r);
+    assert_eq!(d.category, Category::DutDeviatesFromModel);
+    assert_eq!(d.figures.tec, Some(0), "the DUT's TXERR read");
+    assert!(!d.figures.tec_from_model);
+    assert_eq!(
+        (d.figures.first_attempt_tec, d.figures.attempts),
+        (None, None),
+        "the model's attempts after the divergence say nothing about the DUT"
+    );
+    let text = d.to_text();
+    for model_figure in ["136", "160", "4 attempts"] {
+        assert!(!text.contains(model_figure), "{model_figure} in {text}");
+    }
+    assert!(text.contains("TEC 0;") || text.contains("TEC 0\n"), "{text}");
+    // Without a DUT read of TXERR (BasicCAN), and with model attempts
+    // before the divergence: the model's figures, and said to be.
+    r.final_dut = None;
+    r.divergence.as_mut().unwrap().bit = Some(250);
+    let d = diagnose(&r);
+    assert_eq!((d.figures.first_attempt_tec, d.figures.attempts, d.figures.tec), (Some(136), Some(2), Some(144)));
+    assert!(d.figures.counts_from_model && d.figures.tec_from_model);
+    let text = d.to_text();
+    assert!(text.contains("TEC after attempt 1 = 136 (the model's)"), "{text}");
+    assert!(text.contains("TEC 144 (the model's)"), "{text}");
+    assert!(text.contains("2 attempts (the model's)"), "{text}");
+    // With a DUT trace, the DUT's figures, unmarked.
+    r.tec_trace.extend((1..=2u32).map(|a| TecStep { node: Side::Dut, attempt: a, bit: 100 * a as u64, tec: 8 * a as u16, bus_off: false }));
+    let d = diagnose(&r);
+    assert_eq!((d.figures.first_attempt_tec, d.figures.tec), (Some(8), Some(16)));
+    assert!(!d.figures.counts_from_model && !d.to_text().contains("the model's)"));
+}
