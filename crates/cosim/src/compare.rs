@@ -206,17 +206,73 @@ struct PendingRead {
 }
 
 /// What a collect-mode [`Comparator::resume`] stops re-reporting after a
-/// divergence: the same difference, until it goes away.
+/// divergence.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 enum Latch {
     /// tx: the rest of this frame (bus frame number; `None`: no frame yet,
-    /// until tx agrees again).
-    Tx(Option<u32>),
-    /// A register read: the same DUT and model values at this address,
-    /// until a read of it agrees.
-    Read { addr: u8, dut: u8, model: u8 },
+    /// until tx agrees again), and the same difference in later frames.
+    Tx(Option<u32>, DiffKey),
+    /// A register read: the same address with the same DUT and model values.
+    Read(DiffKey),
+    /// irq_on, until the pins agree.
     Irq,
+    /// bus_off_on, until the pins agree.
     BusOff,
+}
+
+/// One distinct difference, as collect mode lists it once.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+enum DiffKey {
+    /// tx at a sample point: the field, the model's and the DUT's level.
+    Tx { field: Option<Field>, model: bool, dut: bool },
+    /// A register read: address, DUT value, model value.
+    Read { addr: u8, dut: u8, model: u8 },
+}
+
+impl std::fmt::Display for DiffKey {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        let lvl = |b: bool| if b { "recessive" } else { "dominant" };
+        match *self {
+            DiffKey::Tx { field, model, dut } => write!(
+                f,
+                "tx in {} (model {}, DUT {})",
+                field.map(|x| x.to_string()).unwrap_or_else(|| "unknown field".into()),
+                lvl(model),
+                lvl(dut)
+            ),
+            DiffKey::Read { addr, dut, model } => write!(
+                f,
+                "read of {} (DUT 0x{dut:02X}, model 0x{model:02X})",
+                reg_label(addr)
+            ),
+        }
+    }
+}
+
+/// The differences listed so far in collect mode, with how often each
+/// came again.
+#[derive(Debug, Default)]
+struct Listed {
+    keys: Vec<(DiffKey, u64)>,
+}
+
+impl Listed {
+    fn add(&mut self, k: DiffKey) {
+        if !self.keys.iter().any(|e| e.0 == k) {
+            self.keys.push((k, 0));
+        }
+    }
+
+    /// True, and counted, if `k` was listed.
+    fn repeat(&mut self, k: DiffKey) -> bool {
+        match self.keys.iter_mut().find(|e| e.0 == k) {
+            Some(e) => {
+                e.1 += 1;
+                true
+            }
+            None => false,
+        }
+    }
 }
 
 /// The comparator's state.
@@ -266,8 +322,8 @@ pub struct Comparator {
     found_latch: VecDeque<Latch>,
     /// Frame in which tx was latched (see [`Latch::Tx`]).
     tx_latch_frame: Option<u32>,
-    /// Latched read differences, one per address: (address, DUT, model).
-    read_latched: Vec<(u8, u8, u8)>,
+    /// Differences listed in collect mode, with their repeats.
+    listed: Listed,
     skip_until_bit: u64,
     tx_latched: bool,
     irq_latched: bool,
@@ -278,9 +334,12 @@ pub struct Comparator {
     pub compared_reads: u64,
     /// Reads accepted only thanks to the status tolerance.
     pub tolerated_reads: u64,
-    /// Mismatching sample points and reads not listed again because they
-    /// repeat a difference already listed (collect mode latches).
+    /// Differences not listed again because the same one was listed before
+    /// (collect mode): reads, and tx differences in later frames.
     pub repeated: u64,
+    /// Mismatching sample points not listed because an earlier tx
+    /// difference of the same frame was (collect mode).
+    pub cascade: u64,
 }
 
 impl Comparator {
@@ -318,7 +377,7 @@ impl Comparator {
             latch_info: None,
             found_latch: VecDeque::new(),
             tx_latch_frame: None,
-            read_latched: Vec::new(),
+            listed: Listed::default(),
             skip_until_bit: 0,
             tx_latched: false,
             irq_latched: false,
@@ -327,6 +386,7 @@ impl Comparator {
             compared_reads: 0,
             tolerated_reads: 0,
             repeated: 0,
+            cascade: 0,
         }
     }
 
@@ -375,16 +435,17 @@ impl Comparator {
         }
         if latch {
             match self.latch_info {
-                Some(Latch::Tx(frame)) => {
+                Some(Latch::Tx(frame, key)) => {
                     self.tx_latched = true;
                     self.tx_latch_frame = frame;
+                    // Only a difference whose field is known is one to recognise again.
+                    if matches!(key, DiffKey::Tx { field: Some(_), .. }) {
+                        self.listed.add(key);
+                    }
                 }
                 Some(Latch::Irq) => self.irq_latched = true,
                 Some(Latch::BusOff) => self.bus_latched = true,
-                Some(Latch::Read { addr, dut, model }) => {
-                    self.read_latched.retain(|l| l.0 != addr);
-                    self.read_latched.push((addr, dut, model));
-                }
+                Some(Latch::Read(key)) => self.listed.add(key),
                 None => {}
             }
         }
@@ -422,7 +483,14 @@ impl Comparator {
             DivergenceKind::Irq => Some(Latch::Irq),
             DivergenceKind::BusOff => Some(Latch::BusOff),
             DivergenceKind::RegisterRead => None,
-            _ => Some(Latch::Tx(s.frame)),
+            _ => Some(Latch::Tx(
+                s.frame,
+                DiffKey::Tx {
+                    field: s.field,
+                    model: expected != 0,
+                    dut: seen != 0,
+                },
+            )),
         };
         if let Some(l) = latch {
             self.found_latch.push_back(l);
@@ -433,24 +501,18 @@ impl Comparator {
     /// A register read divergence (latched by its address and values).
     fn diverge_read(&mut self, s: Stamp, addr: u8, dut: u8, model: u8, label: String, context: String) {
         self.diverge(DivergenceKind::RegisterRead, s, Some(label), model as u32, dut as u32, context);
-        let l = Latch::Read { addr, dut, model };
+        let l = Latch::Read(DiffKey::Read { addr, dut, model });
         self.found_latch.push_back(l);
         self.latch_info = Some(l);
     }
 
-    /// Is this read difference latched (a repeat, counted, not listed)?
+    /// Was this read difference listed already (a repeat, counted, not listed)?
     fn read_repeats(&mut self, addr: u8, dut: u8, model: u8) -> bool {
-        let r = self.read_latched.contains(&(addr, dut, model));
+        let r = self.listed.repeat(DiffKey::Read { addr, dut, model });
         self.repeated += r as u64;
         r
     }
 
-    /// A read of `addr` agreed: its latch ends.
-    fn read_agrees(&mut self, addr: u8) {
-        if !self.read_latched.is_empty() {
-            self.read_latched.retain(|l| l.0 != addr);
-        }
-    }
 
     /// One CAN clock, after both sides were clocked: `sample` says whether
     /// it is a sample point; `sr`/`ir` are the reference's peeks.
@@ -624,8 +686,18 @@ impl Comparator {
                         {
                             self.tx_latched = false;
                         }
+                        let key = DiffKey::Tx {
+                            field: mid.stamp.field,
+                            model: mid.ref_tx,
+                            dut: mid.dut_tx,
+                        };
                         if mid.dut_tx != mid.ref_tx && self.tx_latched {
+                            self.cascade += 1;
+                        } else if mid.dut_tx != mid.ref_tx && self.listed.repeat(key) {
+                            // Listed before, in an earlier frame: latch this frame too.
                             self.repeated += 1;
+                            self.tx_latched = true;
+                            self.tx_latch_frame = mid.stamp.frame;
                         } else if mid.dut_tx != mid.ref_tx {
                             let lvl = |b: bool| if b { "recessive" } else { "dominant" };
                             self.diverge(
@@ -672,9 +744,7 @@ impl Comparator {
             let p = &mut self.pending[k];
             if p.addr == SR_ADDR && sr == p.dut {
                 self.tolerated_reads += 1;
-                let addr = p.addr;
                 self.pending.swap_remove(k);
-                self.read_agrees(addr);
                 continue;
             }
             if p.clocks_left == 0 {
@@ -762,7 +832,6 @@ impl Comparator {
         }
         self.compared_reads += 1;
         if dut == model {
-            self.read_agrees(addr);
             return;
         }
         let (pushed, tol) = (self.status_pushed, self.cfg.status_tolerance);
@@ -775,7 +844,6 @@ impl Comparator {
             prune_runs(h, pushed, tol);
             if h.iter().any(|v| v.0 == dut) {
                 self.tolerated_reads += 1;
-                self.read_agrees(addr);
                 return;
             }
             if addr == SR_ADDR && self.cfg.status_tolerance > 0 {
@@ -802,6 +870,17 @@ impl Comparator {
     /// Reads still waiting for their tolerance window to close.
     pub fn pending_reads(&self) -> usize {
         self.pending.len()
+    }
+
+    /// Collect mode: each listed difference that came again, with how
+    /// often (for the report).
+    pub fn repeats(&self) -> Vec<String> {
+        self.listed
+            .keys
+            .iter()
+            .filter(|e| e.1 > 0)
+            .map(|(k, n)| format!("{k}: {n} more time(s)"))
+            .collect()
     }
 
     /// CAN clocks still needed to decide every comparison already under
@@ -911,7 +990,7 @@ mod before {
     use can_proto::Field;
     use diagnose::{Divergence, DivergenceKind};
 
-    use super::{CompareConfig, IR_ADDR, Latch, SR_ADDR, Stamp, reg_label};
+    use super::{CompareConfig, DiffKey, IR_ADDR, Latch, Listed, SR_ADDR, Stamp, reg_label};
     use crate::dut::CanPins;
 
     #[derive(Clone, Copy, Debug)]
@@ -960,7 +1039,7 @@ mod before {
         latch_info: Option<Latch>,
         found_latch: VecDeque<Latch>,
         tx_latch_frame: Option<u32>,
-        read_latched: Vec<(u8, u8, u8)>,
+        listed: Listed,
         skip_until_bit: u64,
         tx_latched: bool,
         irq_latched: bool,
@@ -972,6 +1051,7 @@ mod before {
         /// Reads accepted only thanks to the status tolerance.
         pub tolerated_reads: u64,
         pub repeated: u64,
+        pub cascade: u64,
     }
 
     impl OldComparator {
@@ -1004,7 +1084,7 @@ mod before {
                 latch_info: None,
                 found_latch: VecDeque::new(),
                 tx_latch_frame: None,
-                read_latched: Vec::new(),
+                listed: Listed::default(),
                 skip_until_bit: 0,
                 tx_latched: false,
                 irq_latched: false,
@@ -1013,6 +1093,7 @@ mod before {
                 compared_reads: 0,
                 tolerated_reads: 0,
                 repeated: 0,
+                cascade: 0,
             }
         }
 
@@ -1061,16 +1142,17 @@ mod before {
             }
             if latch {
                 match self.latch_info {
-                    Some(Latch::Tx(frame)) => {
+                    Some(Latch::Tx(frame, key)) => {
                         self.tx_latched = true;
                         self.tx_latch_frame = frame;
+                        // Only a difference whose field is known is one to recognise again.
+                        if matches!(key, DiffKey::Tx { field: Some(_), .. }) {
+                            self.listed.add(key);
+                        }
                     }
                     Some(Latch::Irq) => self.irq_latched = true,
                     Some(Latch::BusOff) => self.bus_latched = true,
-                    Some(Latch::Read { addr, dut, model }) => {
-                        self.read_latched.retain(|l| l.0 != addr);
-                        self.read_latched.push((addr, dut, model));
-                    }
+                    Some(Latch::Read(key)) => self.listed.add(key),
                     None => {}
                 }
             }
@@ -1108,7 +1190,14 @@ mod before {
                 DivergenceKind::Irq => Some(Latch::Irq),
                 DivergenceKind::BusOff => Some(Latch::BusOff),
                 DivergenceKind::RegisterRead => None,
-                _ => Some(Latch::Tx(s.frame)),
+                _ => Some(Latch::Tx(
+                    s.frame,
+                    DiffKey::Tx {
+                        field: s.field,
+                        model: expected != 0,
+                        dut: seen != 0,
+                    },
+                )),
             };
             if let Some(l) = latch {
                 self.found_latch.push_back(l);
@@ -1119,24 +1208,18 @@ mod before {
         /// A register read divergence (latched by its address and values).
         fn diverge_read(&mut self, s: Stamp, addr: u8, dut: u8, model: u8, label: String, context: String) {
             self.diverge(DivergenceKind::RegisterRead, s, Some(label), model as u32, dut as u32, context);
-            let l = Latch::Read { addr, dut, model };
+            let l = Latch::Read(DiffKey::Read { addr, dut, model });
             self.found_latch.push_back(l);
             self.latch_info = Some(l);
         }
 
-        /// Is this read difference latched (a repeat, counted, not listed)?
+        /// Was this read difference listed already (a repeat, counted, not listed)?
         fn read_repeats(&mut self, addr: u8, dut: u8, model: u8) -> bool {
-            let r = self.read_latched.contains(&(addr, dut, model));
+            let r = self.listed.repeat(DiffKey::Read { addr, dut, model });
             self.repeated += r as u64;
             r
         }
 
-        /// A read of `addr` agreed: its latch ends.
-        fn read_agrees(&mut self, addr: u8) {
-            if !self.read_latched.is_empty() {
-                self.read_latched.retain(|l| l.0 != addr);
-            }
-        }
 
         /// One CAN clock, after both sides were clocked: `sample` says whether
         /// it is a sample point; `sr`/`ir` are the reference's peeks.
@@ -1231,8 +1314,18 @@ mod before {
                         {
                             self.tx_latched = false;
                         }
+                        let key = DiffKey::Tx {
+                            field: mid.stamp.field,
+                            model: mid.ref_tx,
+                            dut: mid.dut_tx,
+                        };
                         if mid.dut_tx != mid.ref_tx && self.tx_latched {
+                            self.cascade += 1;
+                        } else if mid.dut_tx != mid.ref_tx && self.listed.repeat(key) {
+                            // Listed before, in an earlier frame: latch this frame too.
                             self.repeated += 1;
+                            self.tx_latched = true;
+                            self.tx_latch_frame = mid.stamp.frame;
                         } else if mid.dut_tx != mid.ref_tx {
                             let lvl = |b: bool| if b { "recessive" } else { "dominant" };
                             self.diverge(
@@ -1265,9 +1358,7 @@ mod before {
                 let p = &mut self.pending[k];
                 if p.addr == SR_ADDR && sr == p.dut {
                     self.tolerated_reads += 1;
-                    let addr = p.addr;
                     self.pending.swap_remove(k);
-                    self.read_agrees(addr);
                     continue;
                 }
                 if p.clocks_left == 0 {
@@ -1355,7 +1446,6 @@ mod before {
             }
             self.compared_reads += 1;
             if dut == model {
-                self.read_agrees(addr);
                 return;
             }
             let hist = match addr {
@@ -1366,7 +1456,6 @@ mod before {
             if let Some(h) = hist {
                 if h.iter().any(|v| *v == dut) {
                     self.tolerated_reads += 1;
-                    self.read_agrees(addr);
                     return;
                 }
                 if addr == SR_ADDR && self.cfg.status_tolerance > 0 {
@@ -1716,6 +1805,55 @@ resync = ["skip-bits 1"]
         }
         let dv = c.divergence().expect("irq divergence");
         assert_eq!((dv.kind, dv.time_ps), (DivergenceKind::Irq, 10));
+    }
+
+    /// Collect mode lists each tx difference once: the first mismatch of a
+    /// frame is listed; later mismatches of that frame are its cascade
+    /// (counted); the same difference (field, levels) in a later frame is
+    /// a repeat (counted, and the rest of its frame its cascade); a difference in
+    /// another field is listed; a waived one (not latched) never is
+    /// deduplicated.
+    #[test]
+    fn collect_mode_lists_each_tx_difference_once() {
+        // Ten bits per frame; the DUT is dominant at these bits, in these fields.
+        let plan: [(u64, Field); 7] = [
+            (3, Field::Data),
+            (4, Field::Data),
+            (13, Field::Data),
+            (15, Field::Crc),
+            (24, Field::Crc),
+            (33, Field::AckSlot),
+            (45, Field::Crc),
+        ];
+        for latch in [true, false] {
+            let mut c = Comparator::new(CompareConfig { tx_edge_tolerance: 2, ..CompareConfig::default() });
+            let mut listed = vec![];
+            for bit in 0..50u64 {
+                let field = plan.iter().find(|p| p.0 == bit).map(|p| p.1).or(Some(Field::Data));
+                for k in 0..10u64 {
+                    let s = Stamp { t_ps: bit * 10 + k, bit, field, frame: Some(bit as u32 / 10 + 1) };
+                    let dominant = plan.iter().any(|p| p.0 == bit) && k >= 2;
+                    c.can_clock(s, k == 5, &pins(true), &pins(!dominant), 0, 0);
+                    while let Some(d) = c.take_divergence() {
+                        listed.push((d.bit.unwrap(), d.field));
+                        c.resume(None, latch);
+                    }
+                }
+            }
+            if latch {
+                assert_eq!(listed, [(3, Some(Field::Data)), (24, Some(Field::Crc)), (33, Some(Field::AckSlot))]);
+                assert_eq!(
+                    (c.repeated, c.cascade),
+                    (2, 2),
+                    "bits 13 and 45 repeat; bit 4 is bit 3's cascade, bit 15 bit 13's"
+                );
+                assert_eq!(c.repeats().len(), 2, "{:?}", c.repeats());
+                assert!(c.repeats()[0].starts_with("tx in data field (model recessive, DUT dominant): 1 more"), "{:?}", c.repeats());
+            } else {
+                assert_eq!(listed.len(), plan.len(), "waived: every bit is handed on");
+                assert_eq!((c.repeated, c.cascade), (0, 0));
+            }
+        }
     }
 
     /// Differential test against the declared tolerance (issue 19): on

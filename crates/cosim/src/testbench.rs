@@ -644,13 +644,22 @@ impl Testbench {
     /// noted: the model has not taken the DUT's counter yet.
     pub fn waiver_report(&self) -> WaiverReport {
         let mut r = self.waivers.snapshot();
-        if let Some(c) = &self.comparator
-            && c.repeated > 0
-        {
-            r.notes.push(format!(
-                "{} later mismatching sample point(s) or read(s) repeated a difference already listed (tx in the same frame, the same register with the same DUT and model values) and are not listed again",
-                c.repeated
-            ));
+        if let Some(c) = &self.comparator {
+            // Collect mode lists each difference once: say what came again.
+            let repeats = c.repeats();
+            if !repeats.is_empty() {
+                r.notes.push(format!(
+                    "{} later occurrence(s) of differences already listed are not listed again: {}",
+                    c.repeated,
+                    repeats.join("; ")
+                ));
+            }
+            if c.cascade > 0 {
+                r.notes.push(format!(
+                    "{} more mismatching sample point(s) in frames whose first tx difference is listed (or counted above) are not listed",
+                    c.cascade
+                ));
+            }
         }
         for (pending, reg) in [
             (self.adopt_tec_at_read, "TXERR"),
