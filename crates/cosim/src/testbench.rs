@@ -1613,6 +1613,7 @@ impl Testbench {
                 rec,
                 ecc: None,
                 alc: None,
+                counters_from_model: false,
             });
             if let Some((mode, _)) = refm.mode() {
                 r.mode = mode;

@@ -135,7 +135,7 @@ pub struct Figures {
     /// the two agreed up to there). The report says so.
     #[serde(default)]
     pub counts_from_model: bool,
-    /// `tec` comes from the model's trace, not from a DUT register read.
+    /// `tec` (and `rec`) come from the model, not from a DUT register read.
     #[serde(default)]
     pub tec_from_model: bool,
 }
@@ -220,7 +220,8 @@ impl Diagnosis {
             figs.push(format!("TEC {v}{whose}"));
         }
         if let Some(v) = f.rec {
-            figs.push(format!("REC {v}"));
+            let whose = if f.tec_from_model { " (the model's)" } else { "" };
+            figs.push(format!("REC {v}{whose}"));
         }
         if let Some(v) = f.attempts {
             figs.push(format!("{v} attempts{model}"));

@@ -524,6 +524,11 @@ pub struct FinalRegs {
     pub ecc: Option<u8>,
     /// Arbitration lost capture (PeliCAN).
     pub alc: Option<u8>,
+    /// `tec`/`rec` are the model's, not read from this node (BasicCAN has
+    /// no counter registers): a diagnosis marks them, and drops them after
+    /// a divergence, when the model's counts say nothing about the DUT.
+    #[serde(default)]
+    pub counters_from_model: bool,
 }
 
 /// TEC at the end of one transmission attempt.

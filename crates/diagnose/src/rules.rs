@@ -104,8 +104,13 @@ pub fn base_figures(r: &RunRecord) -> Figures {
     let (dut, from_model) = tec_trace_for_dut(r);
     let mut f = Figures { counts_from_model: from_model, ..Figures::default() };
     if let Some(fr) = r.final_dut {
-        f.tec = Some(fr.tec);
-        f.rec = Some(fr.rec);
+        // Counters the record took from the model are marked as the
+        // model's, and say nothing about the DUT after a divergence.
+        if !fr.counters_from_model || r.divergence.is_none() {
+            f.tec = Some(fr.tec);
+            f.rec = Some(fr.rec);
+            f.tec_from_model = fr.counters_from_model;
+        }
         f.sr = Some(fr.sr);
     } else if let Some(s) = r.stuck {
         f.sr = Some(s.sr);

@@ -46,7 +46,7 @@ fn thesis_record() -> RunRecord {
         );
     r.tec_trace = upstream_tied_trace(Side::Dut);
     r.tec_trace.extend(strict_trace(Side::Model));
-    r.final_dut = Some(FinalRegs { sr: 0xD4, ir: 0xE0, tec: 256, rec: 0, ecc: None, alc: None });
+    r.final_dut = Some(FinalRegs { sr: 0xD4, ir: 0xE0, tec: 256, rec: 0, ..FinalRegs::default() });
     r.push_bit(BusBit { bit: 412, bus: true, dut_tx: false, model_tx: false, dut_rx: true, field: Some(Field::Sof), frame: Some(1) }, 64);
     r
 }
@@ -554,7 +554,7 @@ fn figures_come_from_the_dut_or_are_marked_as_the_models() {
     r.tec_trace = (1..=4u32)
         .map(|a| TecStep { node: Side::Model, attempt: a, bit: 100 * a as u64, tec: 128 + 8 * a as u16, bus_off: false })
         .collect();
-    r.final_dut = Some(FinalRegs { sr: 0x0C, ir: 0, tec: 0, rec: 0, ecc: None, alc: None });
+    r.final_dut = Some(FinalRegs { sr: 0x0C, ir: 0, tec: 0, rec: 0, ..FinalRegs::default() });
     let d = diagnose(&r);
     assert_eq!(d.category, Category::DutDeviatesFromModel);
     assert_eq!(d.figures.tec, Some(0), "the DUT's TXERR read");
@@ -585,4 +585,22 @@ fn figures_come_from_the_dut_or_are_marked_as_the_models() {
     let d = diagnose(&r);
     assert_eq!((d.figures.first_attempt_tec, d.figures.tec), (Some(8), Some(16)));
     assert!(!d.figures.counts_from_model && !d.to_text().contains("the model's)"));
+}
+
+/// BasicCAN has no counter registers: the scenario runner fills the DUT's
+/// final TEC/REC from the model (`counters_from_model`). After a divergence
+/// they are not the DUT's and are not quoted; without one they are, marked.
+#[test]
+fn counters_taken_from_the_model_are_marked_and_dropped_after_a_divergence() {
+    let mut r = RunRecord::new("de2-with-ack-node", "upstream");
+    r.final_dut = Some(FinalRegs { sr: 0x0C, tec: 160, rec: 0, counters_from_model: true, ..FinalRegs::default() });
+    r.divergence = Some(Divergence { kind: DivergenceKind::RegisterRead, time_ps: 29_170_000, bit: Some(16), register: Some("SR".into()), expected: 0x00, seen: 0x20, ..Divergence::default() });
+    let d = diagnose(&r);
+    assert_eq!((d.figures.tec, d.figures.rec, d.figures.sr), (None, None, Some(0x0C)), "SR is the DUT's read");
+    assert!(!d.to_text().contains("160"), "{}", d.to_text());
+    r.divergence = None;
+    r.expectations.push(Expectation { step: 3, what: "SR".into(), expected: "0x04".into(), seen: "0x0C".into(), passed: false });
+    let d = diagnose(&r);
+    assert_eq!(d.figures.tec, Some(160));
+    assert!(d.to_text().contains("TEC 160 (the model's); REC 0 (the model's)"), "{}", d.to_text());
 }

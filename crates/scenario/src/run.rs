@@ -617,9 +617,9 @@ fn complete_record(r: &mut RunRecord, s: &Scenario, dut: &DutSpec) {
         && let Some(sr) = r.host_ops.iter().rev().find(|o| o.addr == 2 && o.access == diagnose::Access::Read && o.error.is_none()).map(|o| o.data)
     {
         // SR as the DUT last reported it; counters are the model's (no TEC
-        // register in BasicCAN), valid while DUT and model agree.
+        // register in BasicCAN), valid while DUT and model agree: marked so.
         let (tec, rec) = r.final_model.map(|m| (m.tec, m.rec)).unwrap_or((0, 0));
-        r.final_dut = Some(FinalRegs { sr, ir: 0, tec, rec, ecc: None, alc: None });
+        r.final_dut = Some(FinalRegs { sr, ir: 0, tec, rec, ecc: None, alc: None, counters_from_model: true });
     }
 }
 
