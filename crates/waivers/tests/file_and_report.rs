@@ -356,7 +356,7 @@ fn an_unobserved_tec_is_assumed_only_from_a_single_measured_value() {
         }
     );
     // Observed, the bound is checked.
-    let obs = waivers::Observed { dut_tec: Some(144), dut_rec: None };
+    let obs = waivers::Observed { dut_tec: Some(144), ..Default::default() };
     assert_eq!(set.check_observed(&tx_div(5000, Field::PassiveErrorFlag), &dut, &obs), Verdict::Failure);
     // Several allowed values and nothing observed: no match, said so.
     let src = std::fs::read_to_string(path).unwrap().replacen("dut-tec = [136]", "dut-tec = [136, 144]", 1);

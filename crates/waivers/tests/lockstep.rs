@@ -107,7 +107,7 @@ fn lockstep(mut model: Node, mut dut: Node, set: WaiverSet, mode: CollectMode) -
     let mut reads_equal = 0;
     // Applies a verdict; false means stop.
     let handle = |s: &mut Session, d: Divergence, dut: &Node, model: &mut Node, skip: &mut u32| -> bool {
-        let obs = Observed { dut_tec: Some(dut.tec), dut_rec: Some(0) };
+        let obs = Observed { dut_tec: Some(dut.tec), dut_rec: Some(0), ..Default::default() };
         match s.divergence_observed(d, &obs) {
             Action::Resync(steps) => {
                 for r in steps {
