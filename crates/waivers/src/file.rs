@@ -26,6 +26,9 @@
 //! # may differ only where `bits` allows it, if given).
 //! expected-bits = "xx01_xxxx"
 //! seen-bits     = "xx10_xxxx"
+//! # register-read only: the DUT's value is the model's plus this (e.g. a
+//! # counter one ahead of the model's all along: TXERR 128 for 127).
+//! seen-offset = 1
 //! # irq and bus-off only: the DUT's pin may lag the model by at most this
 //! # long, counted from the start of the difference to the clock the
 //! # comparator reports it: bit times and/or CAN clocks ("1 bit",
@@ -506,6 +509,7 @@ pub(crate) struct RawWaiver {
     pub late_by: Option<Spanned<Lateness>>,
     pub expected_bits: Option<Spanned<BitPattern>>,
     pub seen_bits: Option<Spanned<BitPattern>>,
+    pub seen_offset: Option<Spanned<i64>>,
     pub max_hits: Option<Spanned<u32>>,
     pub resync: Spanned<Vec<ResyncSpec>>,
 }

@@ -157,6 +157,8 @@ pub struct Waiver {
     pub expected_bits: Option<BitPattern>,
     /// register-read: the DUT's value must have this pattern.
     pub seen_bits: Option<BitPattern>,
+    /// register-read: the DUT's value must be the model's plus this.
+    pub seen_offset: Option<i64>,
     /// At most this many divergences are waived.
     pub max_hits: Option<u32>,
     /// Re-synchronisation allowed.
@@ -229,6 +231,11 @@ impl Waiver {
             {
                 return Some(format!("{name} value 0x{v:02X} does not have the pattern {}", String::from(p)));
             }
+        }
+        if let Some(off) = self.seen_offset
+            && d.seen as i64 - d.expected as i64 != off
+        {
+            return Some(format!("DUT value {} is not the model's {} {off:+}", d.seen, d.expected));
         }
         if self.late_by.is_some() && (obs.now_ps.is_none() || obs.bit_time_ps.is_none() || obs.can_clock_ps.is_none())
         {
@@ -632,6 +639,20 @@ fn validate(name: &str, src: &str, w: RawWaiver) -> Result<Waiver, WaiverError> 
             "both patterns give the same value: no divergence can match".into(),
         ));
     }
+    let seen_offset = match &w.seen_offset {
+        Some(o) if w.kind != KindName::RegisterRead => {
+            return Err(invalid(
+                name,
+                at(o.span()),
+                "seen-offset",
+                format!("`seen-offset` is for kind register-read, not {}", w.kind.as_str()),
+            ));
+        }
+        Some(o) if *o.get_ref() == 0 || o.get_ref().abs() > 255 => {
+            return Err(invalid(name, at(o.span()), "seen-offset", "an offset is 1..=255 or -255..=-1".into()));
+        }
+        o => o.as_ref().map(|o| *o.get_ref()),
+    };
     if let Some(m) = &w.max_hits
         && *m.get_ref() == 0
     {
@@ -659,6 +680,7 @@ fn validate(name: &str, src: &str, w: RawWaiver) -> Result<Waiver, WaiverError> 
         late_by,
         expected_bits,
         seen_bits,
+        seen_offset,
         max_hits: w.max_hits.map(|m| m.into_inner()),
         resync,
         hits: 0,

@@ -185,3 +185,33 @@ fn an_expectation_failed_on_a_waived_read_is_listed_as_waived() {
     let junit = report.to_junit("s");
     assert!(junit.contains("expectation 4: step 7 SR: receiving") && junit.contains("skipped=\"3\""), "{junit}");
 }
+
+#[test]
+fn seen_offset_waives_a_counter_one_ahead_and_nothing_else() {
+    let src = r#"
+[[waiver]]
+id = "tec-128"
+kind = "register-read"
+register = "TXERR"
+seen-offset = 1
+dut = ["opencores-can*"]
+explanation = "TXERR one above the model during bus-off recovery"
+max-hits = 5
+resync = ["none"]
+"#;
+    let mut set = WaiverSet::parse(src, "o.toml").unwrap();
+    let txerr = |m, s| Divergence { register: Some("TXERR".into()), ..sr(m, s) };
+    assert!(matches!(set.check(&txerr(127, 128), &dut()), Verdict::Waived { .. }));
+    assert!(matches!(set.check(&txerr(77, 78), &dut()), Verdict::Waived { .. }));
+    // Still caught: two ahead, one behind, or another register one ahead.
+    assert_eq!(set.check(&txerr(127, 129), &dut()), Verdict::Failure);
+    assert_eq!(set.check(&txerr(128, 127), &dut()), Verdict::Failure);
+    assert_eq!(set.check(&sr(0x40, 0x41), &dut()), Verdict::Failure);
+    for (bad, why) in [("0", "1..=255"), ("256", "1..=255"), ("\"1\"", "")] {
+        let (line, key, msg) = err(&src.trim_start().replace("seen-offset = 1", &format!("seen-offset = {bad}")));
+        assert_eq!((line, key.as_str()), (4, "seen-offset"), "{bad}: {msg}");
+        assert!(msg.contains(why), "{bad}: {msg}");
+    }
+    let (_, key, _) = err(&src.trim_start().replace("kind = \"register-read\"\nregister = \"TXERR\"", "kind = \"irq\""));
+    assert_eq!(key, "seen-offset");
+}
