@@ -209,7 +209,7 @@ resync = ["none"]
     assert_eq!(set.check(&sr(0x40, 0x41), &dut()), Verdict::Failure);
     for (bad, why) in [("0", "1..=255"), ("256", "1..=255"), ("\"1\"", "")] {
         let (line, key, msg) = err(&src.trim_start().replace("seen-offset = 1", &format!("seen-offset = {bad}")));
-        assert_eq!((line, key.as_str()), (4, "seen-offset"), "{bad}: {msg}");
+        assert_eq!((line, key.as_str()), (5, "seen-offset"), "{bad}: {msg}");
         assert!(msg.contains(why), "{bad}: {msg}");
     }
     let (_, key, _) = err(&src.trim_start().replace("kind = \"register-read\"\nregister = \"TXERR\"", "kind = \"irq\""));
