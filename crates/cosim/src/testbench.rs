@@ -644,11 +644,15 @@ impl Testbench {
         // The DUT is seen through its pins and host reads only; the clock
         // lets a waiver bound how late a pin may be (`late-by`).
         let can_clock_ps = 1_000_000_000_000 / self.kernel.can().freq_hz().max(1);
-        let observed = Observed::timed(
+        let mut observed = Observed::timed(
             self.kernel.now_ps(),
             can_clock_ps * self.bitclock.clocks_per_bit() as u64,
             can_clock_ps,
         );
+        // The model's MOD (PeliCAN: address 0), for `model-mod-bits`.
+        if let Some((diagnose::CanMode::PeliCan, _)) = r.mode() {
+            observed.model_mod = Some(r.peek(0));
+        }
         while let Some(d) = c.take_divergence() {
             let bit = d.bit;
             match self.waivers.divergence_observed(d.clone(), &observed) {

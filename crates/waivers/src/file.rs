@@ -29,6 +29,10 @@
 //! # register-read only: the DUT's value is the model's plus this (e.g. a
 //! # counter one ahead of the model's all along: TXERR 128 for 127).
 //! seen-offset = 1
+//! # any kind: the model's PeliCAN mode register (MOD) at the divergence
+//! # must have this pattern, e.g. listen-only mode set (MOD.1). A run in
+//! # BasicCAN, or one that does not give the model's MOD, never matches.
+//! model-mod-bits = "xxxx_xx1x"
 //! # irq and bus-off only: the DUT's pin may lag the model by at most this
 //! # long, counted from the start of the difference to the clock the
 //! # comparator reports it: bit times and/or CAN clocks ("1 bit",
@@ -510,6 +514,7 @@ pub(crate) struct RawWaiver {
     pub expected_bits: Option<Spanned<BitPattern>>,
     pub seen_bits: Option<Spanned<BitPattern>>,
     pub seen_offset: Option<Spanned<i64>>,
+    pub model_mod_bits: Option<BitPattern>,
     pub max_hits: Option<Spanned<u32>>,
     pub resync: Spanned<Vec<ResyncSpec>>,
 }

@@ -57,6 +57,9 @@ pub struct Observed {
     pub bit_time_ps: Option<u64>,
     /// CAN clock period of the run (ps).
     pub can_clock_ps: Option<u64>,
+    /// The model's PeliCAN mode register (MOD) at the divergence; `None` in
+    /// BasicCAN or when not observed (`model-mod-bits`).
+    pub model_mod: Option<u8>,
 }
 
 impl Observed {
@@ -159,6 +162,8 @@ pub struct Waiver {
     pub seen_bits: Option<BitPattern>,
     /// register-read: the DUT's value must be the model's plus this.
     pub seen_offset: Option<i64>,
+    /// The model's PeliCAN MOD must have this pattern ([`Observed::model_mod`]).
+    pub model_mod_bits: Option<BitPattern>,
     /// At most this many divergences are waived.
     pub max_hits: Option<u32>,
     /// Re-synchronisation allowed.
@@ -236,6 +241,15 @@ impl Waiver {
             && d.seen as i64 - d.expected as i64 != off
         {
             return Some(format!("DUT value {} is not the model's {} {off:+}", d.seen, d.expected));
+        }
+        if let Some(p) = self.model_mod_bits {
+            match obs.model_mod {
+                Some(m) if p.matches(m as u32) => {}
+                Some(m) => {
+                    return Some(format!("the model's MOD 0x{m:02X} does not have the pattern {}", String::from(p)));
+                }
+                None => return Some("the model's MOD (PeliCAN) was not observed".into()),
+            }
         }
         if self.late_by.is_some() && (obs.now_ps.is_none() || obs.bit_time_ps.is_none() || obs.can_clock_ps.is_none())
         {
@@ -681,6 +695,7 @@ fn validate(name: &str, src: &str, w: RawWaiver) -> Result<Waiver, WaiverError> 
         expected_bits,
         seen_bits,
         seen_offset,
+        model_mod_bits: w.model_mod_bits,
         max_hits: w.max_hits.map(|m| m.into_inner()),
         resync,
         hits: 0,

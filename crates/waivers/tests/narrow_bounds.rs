@@ -215,3 +215,32 @@ resync = ["none"]
     let (_, key, _) = err(&src.trim_start().replace("kind = \"register-read\"\nregister = \"TXERR\"", "kind = \"irq\""));
     assert_eq!(key, "seen-offset");
 }
+
+#[test]
+fn model_mod_bits_bind_a_waiver_to_a_mode_of_the_model() {
+    let src = r#"
+[[waiver]]
+id = "flag-in-listen-only"
+kind = "tx-bit"
+model-mod-bits = "xxxx_xx1x"
+expected = [1]
+seen = [0]
+dut = ["opencores-can*"]
+explanation = "active error flag in listen-only mode"
+max-hits = 4
+resync = ["none"]
+"#;
+    let mut set = WaiverSet::parse(src, "m.toml").unwrap();
+    let flag = Divergence { kind: DivergenceKind::TxBit, bit: Some(79), expected: 1, seen: 0, ..Divergence::default() };
+    let with_mod = |m: Option<u8>| Observed { model_mod: m, ..Default::default() };
+    assert!(matches!(set.check_observed(&flag, &dut(), &with_mod(Some(0x02))), Verdict::Waived { .. }));
+    assert!(matches!(set.check_observed(&flag, &dut(), &with_mod(Some(0x0A))), Verdict::Waived { .. }));
+    // Still caught: the same dominant bit outside listen-only mode, in
+    // BasicCAN (no MOD) or when the model's MOD was not observed.
+    assert_eq!(set.check_observed(&flag, &dut(), &with_mod(Some(0x00))), Verdict::Failure);
+    assert_eq!(set.check_observed(&flag, &dut(), &with_mod(None)), Verdict::Failure);
+    let notes = set.near_misses(&flag, &dut(), &with_mod(Some(0x08)));
+    assert!(notes.iter().any(|n| n.contains("MOD 0x08 does not have the pattern xxxxxx1x")), "{notes:?}");
+    let (line, key, _) = err(&src.trim_start().replace("xxxx_xx1x", "xxxx_xx1"));
+    assert_eq!((line, key.as_str()), (4, "model-mod-bits"));
+}
