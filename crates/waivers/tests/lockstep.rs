@@ -17,8 +17,9 @@ use waivers::{Action, CollectMode, DutInfo, Observed, Resync, Session, WaiverRep
 const ATTEMPTS: u32 = 24;
 const FLAG_BITS: u64 = 2;
 const SR_ES: u8 = 0x40;
-const UPSTREAM: &str = include_str!("../../../tb/waivers/opencores-upstream.toml");
-const UPSTREAM_NAME: &str = "tb/waivers/opencores-upstream.toml";
+/// The issue-9 TEC pair (tests/data), as first shipped for the upstream core.
+const UPSTREAM: &str = include_str!("data/issue9-tec-pair.toml");
+const UPSTREAM_NAME: &str = "tests/data/issue9-tec-pair.toml";
 
 /// SR.ES one attempt late, `late-bits = 1`, no resync (the next read agrees).
 const ES_WAIVER: &str = r#"
