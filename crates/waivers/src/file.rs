@@ -5,7 +5,7 @@
 //! [[waiver]]
 //! id = "tec-after-error-passive"
 //! kind = "tx-bit"                  # tx-bit | register-read | irq | bus-off
-//! fields = ["ActiveErrorFlag"]     # tx-bit only: field the model was in
+//! fields = ["ActiveErrorFlag"]     # tx-bit, irq, bus-off: field the model was in
 //! dut = ["opencores-can*"]         # DUT name globs (at least one)
 //! revisions = ["r3..r7"]           # optional; inclusive ranges
 //! explanation = "why this deviation is accepted"

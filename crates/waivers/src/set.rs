@@ -128,7 +128,8 @@ pub struct Waiver {
     pub dut: Vec<DutGlob>,
     /// Revision ranges (empty: any revision, known or not).
     pub revisions: Vec<RevRange>,
-    /// Fields the model may be in (tx-bit; empty: any).
+    /// Fields the model may be in (tx-bit; irq / bus-off: when the pin
+    /// difference started; empty: any).
     pub fields: Vec<can_proto::Field>,
     /// Register name (register-read), compared case-insensitively.
     pub register: Option<String>,
@@ -556,13 +557,13 @@ fn validate(name: &str, src: &str, w: RawWaiver) -> Result<Waiver, WaiverError> 
     }
     let kind = w.kind.kind();
     if let Some(f) = &w.fields
-        && w.kind != KindName::TxBit
+        && w.kind == KindName::RegisterRead
     {
         return Err(invalid(
             name,
             at(f.span()),
             "fields",
-            format!("`fields` is for kind tx-bit, not {}", w.kind.as_str()),
+            format!("`fields` is for kinds tx-bit, irq and bus-off, not {}", w.kind.as_str()),
         ));
     }
     if let Some(r) = &w.register

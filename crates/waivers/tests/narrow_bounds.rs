@@ -244,3 +244,21 @@ resync = ["none"]
     let (line, key, _) = err(&src.trim_start().replace("xxxx_xx1x", "xxxx_xx1"));
     assert_eq!((line, key.as_str()), (4, "model-mod-bits"));
 }
+
+#[test]
+fn fields_bind_an_irq_waiver_to_where_the_difference_started() {
+    let src = LATE_IRQ.replace("late-by = \"1 bit + 16 clocks\"", "late-by = \"32 bits\"\nfields = [\"ErrorDelimiter\"]");
+    let mut set = WaiverSet::parse(&src, "f.toml").unwrap();
+    let t0 = 9_000_000;
+    let in_field = |f| Divergence { field: Some(f), ..irq(t0) };
+    assert!(matches!(
+        set.check_observed(&in_field(can_proto::Field::ErrorDelimiter), &dut(), &at(t0 + TOL)),
+        Verdict::Waived { .. }
+    ));
+    // Still caught: the same lag starting in another field (e.g. EOF: RI).
+    let mut set = WaiverSet::parse(&src, "f.toml").unwrap();
+    assert_eq!(set.check_observed(&in_field(can_proto::Field::Eof), &dut(), &at(t0 + TOL)), Verdict::Failure);
+    // fields stays refused on a register read.
+    let (_, key, _) = err(&TS_FOR_RS.trim_start().replace("bits = [4, 5]", "bits = [4, 5]\nfields = [\"Eof\"]"));
+    assert_eq!(key, "fields");
+}
