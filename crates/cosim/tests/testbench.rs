@@ -526,3 +526,35 @@ resync = ["adopt-dut-tec"]
         r.to_text()
     );
 }
+
+/// Issue 19: a scenario expectation that fails on a read whose divergence a
+/// waiver covered counts as waived and is listed, never passed silently; an
+/// expectation the model would have missed too, or one on a read that did
+/// not diverge, still fails.
+#[test]
+fn an_expectation_failed_on_a_waived_read_is_listed_as_waived() {
+    use waivers::CollectMode::*;
+    let mut tb = deviant_with(&["reg4-bit7"], StopAtFirst);
+    tb.write(4, 0xFF).unwrap();
+    // DUT 0x7F, model 0xFF: the read is waived, and so is the expectation.
+    assert!(tb.expect(1, "address 4 all ones", 4, 0xFF, 0xFF).unwrap());
+    // The model adopted 0x7F: no divergence now, so a miss is a miss.
+    assert!(!tb.expect(2, "address 4 bit 7", 4, 0x80, 0x80).unwrap());
+    // Diverging again (model 0xFF), but the model misses this one too.
+    tb.write(4, 0xFF).unwrap();
+    assert!(!tb.expect(3, "address 4 bit 0 clear", 4, 0x01, 0x00).unwrap());
+    let r = tb.waiver_report();
+    assert!(r.passed(), "{}", r.to_text());
+    assert_eq!(r.waived_expectations.len(), 1, "{}", r.to_text());
+    let e = &r.waived_expectations[0];
+    assert_eq!((e.step, e.seen, e.model, e.waiver_id.as_str()), (1, 0x7F, 0xFF, "reg4-bit7"));
+    assert!(r.to_text().contains("WAIVED [reg4-bit7] expectation of step 1"));
+    let exp = &tb.record().expectations;
+    assert!(exp[0].passed && exp[0].seen.contains("waived by reg4-bit7"), "{exp:?}");
+    assert!(!exp[1].passed && !exp[2].passed, "{exp:?}");
+    // Without the waiver the read itself stops the run.
+    let mut tb = deviant_with(&[], StopAtFirst);
+    tb.write(4, 0xFF).unwrap();
+    assert!(matches!(tb.expect(1, "address 4 all ones", 4, 0xFF, 0xFF), Err(TbError::Diverged(_))));
+    assert!(tb.waiver_report().waived_expectations.is_empty());
+}

@@ -5,7 +5,7 @@
 //! [[waiver]]
 //! id = "tec-after-error-passive"
 //! kind = "tx-bit"                  # tx-bit | register-read | irq | bus-off
-//! fields = ["ActiveErrorFlag"]     # tx-bit only: field the model was in
+//! fields = ["ActiveErrorFlag"]     # tx-bit, irq, bus-off: field the model was in
 //! dut = ["opencores-can*"]         # DUT name globs (at least one)
 //! revisions = ["r3..r7"]           # optional; inclusive ranges
 //! explanation = "why this deviation is accepted"
@@ -16,6 +16,37 @@
 //! # dut-rec = [..], frames = "2..5", context = "text", max-hits = N.
 //! resync = ["skip-bits 1", "adopt-dut-tec"]
 //! ```
+//!
+//! Narrower bounds for deviations that are a bit pattern or a lateness:
+//!
+//! ```toml
+//! # register-read only: the model's and the DUT's value, MSB first, each
+//! # character 0, 1 or x (either); `_` is a separator. Here: the model
+//! # reads RS = 1, TS = 0 and the DUT the other way round (the other bits
+//! # may differ only where `bits` allows it, if given).
+//! expected-bits = "xx01_xxxx"
+//! seen-bits     = "xx10_xxxx"
+//! # register-read only: the DUT's value is the model's plus this (e.g. a
+//! # counter one ahead of the model's all along: TXERR 128 for 127).
+//! seen-offset = 1
+//! # any kind: the model's PeliCAN mode register (MOD) at the divergence
+//! # must have this pattern, e.g. listen-only mode set (MOD.1). A run in
+//! # BasicCAN, or one that does not give the model's MOD, never matches.
+//! model-mod-bits = "xxxx_xx1x"
+//! # irq and bus-off only: the DUT's pin may lag the model by at most this
+//! # long, counted from the start of the difference to the clock the
+//! # comparator reports it: bit times and/or CAN clocks ("1 bit",
+//! # "2 bits", "16 clocks", "1 bit + 16 clocks"). Checked against the
+//! # comparator's clock (`Observed::now_ps`, `bit_time_ps`,
+//! # `can_clock_ps`); a run that does not give them never matches.
+//! late-by = "1 bit + 16 clocks"
+//! ```
+//!
+//! A scenario expectation (a register read with an expected value) that
+//! fails on a read whose divergence a waiver covered, and that the model's
+//! value meets, counts as waived by that waiver: it is listed in
+//! `WaiverReport::waived_expectations`, never passed silently
+//! (`Session::waive_expectation`).
 
 use std::fmt;
 use std::str::FromStr;
@@ -291,6 +322,119 @@ impl From<FrameRange> for String {
     }
 }
 
+/// How late a pin may follow the model: `bits` bit times plus `clocks`
+/// CAN clocks (`late-by = "1 bit + 16 clocks"`).
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(try_from = "String", into = "String")]
+pub struct Lateness {
+    /// Whole bit times.
+    pub bits: u32,
+    /// CAN clocks on top.
+    pub clocks: u32,
+}
+
+impl Lateness {
+    /// The bound in picoseconds for this bit time and CAN clock period.
+    pub fn ps(&self, bit_time_ps: u64, can_clock_ps: u64) -> u64 {
+        self.bits as u64 * bit_time_ps + self.clocks as u64 * can_clock_ps
+    }
+}
+
+impl TryFrom<String> for Lateness {
+    type Error = String;
+    fn try_from(s: String) -> Result<Self, String> {
+        let mut l = Lateness { bits: 0, clocks: 0 };
+        let (mut seen_bits, mut seen_clocks) = (false, false);
+        for term in s.split('+') {
+            let mut w = term.split_whitespace();
+            let (Some(n), Some(unit), None) = (w.next(), w.next(), w.next()) else {
+                return Err(format!("`{s}`: expected e.g. \"1 bit\", \"16 clocks\" or \"1 bit + 16 clocks\""));
+            };
+            let n: u32 = n.parse().map_err(|_| format!("`{s}`: `{n}` is not a number"))?;
+            match unit {
+                "bit" | "bits" if !seen_bits => (l.bits, seen_bits) = (n, true),
+                "clock" | "clocks" if !seen_clocks => (l.clocks, seen_clocks) = (n, true),
+                _ => return Err(format!("`{s}`: unit `{unit}` unknown or given twice (bits, clocks)")),
+            }
+        }
+        if l.bits == 0 && l.clocks == 0 {
+            return Err(format!("`{s}`: a lateness of 0 would never waive anything"));
+        }
+        Ok(l)
+    }
+}
+
+impl From<Lateness> for String {
+    fn from(l: Lateness) -> String {
+        let unit = |n: u32, one: &str, many: &str| format!("{n} {}", if n == 1 { one } else { many });
+        match (l.bits, l.clocks) {
+            (b, 0) => unit(b, "bit", "bits"),
+            (0, c) => unit(c, "clock", "clocks"),
+            (b, c) => format!("{} + {}", unit(b, "bit", "bits"), unit(c, "clock", "clocks")),
+        }
+    }
+}
+
+/// An 8-bit register value pattern, MSB first: `0`, `1` or `x` (either) per
+/// bit, `_` ignored (`"xx01_xxxx"`).
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(try_from = "String", into = "String")]
+pub struct BitPattern {
+    /// Bits that must have the given value.
+    pub care: u8,
+    /// Their values (0 where `care` is 0).
+    pub value: u8,
+}
+
+impl BitPattern {
+    /// True if `v` is a byte with the pattern's 0s and 1s.
+    pub fn matches(&self, v: u32) -> bool {
+        v <= 0xFF && (v as u8) & self.care == self.value
+    }
+}
+
+impl TryFrom<String> for BitPattern {
+    type Error = String;
+    fn try_from(s: String) -> Result<Self, String> {
+        let chars: Vec<char> = s.chars().filter(|c| *c != '_').collect();
+        if chars.len() != 8 {
+            return Err(format!("`{s}`: a pattern has 8 bits (0, 1 or x), MSB first, e.g. \"xx01_xxxx\""));
+        }
+        let mut p = BitPattern { care: 0, value: 0 };
+        for (i, c) in chars.iter().enumerate() {
+            let bit = 1u8 << (7 - i);
+            match c {
+                '0' => p.care |= bit,
+                '1' => {
+                    p.care |= bit;
+                    p.value |= bit;
+                }
+                'x' | 'X' => {}
+                _ => return Err(format!("`{s}`: `{c}` is not 0, 1 or x")),
+            }
+        }
+        if p.care == 0 {
+            return Err(format!("`{s}`: a pattern of only x bounds nothing"));
+        }
+        Ok(p)
+    }
+}
+
+impl From<BitPattern> for String {
+    fn from(p: BitPattern) -> String {
+        (0..8)
+            .map(|i| {
+                let bit = 1u8 << (7 - i);
+                match (p.care & bit != 0, p.value & bit != 0) {
+                    (false, _) => 'x',
+                    (true, true) => '1',
+                    (true, false) => '0',
+                }
+            })
+            .collect()
+    }
+}
+
 /// The re-synchronisation a waiver allows, as written in the file.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize)]
 #[serde(try_from = "String", into = "String")]
@@ -366,6 +510,11 @@ pub(crate) struct RawWaiver {
     pub frames: Option<FrameRange>,
     pub context: Option<String>,
     pub late_bits: Option<Spanned<u32>>,
+    pub late_by: Option<Spanned<Lateness>>,
+    pub expected_bits: Option<Spanned<BitPattern>>,
+    pub seen_bits: Option<Spanned<BitPattern>>,
+    pub seen_offset: Option<Spanned<i64>>,
+    pub model_mod_bits: Option<BitPattern>,
     pub max_hits: Option<Spanned<u32>>,
     pub resync: Spanned<Vec<ResyncSpec>>,
 }
@@ -474,6 +623,28 @@ mod tests {
             assert!(RevRange::try_from(bad.to_string()).is_err(), "{bad} must be rejected");
         }
         assert_eq!(String::from(RevRange::try_from("r3..=r7".to_string()).unwrap()), "r3..r7");
+    }
+
+    #[test]
+    fn lateness_and_bit_pattern_spelling() {
+        let l = |s: &str| Lateness::try_from(s.to_string());
+        assert_eq!(l("1 bit"), Ok(Lateness { bits: 1, clocks: 0 }));
+        assert_eq!(l("1 bit + 16 clocks"), Ok(Lateness { bits: 1, clocks: 16 }));
+        assert_eq!(l("24 clocks"), Ok(Lateness { bits: 0, clocks: 24 }));
+        assert_eq!(String::from(l("2 bits+1 clock").unwrap()), "2 bits + 1 clock");
+        assert_eq!(l("1 bit").unwrap().ps(1_000, 10), 1_000);
+        assert_eq!(l("1 bit + 16 clocks").unwrap().ps(1_000, 10), 1_160);
+        for bad in ["", "1", "bit", "1 byte", "1 bit + 2 bits", "0 bits", "0 bits + 0 clocks", "-1 bit", "1 bit 2"] {
+            assert!(l(bad).is_err(), "{bad} must be rejected");
+        }
+        let p = |s: &str| BitPattern::try_from(s.to_string());
+        let ts = p("xx10_xxxx").unwrap();
+        assert_eq!(ts, BitPattern { care: 0x30, value: 0x20 });
+        assert!(ts.matches(0x2C) && ts.matches(0x20) && !ts.matches(0x1C) && !ts.matches(0x3C) && !ts.matches(0x120));
+        assert_eq!(String::from(ts), "xx10xxxx");
+        for bad in ["xx10xxx", "xx10_xxxxx", "xx12_xxxx", "xxxx_xxxx", ""] {
+            assert!(p(bad).is_err(), "{bad} must be rejected");
+        }
     }
 
     #[test]

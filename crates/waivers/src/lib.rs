@@ -44,8 +44,8 @@ pub mod run;
 pub mod set;
 pub mod suggest;
 
-pub use file::{KindName, ResyncSpec, RevRange, Revision, WaiverError};
-pub use report::{Counts, Stale, Waived, WaiverReport, describe};
+pub use file::{BitPattern, KindName, Lateness, ResyncSpec, RevRange, Revision, WaiverError};
+pub use report::{Counts, Stale, WaivedExpectation, Waived, WaiverReport, describe};
 pub use run::{Action, CollectMode, Session};
 pub use set::{DutInfo, Observed, Resync, Verdict, Waiver, WaiverSet};
 pub use suggest::suggest;

@@ -20,6 +20,24 @@ pub struct Waived {
     pub waiver_id: String,
 }
 
+/// A scenario expectation that failed on a read a waiver covered: the DUT's
+/// value missed it, the model's met it. Counted as waived, and listed.
+#[derive(Clone, Debug, PartialEq, Eq, Serialize, Deserialize)]
+pub struct WaivedExpectation {
+    /// Scenario step (1-based).
+    pub step: usize,
+    /// What was checked.
+    pub what: String,
+    /// Expected value and mask, as text.
+    pub expected: String,
+    /// The DUT's value (masked).
+    pub seen: u8,
+    /// The model's value (masked), which met the expectation.
+    pub model: u8,
+    /// The waiver that covered the read.
+    pub waiver_id: String,
+}
+
 /// A waiver that never matched during the run.
 #[derive(Clone, Debug, PartialEq, Eq, Serialize, Deserialize)]
 pub struct Stale {
@@ -44,6 +62,9 @@ pub struct WaiverReport {
     pub waived: Vec<Waived>,
     /// Divergences no waiver covered, in the order seen.
     pub failures: Vec<Divergence>,
+    /// Scenario expectations that failed only on a waived read.
+    #[serde(default)]
+    pub waived_expectations: Vec<WaivedExpectation>,
     /// Why nearby waivers did not cover a failure, one line each.
     pub notes: Vec<String>,
     /// Waivers that never matched.
@@ -61,6 +82,9 @@ pub struct Counts {
     pub failures: usize,
     /// Stale waivers.
     pub stale: usize,
+    /// Expectations that failed on a waived read.
+    #[serde(default)]
+    pub waived_expectations: usize,
 }
 
 /// One line describing a divergence: kind, where, values, context.
@@ -116,7 +140,12 @@ impl WaiverReport {
 
     /// Counts.
     pub fn counts(&self) -> Counts {
-        Counts { waived: self.waived.len(), failures: self.failures.len(), stale: self.stale.len() }
+        Counts {
+            waived: self.waived.len(),
+            failures: self.failures.len(),
+            stale: self.stale.len(),
+            waived_expectations: self.waived_expectations.len(),
+        }
     }
 
     /// No unwaived divergence.
@@ -168,6 +197,13 @@ impl WaiverReport {
         for w in &self.waived {
             let _ = writeln!(s, "WAIVED [{}] {}", w.waiver_id, describe(&w.divergence));
         }
+        for e in &self.waived_expectations {
+            let _ = writeln!(
+                s,
+                "WAIVED [{}] expectation of step {}: {}: expected {}, DUT 0x{:02X} (model 0x{:02X})",
+                e.waiver_id, e.step, e.what, e.expected, e.seen, e.model
+            );
+        }
         for w in self.warnings() {
             let _ = writeln!(s, "WARNING {w}");
         }
@@ -202,8 +238,11 @@ impl WaiverReport {
         let c = self.counts();
         let mut w = Writer::new_with_indent(Vec::new(), b' ', 2);
         let classname = format!("waivers.{}", self.dut);
-        let (tests, failures, skipped) =
-            ((c.failures + c.waived).to_string(), c.failures.to_string(), c.waived.to_string());
+        let (tests, failures, skipped) = (
+            (c.failures + c.waived + c.waived_expectations).to_string(),
+            c.failures.to_string(),
+            (c.waived + c.waived_expectations).to_string(),
+        );
         w.create_element("testsuite")
             .with_attributes([
                 ("name", suite),
@@ -239,6 +278,17 @@ impl WaiverReport {
                             w.create_element("skipped").with_attribute(("message", msg.as_str())).write_empty()?;
                             w.create_element("system-out")
                                 .write_text_content(BytesText::new(&format!("{msg}: {}", describe(&x.divergence))))?;
+                            Ok(())
+                        })?;
+                }
+                for e in &self.waived_expectations {
+                    n += 1;
+                    let name = format!("expectation {n}: step {} {}", e.step, e.what);
+                    let msg = format!("waived by {}", e.waiver_id);
+                    w.create_element("testcase")
+                        .with_attributes([("classname", classname.as_str()), ("name", name.as_str())])
+                        .write_inner_content(|w| {
+                            w.create_element("skipped").with_attribute(("message", msg.as_str())).write_empty()?;
                             Ok(())
                         })?;
                 }

@@ -5,7 +5,7 @@ use std::str::FromStr;
 use diagnose::Divergence;
 use serde::{Deserialize, Serialize};
 
-use crate::report::{Waived, WaiverReport};
+use crate::report::{WaivedExpectation, Waived, WaiverReport};
 use crate::set::{DutInfo, Observed, Resync, Verdict, WaiverSet};
 
 /// What the comparator does with an unwaived divergence
@@ -88,6 +88,53 @@ impl Session {
                 }
             }
         }
+    }
+
+    /// A scenario expectation `value & mask == expected & mask` failed on a
+    /// register read. If that read's divergence was waived (it is the last
+    /// waived one and came after the first `waived_before` of them) and the
+    /// model's value meets the expectation, the failure is the waived
+    /// deviation itself: it is listed in the report as a waived expectation
+    /// and the id of the waiver is returned. Otherwise `None`: the
+    /// expectation fails (the model would have missed it too, or the read
+    /// did not diverge, or it diverged unwaived).
+    pub fn waive_expectation(
+        &mut self,
+        waived_before: usize,
+        step: usize,
+        what: &str,
+        mask: u8,
+        expected: u8,
+        seen: u8,
+    ) -> Option<String> {
+        if self.report.waived.len() <= waived_before || seen & mask == expected & mask {
+            return None;
+        }
+        let last = self.report.waived.last()?;
+        let d = &last.divergence;
+        if d.kind != diagnose::DivergenceKind::RegisterRead || d.seen & 0xFF != seen as u32 {
+            return None;
+        }
+        let model = d.expected as u8;
+        if d.expected > 0xFF || model & mask != expected & mask {
+            return None;
+        }
+        let id = last.waiver_id.clone();
+        self.report.waived_expectations.push(WaivedExpectation {
+            step,
+            what: what.into(),
+            expected: format!("0x{:02X} (mask 0x{mask:02X})", expected & mask),
+            seen: seen & mask,
+            model: model & mask,
+            waiver_id: id.clone(),
+        });
+        Some(id)
+    }
+
+    /// The number of divergences waived so far (pass it to
+    /// [`Session::waive_expectation`] from before the read).
+    pub fn waived_count(&self) -> usize {
+        self.report.waived.len()
     }
 
     /// The report so far (stale waivers are filled in by `finish`).

@@ -7,7 +7,8 @@ use diagnose::{Divergence, DivergenceKind};
 use serde::{Deserialize, Serialize};
 
 use crate::file::{
-    self, DutGlob, FrameRange, KindName, RawFile, RawWaiver, ResyncSpec, RevRange, Revision, WaiverError,
+    self, BitPattern, DutGlob, FrameRange, KindName, Lateness, RawFile, RawWaiver, ResyncSpec, RevRange, Revision,
+    WaiverError,
 };
 
 /// The DUT a run compares: its name (as `RunRecord::dut`) and revision.
@@ -49,6 +50,28 @@ pub struct Observed {
     pub dut_tec: Option<u16>,
     /// The DUT's receive error counter (RXERR), if readable.
     pub dut_rec: Option<u16>,
+    /// Simulation time when the comparator reports the divergence (ps); with
+    /// `bit_time_ps` and `can_clock_ps` it lets a `late-by` bound be checked.
+    pub now_ps: Option<u64>,
+    /// Nominal bit time of the run (ps).
+    pub bit_time_ps: Option<u64>,
+    /// CAN clock period of the run (ps).
+    pub can_clock_ps: Option<u64>,
+    /// The model's PeliCAN mode register (MOD) at the divergence; `None` in
+    /// BasicCAN or when not observed (`model-mod-bits`).
+    pub model_mod: Option<u8>,
+}
+
+impl Observed {
+    /// The comparator's clock: report time, bit time and CAN clock period.
+    pub fn timed(now_ps: u64, bit_time_ps: u64, can_clock_ps: u64) -> Self {
+        Observed {
+            now_ps: Some(now_ps),
+            bit_time_ps: Some(bit_time_ps),
+            can_clock_ps: Some(can_clock_ps),
+            ..Default::default()
+        }
+    }
 }
 
 /// A re-synchronisation step for the comparator, in the order given.
@@ -105,7 +128,8 @@ pub struct Waiver {
     pub dut: Vec<DutGlob>,
     /// Revision ranges (empty: any revision, known or not).
     pub revisions: Vec<RevRange>,
-    /// Fields the model may be in (tx-bit; empty: any).
+    /// Fields the model may be in (tx-bit; irq / bus-off: when the pin
+    /// difference started; empty: any).
     pub fields: Vec<can_proto::Field>,
     /// Register name (register-read), compared case-insensitively.
     pub register: Option<String>,
@@ -130,6 +154,17 @@ pub struct Waiver {
     /// The deviation may last at most this many bit times (see
     /// [`WaiverSet::check`]).
     pub late_bits: Option<u32>,
+    /// irq / bus-off: the DUT's pin may lag the model by at most this long
+    /// (see [`WaiverSet::check_observed`]).
+    pub late_by: Option<Lateness>,
+    /// register-read: the model's value must have this pattern.
+    pub expected_bits: Option<BitPattern>,
+    /// register-read: the DUT's value must have this pattern.
+    pub seen_bits: Option<BitPattern>,
+    /// register-read: the DUT's value must be the model's plus this.
+    pub seen_offset: Option<i64>,
+    /// The model's PeliCAN MOD must have this pattern ([`Observed::model_mod`]).
+    pub model_mod_bits: Option<BitPattern>,
     /// At most this many divergences are waived.
     pub max_hits: Option<u32>,
     /// Re-synchronisation allowed.
@@ -137,6 +172,7 @@ pub struct Waiver {
     /// Divergences waived so far.
     pub hits: u32,
     episode: Option<Episode>,
+    late: Option<LateEpisode>,
 }
 
 /// The current run of hits of one waiver, for the `late-bits` bound.
@@ -144,6 +180,14 @@ pub struct Waiver {
 struct Episode {
     first_bit: u64,
     covered_to: u64,
+}
+
+/// The pin difference a `late-by` waiver is following: when it started
+/// (its first report's `time_ps`) and when it was last reported.
+#[derive(Clone, Copy, Debug)]
+struct LateEpisode {
+    start_ps: u64,
+    last_report_ps: u64,
 }
 
 impl Waiver {
@@ -186,6 +230,31 @@ impl Waiver {
             if diff & !(mask as u32) != 0 {
                 return Some(format!("bits 0x{diff:02X} differ, only 0x{mask:02X} allowed"));
             }
+        }
+        for (name, pat, v) in [("model", self.expected_bits, d.expected), ("DUT", self.seen_bits, d.seen)] {
+            if let Some(p) = pat
+                && !p.matches(v)
+            {
+                return Some(format!("{name} value 0x{v:02X} does not have the pattern {}", String::from(p)));
+            }
+        }
+        if let Some(off) = self.seen_offset
+            && d.seen as i64 - d.expected as i64 != off
+        {
+            return Some(format!("DUT value {} is not the model's {} {off:+}", d.seen, d.expected));
+        }
+        if let Some(p) = self.model_mod_bits {
+            match obs.model_mod {
+                Some(m) if p.matches(m as u32) => {}
+                Some(m) => {
+                    return Some(format!("the model's MOD 0x{m:02X} does not have the pattern {}", String::from(p)));
+                }
+                None => return Some("the model's MOD (PeliCAN) was not observed".into()),
+            }
+        }
+        if self.late_by.is_some() && (obs.now_ps.is_none() || obs.bit_time_ps.is_none() || obs.can_clock_ps.is_none())
+        {
+            return Some("late-by needs the comparator's clock (report time, bit time, CAN clock), not given".into());
         }
         if let Some(v) = &self.expected
             && !v.contains(&d.expected)
@@ -371,6 +440,22 @@ impl WaiverSet {
             if w.max_hits.is_some_and(|m| w.hits >= m) {
                 continue;
             }
+            if let (Some(by), Some(now), Some(bit_ps), Some(clk_ps)) =
+                (w.late_by, obs.now_ps, obs.bit_time_ps, obs.can_clock_ps)
+            {
+                // The comparator reports a lasting pin difference again and
+                // again, each report's run starting where the last report
+                // was taken: those reports are one difference, measured from
+                // its first start to now.
+                let start = match w.late {
+                    Some(e) if d.time_ps >= e.start_ps && d.time_ps <= e.last_report_ps + 2 * clk_ps => e.start_ps,
+                    _ => d.time_ps,
+                };
+                w.late = Some(LateEpisode { start_ps: start, last_report_ps: now.max(d.time_ps) });
+                if now.saturating_sub(start) > by.ps(bit_ps, clk_ps) {
+                    continue;
+                }
+            }
             if let Some(late) = w.late_bits {
                 let reach = w.skip().max(late as u64);
                 match w.episode {
@@ -403,13 +488,22 @@ impl WaiverSet {
                 None if w.max_hits.is_some_and(|m| w.hits >= m) => {
                     format!("waiver `{}` ({}:{}) already used its max-hits = {}", w.id, w.file, w.line, w.hits)
                 }
-                None => format!(
-                    "waiver `{}` ({}:{}) does not apply: the deviation lasts longer than late-bits = {}",
-                    w.id,
-                    w.file,
-                    w.line,
-                    w.late_bits.unwrap_or(0)
-                ),
+                None => match w.late_by {
+                    Some(by) => format!(
+                        "waiver `{}` ({}:{}) does not apply: the DUT's pin lags longer than late-by = \"{}\"",
+                        w.id,
+                        w.file,
+                        w.line,
+                        String::from(by)
+                    ),
+                    None => format!(
+                        "waiver `{}` ({}:{}) does not apply: the deviation lasts longer than late-bits = {}",
+                        w.id,
+                        w.file,
+                        w.line,
+                        w.late_bits.unwrap_or(0)
+                    ),
+                },
             })
             .collect()
     }
@@ -429,6 +523,7 @@ impl WaiverSet {
         for w in &mut self.waivers {
             w.hits = 0;
             w.episode = None;
+            w.late = None;
         }
     }
 }
@@ -462,13 +557,13 @@ fn validate(name: &str, src: &str, w: RawWaiver) -> Result<Waiver, WaiverError> 
     }
     let kind = w.kind.kind();
     if let Some(f) = &w.fields
-        && w.kind != KindName::TxBit
+        && w.kind == KindName::RegisterRead
     {
         return Err(invalid(
             name,
             at(f.span()),
             "fields",
-            format!("`fields` is for kind tx-bit, not {}", w.kind.as_str()),
+            format!("`fields` is for kinds tx-bit, irq and bus-off, not {}", w.kind.as_str()),
         ));
     }
     if let Some(r) = &w.register
@@ -521,6 +616,58 @@ fn validate(name: &str, src: &str, w: RawWaiver) -> Result<Waiver, WaiverError> 
     {
         return Err(invalid(name, at(l.span()), "late-bits", "late-bits = 0 would never waive anything".into()));
     }
+    let late_by = match &w.late_by {
+        Some(l) if !matches!(w.kind, KindName::Irq | KindName::BusOff) => {
+            return Err(invalid(
+                name,
+                at(l.span()),
+                "late-by",
+                format!("`late-by` is for kinds irq and bus-off, not {}", w.kind.as_str()),
+            ));
+        }
+        l => l.as_ref().map(|l| *l.get_ref()),
+    };
+    let mut patterns = [None, None];
+    for (slot, key, p) in [(0, "expected-bits", &w.expected_bits), (1, "seen-bits", &w.seen_bits)] {
+        if let Some(p) = p {
+            if w.kind != KindName::RegisterRead {
+                return Err(invalid(
+                    name,
+                    at(p.span()),
+                    key,
+                    format!("`{key}` is for kind register-read, not {}", w.kind.as_str()),
+                ));
+            }
+            patterns[slot] = Some(*p.get_ref());
+        }
+    }
+    let [expected_bits, seen_bits] = patterns;
+    if let (Some(e), Some(s), Some(p)) = (expected_bits, seen_bits, &w.seen_bits)
+        && e.care == 0xFF
+        && s.care == 0xFF
+        && e.value == s.value
+    {
+        return Err(invalid(
+            name,
+            at(p.span()),
+            "seen-bits",
+            "both patterns give the same value: no divergence can match".into(),
+        ));
+    }
+    let seen_offset = match &w.seen_offset {
+        Some(o) if w.kind != KindName::RegisterRead => {
+            return Err(invalid(
+                name,
+                at(o.span()),
+                "seen-offset",
+                format!("`seen-offset` is for kind register-read, not {}", w.kind.as_str()),
+            ));
+        }
+        Some(o) if *o.get_ref() == 0 || o.get_ref().abs() > 255 => {
+            return Err(invalid(name, at(o.span()), "seen-offset", "an offset is 1..=255 or -255..=-1".into()));
+        }
+        o => o.as_ref().map(|o| *o.get_ref()),
+    };
     if let Some(m) = &w.max_hits
         && *m.get_ref() == 0
     {
@@ -545,9 +692,15 @@ fn validate(name: &str, src: &str, w: RawWaiver) -> Result<Waiver, WaiverError> 
         frames: w.frames,
         context: w.context,
         late_bits: w.late_bits.map(|l| l.into_inner()),
+        late_by,
+        expected_bits,
+        seen_bits,
+        seen_offset,
+        model_mod_bits: w.model_mod_bits,
         max_hits: w.max_hits.map(|m| m.into_inner()),
         resync,
         hits: 0,
         episode: None,
+        late: None,
     })
 }

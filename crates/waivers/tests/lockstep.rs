@@ -17,8 +17,9 @@ use waivers::{Action, CollectMode, DutInfo, Observed, Resync, Session, WaiverRep
 const ATTEMPTS: u32 = 24;
 const FLAG_BITS: u64 = 2;
 const SR_ES: u8 = 0x40;
-const UPSTREAM: &str = include_str!("../../../tb/waivers/opencores-upstream.toml");
-const UPSTREAM_NAME: &str = "tb/waivers/opencores-upstream.toml";
+/// The issue-9 TEC pair (tests/data), as first shipped for the upstream core.
+const UPSTREAM: &str = include_str!("data/issue9-tec-pair.toml");
+const UPSTREAM_NAME: &str = "tests/data/issue9-tec-pair.toml";
 
 /// SR.ES one attempt late, `late-bits = 1`, no resync (the next read agrees).
 const ES_WAIVER: &str = r#"
@@ -107,7 +108,7 @@ fn lockstep(mut model: Node, mut dut: Node, set: WaiverSet, mode: CollectMode) -
     let mut reads_equal = 0;
     // Applies a verdict; false means stop.
     let handle = |s: &mut Session, d: Divergence, dut: &Node, model: &mut Node, skip: &mut u32| -> bool {
-        let obs = Observed { dut_tec: Some(dut.tec), dut_rec: Some(0) };
+        let obs = Observed { dut_tec: Some(dut.tec), dut_rec: Some(0), ..Default::default() };
         match s.divergence_observed(d, &obs) {
             Action::Resync(steps) => {
                 for r in steps {
