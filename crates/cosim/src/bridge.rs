@@ -690,43 +690,39 @@ impl ExternalCore {
         Ok(format!("{}-{h:016x}", self.top))
     }
 
-    /// Verilates, compiles and loads the core (or loads it from the cache).
+    /// Verilates, compiles and loads the core (or loads it from the cache,
+    /// [`cache_dir`]).
     pub fn build(&self) -> Result<CompiledCore, BridgeError> {
-        let sources = self.sources()?;
-        let key = self.cache_key(&sources)?;
-        let dir = cache_dir().join(&key);
-        let lib_path = dir.join(format!("libcosim_{}.so", self.top));
-        if !lib_path.exists() {
-            // One build directory per build, also between threads of one
-            // process (tests run in parallel): two makes in one directory
-            // link each other's half-written objects.
-            static BUILD_SEQ: AtomicU64 = AtomicU64::new(0);
-            let tmp = dir.with_extension(format!(
-                "tmp{}-{}",
-                std::process::id(),
-                BUILD_SEQ.fetch_add(1, Ordering::Relaxed)
-            ));
-            let built = self.build_into(&sources, &tmp, &dir, &lib_path);
-            if built.is_err() {
-                // Keep no half build (the error says what went wrong).
-                let _ = std::fs::remove_dir_all(&tmp);
-            }
-            built?;
-        }
-        self.load(&lib_path)
+        self.build_in(&cache_dir())
     }
 
-    /// Builds in `tmp`, then moves it to `dir`.
-    fn build_into(
-        &self,
-        sources: &[PathBuf],
-        tmp: &Path,
-        dir: &Path,
-        lib_path: &Path,
-    ) -> Result<(), BridgeError> {
+    /// [`ExternalCore::build`] with the cache in `cache`.
+    pub fn build_in(&self, cache: &Path) -> Result<CompiledCore, BridgeError> {
+        let sources = self.sources()?;
+        let key = self.cache_key(&sources)?;
+        let dir = cache.join(&key);
+        let lib_name = format!("libcosim_{}.so", self.top);
+        // One work directory per build, also between threads of one process
+        // (regress workers, parallel tests): two makes in one directory link
+        // each other's half-written objects. The first complete build moved
+        // into place wins; a slower one uses it.
+        let entry = buildcache::build_once(&dir, &lib_name, |work| {
+            self.build_into(&sources, work, &lib_name)
+        })
+        .map_err(|e| match e {
+            buildcache::Error::Build(e) => e,
+            buildcache::Error::Io { what, source } => BridgeError::Io {
+                context: what,
+                source,
+            },
+        })?;
+        self.load(&entry.product)
+    }
+
+    /// Verilates and links the shared library `lib_name` in `tmp` (an empty
+    /// directory of this build's own).
+    fn build_into(&self, sources: &[PathBuf], tmp: &Path, lib_name: &str) -> Result<(), BridgeError> {
         let top = &self.top;
-        let _ = std::fs::remove_dir_all(tmp);
-        std::fs::create_dir_all(tmp).map_err(io_err(format!("creating {}", tmp.display())))?;
         let which = Command::new("verilator").arg("--version").output();
         if which.is_err() {
             return Err(BridgeError::Verilate { top: top.clone(), dir: self.dir.display().to_string(), message: "`verilator` was not found: install Verilator (apt-get install verilator) or run scripts/setup.sh".into() });
@@ -791,7 +787,7 @@ impl ExternalCore {
             Command::new(cxx)
                 .current_dir(tmp)
                 .args(["-shared", "-Wl,-Bsymbolic", "-o"])
-                .arg(lib_path.file_name().unwrap())
+                .arg(lib_name)
                 .arg("cosim_shim.o")
                 .arg(format!("{prefix}__ALL.a"))
                 .args(&globals)
@@ -799,15 +795,7 @@ impl ExternalCore {
             top,
             "link",
         )?;
-        match std::fs::rename(tmp, dir) {
-            Ok(()) => Ok(()),
-            // Another process or thread built it first: use theirs.
-            Err(_) if lib_path.exists() => {
-                let _ = std::fs::remove_dir_all(tmp);
-                Ok(())
-            }
-            Err(e) => Err(io_err(format!("moving the build to {}", dir.display()))(e)),
-        }
+        Ok(())
     }
 
     fn load(&self, lib_path: &Path) -> Result<CompiledCore, BridgeError> {
