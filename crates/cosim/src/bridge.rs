@@ -49,6 +49,14 @@ pub enum BridgeError {
         /// Tops that exist.
         available: String,
     },
+    /// The core's directory cannot hold the core ([`ExternalCore::check`]).
+    #[error("external core {dir}: {problem}")]
+    BadSources {
+        /// Source directory.
+        dir: String,
+        /// What is wrong, in one line.
+        problem: String,
+    },
     /// Verilator rejected the sources.
     #[error("Verilator could not build top `{top}` from {dir}; Verilator said:\n{message}")]
     Verilate {
@@ -540,6 +548,13 @@ fn fnv1a(h: &mut u64, bytes: &[u8]) {
     }
 }
 
+/// True if `text` has the keyword `module` followed by the name `top`.
+fn declares_module(text: &str, top: &str) -> bool {
+    let ident = |c: char| c.is_ascii_alphanumeric() || c == '_' || c == '$';
+    let words: Vec<&str> = text.split(|c: char| !ident(c)).filter(|w| !w.is_empty()).collect();
+    words.windows(2).any(|w| (w[0] == "module" || w[0] == "macromodule") && w[1] == top)
+}
+
 /// Where run-time builds are cached: `$COSIM_CACHE_DIR`, else
 /// `$XDG_CACHE_HOME/sja1000-cosim`, else `~/.cache/sja1000-cosim`.
 pub fn cache_dir() -> PathBuf {
@@ -611,6 +626,32 @@ impl ExternalCore {
             });
         }
         Ok(v)
+    }
+
+    /// Cheap checks before any build (for bad command-line input: one
+    /// clear line, not one failed build per scenario): the directory
+    /// exists, holds `*.v`/`*.sv` files (or the given files exist), and one
+    /// of them declares `module <top>` (a textual scan, comments not parsed).
+    pub fn check(&self) -> Result<(), BridgeError> {
+        let bad = |problem: String| BridgeError::BadSources { dir: self.dir.display().to_string(), problem };
+        match std::fs::metadata(&self.dir) {
+            Ok(m) if m.is_dir() => {}
+            Ok(_) => return Err(bad("is not a directory".into())),
+            Err(e) => return Err(bad(format!("cannot be read ({e})"))),
+        }
+        let sources = self.sources().map_err(|_| bad("holds no *.v or *.sv files".into()))?;
+        let mut texts = Vec::new();
+        for f in &sources {
+            texts.push(std::fs::read(f).map_err(|e| bad(format!("{}: cannot be read ({e})", f.display())))?);
+        }
+        if !texts.iter().any(|t| declares_module(&String::from_utf8_lossy(t), &self.top)) {
+            return Err(bad(format!(
+                "no `module {}` in its {} source file(s); give the top module with --top",
+                self.top,
+                sources.len()
+            )));
+        }
+        Ok(())
     }
 
     fn verilator_args(&self, sources: &[PathBuf]) -> Vec<String> {
@@ -839,5 +880,18 @@ impl ExternalCore {
             top: self.top.clone(),
             path: lib_path.to_path_buf(),
         })
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::declares_module;
+
+    #[test]
+    fn module_scan_finds_the_top_by_whole_name_only() {
+        assert!(declares_module("// x\nmodule can_top (\n input a);", "can_top"));
+        assert!(declares_module("module\n  can_top#(parameter P=1)(a);", "can_top"));
+        assert!(!declares_module("module can_top_pio (a);", "can_top"));
+        assert!(!declares_module("can_top u0 (.a(a));", "can_top"), "an instance is not a declaration");
     }
 }
