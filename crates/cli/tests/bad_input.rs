@@ -14,9 +14,10 @@ fn root() -> PathBuf {
     PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("../..")
 }
 
-/// A per-test scratch directory (tests run in parallel).
+/// A per-test, per-process scratch directory (tests run in parallel, and
+/// two `cargo test` runs may share a target directory).
 fn scratch(name: &str) -> PathBuf {
-    let d = PathBuf::from(env!("CARGO_TARGET_TMPDIR")).join("cli-bad-input").join(name);
+    let d = PathBuf::from(env!("CARGO_TARGET_TMPDIR")).join("cli-bad-input").join(format!("{name}-{}", std::process::id()));
     let _ = std::fs::remove_dir_all(&d);
     std::fs::create_dir_all(&d).unwrap();
     d
@@ -207,9 +208,18 @@ fn decode_rejects_what_is_not_a_bit() {
 }
 
 /// An external core in a scratch directory.
+/// A core's directory at a fixed path (the run-time build cache is keyed
+/// on the sources' paths too, so only the first run verilates it), written
+/// aside and renamed into place: another test process may be reading it.
 fn external_core(name: &str, verilog: &str) -> PathBuf {
-    let dir = scratch(name);
-    std::fs::write(dir.join(format!("{name}.v")), verilog).unwrap();
+    let dir = PathBuf::from(env!("CARGO_TARGET_TMPDIR")).join("cli-bad-input/cores").join(name);
+    std::fs::create_dir_all(&dir).unwrap();
+    let file = dir.join(format!("{name}.v"));
+    if std::fs::read_to_string(&file).ok().as_deref() != Some(verilog) {
+        let aside = dir.join(format!(".{name}.v.{}", std::process::id()));
+        std::fs::write(&aside, verilog).unwrap();
+        std::fs::rename(&aside, &file).unwrap();
+    }
     dir
 }
 
