@@ -73,6 +73,7 @@ pub fn build_once<E>(
     let io = |what: String| move |source| Error::Io { what, source };
     let parent = dir.parent().unwrap_or(Path::new("."));
     std::fs::create_dir_all(parent).map_err(io(format!("creating {}", parent.display())))?;
+    remove_abandoned_work_dirs(parent);
     let name = dir.file_name().map(|n| n.to_string_lossy().into_owned()).unwrap_or_default();
     // Unique per call; removed on every early return (build error, panic).
     let work = tempfile::Builder::new()
@@ -107,6 +108,32 @@ pub fn build_once<E>(
     }
 }
 
+/// Work directories older than this were left by a killed build.
+const ABANDONED_AFTER: std::time::Duration = std::time::Duration::from_secs(24 * 3600);
+
+/// Deletes work directories (`.<key>.build-*`) in `parent` untouched for
+/// [`ABANDONED_AFTER`]: a build killed midway cannot delete its own, and
+/// no live build is a day old. Best effort: errors are ignored.
+fn remove_abandoned_work_dirs(parent: &Path) {
+    let Ok(rd) = std::fs::read_dir(parent) else { return };
+    for e in rd.flatten() {
+        let name = e.file_name();
+        let name = name.to_string_lossy();
+        if !(name.starts_with('.') && name.contains(".build-")) {
+            continue;
+        }
+        let old = e
+            .metadata()
+            .and_then(|m| m.modified())
+            .ok()
+            .and_then(|t| t.elapsed().ok())
+            .is_some_and(|age| age > ABANDONED_AFTER);
+        if old {
+            let _ = std::fs::remove_dir_all(e.path());
+        }
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -134,6 +161,20 @@ mod tests {
         assert!(matches!(r, Err(Error::Io { .. })), "no product is an error");
         let left: Vec<_> = std::fs::read_dir(root.path()).unwrap().map(|e| e.unwrap().file_name()).collect();
         assert_eq!(left, vec![std::ffi::OsString::from("k1")], "no work directory left behind");
+    }
+
+    #[test]
+    fn work_dirs_of_killed_builds_are_removed_after_a_day_and_young_ones_kept() {
+        let root = tempfile::tempdir().unwrap();
+        let (old, young) = (root.path().join(".k1.build-AAAAAA"), root.path().join(".k2.build-BBBBBB"));
+        for d in [&old, &young] {
+            std::fs::create_dir_all(d.join("obj")).unwrap();
+        }
+        let two_days_ago = std::time::SystemTime::now() - 2 * ABANDONED_AFTER;
+        std::fs::File::open(&old).unwrap().set_modified(two_days_ago).unwrap();
+        build_once::<()>(&root.path().join("k3"), "out", |w| std::fs::write(w.join("out"), "").map_err(|_| ())).unwrap();
+        assert!(!old.exists(), "a day-old work directory is abandoned");
+        assert!(young.exists(), "a live build's work directory stays");
     }
 
     #[test]
