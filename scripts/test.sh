@@ -10,6 +10,22 @@ if [ -n "${COSIM_ALLOW_MISSING_RTL:-}" ]; then
   echo "test: unset COSIM_ALLOW_MISSING_RTL: the tests must co-simulate rtl/." >&2
   exit 1
 fi
+# Build caches (verilated external cores in $COSIM_CACHE_DIR, the bench's
+# harness and Icarus images in $TMPDIR/cancosim-bench, test scratch files in
+# $TMPDIR): under CI (CI=true) they start empty, so every run takes the path
+# a fresh machine takes; COSIM_FRESH_CACHES=1 does the same locally, and
+# COSIM_FRESH_CACHES=0 keeps the warm caches (also under CI).
+fresh="${COSIM_FRESH_CACHES:-}"
+if [ -z "$fresh" ]; then
+  if [ "${CI:-}" = true ]; then fresh=1; else fresh=0; fi
+fi
+if [ "$fresh" = 1 ]; then
+  cold=$(mktemp -d "${TMPDIR:-/tmp}/cancosim-test.XXXXXX")
+  trap 'rm -rf "$cold"' EXIT
+  mkdir -p "$cold/cosim-cache" "$cold/tmp"
+  export COSIM_CACHE_DIR="$cold/cosim-cache" TMPDIR="$cold/tmp"
+  echo "test: empty build caches in $cold (removed at exit; COSIM_FRESH_CACHES=0 keeps the warm ones)"
+fi
 echo "== RTL self-checks (Icarus) =="
 sh tb/rtl/run.sh
 echo "== Rust workspace tests =="

@@ -109,44 +109,27 @@ fn cache_key(parts: &[&str], files: &[PathBuf]) -> Result<String, BenchError> {
     Ok(format!("{:016x}", h.finish()))
 }
 
-/// Builds in `<dir>.tmp<pid>` and renames it into place, so concurrent
-/// runs never see half a build.
+/// Builds `dir/product` once (the shared `buildcache` helper: a work
+/// directory per build, moved into place atomically), so concurrent runs
+/// (test threads, two `cancosim bench`) never see or break half a build.
 fn cached_build(
     dir: &Path,
     product: &str,
     build: impl FnOnce(&Path) -> Result<(), BenchError>,
 ) -> Result<Built, BenchError> {
-    let path = dir.join(product);
-    if path.exists() {
-        return Ok(Built {
-            path,
-            cached: true,
-            build_s: 0.0,
-        });
-    }
-    let tmp = dir.with_extension(format!("tmp{}", std::process::id()));
-    let _ = std::fs::remove_dir_all(&tmp);
-    std::fs::create_dir_all(&tmp).map_err(|e| BenchError::Io {
-        what: format!("creating {}", tmp.display()),
-        error: e,
-    })?;
     let t0 = Instant::now();
-    build(&tmp)?;
-    let build_s = t0.elapsed().as_secs_f64();
-    if std::fs::rename(&tmp, dir).is_err() {
-        // Someone else finished first: use theirs.
-        let _ = std::fs::remove_dir_all(&tmp);
-    }
-    if !path.exists() {
-        return Err(BenchError::Build {
+    let entry = buildcache::build_once(dir, product, build).map_err(|e| match e {
+        buildcache::Error::Build(e) => e,
+        io @ buildcache::Error::Io { .. } => BenchError::Build {
             what: product.into(),
-            log: format!("{} missing after the build", path.display()),
-        });
-    }
+            log: io.to_string(),
+        },
+    })?;
+    let cached = entry.origin == buildcache::Origin::Cached;
     Ok(Built {
-        path,
-        cached: false,
-        build_s,
+        path: entry.product,
+        cached,
+        build_s: if cached { 0.0 } else { t0.elapsed().as_secs_f64() },
     })
 }
 

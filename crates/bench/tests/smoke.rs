@@ -89,3 +89,27 @@ fn repeated_rows_keep_their_least_cpu_time_and_the_same_workload() {
     assert_eq!(BenchOptions { repeat: 0, ..BenchOptions::smoke() }.effective().repeat, 1);
     assert_eq!(BenchOptions::default().repeat, 3);
 }
+
+/// Two threads compile the Icarus bench into one empty cache at once (the
+/// raw harness shares the same `cached_build`; issue 18): both get the one
+/// complete image, and nothing else is left in the cache.
+#[test]
+fn two_threads_build_one_bench_image_at_once_on_an_empty_cache() {
+    let root = std::path::PathBuf::from(concat!(env!("CARGO_MANIFEST_DIR"), "/../.."));
+    let work = std::path::PathBuf::from(env!("CARGO_TARGET_TMPDIR")).join(format!("bench-race-{}", std::process::id()));
+    let _ = std::fs::remove_dir_all(&work);
+    let built: Vec<_> = std::thread::scope(|s| {
+        let hs: Vec<_> = (0..2).map(|_| s.spawn(|| bench::external::build_icarus(&root, &work))).collect();
+        hs.into_iter().map(|h| h.join().unwrap()).collect()
+    });
+    for b in &built {
+        let b = b.as_ref().unwrap_or_else(|e| panic!("{e}"));
+        assert!(b.path.is_file(), "{}", b.path.display());
+    }
+    assert!(built.iter().any(|b| b.as_ref().is_ok_and(|b| !b.cached)), "the cache was empty: someone built");
+    let entries: Vec<_> = std::fs::read_dir(&work).unwrap().map(|e| e.unwrap().file_name()).collect();
+    assert_eq!(entries.len(), 1, "one entry, no work directory left: {entries:?}");
+    let r = bench::external::run_icarus(&built[0].as_ref().unwrap().path, 1, 1).unwrap_or_else(|e| panic!("{e}"));
+    assert_eq!((r.frames, r.errors), (1, 0));
+    let _ = std::fs::remove_dir_all(&work);
+}

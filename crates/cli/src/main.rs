@@ -1,7 +1,8 @@
 //! `cancosim`: the command line of the SJA1000 verification kit.
 //!
 //! Every subcommand prints a short, plain result and exits non-zero on a
-//! failure, so it can sit in a CI job or a regression script.
+//! failure, so it can sit in a CI job or a regression script: 1 when a
+//! check failed, 2 for bad usage or input (clap's own code for usage).
 
 use clap::{Parser, Subcommand};
 
@@ -9,7 +10,13 @@ mod cmd;
 
 /// Co-simulate SJA1000-compatible CAN cores against a golden model, and explain why they fail.
 #[derive(Parser)]
-#[command(name = "cancosim", version, about, long_about = None)]
+#[command(
+    name = "cancosim",
+    version,
+    about,
+    long_about = None,
+    after_help = "Exit codes: 0 passed; 1 a check failed (a scenario failed or diverged, a setting has problems); 2 bad usage or input (arguments, files, an --external directory without the core), reported once before anything runs"
+)]
 struct Cli {
     #[command(subcommand)]
     command: Command,
@@ -18,7 +25,7 @@ struct Cli {
 #[derive(Subcommand)]
 enum Command {
     /// Compute or check SJA1000 bit timing (BTR0/BTR1).
-    #[command(after_help = "Examples:\n  cancosim bittiming --clock 24MHz --rate 500k\n  cancosim bittiming --clock 16MHz --rate 125k --btr0 0x03 --btr1 0xBB")]
+    #[command(after_help = "Examples:\n  cancosim bittiming --clock 24MHz --rate 500k            (registers for a rate)\n  cancosim bittiming --clock 16MHz --btr0 0x03 --btr1 0xBB  (the rate those registers give)\n  cancosim bittiming --clock 16MHz --rate 125k --btr0 0x03 --btr1 0xBB  (their deviation from 125k)")]
     Bittiming(cmd::bittiming::Args),
     /// Annotate a bit list or a VCD signal with CAN fields, frames and errors.
     #[command(after_help = "Examples:\n  cancosim decode --bits 11111111111010100101001000001010101010001...\n  cancosim decode out/de2-thesis.vcd --signal tx_o --clock 24MHz --btr0 0x41 --btr1 0x25")]

@@ -14,9 +14,10 @@ fn root() -> PathBuf {
     PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("../..")
 }
 
-/// A per-test scratch directory (tests run in parallel).
+/// A per-test, per-process scratch directory (tests run in parallel, and
+/// two `cargo test` runs may share a target directory).
 fn scratch(name: &str) -> PathBuf {
-    let d = PathBuf::from(env!("CARGO_TARGET_TMPDIR")).join("cli-bad-input").join(name);
+    let d = PathBuf::from(env!("CARGO_TARGET_TMPDIR")).join("cli-bad-input").join(format!("{name}-{}", std::process::id()));
     let _ = std::fs::remove_dir_all(&d);
     std::fs::create_dir_all(&d).unwrap();
     d
@@ -207,9 +208,18 @@ fn decode_rejects_what_is_not_a_bit() {
 }
 
 /// An external core in a scratch directory.
+/// A core's directory at a fixed path (the run-time build cache is keyed
+/// on the sources' paths too, so only the first run verilates it), written
+/// aside and renamed into place: another test process may be reading it.
 fn external_core(name: &str, verilog: &str) -> PathBuf {
-    let dir = scratch(name);
-    std::fs::write(dir.join(format!("{name}.v")), verilog).unwrap();
+    let dir = PathBuf::from(env!("CARGO_TARGET_TMPDIR")).join("cli-bad-input/cores").join(name);
+    std::fs::create_dir_all(&dir).unwrap();
+    let file = dir.join(format!("{name}.v"));
+    if std::fs::read_to_string(&file).ok().as_deref() != Some(verilog) {
+        let aside = dir.join(format!(".{name}.v.{}", std::process::id()));
+        std::fs::write(&aside, verilog).unwrap();
+        std::fs::rename(&aside, &file).unwrap();
+    }
     dir
 }
 
@@ -285,4 +295,49 @@ fn a_bad_scenario_in_a_regression_list_does_not_stop_the_others() {
     let bad = row("typo");
     assert!(!bad.to_lowercase().contains("pass"), "{stdout}");
     assert!(stdout.contains("host_mzh"), "the error names the key:\n{stdout}");
+}
+
+/// `regress --external NAME=DIR` with a DIR that cannot hold the core: one
+/// line on stderr naming the problem, exit 2 (bad input), before any
+/// scenario runs (it used to print the same error once per scenario).
+fn external_rejected(args: &[&str]) -> String {
+    let out = cancosim(args, Duration::from_secs(60));
+    let (stdout, stderr) = (String::from_utf8_lossy(&out.stdout), String::from_utf8_lossy(&out.stderr));
+    assert_eq!(out.status.code(), Some(2), "bad input is exit 2: {stdout}{stderr}");
+    let lines: Vec<&str> = stderr.lines().filter(|l| !l.trim().is_empty()).collect();
+    assert_eq!(lines.len(), 1, "one line: {stderr}");
+    assert!(stdout.trim().is_empty(), "no scenario ran: {stdout}");
+    lines[0].to_string()
+}
+
+#[test]
+fn regress_with_a_bad_external_directory_fails_once_before_any_scenario() {
+    let line = external_rejected(&["regress", "--external", "x=/nonexistent"]);
+    assert!(line.contains("--external x=/nonexistent") && line.contains("cannot be read"), "{line}");
+
+    let empty = scratch("external-empty");
+    std::fs::write(empty.join("README"), "no HDL here").unwrap();
+    let arg = format!("up={}", empty.display());
+    let line = external_rejected(&["regress", "--external", &arg]);
+    assert!(line.contains("holds no *.v or *.sv files"), "{line}");
+
+    let other = scratch("external-other-top");
+    std::fs::write(other.join("core.v"), "module can_top_pio(input a);\nendmodule\n").unwrap();
+    let arg = format!("up={}", other.display());
+    let line = external_rejected(&["regress", "--external", &arg]);
+    assert!(line.contains("no `module can_top`") && line.contains("--top"), "{line}");
+
+    let line = external_rejected(&["run", "tb/de2-thesis.toml", "--external", "/nonexistent"]);
+    assert!(line.contains("/nonexistent") && line.contains("cannot be read"), "{line}");
+}
+
+#[test]
+fn a_failed_scenario_is_exit_1_and_bad_input_exit_2() {
+    let out = cancosim(&["run", "tb/de2-thesis.toml", "--dut", "model", "--max-bits", "10"], Duration::from_secs(60));
+    let code = out.status.code();
+    let all = format!("{}{}", String::from_utf8_lossy(&out.stdout), String::from_utf8_lossy(&out.stderr));
+    assert!(all.contains("scenario: FAIL"), "cut short, the thesis scenario fails: {all}");
+    assert_eq!(code, Some(1), "{all}");
+    let out = cancosim(&["run", "tb/no-such-scenario.toml"], Duration::from_secs(20));
+    assert_eq!(out.status.code(), Some(2));
 }

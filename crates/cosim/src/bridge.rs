@@ -49,6 +49,14 @@ pub enum BridgeError {
         /// Tops that exist.
         available: String,
     },
+    /// The core's directory cannot hold the core ([`ExternalCore::check`]).
+    #[error("external core {dir}: {problem}")]
+    BadSources {
+        /// Source directory.
+        dir: String,
+        /// What is wrong, in one line.
+        problem: String,
+    },
     /// Verilator rejected the sources.
     #[error("Verilator could not build top `{top}` from {dir}; Verilator said:\n{message}")]
     Verilate {
@@ -540,6 +548,13 @@ fn fnv1a(h: &mut u64, bytes: &[u8]) {
     }
 }
 
+/// True if `text` has the keyword `module` followed by the name `top`.
+fn declares_module(text: &str, top: &str) -> bool {
+    let ident = |c: char| c.is_ascii_alphanumeric() || c == '_' || c == '$';
+    let words: Vec<&str> = text.split(|c: char| !ident(c)).filter(|w| !w.is_empty()).collect();
+    words.windows(2).any(|w| (w[0] == "module" || w[0] == "macromodule") && w[1] == top)
+}
+
 /// Where run-time builds are cached: `$COSIM_CACHE_DIR`, else
 /// `$XDG_CACHE_HOME/sja1000-cosim`, else `~/.cache/sja1000-cosim`.
 pub fn cache_dir() -> PathBuf {
@@ -611,6 +626,32 @@ impl ExternalCore {
             });
         }
         Ok(v)
+    }
+
+    /// Cheap checks before any build (for bad command-line input: one
+    /// clear line, not one failed build per scenario): the directory
+    /// exists, holds `*.v`/`*.sv` files (or the given files exist), and one
+    /// of them declares `module <top>` (a textual scan, comments not parsed).
+    pub fn check(&self) -> Result<(), BridgeError> {
+        let bad = |problem: String| BridgeError::BadSources { dir: self.dir.display().to_string(), problem };
+        match std::fs::metadata(&self.dir) {
+            Ok(m) if m.is_dir() => {}
+            Ok(_) => return Err(bad("is not a directory".into())),
+            Err(e) => return Err(bad(format!("cannot be read ({e})"))),
+        }
+        let sources = self.sources().map_err(|_| bad("holds no *.v or *.sv files".into()))?;
+        let mut texts = Vec::new();
+        for f in &sources {
+            texts.push(std::fs::read(f).map_err(|e| bad(format!("{}: cannot be read ({e})", f.display())))?);
+        }
+        if !texts.iter().any(|t| declares_module(&String::from_utf8_lossy(t), &self.top)) {
+            return Err(bad(format!(
+                "no `module {}` in its {} source file(s); give the top module with --top",
+                self.top,
+                sources.len()
+            )));
+        }
+        Ok(())
     }
 
     fn verilator_args(&self, sources: &[PathBuf]) -> Vec<String> {
@@ -690,43 +731,39 @@ impl ExternalCore {
         Ok(format!("{}-{h:016x}", self.top))
     }
 
-    /// Verilates, compiles and loads the core (or loads it from the cache).
+    /// Verilates, compiles and loads the core (or loads it from the cache,
+    /// [`cache_dir`]).
     pub fn build(&self) -> Result<CompiledCore, BridgeError> {
-        let sources = self.sources()?;
-        let key = self.cache_key(&sources)?;
-        let dir = cache_dir().join(&key);
-        let lib_path = dir.join(format!("libcosim_{}.so", self.top));
-        if !lib_path.exists() {
-            // One build directory per build, also between threads of one
-            // process (tests run in parallel): two makes in one directory
-            // link each other's half-written objects.
-            static BUILD_SEQ: AtomicU64 = AtomicU64::new(0);
-            let tmp = dir.with_extension(format!(
-                "tmp{}-{}",
-                std::process::id(),
-                BUILD_SEQ.fetch_add(1, Ordering::Relaxed)
-            ));
-            let built = self.build_into(&sources, &tmp, &dir, &lib_path);
-            if built.is_err() {
-                // Keep no half build (the error says what went wrong).
-                let _ = std::fs::remove_dir_all(&tmp);
-            }
-            built?;
-        }
-        self.load(&lib_path)
+        self.build_in(&cache_dir())
     }
 
-    /// Builds in `tmp`, then moves it to `dir`.
-    fn build_into(
-        &self,
-        sources: &[PathBuf],
-        tmp: &Path,
-        dir: &Path,
-        lib_path: &Path,
-    ) -> Result<(), BridgeError> {
+    /// [`ExternalCore::build`] with the cache in `cache`.
+    pub fn build_in(&self, cache: &Path) -> Result<CompiledCore, BridgeError> {
+        let sources = self.sources()?;
+        let key = self.cache_key(&sources)?;
+        let dir = cache.join(&key);
+        let lib_name = format!("libcosim_{}.so", self.top);
+        // One work directory per build, also between threads of one process
+        // (regress workers, parallel tests): two makes in one directory link
+        // each other's half-written objects. The first complete build moved
+        // into place wins; a slower one uses it.
+        let entry = buildcache::build_once(&dir, &lib_name, |work| {
+            self.build_into(&sources, work, &lib_name)
+        })
+        .map_err(|e| match e {
+            buildcache::Error::Build(e) => e,
+            buildcache::Error::Io { what, source } => BridgeError::Io {
+                context: what,
+                source,
+            },
+        })?;
+        self.load(&entry.product)
+    }
+
+    /// Verilates and links the shared library `lib_name` in `tmp` (an empty
+    /// directory of this build's own).
+    fn build_into(&self, sources: &[PathBuf], tmp: &Path, lib_name: &str) -> Result<(), BridgeError> {
         let top = &self.top;
-        let _ = std::fs::remove_dir_all(tmp);
-        std::fs::create_dir_all(tmp).map_err(io_err(format!("creating {}", tmp.display())))?;
         let which = Command::new("verilator").arg("--version").output();
         if which.is_err() {
             return Err(BridgeError::Verilate { top: top.clone(), dir: self.dir.display().to_string(), message: "`verilator` was not found: install Verilator (apt-get install verilator) or run scripts/setup.sh".into() });
@@ -791,7 +828,7 @@ impl ExternalCore {
             Command::new(cxx)
                 .current_dir(tmp)
                 .args(["-shared", "-Wl,-Bsymbolic", "-o"])
-                .arg(lib_path.file_name().unwrap())
+                .arg(lib_name)
                 .arg("cosim_shim.o")
                 .arg(format!("{prefix}__ALL.a"))
                 .args(&globals)
@@ -799,15 +836,7 @@ impl ExternalCore {
             top,
             "link",
         )?;
-        match std::fs::rename(tmp, dir) {
-            Ok(()) => Ok(()),
-            // Another process or thread built it first: use theirs.
-            Err(_) if lib_path.exists() => {
-                let _ = std::fs::remove_dir_all(tmp);
-                Ok(())
-            }
-            Err(e) => Err(io_err(format!("moving the build to {}", dir.display()))(e)),
-        }
+        Ok(())
     }
 
     fn load(&self, lib_path: &Path) -> Result<CompiledCore, BridgeError> {
@@ -851,5 +880,18 @@ impl ExternalCore {
             top: self.top.clone(),
             path: lib_path.to_path_buf(),
         })
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::declares_module;
+
+    #[test]
+    fn module_scan_finds_the_top_by_whole_name_only() {
+        assert!(declares_module("// x\nmodule can_top (\n input a);", "can_top"));
+        assert!(declares_module("module\n  can_top#(parameter P=1)(a);", "can_top"));
+        assert!(!declares_module("module can_top_pio (a);", "can_top"));
+        assert!(!declares_module("can_top u0 (.a(a));", "can_top"), "an instance is not a declaration");
     }
 }

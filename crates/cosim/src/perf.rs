@@ -55,12 +55,16 @@ pub fn cpp_baseline(
     host_hz: u64,
     can_hz: u64,
 ) -> Result<Baseline, BridgeError> {
-    let dir = std::env::temp_dir().join(format!("cosim-cpp-{}-{}", core.top, std::process::id()));
-    let _ = std::fs::remove_dir_all(&dir);
-    std::fs::create_dir_all(&dir).map_err(|e| BridgeError::Io {
-        context: "creating the baseline dir".into(),
-        source: e,
-    })?;
+    // A scratch directory of this call's own (two baselines of one top may
+    // run at once: test threads share the pid); removed on every return.
+    let scratch = tempfile::Builder::new()
+        .prefix(&format!("cosim-cpp-{}-", core.top))
+        .tempdir()
+        .map_err(|e| BridgeError::Io {
+            context: "creating the baseline dir".into(),
+            source: e,
+        })?;
+    let dir = scratch.path();
     let can_half = 1_000_000_000_000 / (2 * can_hz);
     let host_half = 1_000_000_000_000 / (2 * host_hz);
     let src = shimgen::gen_cpp_harness(
@@ -153,6 +157,5 @@ pub fn cpp_baseline(
         .next()
         .and_then(|s| s.parse().ok())
         .ok_or_else(parse_err)?;
-    let _ = std::fs::remove_dir_all(&dir);
     Ok(Baseline { cycles, seconds })
 }

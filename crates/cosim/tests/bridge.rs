@@ -144,3 +144,27 @@ fn models_run_on_their_own_threads_from_one_build() {
     let got: Vec<u64> = handles.into_iter().map(|h| h.join().unwrap()).collect();
     assert_eq!(got, vec![10, 11]);
 }
+
+/// Two threads build one external core at once into an empty cache (regress
+/// workers do, issue 18): both load a working model, and the cache holds one
+/// entry and no work directory.
+#[test]
+fn two_threads_build_one_external_core_at_once_on_an_empty_cache() {
+    let scratch = tempfile::tempdir().unwrap();
+    let (src, cache) = (scratch.path().join("src"), scratch.path().join("cache"));
+    std::fs::create_dir_all(&src).unwrap();
+    let fixture = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("../../tb/fixtures/cosim_echo.v");
+    std::fs::copy(fixture, src.join("cosim_echo.v")).unwrap();
+    let core = ExternalCore { dir: src, top: "cosim_echo".into(), ..Default::default() };
+    let built: Vec<_> = std::thread::scope(|s| {
+        let hs: Vec<_> = (0..2).map(|_| s.spawn(|| core.build_in(&cache))).collect();
+        hs.into_iter().map(|h| h.join().unwrap()).collect()
+    });
+    for b in built {
+        let c = b.unwrap_or_else(|e| panic!("a concurrent build failed: {e}"));
+        let m = c.instantiate(false);
+        assert!(m.port("wb_adr_i", None, "").is_ok(), "a working model from {}", c.path.display());
+    }
+    let entries: Vec<_> = std::fs::read_dir(&cache).unwrap().map(|e| e.unwrap().file_name()).collect();
+    assert_eq!(entries.len(), 1, "one entry, no work directory left: {entries:?}");
+}

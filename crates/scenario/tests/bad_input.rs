@@ -115,8 +115,9 @@ fn reads_at_out_of_range_addresses() {
     assert!(e.to_string().contains("PeliCAN"), "{e}");
 }
 
+/// Per test and per process: two `cargo test` runs may share a target dir.
 fn scratch(name: &str) -> PathBuf {
-    let d = PathBuf::from(env!("CARGO_TARGET_TMPDIR")).join("scenario-bad-input").join(name);
+    let d = PathBuf::from(env!("CARGO_TARGET_TMPDIR")).join("scenario-bad-input").join(format!("{name}-{}", std::process::id()));
     let _ = std::fs::remove_dir_all(&d);
     std::fs::create_dir_all(&d).unwrap();
     d

@@ -58,6 +58,7 @@ pub fn run(a: Args) -> anyhow::Result<i32> {
     if duts.is_empty() {
         duts.push(DutSpec::rtl());
     }
+    check_externals(&duts)?;
     let opts = RegressOptions {
         jobs: a.jobs,
         shard: a.shard,
@@ -85,4 +86,25 @@ pub fn run(a: Args) -> anyhow::Result<i32> {
         println!("JUnit: {}", p.display());
     }
     Ok(report.exit_code())
+}
+
+/// Bad `--external` input fails here, once, before the first scenario (an
+/// error: exit 2), not once per scenario. Building the core here also hands
+/// every worker a warm cache instead of one build per worker.
+fn check_externals(duts: &[DutSpec]) -> anyhow::Result<()> {
+    for d in duts {
+        if let scenario::DutKind::External { path, top, defines, includes } = &d.kind {
+            let core = cosim::ExternalCore {
+                dir: path.clone(),
+                top: top.clone(),
+                defines: defines.clone(),
+                include_dirs: includes.clone(),
+                ..Default::default()
+            };
+            let what = || format!("--external {}={}", d.name, path.display());
+            core.check().with_context(what)?;
+            core.build().with_context(what)?;
+        }
+    }
+    Ok(())
 }

@@ -117,6 +117,11 @@ impl HostArgs {
 /// Runs the subcommand: exit 0 when the outcome matches the scenario's `[expect]`.
 pub fn run_cmd(a: Args) -> anyhow::Result<i32> {
     let s = Scenario::load(&a.scenario)?;
+    if let Some(dir) = &a.dut.external {
+        // A directory that cannot hold the core is bad input (exit 2).
+        let core = cosim::ExternalCore { dir: dir.clone(), top: a.dut.top.clone(), ..Default::default() };
+        core.check().with_context(|| format!("--external {}", dir.display()))?;
+    }
     let opts = RunOptions {
         dut: a.dut.spec(),
         vcd: a.vcd.clone(),
