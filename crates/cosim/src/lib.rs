@@ -7,6 +7,7 @@
 #![warn(missing_docs)]
 
 pub mod bitclock;
+pub mod candump;
 pub mod bridge;
 pub mod compare;
 pub mod dut;
