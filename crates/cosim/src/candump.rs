@@ -157,6 +157,10 @@ impl BusLog {
                 id |= classes;
             }
             EventKind::FaultState(s) => {
+                // Bus-off recovery clears both counters, so SR.ES with them.
+                if self.fault == Some(can_engine::FaultState::BusOff) && *s == can_engine::FaultState::ErrorActive {
+                    self.warning = false;
+                }
                 self.fault = Some(*s);
                 let Some(classes) = self.state_change(&mut data, tec, rec) else { return };
                 id |= classes;
