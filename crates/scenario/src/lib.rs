@@ -79,6 +79,7 @@
 #![warn(missing_docs)]
 
 mod format;
+pub mod html;
 pub mod regress;
 pub mod replay;
 pub mod run;
