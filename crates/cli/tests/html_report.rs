@@ -111,7 +111,7 @@ fn the_html_report_renders_every_verdict_with_waveform_and_links() {
     assert!(svg.contains("class=\"marker\"") && svg.contains("BaseId"), "{svg}");
     assert!(sec.contains("<b>Frame:</b>"), "{sec}");
     // Links to files that exist; the candump log reads back.
-    for (label, ext) in [("VCD", "vcd"), ("candump log", "log"), ("run record", "json")] {
+    for (label, ext) in [("VCD", "vcd"), ("GTKWave view", "gtkw"), ("candump log", "log"), ("run record", "json")] {
         let href = format!("runs/tx-deviant.deviant.{ext}");
         assert!(sec.contains(&format!("<a href=\"{href}\">{label}</a>")), "{label}: {sec}");
         assert!(out_dir.join(&href).exists(), "{href}");

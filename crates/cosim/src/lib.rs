@@ -11,6 +11,7 @@ pub mod candump;
 pub mod bridge;
 pub mod compare;
 pub mod dut;
+pub mod gtkw;
 pub mod kernel;
 pub mod model;
 pub mod perf;

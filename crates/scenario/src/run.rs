@@ -516,6 +516,16 @@ pub fn run(s: &Scenario, opts: &RunOptions) -> RunOutcome {
             }
             report = Some(tb.waiver_report());
             bus_log = tb.bus_log().to_vec();
+            if let Some(vcd) = &opts.vcd {
+                // A GTKWave view next to the VCD, on the first divergence.
+                let (btr0, btr1) = s.dut_timing();
+                let cpb = can_proto::timing::BusTiming::from_btr(btr0, btr1).clocks_per_bit() as f64;
+                let bit_ps = (cpb * 1e12 / s.can_hz) as u64;
+                let view = cosim::gtkw::save_file(vcd, r.divergence.as_ref().map(|d| d.time_ps), bit_ps, tb.kernel().now_ps());
+                if let Err(e) = std::fs::write(cosim::gtkw::path_for(vcd), view) {
+                    log::warn!("{}: cannot write the GTKWave view next to {}: {e}", s.name, vcd.display());
+                }
+            }
             r
         }
     };
