@@ -79,7 +79,7 @@ pub struct Args {
     scenario: PathBuf,
     #[command(flatten)]
     dut: DutArgs,
-    /// Write a VCD (DUT ports, model, bus, decoded fields) here.
+    /// Write a VCD (DUT ports, model, bus, decoded fields) here, and a GTKWave view next to it (.gtkw).
     #[arg(long)]
     vcd: Option<PathBuf>,
     /// Save the run record (JSON) for `cancosim diagnose`.
@@ -161,7 +161,7 @@ pub fn run_cmd(a: Args) -> anyhow::Result<i32> {
             println!("{}", r.to_text());
         }
         if let Some(p) = &a.vcd {
-            println!("waveform: {}", p.display());
+            println!("waveform: {} (GTKWave view: {})", p.display(), cosim::gtkw::path_for(p).display());
         }
         if let Some(p) = &a.candump {
             println!("bus log: {} ({} line(s), candump -l format)", p.display(), out.bus_log.len());
