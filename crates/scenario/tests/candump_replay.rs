@@ -103,8 +103,7 @@ fn gaps(f: &[(u64, CanFrame)]) -> Vec<f64> {
 #[test]
 fn a_run_replayed_from_its_log_gives_the_same_frames_and_gaps() {
     let (log, want) = parking_log();
-    // Back to back at the same bit rate: every frame must wait for the one
-    // before it (dropped before node frames waited for a free TX buffer).
+    // Back to back at the same bit rate, as logged.
     let got = replayed(&format!("{{ file = \"{}\", start_bit = 100 }}", log.display()), 3000);
     let ids = |f: &[(u64, CanFrame)]| f.iter().map(|x| x.1).collect::<Vec<_>>();
     assert_eq!(ids(&got), ids(&want));
@@ -161,4 +160,19 @@ fn a_bad_log_is_refused_with_both_places() {
     std::fs::write(&p, "(0000000001.000000) can0 20000240#000000000000FF00\n").unwrap();
     let e = Scenario::parse(&text, "inline.toml").unwrap_err().to_string();
     assert!(e.contains("no data or remote frame to replay"), "{e}");
+}
+
+#[test]
+fn frames_logged_at_one_instant_are_all_sent_in_order() {
+    // Three frames with one timestamp (a capture with coarse timestamps):
+    // the node sends them back to back; before node frames waited for a
+    // free TX buffer, the second and third were dropped.
+    let p = tmp("burst.log");
+    std::fs::write(&p, "(0000000002.000000) can0 101#01\n(0000000002.000000) can0 102#02\n(0000000002.000000) can0 103#03\n").unwrap();
+    let got = replayed(&format!("{{ file = \"{}\", start_bit = 100 }}", p.display()), 600);
+    let ids: Vec<u32> = got.iter().map(|(_, f)| can_proto::FrameTrait::id(f)).map(|id| match id {
+        can_proto::Id::Standard(s) => u32::from(s.as_raw()),
+        can_proto::Id::Extended(e) => e.as_raw(),
+    }).collect();
+    assert_eq!(ids, [0x101, 0x102, 0x103]);
 }
