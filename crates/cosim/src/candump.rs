@@ -347,7 +347,7 @@ pub fn parse_frame(text: &str) -> Result<LogKind, String> {
 fn parse_bytes(s: &str) -> Result<Vec<u8>, String> {
     // can-utils accepts `.` between bytes.
     let s: String = s.chars().filter(|c| *c != '.').collect();
-    if s.len() % 2 != 0 {
+    if s.len() & 1 == 1 {
         return Err(format!("`{s}`: data is hex byte pairs (odd number of digits)"));
     }
     (0..s.len()).step_by(2).map(|i| hex_u8(&s[i..i + 2]).ok_or_else(|| format!("`{}`: not a hex byte", &s[i..i + 2]))).collect()

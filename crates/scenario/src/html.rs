@@ -52,6 +52,9 @@ pub fn rerun_failures(report: &RegressReport, scenarios: &[Scenario], duts: &[Du
         // first divergence wherever the run stopped.
         let mut s = s.clone();
         s.keep_bits = 0;
+        // `..Default::default()` on purpose: options added later (a
+        // profile) keep their defaults here.
+        #[allow(clippy::needless_update)]
         let o = RunOptions {
             dut: Some(d.clone()),
             vcd: Some(vcd.clone()),
@@ -215,6 +218,9 @@ fn divergence_html(h: &mut String, o: &RunOutcome) {
     h.push_str(&frame_html(bits, pos));
 }
 
+/// A waveform row: its name and the level it draws.
+type Row = (&'static str, fn(&BusBit) -> bool);
+
 /// An SVG of the bits around `bits[pos]`: bus, DUT tx, model tx, DUT rx,
 /// the field of each bit, the divergence marked.
 pub fn waveform_svg(bits: &[BusBit], pos: usize) -> String {
@@ -227,7 +233,7 @@ pub fn waveform_svg(bits: &[BusBit], pos: usize) -> String {
     let from = pos.saturating_sub(BEFORE);
     let to = (pos + AFTER + 1).min(bits.len());
     let win = &bits[from..to];
-    let rows: [(&str, fn(&BusBit) -> bool); 4] =
+    let rows: [Row; 4] =
         [("bus", |b| b.bus), ("DUT tx", |b| b.dut_tx), ("model tx", |b| b.model_tx), ("DUT rx", |b| b.dut_rx)];
     let width = LEFT + win.len() * W + 10;
     let height = TOP + rows.len() * ROW + 10;
