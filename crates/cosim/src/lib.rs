@@ -7,9 +7,11 @@
 #![warn(missing_docs)]
 
 pub mod bitclock;
+pub mod candump;
 pub mod bridge;
 pub mod compare;
 pub mod dut;
+pub mod gtkw;
 pub mod kernel;
 pub mod model;
 pub mod perf;

@@ -365,6 +365,8 @@ pub struct Testbench {
     batch_out: Vec<u8>,
     /// Times of a batch's instants.
     batch_times: Vec<u64>,
+    /// Frames on the bus and the DUT's error frames, for `--candump`.
+    bus_log: crate::candump::BusLog,
 }
 
 /// Instants per batch (see `Testbench::run_batch`).
@@ -594,6 +596,7 @@ impl Testbench {
             batch_levels: Vec::new(),
             batch_out: Vec::new(),
             batch_times: Vec::new(),
+            bus_log: crate::candump::BusLog::new(),
         };
         tb.dut.set_reset(true);
         tb.dut.set_rx(RECESSIVE);
@@ -611,6 +614,12 @@ impl Testbench {
     /// that, or to measure the difference).
     pub fn set_batching(&mut self, on: bool) {
         self.batching = on;
+    }
+
+    /// The run's bus log so far: frames completed on the bus and the error
+    /// frames the DUT's Linux driver would raise (see [`crate::candump`]).
+    pub fn bus_log(&self) -> &[crate::candump::LogEntry] {
+        self.bus_log.entries()
     }
 
     /// The DUT's description.
@@ -1131,18 +1140,23 @@ impl Testbench {
     #[inline(never)]
     fn sample_point(
         &mut self,
+        t_ps: u64,
         level: bool,
         bit: u64,
         pins: CanPins,
         view: Option<crate::compare::RefView>,
     ) {
         for e in self.decoder.push(level) {
-            if let DecodeEvent::FieldStart { field, .. } = e {
-                self.field = Some(field);
-                if field == Field::Sof {
-                    self.frame += 1;
-                    self.sof_bit = bit - 1;
+            match e {
+                DecodeEvent::FieldStart { field, .. } => {
+                    self.field = Some(field);
+                    if field == Field::Sof {
+                        self.frame += 1;
+                        self.sof_bit = bit - 1;
+                    }
                 }
+                DecodeEvent::Frame(d) => self.bus_log.frame(t_ps, d.frame),
+                _ => {}
             }
         }
         if !self.stopped {
@@ -1173,7 +1187,7 @@ impl Testbench {
     /// The reference's engine events of this clock into the record (part of
     /// [`Testbench::can_edge`], out of line: rare).
     #[inline(never)]
-    fn reference_events(&mut self, bit: u64) {
+    fn reference_events(&mut self, t_ps: u64, bit: u64) {
         let Some(r) = &mut self.reference else {
             return;
         };
@@ -1196,6 +1210,7 @@ impl Testbench {
                         bus_off: tec > 255,
                     });
                 }
+                self.bus_log.event(t_ps, &k, counters);
                 let mut e = EngineEvent::new(bit, Side::Model, k);
                 if let Some((tec, rec)) = counters {
                     e.tec = Some(tec);
@@ -1203,6 +1218,10 @@ impl Testbench {
                 }
                 self.record.events.push(e);
             }
+            // SR.ES (error warning) for the bus log's state frames: the
+            // reference's journal has no warning event of its own.
+            let es = r.peek(crate::compare::SR_ADDR) & 0x40 != 0;
+            self.bus_log.event(t_ps, &diagnose::EventKind::ErrorWarning(es), counters);
         }
     }
 
@@ -1220,10 +1239,10 @@ impl Testbench {
         };
         let bit = self.bitclock.bits();
         if sample {
-            self.sample_point(level, bit, pins, view);
+            self.sample_point(t_ps, level, bit, pins, view);
         }
         if view.is_some_and(|v| v.events) {
-            self.reference_events(bit);
+            self.reference_events(t_ps, bit);
         }
         if let (Some(c), Some(v)) = (&mut self.comparator, &view)
             && !self.stopped

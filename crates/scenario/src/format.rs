@@ -161,6 +161,23 @@ pub struct RawNode {
     pub listen_only: bool,
     #[serde(default, rename = "send")]
     pub traffic: Vec<Spanned<RawFrame>>,
+    /// Frames of a candump log sent as this node's traffic.
+    pub replay: Option<RawReplay>,
+}
+
+/// `replay = { file = "capture.log", bit_rate = 500000, start_bit = 100 }`.
+#[derive(Debug, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct RawReplay {
+    /// candump log, relative to the scenario file.
+    pub file: String,
+    /// Bit rate the log was captured at (its gaps are kept in bit times);
+    /// default: the node's own bit rate (gaps kept in seconds).
+    pub bit_rate: Option<u32>,
+    /// Bit time of the log's first frame (default 0).
+    pub start_bit: Option<i64>,
+    /// Replay only the lines of this interface (default: every line).
+    pub iface: Option<String>,
 }
 
 /// One `[[fault]]`.

@@ -57,6 +57,9 @@
 //! name = "acker"; btr0 = 0x41; btr1 = 0x25; mode = "basic"; acr = [0xFF]; amr = [0xFF]
 //! listen_only = false; can_mhz = 24.0
 //! send = [{ id = 0x0F, data = [0x0F], at_bit = 100 }]
+//! # and/or a candump log (`candump -l`) as its traffic, gaps kept: in bit
+//! # times at the capture's bit_rate, else in seconds at the node's rate
+//! replay = { file = "captures/x.log", bit_rate = 500000, start_bit = 100, iface = "can0" }
 //!
 //! [[fault]]
 //! kind = "flip"       # | "stuck-dominant" | "stuck-recessive" | "glitch"
@@ -76,7 +79,9 @@
 #![warn(missing_docs)]
 
 mod format;
+pub mod html;
 pub mod regress;
+pub mod replay;
 pub mod run;
 
 pub use regress::{RegressOptions, RegressReport, regress};
@@ -845,6 +850,21 @@ fn build(ctx: &Ctx, raw: RawScenario, file: &Path) -> Result<Scenario, ScenarioE
             let f = f.into_inner();
             let fr = frame(ctx, &fspan, &format!("{p}.send[{}]", j + 1), &f)?;
             traffic.push(FrameSpec { frame: fr, at_bit: f.at_bit.unwrap_or(0).max(0) as u64 });
+        }
+        if let Some(r) = &n.replay {
+            let rate = match r.bit_rate {
+                Some(0) => return Err(ctx.err_key(&span, "replay", &format!("{p}.replay.bit_rate"), "a bit rate must be positive")),
+                Some(b) => b as f64,
+                None => BusTiming::from_btr(btr0, btr1).bit_rate(node_hz),
+            };
+            let log = file.parent().unwrap_or(Path::new("")).join(&r.file);
+            let start = r.start_bit.unwrap_or(0).max(0) as u64;
+            let (frames, skipped) = replay::traffic(&log, rate, start, r.iface.as_deref())
+                .map_err(|e| ctx.err_key(&span, "replay", &format!("{p}.replay"), e))?;
+            if skipped > 0 {
+                warnings.push(format!("{p}.replay: {skipped} error frame(s) in {} not replayed (a node sends data and remote frames only)", log.display()));
+            }
+            traffic.extend(frames);
         }
         if nodes.iter().any(|x: &NodeSpec| x.name == n.name) {
             return Err(ctx.err_key(&span, "name", &format!("{p}.name"), format!("node name `{}` is used twice", n.name)));

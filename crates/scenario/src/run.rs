@@ -100,6 +100,9 @@ pub struct RunOutcome {
     /// Not run, and why: the scenario's host wiring is its point
     /// (`[host] fixed`) and a host override was asked for. Counts as passed.
     pub skipped: Option<String>,
+    /// The run's bus log (frames, the DUT's error frames), for `--candump`
+    /// ([`cosim::candump::write_log`]).
+    pub bus_log: Vec<cosim::candump::LogEntry>,
 }
 
 /// A level forced from a bit of a frame on, for `bits` bit times (a
@@ -368,17 +371,12 @@ fn play(tb: &mut Testbench, s: &Scenario, traffic: &mut Vec<(u64, usize, can_pro
     Ok(())
 }
 
-/// Requests transmission on model nodes whose time has come.
+/// Requests transmission on model nodes whose time has come. A frame whose
+/// node still holds an earlier one (TX buffer locked) waits for it, so
+/// back-to-back frames (a replayed log) are sent in order, none dropped.
 fn fire_traffic(tb: &mut Testbench, traffic: &mut Vec<(u64, usize, can_proto::CanFrame)>) {
     let now = tb.bits();
-    traffic.retain(|(at, node, frame)| {
-        if *at <= now {
-            let _ = sja1000::host::transmit(tb.bus_mut().node_mut(*node), frame, 0x01);
-            false
-        } else {
-            true
-        }
-    });
+    traffic.retain(|(at, node, frame)| *at > now || sja1000::host::transmit(tb.bus_mut().node_mut(*node), frame, 0x01).is_err());
 }
 
 fn advance(tb: &mut Testbench, traffic: &mut Vec<(u64, usize, can_proto::CanFrame)>, n: u64) -> Result<(), TbError> {
@@ -459,6 +457,7 @@ pub fn run(s: &Scenario, opts: &RunOptions) -> RunOutcome {
     // of them sends must reach the others or be explained (error frame,
     // overrun, off the bus); checked at the end of every run.
     let mut lost = None;
+    let mut bus_log = Vec::new();
     let mut record = match tb_config(s, &dut.kind, opts).map_err(|e| e.to_string()).and_then(|c| Testbench::new(c).map_err(|e| e.to_string())) {
         Err(e) => {
             let mut r = RunRecord::new(&s.name, &dut.name);
@@ -516,6 +515,17 @@ pub fn run(s: &Scenario, opts: &RunOptions) -> RunOutcome {
                 lost = tb.bus().check_accounting().err().map(|e| format!("frame accounting between the model nodes: {e} (nodes {})", names.join(", ")));
             }
             report = Some(tb.waiver_report());
+            bus_log = tb.bus_log().to_vec();
+            if let Some(vcd) = &opts.vcd {
+                // A GTKWave view next to the VCD, on the first divergence.
+                let (btr0, btr1) = s.dut_timing();
+                let cpb = can_proto::timing::BusTiming::from_btr(btr0, btr1).clocks_per_bit() as f64;
+                let bit_ps = (cpb * 1e12 / s.can_hz) as u64;
+                let view = cosim::gtkw::save_file(vcd, r.divergence.as_ref().map(|d| d.time_ps), bit_ps, tb.kernel().now_ps());
+                if let Err(e) = std::fs::write(cosim::gtkw::path_for(vcd), view) {
+                    log::warn!("{}: cannot write the GTKWave view next to {}: {e}", s.name, vcd.display());
+                }
+            }
             r
         }
     };
@@ -556,6 +566,7 @@ pub fn run(s: &Scenario, opts: &RunOptions) -> RunOutcome {
         wall: t0.elapsed(),
         waivers: report,
         warnings,
+        bus_log,
     }
 }
 
@@ -575,6 +586,7 @@ fn skipped(s: &Scenario, opts: &RunOptions, why: String) -> RunOutcome {
         waivers: None,
         warnings: Vec::new(),
         skipped: Some(why),
+        bus_log: Vec::new(),
     }
 }
 

@@ -4,8 +4,6 @@
 use std::fmt::Write as _;
 
 use diagnose::{Divergence, DivergenceKind};
-use quick_xml::Writer;
-use quick_xml::events::BytesText;
 use serde::{Deserialize, Serialize};
 
 use crate::file::KindName;
@@ -231,76 +229,47 @@ impl WaiverReport {
         serde_json::to_string_pretty(&out).expect("a WaiverReport always serialises")
     }
 
-    /// A JUnit `<testsuite>`: one `<testcase>` per divergence, failures with
-    /// `<failure>`, waived ones with `<skipped message="waived by ID">`,
-    /// stale-waiver warnings in the suite's `<system-err>`. `suite` names it.
+    /// JUnit XML (written by `quick-junit`): a `<testsuites>` holding one
+    /// `<testsuite>` named `suite` with one `<testcase>` per divergence,
+    /// failures with `<failure>`, waived ones with `<skipped message="waived
+    /// by ID">`, stale-waiver warnings in the suite's `<system-err>`.
     pub fn to_junit(&self, suite: &str) -> String {
-        let c = self.counts();
-        let mut w = Writer::new_with_indent(Vec::new(), b' ', 2);
+        use quick_junit::{NonSuccessKind, Report, TestCase, TestCaseStatus, TestSuite};
         let classname = format!("waivers.{}", self.dut);
-        let (tests, failures, skipped) = (
-            (c.failures + c.waived + c.waived_expectations).to_string(),
-            c.failures.to_string(),
-            (c.waived + c.waived_expectations).to_string(),
-        );
-        w.create_element("testsuite")
-            .with_attributes([
-                ("name", suite),
-                ("tests", tests.as_str()),
-                ("failures", failures.as_str()),
-                ("errors", "0"),
-                ("skipped", skipped.as_str()),
-            ])
-            .write_inner_content(|w| {
-                let mut n = 0;
-                for d in &self.failures {
-                    n += 1;
-                    let name = format!("divergence {n}: {}", short(d));
-                    w.create_element("testcase")
-                        .with_attributes([("classname", classname.as_str()), ("name", name.as_str())])
-                        .write_inner_content(|w| {
-                            w.create_element("failure")
-                                .with_attributes([
-                                    ("message", describe(d).as_str()),
-                                    ("type", KindName::of(d.kind).as_str()),
-                                ])
-                                .write_text_content(BytesText::new(&d.context))?;
-                            Ok(())
-                        })?;
-                }
-                for x in &self.waived {
-                    n += 1;
-                    let name = format!("divergence {n}: {}", short(&x.divergence));
-                    let msg = format!("waived by {}", x.waiver_id);
-                    w.create_element("testcase")
-                        .with_attributes([("classname", classname.as_str()), ("name", name.as_str())])
-                        .write_inner_content(|w| {
-                            w.create_element("skipped").with_attribute(("message", msg.as_str())).write_empty()?;
-                            w.create_element("system-out")
-                                .write_text_content(BytesText::new(&format!("{msg}: {}", describe(&x.divergence))))?;
-                            Ok(())
-                        })?;
-                }
-                for e in &self.waived_expectations {
-                    n += 1;
-                    let name = format!("expectation {n}: step {} {}", e.step, e.what);
-                    let msg = format!("waived by {}", e.waiver_id);
-                    w.create_element("testcase")
-                        .with_attributes([("classname", classname.as_str()), ("name", name.as_str())])
-                        .write_inner_content(|w| {
-                            w.create_element("skipped").with_attribute(("message", msg.as_str())).write_empty()?;
-                            Ok(())
-                        })?;
-                }
-                let warnings = self.warnings();
-                if !warnings.is_empty() {
-                    let text = warnings.iter().map(|x| format!("warning: {x}")).collect::<Vec<_>>().join("\n");
-                    w.create_element("system-err").write_text_content(BytesText::new(&text))?;
-                }
-                Ok(())
-            })
-            .expect("writing XML to a Vec cannot fail");
-        String::from_utf8(w.into_inner()).expect("XML written from str is UTF-8")
+        let mut ts = TestSuite::new(suite);
+        let mut n = 0;
+        for d in &self.failures {
+            n += 1;
+            let mut status = TestCaseStatus::non_success(NonSuccessKind::Failure);
+            status.set_message(describe(d)).set_type(KindName::of(d.kind).as_str()).set_description(d.context.as_str());
+            let mut tc = TestCase::new(format!("divergence {n}: {}", short(d)), status);
+            tc.set_classname(classname.as_str());
+            ts.add_test_case(tc);
+        }
+        for x in &self.waived {
+            n += 1;
+            let msg = format!("waived by {}", x.waiver_id);
+            let mut status = TestCaseStatus::skipped();
+            status.set_message(msg.as_str());
+            let mut tc = TestCase::new(format!("divergence {n}: {}", short(&x.divergence)), status);
+            tc.set_classname(classname.as_str()).set_system_out(format!("{msg}: {}", describe(&x.divergence)));
+            ts.add_test_case(tc);
+        }
+        for e in &self.waived_expectations {
+            n += 1;
+            let mut status = TestCaseStatus::skipped();
+            status.set_message(format!("waived by {}", e.waiver_id));
+            let mut tc = TestCase::new(format!("expectation {n}: step {} {}", e.step, e.what), status);
+            tc.set_classname(classname.as_str());
+            ts.add_test_case(tc);
+        }
+        let warnings = self.warnings();
+        if !warnings.is_empty() {
+            ts.set_system_err(warnings.iter().map(|x| format!("warning: {x}")).collect::<Vec<_>>().join("\n"));
+        }
+        let mut report = Report::new(suite);
+        report.add_test_suite(ts);
+        report.to_string().expect("quick-junit writes a report to a String")
     }
 }
 

@@ -302,6 +302,11 @@ fn junit_keeps_waived_apart_from_failures_and_parses_back() {
     assert_eq!(skip_msgs, ["waived by flag"]);
     assert!(err_text.contains("stale waiver `never`"), "{xml}");
     assert!(xml.contains("a &lt;b&gt; &amp;"), "context escaped: {xml}");
+    // And through quick-junit's own reader: the same suite, cases and counts.
+    let back = quick_junit::Report::deserialize_from_str(&xml).unwrap();
+    let suite = &back.test_suites[0];
+    assert_eq!((suite.name.as_str(), suite.test_cases.len(), suite.failures, suite.skipped), ("de2-loopback", 3, 2, 1));
+    assert!(matches!(&suite.test_cases[2].status, quick_junit::TestCaseStatus::Skipped { message: Some(m), .. } if m.as_str() == "waived by flag"));
 }
 
 #[test]

@@ -30,6 +30,9 @@ pub struct Args {
     /// Write JUnit XML here.
     #[arg(long)]
     junit: Option<PathBuf>,
+    /// Write a self-contained HTML report (DIR/index.html, files of failed runs in DIR/runs/).
+    #[arg(long, value_name = "DIR")]
+    html: Option<PathBuf>,
     /// Override every scenario's run length, in bit times.
     #[arg(long)]
     max_bits: Option<u64>,
@@ -84,6 +87,19 @@ pub fn run(a: Args) -> anyhow::Result<i32> {
     if let Some(p) = &a.junit {
         std::fs::write(p, report.to_junit()).with_context(|| format!("writing {}", p.display()))?;
         println!("JUnit: {}", p.display());
+    }
+    if let Some(dir) = &a.html {
+        // The loadable scenarios again, for the detail runs of failed cells.
+        let mut scenarios = Vec::new();
+        for p in &a.inputs {
+            if p.extension().is_some_and(|e| e == "toml") {
+                scenarios.extend(scenario::Scenario::load(p).ok());
+            } else {
+                scenarios.extend(scenario::load_list_entries(p)?.into_iter().filter_map(|(_, s)| s.ok()));
+            }
+        }
+        let page = scenario::html::write_report(dir, &report, &scenarios, &duts, &opts).with_context(|| format!("writing the HTML report in {}", dir.display()))?;
+        println!("HTML report: {}", page.display());
     }
     Ok(report.exit_code())
 }

@@ -79,12 +79,18 @@ pub struct Args {
     scenario: PathBuf,
     #[command(flatten)]
     dut: DutArgs,
-    /// Write a VCD (DUT ports, model, bus, decoded fields) here.
+    /// Write a VCD (DUT ports, model, bus, decoded fields) here, and a GTKWave view next to it (.gtkw).
     #[arg(long)]
     vcd: Option<PathBuf>,
     /// Save the run record (JSON) for `cancosim diagnose`.
     #[arg(long)]
     record: Option<PathBuf>,
+    /// Write the bus traffic as a candump log (`candump -l` format, timestamps = simulated time).
+    #[arg(long, value_name = "FILE")]
+    candump: Option<PathBuf>,
+    /// Interface name in the candump log.
+    #[arg(long, default_value = "can0", requires = "candump")]
+    candump_iface: String,
     /// Print the diagnosis as JSON instead of text.
     #[arg(long)]
     json: bool,
@@ -139,6 +145,9 @@ pub fn run_cmd(a: Args) -> anyhow::Result<i32> {
         println!("scenario: SKIPPED ({why})");
         return Ok(0);
     }
+    if let Some(p) = &a.candump {
+        std::fs::write(p, cosim::candump::write_log(&out.bus_log, &a.candump_iface)).with_context(|| format!("writing {}", p.display()))?;
+    }
     if let Some(p) = &a.record {
         let json = serde_json::to_string_pretty(&out.record).context("serialising the run record")?;
         std::fs::write(p, json).with_context(|| format!("writing {}", p.display()))?;
@@ -157,7 +166,10 @@ pub fn run_cmd(a: Args) -> anyhow::Result<i32> {
             println!("{}", r.to_text());
         }
         if let Some(p) = &a.vcd {
-            println!("waveform: {}", p.display());
+            println!("waveform: {} (GTKWave view: {})", p.display(), cosim::gtkw::path_for(p).display());
+        }
+        if let Some(p) = &a.candump {
+            println!("bus log: {} ({} line(s), candump -l format)", p.display(), out.bus_log.len());
         }
         if out.passed {
             println!("scenario: PASS (outcome as expected)");
