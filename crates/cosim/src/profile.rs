@@ -14,8 +14,11 @@
 //! write = 3                              #   strictly after the host edge that first
 //! command = 3                            #   presents the access (CMR writes: `command`)
 //! [access.avalon]                        # same keys
-//! [access.pio]                           # same keys; also when the PIO monitor calls a
-//!                                        #   dropped access abandoned (before the latch)
+//! [access.pio]                           # same keys
+//! latch = 1                              # optional, any bus: CAN edges after which the core
+//!                                        #   has committed to the access; a request dropped
+//!                                        #   later is no abandoned transfer for the bus monitor
+//!                                        #   (default: when it takes effect)
 //! [tolerances]                           # CAN clocks, printed in every report
 //! tx-edge = 4                            # tx not compared this close to a model tx edge
 //! sof = 40                               # a SOF from bus idle may lag this much
@@ -114,6 +117,19 @@ impl AccessTiming {
             }
         }
     }
+}
+
+/// The per-bus `latch` entries of a profile: CAN edges after which the
+/// core has committed to an access on the wires (it will perform it even if
+/// the master lets go before the ack). None: when the access takes effect.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub struct Latch {
+    /// Wishbone.
+    pub wishbone: Option<u32>,
+    /// Avalon (through a Wishbone bridge).
+    pub avalon: Option<u32>,
+    /// PIO.
+    pub pio: Option<u32>,
 }
 
 /// A port of the DUT's top: its name, and for the polarity-bearing roles
@@ -234,6 +250,9 @@ pub struct Profile {
     pub avalon: AccessTiming,
     /// When a PIO (bit-banged Wishbone) access takes effect.
     pub pio: AccessTiming,
+    /// When the core has committed to an access, per bus (for the host
+    /// bus monitor: a request dropped later is not abandoned).
+    pub latch: Latch,
     /// The comparator's tolerances for this core.
     pub tolerances: CompareConfig,
     /// Port names and polarities.
@@ -386,6 +405,11 @@ impl Profile {
                 OriginName::HardwareReset => PhaseOrigin::HardwareReset,
                 OriginName::ResetModeExit => PhaseOrigin::ResetModeExit,
             },
+            latch: Latch {
+                wishbone: raw.access.wishbone.latch.as_ref().map(|v| *v.get_ref()),
+                avalon: raw.access.avalon.latch.as_ref().map(|v| *v.get_ref()),
+                pio: raw.access.pio.latch.as_ref().map(|v| *v.get_ref()),
+            },
             wishbone: access(&raw.access.wishbone, "access.wishbone")?,
             avalon: access(&raw.access.avalon, "access.avalon")?,
             pio: access(&raw.access.pio, "access.pio")?,
@@ -486,6 +510,7 @@ enum TakesEffect {
 #[serde(deny_unknown_fields, rename_all = "kebab-case")]
 struct RawAccess {
     takes_effect: Spanned<TakesEffect>,
+    latch: Option<Spanned<u32>>,
     read: Option<Spanned<u32>>,
     write: Option<Spanned<u32>>,
     command: Option<Spanned<u32>>,

@@ -356,6 +356,8 @@ pub struct Testbench {
     /// (counted only when the profile says when that is).
     req_edges: u32,
     req_wires: WbMasterOut,
+    /// The profile's `latch` for the host bus in use, if it gives one.
+    latch_edges: Option<u32>,
     /// Batches allowed (see [`Testbench::set_batching`]).
     batching: bool,
     /// Buffers of `run_batch` (clock levels in, pins out), kept between calls.
@@ -606,6 +608,11 @@ impl Testbench {
             ref_timing,
             req_edges: 0,
             req_wires: WbMasterOut::default(),
+            latch_edges: profile.as_ref().and_then(|p| match cfg.host {
+                HostBfm::Wishbone => p.latch.wishbone,
+                HostBfm::Avalon { .. } => p.latch.avalon,
+                HostBfm::Pio(_) => p.latch.pio,
+            }),
             batching: true,
             batch_levels: Vec::new(),
             batch_out: Vec::new(),
@@ -1046,8 +1053,9 @@ impl Testbench {
         let mut av_viol: Vec<bfm::Violation> = Vec::new();
         // Has the DUT latched the request on the wires (its profile says
         // after how many CAN edges)? A drop after that is no abandonment.
-        let latched = match self.ref_timing {
-            RefTiming::CanEdges { read, write, command } => {
+        let latched = match (self.latch_edges, self.ref_timing) {
+            (Some(n), _) => self.req_edges >= n,
+            (None, RefTiming::CanEdges { read, write, command }) => {
                 let w = self.req_wires;
                 let due = if !w.we { read } else if w.adr == 1 { command } else { write };
                 self.req_edges >= due
@@ -1055,6 +1063,13 @@ impl Testbench {
             _ => false,
         };
         self.wb_mon.set_latched(latched);
+        // A new request counts its edges afresh once the wires have let go
+        // (the monitor has now seen that). A request held on after its ack
+        // (a GPIO-polled master that saw the ack late) is still the access
+        // the core latched, not a new one.
+        if !(self.applied_wb.cyc && self.applied_wb.stb) {
+            self.req_edges = 0;
+        }
         match &mut self.master {
             Master::Wb(m) => {
                 let s = self.dut.wb();
@@ -1108,10 +1123,6 @@ impl Testbench {
                 self.applied_wb = wiring.to_wishbone(&self.applied_av);
                 self.dut.set_wb(&self.applied_wb);
             }
-        }
-        // A new request counts its edges afresh (after an ack or a drop).
-        if !(self.applied_wb.cyc && self.applied_wb.stb) || self.dut.wb().ack {
-            self.req_edges = 0;
         }
         if self.applied_wb.cyc && self.applied_wb.stb {
             self.req_wires = self.applied_wb;
