@@ -367,35 +367,41 @@ impl Profile {
         }
         let mut ports = PortMap::default();
         if let Some(rp) = &raw.ports {
-            let set = |pin: &mut Pin, raw: &Option<RawPin>, polar: bool| -> Result<(), ProfileError> {
+            // (serde's untagged enums cannot carry spans: the line is the key's.)
+            let set = |pin: &mut Pin, raw: &Option<RawPin>, key: &str, polar: bool| -> Result<(), ProfileError> {
                 match raw {
                     None => {}
                     Some(RawPin::Name(n)) => pin.name = n.clone(),
                     Some(RawPin::Full { name, active }) => {
                         if !polar {
-                            return Err(bad(active.span(), "active", "only reset, irq and bus-off have a polarity".into()));
+                            return Err(ProfileError::Invalid {
+                                file: file.into(),
+                                line: key_line(text, key),
+                                key: key.into(),
+                                message: "only reset, irq and bus-off have a polarity (`active`)".into(),
+                            });
                         }
                         pin.name = name.clone();
-                        pin.active_high = *active.get_ref() == Active::High;
+                        pin.active_high = *active == Active::High;
                     }
                 }
                 Ok(())
             };
-            set(&mut ports.host_clock, &rp.host_clock, false)?;
-            set(&mut ports.reset, &rp.reset, true)?;
-            set(&mut ports.dat_i, &rp.dat_i, false)?;
-            set(&mut ports.dat_o, &rp.dat_o, false)?;
-            set(&mut ports.cyc, &rp.cyc, false)?;
-            set(&mut ports.stb, &rp.stb, false)?;
-            set(&mut ports.we, &rp.we, false)?;
-            set(&mut ports.adr, &rp.adr, false)?;
-            set(&mut ports.ack, &rp.ack, false)?;
-            set(&mut ports.can_clock, &rp.can_clock, false)?;
-            set(&mut ports.rx, &rp.rx, false)?;
-            set(&mut ports.tx, &rp.tx, false)?;
-            set(&mut ports.irq, &rp.irq, true)?;
-            set(&mut ports.bus_off, &rp.bus_off, true)?;
-            set(&mut ports.clkout, &rp.clkout, false)?;
+            set(&mut ports.host_clock, &rp.host_clock, "host-clock", false)?;
+            set(&mut ports.reset, &rp.reset, "reset", true)?;
+            set(&mut ports.dat_i, &rp.dat_i, "dat-i", false)?;
+            set(&mut ports.dat_o, &rp.dat_o, "dat-o", false)?;
+            set(&mut ports.cyc, &rp.cyc, "cyc", false)?;
+            set(&mut ports.stb, &rp.stb, "stb", false)?;
+            set(&mut ports.we, &rp.we, "we", false)?;
+            set(&mut ports.adr, &rp.adr, "adr", false)?;
+            set(&mut ports.ack, &rp.ack, "ack", false)?;
+            set(&mut ports.can_clock, &rp.can_clock, "can-clock", false)?;
+            set(&mut ports.rx, &rp.rx, "rx", false)?;
+            set(&mut ports.tx, &rp.tx, "tx", false)?;
+            set(&mut ports.irq, &rp.irq, "irq", true)?;
+            set(&mut ports.bus_off, &rp.bus_off, "bus-off", true)?;
+            set(&mut ports.clkout, &rp.clkout, "clkout", false)?;
         }
         Ok(Profile {
             name,
@@ -536,7 +542,7 @@ enum Active {
 #[serde(untagged)]
 enum RawPin {
     Name(String),
-    Full { name: String, active: Spanned<Active> },
+    Full { name: String, active: Active },
 }
 
 #[derive(Deserialize)]
@@ -557,6 +563,16 @@ struct RawPorts {
     irq: Option<RawPin>,
     bus_off: Option<RawPin>,
     clkout: Option<RawPin>,
+}
+
+/// 1-based line of the last `key = ...` in `src` (1 if none).
+fn key_line(src: &str, key: &str) -> usize {
+    src.lines()
+        .enumerate()
+        .filter(|(_, l)| l.trim_start().strip_prefix(key).is_some_and(|r| r.trim_start().starts_with('=')))
+        .map(|(i, _)| i + 1)
+        .last()
+        .unwrap_or(1)
 }
 
 fn line_of(src: &str, at: usize) -> usize {
@@ -630,7 +646,7 @@ mod tests {
     #[test]
     fn bad_profiles_name_file_line_and_key() {
         assert!(Profile::parse(GOOD, "p.toml").is_ok());
-        assert_eq!(err(&GOOD.replace("sof = 40", "sof = 40\nsofa = 1")), "p.toml:19: sofa: unknown field `sofa`, expected one of `tx-edge`, `sof`, `status`, `pins`");
+        assert_eq!(err(&GOOD.replace("sof = 40", "sof = 40\nsofa = 1")), "p.toml:16: sofa: unknown field `sofa`, expected one of `tx-edge`, `sof`, `status`, `pins`");
         let e = err(&GOOD.replace("hardware-reset", "power-on"));
         assert!(e.starts_with("p.toml:3: phase-origin: unknown variant `power-on`"), "{e}");
         let e = err(&GOOD.replace("read = 3\n", ""));
@@ -638,9 +654,11 @@ mod tests {
         let e = err(&GOOD.replace("[access.avalon]\ntakes-effect = \"at-ack\"", "[access.avalon]\ntakes-effect = \"at-ack\"\nread = 2"));
         assert!(e.starts_with("p.toml:8: access.avalon: "), "{e}");
         let e = err(&GOOD.replace("pins = 48\n", ""));
-        assert!(e.contains("tolerances") && e.contains("missing field `pins`"), "{e}");
+        assert!(e.starts_with("p.toml:13: pins: missing field `pins`"), "{e}");
         let e = err(&format!("{GOOD}[ports]\ntx = {{ name = \"t\", active = \"low\" }}\n"));
-        assert!(e.starts_with("p.toml:21: active: only reset, irq and bus-off"), "{e}");
+        assert!(e.starts_with("p.toml:19: tx: only reset, irq and bus-off"), "{e}");
+        let e = err(&format!("{GOOD}[ports]\nirq = {{ name = \"i\", active = \"sideways\" }}\n"));
+        assert!(e.starts_with("p.toml:19: irq: "), "{e}");
     }
 
     #[test]
