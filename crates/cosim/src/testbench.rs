@@ -376,10 +376,14 @@ impl Testbench {
     pub fn new(mut cfg: TbConfig) -> Result<Testbench, TbError> {
         let kernel = Kernel::new(cfg.host_hz, cfg.can_hz)?;
         let trace = cfg.dut_trace.is_some();
-        // Our RTL's tops (all through rtl/can_wb_cdc.v) carry rtl.toml.
-        let profile = cfg.profile.clone().or_else(|| match &cfg.dut {
-            DutChoice::Rtl | DutChoice::RtlAvalon => Some(Profile::rtl()),
-            DutChoice::Bundled(t) if t == "can_top_pio" => Some(Profile::rtl()),
+        // Our RTL's tops (all through rtl/can_wb_cdc.v) carry rtl.toml on
+        // the hosts they are made for; can_top's one-cycle ack under a PIO
+        // master (which holds the request and re-triggers it) keeps the
+        // ack timing, as before profiles.
+        let profile = cfg.profile.clone().or_else(|| match (&cfg.dut, cfg.host) {
+            (DutChoice::Rtl, HostBfm::Wishbone | HostBfm::Avalon { .. }) => Some(Profile::rtl()),
+            (DutChoice::RtlAvalon, _) => Some(Profile::rtl()),
+            (DutChoice::Bundled(t), HostBfm::Pio(_)) if t == "can_top_pio" => Some(Profile::rtl()),
             _ => None,
         });
         let default_ports = PortMap::default();
