@@ -95,9 +95,21 @@ pub struct WishboneMonitor {
     started: u64,
     waited: u64,
     noack_reported: bool,
+    /// The slave has taken the pending transfer (the bench knows when its
+    /// core latches an access, from the core's profile).
+    latched: bool,
 }
 
 impl WishboneMonitor {
+    /// Tells the monitor, before [`WishboneMonitor::observe`], whether the
+    /// slave has already taken the transfer on the wires (it latches an
+    /// access some clocks after cyc & stb, before its ack). A transfer
+    /// dropped after that is not abandoned: the slave acted on it and its
+    /// ack was only missed; one dropped before it still is.
+    pub fn set_latched(&mut self, latched: bool) {
+        self.latched = latched;
+    }
+
     /// A monitor that reports [`Rule::NoAck`] when a transfer waits more than
     /// `ack_timeout` cycles.
     pub fn new(name: &str, ack_timeout: u64) -> Self {
@@ -114,6 +126,7 @@ impl WishboneMonitor {
             started: 0,
             waited: 0,
             noack_reported: false,
+            latched: false,
         }
     }
 
@@ -158,7 +171,9 @@ impl WishboneMonitor {
             // Built only when a rule fires: this runs every waiting cycle.
             let started = self.started;
             let what = || format!("{} at 0x{:02X} started at cycle {started}", dir(pm.we), pm.adr);
-            if !m.cyc {
+            if !m.request() && self.latched {
+                // Taken by the slave before the master let go: not abandoned.
+            } else if !m.cyc {
                 flag(
                     Rule::CycDroppedBeforeAck,
                     format!(

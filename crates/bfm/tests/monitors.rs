@@ -606,3 +606,24 @@ fn pio_against_level_ack_slave_leaves_one_late_ack_per_access() {
         ]
     );
 }
+
+/// A request the slave has already latched (the bench knows when its core
+/// does, from the core's profile) and the master then drops before the
+/// ack is no abandoned transfer; the same drop before the latch point is.
+#[test]
+fn drop_after_the_latch_point_is_not_abandoned() {
+    let req = wb(true, true, true, 0x10, 0x5A);
+    let run = |latched_at: Option<u64>| {
+        let mut m = WishboneMonitor::new("mon", 100);
+        let mut all = Vec::new();
+        for cycle in 0..6u64 {
+            m.set_latched(latched_at.is_some_and(|l| cycle >= l));
+            let pins = if cycle < 4 { req } else { IDLE };
+            all.extend(m.observe(cycle, &pins, &NO_ACK));
+        }
+        rules(&all)
+    };
+    assert_eq!(run(None), vec![(4, Rule::CycDroppedBeforeAck)], "never latched: abandoned");
+    assert_eq!(run(Some(5)), vec![(4, Rule::CycDroppedBeforeAck)], "latched only after the drop: abandoned");
+    assert_eq!(run(Some(2)), vec![], "latched at cycle 2, dropped at 4: the slave has it");
+}

@@ -96,6 +96,21 @@ impl Btl {
         self.restart();
     }
 
+    /// New lengths without restarting the count (a bit timing that runs
+    /// from the hardware reset): the prescaler keeps its clock (a quantum
+    /// already past the new length ends at the next clock), the bit keeps
+    /// its quantum (a bit already past its new end ends at the next one).
+    pub(crate) fn retime(&mut self, t: BusTiming) {
+        self.cpt = t.clocks_per_tq();
+        self.sp0 = t.tseg1_tq() as u8;
+        self.end0 = self.sp0 + t.tseg2_tq() as u8;
+        self.sjw = t.sjw_tq() as u8;
+        self.sam = t.sam;
+        self.sp = self.sp0;
+        self.end = self.end0;
+        self.clk = self.clk.min(self.cpt - 1);
+    }
+
     /// Starts a fresh bit on the next clock (reset, wake-up).
     pub(crate) fn restart(&mut self) {
         self.clk = 0;

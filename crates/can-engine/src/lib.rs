@@ -141,6 +141,21 @@ impl Default for Options {
     }
 }
 
+/// Where the bit timing's phase (prescaler and bit position) starts from:
+/// an implementation freedom, as neither the SJA1000 datasheet nor CAN
+/// 2.0B fix it (in bus idle nothing synchronises two nodes' bit timers).
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash)]
+pub enum PhaseOrigin {
+    /// The bit timing stands still in reset mode and starts from zero when
+    /// reset mode is left (our RTL, rtl/can_btl.v).
+    #[default]
+    ResetModeExit,
+    /// The bit timing runs from the hardware reset on, through reset mode;
+    /// a BTR0/BTR1 write changes the lengths from the next quantum or bit
+    /// on, without restarting the count (the opencores core).
+    HardwareReset,
+}
+
 /// One CAN node's protocol engine (BTL + BSP + fault confinement).
 ///
 /// The API below is the contract with the `sja1000` crate.
@@ -153,6 +168,8 @@ pub struct Engine {
     tx_out: bool,
     /// Bits sampled since creation (both paths).
     bits: u64,
+    /// Where the bit timing's phase starts from.
+    origin: PhaseOrigin,
 }
 
 impl Engine {
@@ -164,7 +181,20 @@ impl Engine {
             bsp: Bsp::new(options),
             tx_out: RECESSIVE,
             bits: 0,
+            origin: PhaseOrigin::ResetModeExit,
         }
+    }
+
+    /// Sets where the bit timing's phase starts from (kept across
+    /// [`Engine::hard_reset`]); takes effect at the next reset-mode exit
+    /// or timing change.
+    pub fn set_phase_origin(&mut self, origin: PhaseOrigin) {
+        self.origin = origin;
+    }
+
+    /// Where the bit timing's phase starts from.
+    pub fn phase_origin(&self) -> PhaseOrigin {
+        self.origin
     }
 
     /// Back to the power-on state (hardware reset): counters 0, error
@@ -179,7 +209,10 @@ impl Engine {
     /// Changes the bit timing (the controller allows it in reset mode only).
     pub fn set_timing(&mut self, timing: BusTiming) {
         self.timing = timing;
-        self.btl.set_timing(timing);
+        match self.origin {
+            PhaseOrigin::ResetModeExit => self.btl.set_timing(timing),
+            PhaseOrigin::HardwareReset => self.btl.retime(timing),
+        }
     }
 
     /// The bit timing in use.
@@ -212,7 +245,7 @@ impl Engine {
         if on {
             self.tx_out = RECESSIVE;
         }
-        if leaving {
+        if leaving && self.origin == PhaseOrigin::ResetModeExit {
             // The bit timing logic stands still in reset mode: its
             // prescaler starts from zero when the mode is left, so the time
             // quanta line up with that instant (as in rtl/can_btl.v).
@@ -259,6 +292,11 @@ impl Engine {
 
     fn tq(&mut self, rx: bool) -> bool {
         if self.bsp.reset_mode {
+            if self.origin == PhaseOrigin::HardwareReset {
+                // The bit timing keeps running (and resynchronising on
+                // edges); the bit stream processor takes no part.
+                let _ = self.btl.tq(rx, false, false);
+            }
             self.tx_out = RECESSIVE;
             return RECESSIVE;
         }

@@ -34,13 +34,13 @@ enum Command {
     #[command(after_help = "Examples:\n  cancosim gen --out out/gen\n  cancosim gen --out ip/can --prefix MY_CAN --spacing word")]
     Gen(cmd::generate::Args),
     /// Play a scenario on its DUT in lockstep with the golden model and print the diagnosis.
-    #[command(after_help = "Examples:\n  cancosim run tb/de2-thesis.toml\n  cancosim run tb/de2-thesis.toml --dut model --vcd out/thesis.vcd\n  cancosim run tb/pelican-error-kinds.toml --host avalon\n  cancosim run tb/de2-with-ack-node.toml --external ~/can/rtl/verilog --define CAN_WISHBONE_IF --include ~/can/rtl/verilog")]
+    #[command(after_help = "Examples:\n  cancosim run tb/de2-thesis.toml\n  cancosim run tb/de2-thesis.toml --dut model --vcd out/thesis.vcd\n  cancosim run tb/pelican-error-kinds.toml --host avalon\n  cancosim run tb/de2-with-ack-node.toml --external ~/can/rtl/verilog --define CAN_WISHBONE_IF --include ~/can/rtl/verilog --profile opencores-can\n\nAn external core needs --profile (tb/profiles/NAME.toml or a file): its bit timing's phase origin, when host accesses take effect, tolerances, port map.")]
     Run(cmd::run::Args),
     /// Same as run, for an external core given by path (co-simulation against the golden model).
-    #[command(after_help = "Examples:\n  cancosim cosim tb/de2-with-ack-node.toml --external ~/can/rtl/verilog --top can_top --define CAN_WISHBONE_IF --include ~/can/rtl/verilog --vcd out/upstream.vcd")]
+    #[command(after_help = "Examples:\n  cancosim cosim tb/de2-with-ack-node.toml --external ~/can/rtl/verilog --top can_top --define CAN_WISHBONE_IF --include ~/can/rtl/verilog --profile opencores-can --vcd out/upstream.vcd\n  cancosim cosim tb/de2-thesis.toml --external ~/mycore --top my_can --profile ~/mycore/profile.toml")]
     Cosim(cmd::run::Args),
     /// Run every scenario of a list against one or more DUTs: table, JUnit, shards.
-    #[command(after_help = "Examples:\n  cancosim regress\n  cancosim regress tb/regression.list --dut rtl --dut model --junit out/junit.xml\n  cancosim regress tb/regression.list --dut rtl --host avalon\n  cancosim regress --external upstream=/tmp/can/rtl/verilog --shard 1/2")]
+    #[command(after_help = "Examples:\n  cancosim regress\n  cancosim regress tb/regression.list --dut rtl --dut model --junit out/junit.xml\n  cancosim regress tb/regression.list --dut rtl --host avalon\n  cancosim regress --external upstream=/tmp/can/rtl/verilog --profile opencores-can --shard 1/2\n  cancosim regress --external a=/tmp/can/rtl/verilog@opencores-can --external b=/tmp/mine@/tmp/mine/profile.toml\n\nEach --external NAME=DIR needs a profile: its own NAME=DIR@PROFILE, else --profile (for every external without one).")]
     Regress(cmd::regress::Args),
     /// Explain a saved run record (from run --record).
     #[command(after_help = "Examples:\n  cancosim run tb/de2-thesis.toml --record out/thesis.json\n  cancosim diagnose out/thesis.json --json")]

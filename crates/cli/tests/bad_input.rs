@@ -227,11 +227,39 @@ fn external_core(name: &str, verilog: &str) -> PathBuf {
 fn external_hdl_that_does_not_compile() {
     let dir = external_core("broken_core", "module can_top(input wb_clk_i, output tx_o);\n  assign tx_o = wb_clk_i +;\nendmodule\n");
     let (stdout, stderr) = fails_cleanly(
-        &["run", "tb/de2-with-ack-node.toml", "--external", dir.to_str().unwrap()],
+        &["run", "tb/de2-with-ack-node.toml", "--external", dir.to_str().unwrap(), "--profile", "rtl"],
         Duration::from_secs(60),
     );
     let all = format!("{stdout}{stderr}");
     assert!(all.contains("broken_core.v") && all.contains("syntax error"), "carries Verilator's message: {all}");
+}
+
+/// An external core without `--profile` is refused before anything is
+/// built, with what to declare, the shipped profiles and, for a directory
+/// that looks like the opencores core, the hint `--profile opencores-can`;
+/// `regress` the same per external core; a misspelt profile lists the
+/// shipped ones.
+#[test]
+fn external_core_without_a_profile_says_what_to_declare() {
+    let dir = external_core("some_core", "module can_top(input wb_clk_i, output tx_o);
+endmodule
+");
+    let d = dir.to_str().unwrap();
+    let (_, stderr) = fails_cleanly(&["run", "tb/de2-with-ack-node.toml", "--external", d], Duration::from_secs(20));
+    for needle in ["has no profile", "phase-origin", "[access.wishbone]", "takes-effect", "[tolerances]", "[ports]", "opencores-can", "rtl"] {
+        assert!(stderr.contains(needle), "names {needle}: {stderr}");
+    }
+    assert!(!stderr.contains("try --profile opencores-can"), "no opencores hint for another core: {stderr}");
+    // Looks like the opencores core (its file names only, empty files).
+    for f in ["can_bsp.v", "can_btl.v", "can_registers.v"] {
+        std::fs::write(dir.join(f), "").unwrap();
+    }
+    let (_, stderr) = fails_cleanly(&["regress", "tb/de2-thesis.toml", "--external", &format!("oc={d}")], Duration::from_secs(20));
+    assert!(stderr.contains("try --profile opencores-can") && stderr.contains(&format!("oc={d}")), "{stderr}");
+    let (_, stderr) = fails_cleanly(&["run", "tb/de2-thesis.toml", "--external", d, "--profile", "opencore"], Duration::from_secs(20));
+    assert!(stderr.contains("no profile named `opencore`") && stderr.contains("opencores-can, rtl"), "{stderr}");
+    let (_, stderr) = fails_cleanly(&["regress", "tb/de2-thesis.toml", "--external", &format!("oc={d}@nope.toml")], Duration::from_secs(20));
+    assert!(stderr.contains("nope.toml"), "{stderr}");
 }
 
 /// `can_top` port list, but `wb_ack_o` left out; or, for the no-ack
@@ -257,7 +285,7 @@ fn can_top_ports(ack: Option<&str>) -> String {
 fn external_hdl_that_lacks_a_port() {
     let dir = external_core("core_without_ack", &can_top_ports(None));
     let (stdout, stderr) = fails_cleanly(
-        &["run", "tb/de2-with-ack-node.toml", "--external", dir.to_str().unwrap()],
+        &["run", "tb/de2-with-ack-node.toml", "--external", dir.to_str().unwrap(), "--profile", "rtl"],
         Duration::from_secs(300),
     );
     let all = format!("{stdout}{stderr}");
@@ -270,7 +298,7 @@ fn a_dut_that_never_acks_times_out_with_a_diagnosis() {
     let dir = external_core("core_never_acks", &can_top_ports(Some("1'b0")));
     let t = Instant::now();
     let (stdout, stderr) = fails_cleanly(
-        &["run", "tb/de2-with-ack-node.toml", "--external", dir.to_str().unwrap()],
+        &["run", "tb/de2-with-ack-node.toml", "--external", dir.to_str().unwrap(), "--profile", "rtl"],
         Duration::from_secs(300),
     );
     let all = format!("{stdout}{stderr}");

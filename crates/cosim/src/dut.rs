@@ -10,6 +10,7 @@ use std::path::Path;
 use bfm::{AvMasterOut, AvSlaveOut, WbMasterOut, WbSlaveOut};
 
 use crate::bridge::{BatchPins, BridgeError, Model, Port};
+use crate::profile::PortMap;
 
 /// Which host interface a DUT has natively.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -110,8 +111,10 @@ pub struct VerilatedDut {
     rx: Port,
     tx: Port,
     irq: Port,
-    /// The Avalon wrapper's `irq` is active high; `can_top`'s `irq_on` low.
-    irq_active_high: bool,
+    /// Polarity of the interrupt and bus-off outputs.
+    polarity: OutPolarity,
+    /// The reset input is active low (a profile's port map).
+    reset_active_low: bool,
     bus_off_on: Port,
     clkout: Port,
     /// Outputs read once after each eval: `can()`/`wb()`/`av()` are called
@@ -119,6 +122,17 @@ pub struct VerilatedDut {
     out: OutCache,
     /// Last values written to the host inputs, to write only changes.
     wb_in: Option<WbMasterOut>,
+}
+
+/// Active levels of the interrupt and bus-off outputs: the Avalon
+/// wrapper's `irq` is active high, `can_top`'s `irq_on` low; `can_top`'s
+/// `bus_off_on` is low while bus-off; a profile may say otherwise.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub(crate) struct OutPolarity {
+    /// The interrupt output is high while an interrupt is pending.
+    pub irq_active_high: bool,
+    /// The bus-off output is high while the node is bus-off.
+    pub bus_off_active_high: bool,
 }
 
 /// The DUT's outputs as of the last eval.
@@ -142,10 +156,11 @@ impl VerilatedDut {
         // SAFETY: ports of `m`, 8 bits or fewer (checked above and at bind).
         let get = |p: Port| unsafe { m.get_u8_unchecked(p) };
         let irq = get(self.irq) != 0;
+        let bus_off = get(self.bus_off_on) != 0;
         let can = CanPins {
             tx: get(self.tx) != 0,
-            irq_n: if self.irq_active_high { !irq } else { irq },
-            bus_on: get(self.bus_off_on) != 0,
+            irq_n: irq != self.polarity.irq_active_high,
+            bus_on: bus_off != self.polarity.bus_off_active_high,
             clkout: get(self.clkout) != 0,
         };
         self.out.can = can;
@@ -203,28 +218,27 @@ impl VerilatedDut {
             "VerilatedDut: the model was replaced"
         );
         // An interrupt pending is `irq_n` low.
-        let stop = stop_on_irq.then_some(self.irq_active_high);
+        let stop = stop_on_irq.then_some(self.polarity.irq_active_high);
         // SAFETY: every port above was bound from this model in `new` with
         // a width of 1 or 8; `out` is long enough (asserted).
         Some(unsafe { self.m.run_batch(&pins, levels, out, rx, stop) })
     }
 
     /// The CAN-side pins of one `out` byte of [`VerilatedDut::run_batch`]
-    /// (`irq_active_high`: [`VerilatedDut::irq_active_high`]).
+    /// (`p`: [`VerilatedDut::polarity`]).
     #[inline]
-    pub(crate) fn batch_pins(o: u8, irq_active_high: bool) -> CanPins {
-        let irq = o & 2 != 0;
+    pub(crate) fn batch_pins(o: u8, p: OutPolarity) -> CanPins {
         CanPins {
             tx: o & 1 != 0,
-            irq_n: if irq_active_high { !irq } else { irq },
-            bus_on: o & 4 != 0,
+            irq_n: (o & 2 != 0) != p.irq_active_high,
+            bus_on: (o & 4 != 0) != p.bus_off_active_high,
             clkout: o & 8 != 0,
         }
     }
 
-    /// The top's interrupt output is active high (`can_avalon`'s `irq`).
-    pub(crate) fn irq_active_high(&self) -> bool {
-        self.irq_active_high
+    /// Active levels of the top's interrupt and bus-off outputs.
+    pub(crate) fn polarity(&self) -> OutPolarity {
+        self.polarity
     }
 
     /// Reads every output into the cache (after a batch).
@@ -253,24 +267,37 @@ impl VerilatedDut {
     /// Binds a model with the given host port list. Missing ports or wrong
     /// widths are reported in one paragraph listing the ports it has.
     pub fn new(m: Model, kind: HostPort) -> Result<VerilatedDut, BridgeError> {
-        // The CAN-side pins differ only in name (and irq polarity) between
-        // the two tops: (can clock, rx, tx, irq, bus_off_on, clkout).
-        let (host, can_names, irq_active_high, k) = match kind {
+        VerilatedDut::with_ports(m, kind, &PortMap::default())
+    }
+
+    /// [`VerilatedDut::new`] for a Wishbone top whose ports differ from
+    /// `can_top`'s in name or polarity, as a core profile maps them
+    /// (`ports` is ignored for the Avalon wrapper).
+    pub fn with_ports(m: Model, kind: HostPort, ports: &PortMap) -> Result<VerilatedDut, BridgeError> {
+        // The CAN-side pins differ only in name (and polarity) between
+        // the tops: (can clock, rx, tx, irq, bus_off_on, clkout).
+        let (host, can_names, polarity, reset_active_low, k) = match kind {
             HostPort::Wishbone => {
-                let k = "can_top Wishbone";
-                let p = |n: &str, w: u32| m.port(n, Some(w), k);
+                let k = if *ports == PortMap::default() { "can_top Wishbone" } else { "the profile's port map" };
+                let p = |n: &crate::profile::Pin, w: u32| m.port(&n.name, Some(w), k);
                 let host = HostPorts::Wb(WbPorts {
-                    clk: p("wb_clk_i", 1)?,
-                    rst: p("wb_rst_i", 1)?,
-                    dat_i: p("wb_dat_i", 8)?,
-                    dat_o: p("wb_dat_o", 8)?,
-                    cyc: p("wb_cyc_i", 1)?,
-                    stb: p("wb_stb_i", 1)?,
-                    we: p("wb_we_i", 1)?,
-                    adr: p("wb_adr_i", 8)?,
-                    ack: p("wb_ack_o", 1)?,
+                    clk: p(&ports.host_clock, 1)?,
+                    rst: p(&ports.reset, 1)?,
+                    dat_i: p(&ports.dat_i, 8)?,
+                    dat_o: p(&ports.dat_o, 8)?,
+                    cyc: p(&ports.cyc, 1)?,
+                    stb: p(&ports.stb, 1)?,
+                    we: p(&ports.we, 1)?,
+                    adr: p(&ports.adr, 8)?,
+                    ack: p(&ports.ack, 1)?,
                 });
-                (host, ["clk_i", "rx_i", "tx_o", "irq_on", "bus_off_on", "clkout_o"], false, k)
+                let names = [&ports.can_clock, &ports.rx, &ports.tx, &ports.irq, &ports.bus_off, &ports.clkout]
+                    .map(|p| p.name.as_str());
+                let pol = OutPolarity {
+                    irq_active_high: ports.irq.active_high,
+                    bus_off_active_high: ports.bus_off.active_high,
+                };
+                (host, names, pol, !ports.reset.active_high, k)
             }
             HostPort::Avalon => {
                 let k = "can_avalon";
@@ -286,7 +313,8 @@ impl VerilatedDut {
                     readdata: p("readdata", 8)?,
                     waitrequest: p("waitrequest", 1)?,
                 });
-                (host, ["can_clk", "rx", "tx", "irq", "bus_off_on", "clkout"], true, k)
+                let pol = OutPolarity { irq_active_high: true, bus_off_active_high: false };
+                (host, ["can_clk", "rx", "tx", "irq", "bus_off_on", "clkout"], pol, false, k)
             }
         };
         let p = |i: usize| m.port(can_names[i], Some(1), k);
@@ -296,7 +324,8 @@ impl VerilatedDut {
             rx: p(1)?,
             tx: p(2)?,
             irq: p(3)?,
-            irq_active_high,
+            polarity,
+            reset_active_low,
             bus_off_on: p(4)?,
             clkout: p(5)?,
             out: OutCache::default(),
@@ -339,7 +368,7 @@ impl Dut for VerilatedDut {
             HostPorts::Wb(w) => w.rst,
             HostPorts::Av(a) => a.reset,
         };
-        self.m.set(p, on as u64);
+        self.m.set(p, (on != self.reset_active_low) as u64);
     }
     #[inline]
     fn set_wb(&mut self, x: &WbMasterOut) {

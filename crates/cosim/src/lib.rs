@@ -15,6 +15,7 @@ pub mod gtkw;
 pub mod kernel;
 pub mod model;
 pub mod perf;
+pub mod profile;
 pub mod shimgen;
 pub mod testbench;
 pub mod wave;
@@ -24,6 +25,7 @@ pub use compare::{Comparator, CompareConfig, Reference};
 pub use dut::{CanPins, Dut, EchoModel, HostPort, VerilatedDut};
 pub use kernel::{Kernel, KernelError, Tick};
 pub use model::{ModelDut, ModelRef};
+pub use profile::{AccessTiming, PhaseOrigin, PortMap, Profile, ProfileError};
 pub use testbench::{
     AvalonWiring, CustomDut, DutChoice, HostBfm, NodeConfig, ReferenceChoice, TbConfig, TbError,
     Testbench,

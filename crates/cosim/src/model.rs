@@ -107,6 +107,13 @@ impl ModelDut {
         ModelDut { level_ack: true, ..ModelDut::new() }
     }
 
+    /// A model whose bit timing starts from `origin` (a stand-in for a
+    /// core with that freedom).
+    pub fn with_phase_origin(mut self, origin: crate::profile::PhaseOrigin) -> ModelDut {
+        self.m.set_phase_origin(origin);
+        self
+    }
+
     /// The model inside.
     pub fn model(&self) -> &Sja1000 {
         &self.m
@@ -209,6 +216,14 @@ impl ModelRef {
             view: RefView::default(),
             stale: true,
         }
+    }
+
+    /// [`ModelRef::new`] with the bit timing's phase starting from `origin`
+    /// (the DUT's profile says where).
+    pub fn with_phase_origin(origin: crate::profile::PhaseOrigin) -> ModelRef {
+        let mut r = ModelRef::new();
+        r.m.set_phase_origin(origin);
+        r
     }
 
     /// Recomputes the cached view from the model (its `tx` and `clkout`

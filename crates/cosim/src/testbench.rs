@@ -34,6 +34,7 @@ use crate::compare::{Comparator, CompareConfig, IR_ADDR, SR_ADDR, Stamp};
 use crate::dut::{AnyDut, CanPins, EchoModel, HostPort, VerilatedDut};
 use crate::kernel::{Kernel, KernelError, Tick};
 use crate::model::{AnyRef, ModelDut, ModelRef};
+use crate::profile::{AccessTiming, PhaseOrigin, PortMap, Profile};
 use crate::wave::{Wave, WaveSample};
 use waivers::{Action, CollectMode, DutInfo, Observed, Resync, Session, WaiverReport, WaiverSet};
 
@@ -193,6 +194,16 @@ pub struct TbConfig {
     /// Unwaived divergences stop the run or are collected
     /// (`--stop-at-first` / `--collect`).
     pub collect: CollectMode,
+    /// The DUT's declared freedoms (`tb/profiles/*.toml`): when a host
+    /// access takes effect, the bit timing's phase origin (given to the
+    /// reference), the port map; None: our RTL's tops get `rtl.toml`
+    /// implicitly, the golden model as DUT its launch-edge timing, any
+    /// other DUT the ack (unknown). The tolerances in it are the caller's
+    /// to put into `lockstep`.
+    pub profile: Option<Profile>,
+    /// The golden model as DUT (`DutChoice::Model`) starts its bit timing
+    /// from here: it stands in for a core with either freedom.
+    pub model_dut_phase_origin: PhaseOrigin,
 }
 
 impl Default for TbConfig {
@@ -220,6 +231,8 @@ impl Default for TbConfig {
             waivers: WaiverSet::empty(),
             dut_revision: None,
             collect: CollectMode::StopAtFirst,
+            profile: None,
+            model_dut_phase_origin: PhaseOrigin::ResetModeExit,
         }
     }
 }
@@ -358,6 +371,13 @@ pub struct Testbench {
     adopt_rec_at_read: bool,
     /// When the reference takes a host access (Wishbone master only).
     ref_timing: RefTiming,
+    /// CAN edges since the Wishbone request on the wires (`req_wires`)
+    /// appeared: the monitor is told when the DUT has latched it
+    /// (counted only when the profile says when that is).
+    req_edges: u32,
+    req_wires: WbMasterOut,
+    /// The profile's `latch` for the host bus in use, if it gives one.
+    latch_edges: Option<u32>,
     /// Batches allowed (see [`Testbench::set_batching`]).
     batching: bool,
     /// Buffers of `run_batch` (clock levels in, pins out), kept between calls.
@@ -378,6 +398,18 @@ impl Testbench {
     pub fn new(mut cfg: TbConfig) -> Result<Testbench, TbError> {
         let kernel = Kernel::new(cfg.host_hz, cfg.can_hz)?;
         let trace = cfg.dut_trace.is_some();
+        // Our RTL's tops (all through rtl/can_wb_cdc.v) carry rtl.toml on
+        // the hosts they are made for; can_top's one-cycle ack under a PIO
+        // master (which holds the request and re-triggers it) keeps the
+        // ack timing, as before profiles.
+        let profile = cfg.profile.clone().or_else(|| match (&cfg.dut, cfg.host) {
+            (DutChoice::Rtl, HostBfm::Wishbone | HostBfm::Avalon { .. }) => Some(Profile::rtl()),
+            (DutChoice::RtlAvalon, _) => Some(Profile::rtl()),
+            (DutChoice::Bundled(t), HostBfm::Pio(_)) if t == "can_top_pio" => Some(Profile::rtl()),
+            _ => None,
+        });
+        let default_ports = PortMap::default();
+        let ports = profile.as_ref().map_or(&default_ports, |p| &p.ports);
         let mut dut = match &cfg.dut {
             DutChoice::Rtl => {
                 AnyDut::Verilated(VerilatedDut::bundled("can_top", HostPort::Wishbone, trace)?)
@@ -387,18 +419,23 @@ impl Testbench {
                 HostPort::Avalon,
                 trace,
             )?),
-            DutChoice::Bundled(top) => {
-                AnyDut::Verilated(VerilatedDut::bundled(top, HostPort::Wishbone, trace)?)
-            }
-            DutChoice::External(core) => AnyDut::Verilated(VerilatedDut::new(
+            DutChoice::Bundled(top) => AnyDut::Verilated(VerilatedDut::with_ports(
+                crate::bridge::Model::bundled(top, trace)?,
+                HostPort::Wishbone,
+                ports,
+            )?),
+            DutChoice::External(core) => AnyDut::Verilated(VerilatedDut::with_ports(
                 core.build()?.instantiate(trace),
                 HostPort::Wishbone,
+                ports,
             )?),
             // A GPIO-polled host needs the level ack (as can_top_pio).
-            DutChoice::Model if matches!(cfg.host, HostBfm::Pio(_)) => {
-                AnyDut::Other(Box::new(ModelDut::with_level_ack()))
-            }
-            DutChoice::Model => AnyDut::Other(Box::new(ModelDut::new())),
+            DutChoice::Model if matches!(cfg.host, HostBfm::Pio(_)) => AnyDut::Other(Box::new(
+                ModelDut::with_level_ack().with_phase_origin(cfg.model_dut_phase_origin),
+            )),
+            DutChoice::Model => AnyDut::Other(Box::new(
+                ModelDut::new().with_phase_origin(cfg.model_dut_phase_origin),
+            )),
             DutChoice::Echo => AnyDut::Other(Box::new(EchoModel::new())),
             DutChoice::Custom(c) => AnyDut::Other((c.make)()),
         };
@@ -473,7 +510,9 @@ impl Testbench {
         let (reference, comparator) = match cfg.lockstep {
             None => (None, None),
             Some((ReferenceChoice::Model, c)) => (
-                Some(AnyRef::Model(ModelRef::new())),
+                Some(AnyRef::Model(ModelRef::with_phase_origin(
+                    profile.as_ref().map_or(PhaseOrigin::ResetModeExit, |p| p.phase_origin),
+                ))),
                 Some(Comparator::new(c)),
             ),
             Some((ReferenceChoice::Echo, c)) => (
@@ -489,7 +528,11 @@ impl Testbench {
             DutChoice::Rtl => "rtl".to_string(),
             DutChoice::RtlAvalon => "rtl (can_avalon)".to_string(),
             DutChoice::Bundled(t) => t.clone(),
-            DutChoice::External(c) => c.dir.display().to_string(),
+            // "<profile> (<dir>)": waiver `dut` globs name the profile.
+            DutChoice::External(c) => match &cfg.profile {
+                Some(p) => format!("{} ({})", p.name, c.dir.display()),
+                None => c.dir.display().to_string(),
+            },
             DutChoice::Model => "model".to_string(),
             DutChoice::Echo => "echo model".to_string(),
             DutChoice::Custom(c) => c.name.clone(),
@@ -526,14 +569,9 @@ impl Testbench {
             listen_only: false,
         };
         let _ = n_nodes;
-        // Our RTL crosses every access through rtl/can_wb_cdc.v, whichever
-        // top wraps it (can_top, can_top_pio, can_avalon); the seed 000
-        // Avalon wiring (cyc from begintransfer) has no well-defined launch.
-        let rtl_cdc = RefTiming::CanEdges {
-            read: 3,
-            write: 4,
-            command: 4,
-        };
+        // The seed 000 Avalon wiring (cyc from begintransfer) has no
+        // well-defined launch; the golden model as DUT takes an access at
+        // its launch edge; any other DUT as its profile says, else at the ack.
         let seed000 = matches!(
             cfg.host,
             HostBfm::Avalon {
@@ -541,14 +579,18 @@ impl Testbench {
                 ..
             }
         );
-        let ref_timing = match (&cfg.dut, cfg.host) {
-            _ if seed000 => RefTiming::AtAck,
-            (DutChoice::Rtl, HostBfm::Wishbone | HostBfm::Avalon { .. }) => rtl_cdc,
-            (DutChoice::RtlAvalon, HostBfm::Avalon { .. }) => rtl_cdc,
-            (DutChoice::Bundled(t), HostBfm::Pio(_)) if t == "can_top_pio" => rtl_cdc,
-            (DutChoice::Model, HostBfm::Wishbone | HostBfm::Pio(_) | HostBfm::Avalon { .. }) => {
-                RefTiming::LaunchEdge
+        let from_profile = |a: AccessTiming| match a {
+            AccessTiming::AtAck => RefTiming::AtAck,
+            AccessTiming::CanEdges { read, write, command } => {
+                RefTiming::CanEdges { read, write, command }
             }
+        };
+        let ref_timing = match (&cfg.dut, cfg.host, &profile) {
+            _ if seed000 => RefTiming::AtAck,
+            (DutChoice::Model, ..) => RefTiming::LaunchEdge,
+            (_, HostBfm::Wishbone, Some(p)) => from_profile(p.wishbone),
+            (_, HostBfm::Avalon { .. }, Some(p)) => from_profile(p.avalon),
+            (_, HostBfm::Pio(_), Some(p)) => from_profile(p.pio),
             _ => RefTiming::AtAck,
         };
         let mut tb = Testbench {
@@ -592,6 +634,13 @@ impl Testbench {
             adopt_tec_at_read: false,
             adopt_rec_at_read: false,
             ref_timing,
+            req_edges: 0,
+            req_wires: WbMasterOut::default(),
+            latch_edges: profile.as_ref().and_then(|p| match cfg.host {
+                HostBfm::Wishbone => p.latch.wishbone,
+                HostBfm::Avalon { .. } => p.latch.avalon,
+                HostBfm::Pio(_) => p.latch.pio,
+            }),
             batching: true,
             batch_levels: Vec::new(),
             batch_out: Vec::new(),
@@ -907,7 +956,7 @@ impl Testbench {
         let AnyDut::Verilated(d) = &mut self.dut else {
             unreachable!("batch_rx checked the DUT");
         };
-        let active_high = d.irq_active_high();
+        let active_high = d.polarity();
         let made = d
             .run_batch(&levels[..n], &mut out[..n], rx, stop_on_irq)
             .unwrap_or(0);
@@ -1065,6 +1114,25 @@ impl Testbench {
         }
         let mut viol: Vec<bfm::Violation> = Vec::new();
         let mut av_viol: Vec<bfm::Violation> = Vec::new();
+        // Has the DUT latched the request on the wires (its profile says
+        // after how many CAN edges)? A drop after that is no abandonment.
+        let latched = match (self.latch_edges, self.ref_timing) {
+            (Some(n), _) => self.req_edges >= n,
+            (None, RefTiming::CanEdges { read, write, command }) => {
+                let w = self.req_wires;
+                let due = if !w.we { read } else if w.adr == 1 { command } else { write };
+                self.req_edges >= due
+            }
+            _ => false,
+        };
+        self.wb_mon.set_latched(latched);
+        // A new request counts its edges afresh once the wires have let go
+        // (the monitor has now seen that). A request held on after its ack
+        // (a GPIO-polled master that saw the ack late) is still the access
+        // the core latched, not a new one.
+        if !(self.applied_wb.cyc && self.applied_wb.stb) {
+            self.req_edges = 0;
+        }
         match &mut self.master {
             Master::Wb(m) => {
                 let s = self.dut.wb();
@@ -1118,6 +1186,9 @@ impl Testbench {
                 self.applied_wb = wiring.to_wishbone(&self.applied_av);
                 self.dut.set_wb(&self.applied_wb);
             }
+        }
+        if self.applied_wb.cyc && self.applied_wb.stb {
+            self.req_wires = self.applied_wb;
         }
         for v in viol {
             self.record.violations.push(diagnose::Violation {
@@ -1229,6 +1300,9 @@ impl Testbench {
     /// (`dut_pins`, passed in registers).
     fn can_edge(&mut self, t_ps: u64, pins: CanPins) {
         self.can_clocks += 1;
+        if self.applied_wb.cyc && self.applied_wb.stb {
+            self.req_edges = self.req_edges.saturating_add(1);
+        }
         let level = self.bus_level;
         let sample = self.bitclock.clock(level);
         self.sample_now = sample;

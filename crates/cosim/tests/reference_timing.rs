@@ -5,7 +5,7 @@
 //! took a write at the ack, left reset mode a few CAN clocks after the DUT
 //! and placed its time quanta (and so every tx edge) that far apart.
 
-use cosim::{AvalonWiring, CompareConfig, DutChoice, HostBfm, NodeConfig, ReferenceChoice, TbConfig, Testbench};
+use cosim::{AvalonWiring, CompareConfig, DutChoice, HostBfm, NodeConfig, PhaseOrigin, Profile, ReferenceChoice, TbConfig, Testbench};
 
 /// PeliCAN, accept all, 600 kbit/s at 24 MHz, every interrupt enabled.
 fn setup(ier: u8) -> Vec<(u8, u8)> {
@@ -63,6 +63,28 @@ fn run(dut: DutChoice, name: &str) {
 }
 
 fn run_on(dut: DutChoice, host: HostBfm, name: &str) {
+    let bad = mismatches(dut, host, name, None, PhaseOrigin::ResetModeExit);
+    assert!(bad.is_empty(), "{name}: DUT and reference tx differ at {} instants: {:?} ps", bad.len(), &bad[..bad.len().min(20)]);
+}
+
+/// The instants at which DUT and reference tx differ over the run below,
+/// with the DUT's `profile` (None: the bench's default for it) and, for
+/// the golden model as DUT, its bit timing's phase origin.
+fn mismatches(dut: DutChoice, host: HostBfm, name: &str, profile: Option<Profile>, model_origin: PhaseOrigin) -> Vec<u64> {
+    let strict = CompareConfig { tx_edge_tolerance: 0, sof_tolerance: 0, ..CompareConfig::default() };
+    exercise(dut, host, name, profile, model_origin, strict).0
+}
+
+/// The run below with the comparator set to `cmp`: the instants at which
+/// DUT and reference tx differ, and the comparator's divergences.
+fn exercise(
+    dut: DutChoice,
+    host: HostBfm,
+    name: &str,
+    profile: Option<Profile>,
+    model_origin: PhaseOrigin,
+    cmp: CompareConfig,
+) -> (Vec<u64>, Vec<String>) {
     let vcd = std::env::temp_dir().join(format!("cosim-reference-timing-{name}-{}.vcd", std::process::id()));
     let mut node = setup(0x00);
     node.push((0, 0x00));
@@ -71,11 +93,12 @@ fn run_on(dut: DutChoice, host: HostBfm, name: &str) {
         dut,
         host,
         nodes: vec![NodeConfig { name: "node1".into(), init: node }],
-        lockstep: Some((
-            ReferenceChoice::Model,
-            CompareConfig { tx_edge_tolerance: 0, sof_tolerance: 0, ..CompareConfig::default() },
-        )),
+        lockstep: Some((ReferenceChoice::Model, cmp)),
         vcd: Some(vcd.clone()),
+        profile,
+        model_dut_phase_origin: model_origin,
+        // Count every differing instant, do not stop at the first.
+        collect: cosim::waivers::CollectMode::Collect,
         ..TbConfig::default()
     })
     .unwrap();
@@ -102,11 +125,18 @@ fn run_on(dut: DutChoice, host: HostBfm, name: &str) {
         tb.read(3).unwrap();
     }
     tb.flush().unwrap();
+    let divergences: Vec<String> = tb
+        .waiver_report()
+        .failures
+        .iter()
+        .map(|d| format!("{:?} bit {:?} {:?}: expected {}, saw {}", d.kind, d.bit, d.field, d.expected, d.seen))
+        .collect();
     let text = std::fs::read_to_string(&vcd).unwrap();
-    let _ = std::fs::remove_file(&vcd);
-    let bad = tx_mismatches(&text);
-    assert!(bad.is_empty(), "{name}: DUT and reference tx differ at {} instants: {:?} ps", bad.len(), &bad[..bad.len().min(20)]);
+    if std::env::var_os("KEEP_VCD").is_none() {
+        let _ = std::fs::remove_file(&vcd);
+    }
     assert!(text.matches("\n0").count() > 100, "{name}: the VCD shows transmissions");
+    (tx_mismatches(&text), divergences)
 }
 
 #[test]
@@ -133,4 +163,67 @@ fn reference_tx_follows_the_pio_rtl_clock_for_clock() {
 #[test]
 fn reference_tx_follows_the_model_dut_over_pio_clock_for_clock() {
     run_on(DutChoice::Model, HostBfm::Pio(bfm::PioTiming::default()), "model-pio");
+}
+
+/// Kit defect 1 (issue 19): a core whose bit timing runs from the hardware
+/// reset (here the golden model as DUT, configured so) is a legal SJA1000:
+/// a reference that restarts its prescaler when reset mode is left (the
+/// old, only behaviour) drifts from it by up to a bit after every
+/// reset-mode round trip; a profile declaring `hardware-reset` makes the
+/// reference run clock for clock with it.
+#[test]
+fn phase_origin_hardware_reset_needs_the_profile() {
+    let mut declared = Profile::rtl();
+    declared.phase_origin = PhaseOrigin::HardwareReset;
+    // The model as DUT takes accesses at its launch edge whatever the profile says.
+    let wrong = mismatches(DutChoice::Model, HostBfm::Wishbone, "hw-origin-undeclared", None, PhaseOrigin::HardwareReset);
+    assert!(wrong.len() > 20, "an undeclared hardware-reset origin must show: {} instants", wrong.len());
+    let right = mismatches(DutChoice::Model, HostBfm::Wishbone, "hw-origin-declared", Some(declared), PhaseOrigin::HardwareReset);
+    assert!(right.is_empty(), "declared: tx differs at {} instants: {:?}", right.len(), &right[..right.len().min(20)]);
+}
+
+/// Kit defect 2 (issue 19): when a host access takes effect comes from the
+/// profile. Our `can_top` given as a plain bundled top has no implicit
+/// profile: the reference takes each access at the ack (what every
+/// external core got before), leaves reset mode CAN clocks after the DUT
+/// and its tx edges land elsewhere; with rtl.toml's `can-edges` timing
+/// they agree clock for clock.
+#[test]
+fn access_timing_comes_from_the_profile() {
+    let wrong = mismatches(DutChoice::Bundled("can_top".into()), HostBfm::Wishbone, "at-ack", None, PhaseOrigin::ResetModeExit);
+    assert!(!wrong.is_empty(), "accesses taken at the ack must show on tx");
+    let right = mismatches(DutChoice::Bundled("can_top".into()), HostBfm::Wishbone, "rtl-profile", Some(Profile::rtl()), PhaseOrigin::ResetModeExit);
+    assert!(right.is_empty(), "with rtl.toml: tx differs at {} instants: {:?}", right.len(), &right[..right.len().min(20)]);
+}
+
+/// On the real opencores core (directory in `CAN_UPSTREAM_DIR`, with
+/// timescale.v), with its profile and the profile's tolerances, on
+/// Wishbone and through an Avalon bridge: the comparator finds no divergence (its tx_o
+/// lags the model's by 2 CAN clocks, its output pipeline, inside the
+/// 4-clock tx-edge tolerance), where the bench's old assumptions (bit
+/// timing restarted at reset-mode exit, accesses taken at the ack) do.
+#[test]
+#[ignore = "needs the third-party opencores core on disk: CAN_UPSTREAM_DIR=<dir> cargo test --release -p cosim --test reference_timing upstream -- --ignored"]
+fn upstream_tx_follows_with_its_profile() {
+    let dir = std::path::PathBuf::from(std::env::var("CAN_UPSTREAM_DIR").expect("CAN_UPSTREAM_DIR"));
+    let core = cosim::ExternalCore {
+        dir: dir.clone(),
+        top: "can_top".into(),
+        defines: vec!["CAN_WISHBONE_IF".into()],
+        include_dirs: vec![dir],
+        ..cosim::ExternalCore::default()
+    };
+    let p = Profile::find("opencores-can").unwrap();
+    let bridge = HostBfm::Avalon { timing: bfm::AvalonTiming::Waitrequest, wiring: AvalonWiring::Bridge };
+    for (host, name) in [(HostBfm::Wishbone, "upstream-wb"), (bridge, "upstream-avalon")] {
+        let (bad, div) = exercise(DutChoice::External(core.clone()), host, name, Some(p.clone()), PhaseOrigin::ResetModeExit, p.tolerances);
+        eprintln!("{name}: tx differs at {} instants (strictly), {} divergences", bad.len(), div.len());
+        assert!(div.is_empty(), "{name}: {} divergences: {:?}", div.len(), &div[..div.len().min(5)]);
+        let mut old = p.clone();
+        old.phase_origin = PhaseOrigin::ResetModeExit;
+        old.wishbone = cosim::AccessTiming::AtAck;
+        old.avalon = cosim::AccessTiming::AtAck;
+        let (_, div) = exercise(DutChoice::External(core.clone()), host, name, Some(old), PhaseOrigin::ResetModeExit, p.tolerances);
+        assert!(!div.is_empty(), "{name}: the old assumptions must diverge");
+    }
 }

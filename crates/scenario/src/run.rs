@@ -18,17 +18,21 @@ pub struct DutSpec {
     /// What it is. `Rtl` becomes our Avalon wrapper when a scenario asks
     /// for `avalon-wrapper`.
     pub kind: DutKind,
+    /// Its declared freedoms (`--profile`); None: our RTL's implicit
+    /// `rtl.toml`, the model's own timing, or (an external core through
+    /// the library) accesses taken at the ack with default tolerances.
+    pub profile: Option<cosim::Profile>,
 }
 
 impl DutSpec {
     /// Our RTL.
     pub fn rtl() -> Self {
-        DutSpec { name: "rtl".into(), kind: DutKind::Rtl }
+        DutSpec { name: "rtl".into(), kind: DutKind::Rtl, profile: None }
     }
 
     /// The golden model as DUT.
     pub fn model() -> Self {
-        DutSpec { name: "model".into(), kind: DutKind::Model }
+        DutSpec { name: "model".into(), kind: DutKind::Model, profile: None }
     }
 
     /// An external core directory with the `can_top` ports.
@@ -36,7 +40,18 @@ impl DutSpec {
         DutSpec {
             name: name.into(),
             kind: DutKind::External { path: dir.into(), top: top.into(), defines: Vec::new(), includes: Vec::new() },
+            profile: None,
         }
+    }
+
+    /// The same DUT with a profile; an external core is then named
+    /// "<profile> (<dir>)" in reports (waiver `dut` globs match it).
+    pub fn with_profile(mut self, p: cosim::Profile) -> Self {
+        if let DutKind::External { path, .. } = &self.kind {
+            self.name = format!("{} ({})", p.name, path.display());
+        }
+        self.profile = Some(p);
+        self
     }
 }
 
@@ -260,6 +275,14 @@ pub fn tb_config(s: &Scenario, dut: &DutKind, opts: &RunOptions) -> Result<TbCon
         };
         faults.push(injector(f, target, cpb));
     }
+    let profile = opts.dut.as_ref().and_then(|d| d.profile.clone());
+    // The comparator's tolerances: the profile's, our RTL's rtl.toml, else the defaults.
+    let tolerances = match (&profile, &choice) {
+        (Some(p), _) => p.tolerances,
+        (None, DutChoice::Rtl | DutChoice::RtlAvalon) => cosim::Profile::rtl().tolerances,
+        (None, DutChoice::Bundled(t)) if t == "can_top_pio" => cosim::Profile::rtl().tolerances,
+        _ => cosim::CompareConfig::default(),
+    };
     let files: Vec<&std::path::PathBuf> = s.waivers.iter().chain(&opts.waivers).collect();
     let waiver_set = if files.is_empty() { waivers::WaiverSet::empty() } else { waivers::WaiverSet::load_all(&files).map_err(|e| e.to_string())? };
     Ok(TbConfig {
@@ -279,13 +302,14 @@ pub fn tb_config(s: &Scenario, dut: &DutKind, opts: &RunOptions) -> Result<TbCon
         nodes: s.nodes.iter().map(|n| NodeConfig { name: n.name.clone(), init: node_init(n) }).collect(),
         faults,
         dut_rx_faults,
-        lockstep: Some((ReferenceChoice::Model, cosim::CompareConfig::default())),
+        lockstep: Some((ReferenceChoice::Model, tolerances)),
         vcd: opts.vcd.clone(),
         keep_bits: s.keep_bits,
         op_timeout_cycles: s.timeout_cycles as u64,
         waivers: waiver_set,
         dut_revision: opts.dut_revision.clone(),
         collect: opts.collect,
+        profile,
         ..TbConfig::default()
     })
 }
@@ -449,6 +473,7 @@ pub fn run(s: &Scenario, opts: &RunOptions) -> RunOutcome {
             DutKind::External { path, .. } => path.display().to_string(),
         },
         kind: s.dut.clone(),
+        profile: None,
     });
     let max_bits = opts.max_bits.unwrap_or(s.max_bits);
     let mut received = Vec::new();

@@ -13,7 +13,7 @@ fn shipped() -> Vec<Scenario> {
 }
 
 fn two_models() -> Vec<DutSpec> {
-    vec![DutSpec::model(), DutSpec { name: "model-b".into(), kind: scenario::DutKind::Model }]
+    vec![DutSpec::model(), DutSpec { name: "model-b".into(), ..DutSpec::model() }]
 }
 
 /// (testcases, failures, errors) counted from the XML elements themselves.

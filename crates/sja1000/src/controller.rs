@@ -6,7 +6,7 @@
 //! which bits a write may change, reset values, field masks) comes from
 //! `regmap`; this file only gives each register its behaviour.
 
-use can_engine::{Engine, Event, FaultState, Options};
+use can_engine::{Engine, Event, FaultState, Options, PhaseOrigin};
 use can_proto::timing::BusTiming;
 use can_proto::{CanFrame, Field, FrameTrait, Id};
 use std::sync::OnceLock;
@@ -412,6 +412,13 @@ impl Sja1000 {
         s
     }
 
+    /// Where the bit timing's phase starts from (an implementation
+    /// freedom, see [`PhaseOrigin`]); kept across hardware resets. Set it
+    /// right after [`Sja1000::new`] (before the first clock).
+    pub fn set_phase_origin(&mut self, origin: PhaseOrigin) {
+        self.engine.set_phase_origin(origin);
+    }
+
     /// Hardware reset (RST pin): hardware reset values from the register
     /// map; registers the data sheet leaves undefined read 0 here.
     pub fn hard_reset(&mut self) {
@@ -420,6 +427,7 @@ impl Sja1000 {
             j
         });
         let scratch = std::mem::take(&mut self.scratch);
+        let origin = self.engine.phase_origin();
         *self = Sja1000 {
             engine: Engine::new(BusTiming::from_btr(0, 0), Options::default()),
             fifo: RxFifo::default(),
@@ -436,6 +444,7 @@ impl Sja1000 {
             }
         }
         self.rm = true;
+        self.engine.set_phase_origin(origin);
         self.engine.set_reset_mode(true);
         self.push_engine_config();
         self.engine.take_events().for_each(drop);

@@ -15,9 +15,14 @@ pub struct Args {
     /// Bundled DUTs to run against (repeatable): rtl, model.
     #[arg(long = "dut", value_parser = ["rtl", "model"])]
     duts: Vec<String>,
-    /// External core as NAME=DIR (repeatable; define CAN_WISHBONE_IF, DIR as include dir).
-    #[arg(long = "external", value_name = "NAME=DIR")]
+    /// External core as NAME=DIR or NAME=DIR@PROFILE (repeatable; define CAN_WISHBONE_IF, DIR as
+    /// include dir). Each needs a profile: its own @PROFILE, else --profile.
+    #[arg(long = "external", value_name = "NAME=DIR[@PROFILE]")]
     externals: Vec<String>,
+    /// Core profile (tb/profiles/NAME.toml or a file) of every --external without @PROFILE
+    /// (e.g. --profile opencores-can); the column is then named "<profile> (<dir>)".
+    #[arg(long, value_name = "NAME|FILE")]
+    profile: Option<String>,
     /// Top module of the external cores (the opencores `can_top` port list).
     #[arg(long, default_value = "can_top")]
     top: String,
@@ -49,9 +54,21 @@ pub fn run(a: Args) -> anyhow::Result<i32> {
         .iter()
         .map(|d| if d == "model" { DutSpec::model() } else { DutSpec::rtl() })
         .collect();
+    let common = a.profile.as_deref().map(cosim::Profile::find).transpose()?;
     for e in &a.externals {
-        let (name, dir) = e.split_once('=').with_context(|| format!("--external {e}: expected NAME=DIR"))?;
-        let mut d = DutSpec::external(name, dir, &a.top);
+        let (name, spec) = e.split_once('=').with_context(|| format!("--external {e}: expected NAME=DIR[@PROFILE]"))?;
+        let (dir, own) = match spec.rsplit_once('@') {
+            Some((d, p)) => (d, Some(cosim::Profile::find(p).with_context(|| format!("--external {e}"))?)),
+            None => (spec, None),
+        };
+        let Some(profile) = own.or_else(|| common.clone()) else {
+            anyhow::bail!("--external {e}: {}", cosim::profile::missing_profile_message(std::path::Path::new(dir), &a.top));
+        };
+        println!("{} ({dir}): {}", profile.name, profile.describe());
+        println!("  tolerances: {}", profile.tolerances.describe());
+        // The column keeps NAME; the DUT (waivers, records) is "<profile> (<dir>)".
+        let mut d = DutSpec::external(dir, dir, &a.top).with_profile(profile);
+        d.name = name.to_string();
         if let scenario::DutKind::External { defines, includes, .. } = &mut d.kind {
             defines.push("CAN_WISHBONE_IF".into());
             includes.push(dir.into());

@@ -23,28 +23,45 @@ pub struct DutArgs {
     /// Include directory for the external core (repeatable).
     #[arg(long = "include", value_name = "DIR", requires = "external")]
     pub includes: Vec<PathBuf>,
-    /// Name of the external core in reports.
+    /// Name of the external core in reports (default "<profile name> (<dir>)").
     #[arg(long, requires = "external")]
     pub name: Option<String>,
+    /// Core profile (tb/profiles/NAME.toml or a file): when host accesses take effect, the bit
+    /// timing's phase origin, tolerances, port map. Required with --external; our RTL and the
+    /// model have their own (rtl.toml, launch edge).
+    #[arg(long, value_name = "NAME|FILE")]
+    pub profile: Option<String>,
 }
 
 impl DutArgs {
-    /// The DUT these arguments select, if any.
-    pub fn spec(&self) -> Option<DutSpec> {
+    /// The DUT these arguments select, if any; an external core without
+    /// `--profile` is an error that says what to declare.
+    pub fn spec(&self) -> anyhow::Result<Option<DutSpec>> {
+        let profile = self.profile.as_deref().map(cosim::Profile::find).transpose()?;
         if let Some(dir) = &self.external {
-            let name = self.name.clone().unwrap_or_else(|| dir.display().to_string());
-            let mut d = DutSpec::external(&name, dir.clone(), &self.top);
+            let Some(p) = profile else {
+                anyhow::bail!("{}", cosim::profile::missing_profile_message(dir, &self.top));
+            };
+            let mut d = DutSpec::external(&dir.display().to_string(), dir.clone(), &self.top).with_profile(p);
+            if let Some(n) = &self.name {
+                d.name.clone_from(n);
+            }
             if let scenario::DutKind::External { defines, includes, .. } = &mut d.kind {
                 defines.clone_from(&self.defines);
                 includes.clone_from(&self.includes);
             }
-            return Some(d);
+            return Ok(Some(d));
         }
-        match self.dut.as_deref() {
+        let d = match self.dut.as_deref() {
             Some("rtl") => Some(DutSpec::rtl()),
             Some("model") => Some(DutSpec::model()),
             _ => None,
-        }
+        };
+        Ok(match (d, profile) {
+            (Some(d), Some(p)) => Some(d.with_profile(p)),
+            (None, Some(_)) => anyhow::bail!("--profile needs --dut or --external (the scenario's own DUT keeps its own profile)"),
+            (d, None) => d,
+        })
     }
 }
 
@@ -129,7 +146,7 @@ pub fn run_cmd(a: Args) -> anyhow::Result<i32> {
         core.check().with_context(|| format!("--external {}", dir.display()))?;
     }
     let opts = RunOptions {
-        dut: a.dut.spec(),
+        dut: a.dut.spec()?,
         vcd: a.vcd.clone(),
         max_bits: a.max_bits,
         waivers: a.waivers.waivers.clone(),
@@ -157,6 +174,10 @@ pub fn run_cmd(a: Args) -> anyhow::Result<i32> {
     } else {
         let host = opts.host.map(|h| format!("   host: {h} (override)")).unwrap_or_default();
         println!("DUT: {}{host}   wall time: {:.2} s", out.dut, out.wall.as_secs_f64());
+        if let Some(p) = opts.dut.as_ref().and_then(|d| d.profile.as_ref()) {
+            println!("{}", p.describe());
+            println!("tolerances: {}", p.tolerances.describe());
+        }
         for (node, n) in &out.received {
             println!("node {node}: {n} frame(s) received");
         }

@@ -1,0 +1,671 @@
+//! Core profiles: the implementation freedoms the SJA1000 datasheet and
+//! CAN 2.0B leave open, declared per core in a file (`tb/profiles/*.toml`)
+//! instead of assumed by the reference. A *freedom* is a profile entry; a
+//! *deviation* from the datasheet is a waiver (the `waivers` crate).
+//!
+//! ```toml
+//! name = "opencores-can"                 # DUT name "<name> (<dir>)" for external cores
+//! description = "what the core is"
+//! phase-origin = "hardware-reset"        # or "reset-mode-exit": where the bit timing's
+//!                                        # prescaler and bit counter start from
+//! [access.wishbone]                      # when a host access takes effect, per host bus
+//! takes-effect = "can-edges"             # or "at-ack" (alone)
+//! read = 3                               # after the n-th CAN (core) clock rising edge
+//! write = 3                              #   strictly after the host edge that first
+//! command = 3                            #   presents the access (CMR writes: `command`)
+//! [access.avalon]                        # same keys
+//! [access.pio]                           # same keys
+//! latch = 1                              # optional, any bus: CAN edges after which the core
+//!                                        #   has committed to the access; a request dropped
+//!                                        #   later is no abandoned transfer for the bus monitor
+//!                                        #   (default: when it takes effect)
+//! [tolerances]                           # CAN clocks, printed in every report
+//! tx-edge = 4                            # tx not compared this close to a model tx edge
+//! sof = 40                               # a SOF from bus idle may lag this much
+//! status = 48                            # SR/IR reads: the model held the value this recently
+//! pins = 48                              # irq/bus-off pins may differ this long
+//! [ports]                                # optional: only the ports that differ from can_top's
+//! irq = { name = "irq_o", active = "high" }   # active level: irq = pending, reset = in reset,
+//! bus-off = { name = "bo", active = "high" }  #   bus-off = while bus-off (can_top: low)
+//! can-clock = "clk"                      # other roles: host-clock, reset, dat-i, dat-o, cyc,
+//!                                        #   stb, we, adr, ack, rx, tx, clkout (names only)
+//! ```
+//!
+//! Unknown keys are rejected; every error reads `file:line: key: message`.
+
+use std::path::{Path, PathBuf};
+
+use serde::Deserialize;
+use toml::Spanned;
+
+pub use can_engine::PhaseOrigin;
+
+use crate::compare::CompareConfig;
+
+/// A profile file could not be found, read or understood.
+#[derive(Debug, thiserror::Error)]
+pub enum ProfileError {
+    /// The file could not be read.
+    #[error("{file}: {source}")]
+    Io {
+        /// File name.
+        file: String,
+        /// Cause.
+        source: std::io::Error,
+    },
+    /// A key is missing, unknown, or has a bad value.
+    #[error("{file}:{line}: {key}: {message}")]
+    Invalid {
+        /// File name.
+        file: String,
+        /// 1-based line.
+        line: usize,
+        /// The key at fault.
+        key: String,
+        /// What is wrong.
+        message: String,
+    },
+    /// A bare name that is no shipped profile.
+    #[error("no profile named `{name}` in {dir}; shipped profiles: {known}")]
+    Unknown {
+        /// The name asked for.
+        name: String,
+        /// Where it was looked for.
+        dir: String,
+        /// The profiles there.
+        known: String,
+    },
+}
+
+/// When the DUT takes a host access, for the reference to take it then.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum AccessTiming {
+    /// Unknown or at the handshake: when the host BFM sees the ack.
+    AtAck,
+    /// After the n-th CAN rising edge strictly after the host edge that
+    /// first presents the access: reads, writes, CMR writes.
+    CanEdges {
+        /// Read data captured.
+        read: u32,
+        /// Register written.
+        write: u32,
+        /// Command (CMR) taken.
+        command: u32,
+    },
+}
+
+impl AccessTiming {
+    /// CAN edges for an access (`None` at the ack).
+    pub fn edges(&self, write: bool, addr: u8) -> Option<u32> {
+        match *self {
+            AccessTiming::AtAck => None,
+            AccessTiming::CanEdges { read, write: w, command } => Some(if !write {
+                read
+            } else if addr == 1 {
+                command
+            } else {
+                w
+            }),
+        }
+    }
+
+    fn describe(&self) -> String {
+        match self {
+            AccessTiming::AtAck => "at the ack".into(),
+            AccessTiming::CanEdges { read, write, command } => {
+                format!("read/write/command after CAN edge {read}/{write}/{command}")
+            }
+        }
+    }
+}
+
+/// The per-bus `latch` entries of a profile: CAN edges after which the
+/// core has committed to an access on the wires (it will perform it even if
+/// the master lets go before the ack). None: when the access takes effect.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub struct Latch {
+    /// Wishbone.
+    pub wishbone: Option<u32>,
+    /// Avalon (through a Wishbone bridge).
+    pub avalon: Option<u32>,
+    /// PIO.
+    pub pio: Option<u32>,
+}
+
+/// A port of the DUT's top: its name, and for the polarity-bearing roles
+/// (reset, irq, bus-off) whether it is active high.
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub struct Pin {
+    /// Port name in the top.
+    pub name: String,
+    /// Active high (see [`PortMap`] for what "active" means per role).
+    pub active_high: bool,
+}
+
+impl Pin {
+    fn new(name: &str, active_high: bool) -> Pin {
+        Pin { name: name.into(), active_high }
+    }
+}
+
+/// The DUT top's ports by role; defaults are `can_top`'s Wishbone list.
+/// Active levels: `reset` active = in reset, `irq` active = interrupt
+/// pending (can_top's `irq_on`: low), `bus_off` active = node bus-off
+/// (can_top's `bus_off_on`: low while bus-off).
+#[derive(Clone, Debug, PartialEq, Eq)]
+#[allow(missing_docs)]
+pub struct PortMap {
+    pub host_clock: Pin,
+    pub reset: Pin,
+    pub dat_i: Pin,
+    pub dat_o: Pin,
+    pub cyc: Pin,
+    pub stb: Pin,
+    pub we: Pin,
+    pub adr: Pin,
+    pub ack: Pin,
+    pub can_clock: Pin,
+    pub rx: Pin,
+    pub tx: Pin,
+    pub irq: Pin,
+    pub bus_off: Pin,
+    pub clkout: Pin,
+}
+
+impl Default for PortMap {
+    fn default() -> Self {
+        PortMap {
+            host_clock: Pin::new("wb_clk_i", true),
+            reset: Pin::new("wb_rst_i", true),
+            dat_i: Pin::new("wb_dat_i", true),
+            dat_o: Pin::new("wb_dat_o", true),
+            cyc: Pin::new("wb_cyc_i", true),
+            stb: Pin::new("wb_stb_i", true),
+            we: Pin::new("wb_we_i", true),
+            adr: Pin::new("wb_adr_i", true),
+            ack: Pin::new("wb_ack_o", true),
+            can_clock: Pin::new("clk_i", true),
+            rx: Pin::new("rx_i", true),
+            tx: Pin::new("tx_o", true),
+            irq: Pin::new("irq_on", false),
+            bus_off: Pin::new("bus_off_on", false),
+            clkout: Pin::new("clkout_o", true),
+        }
+    }
+}
+
+impl PortMap {
+    /// The entries that differ from `can_top`'s, in words (empty: none).
+    pub fn describe(&self) -> String {
+        let d = PortMap::default();
+        let mut v = Vec::new();
+        for ((role, p), q) in self.roles().iter().zip(d.roles().iter().map(|r| r.1)) {
+            if *p != q {
+                let pol = if p.active_high != q.active_high {
+                    format!(" active {}", if p.active_high { "high" } else { "low" })
+                } else {
+                    String::new()
+                };
+                v.push(format!("{role} = {}{pol}", p.name));
+            }
+        }
+        v.join(", ")
+    }
+
+    fn roles(&self) -> [(&'static str, &Pin); 15] {
+        [
+            ("host-clock", &self.host_clock),
+            ("reset", &self.reset),
+            ("dat-i", &self.dat_i),
+            ("dat-o", &self.dat_o),
+            ("cyc", &self.cyc),
+            ("stb", &self.stb),
+            ("we", &self.we),
+            ("adr", &self.adr),
+            ("ack", &self.ack),
+            ("can-clock", &self.can_clock),
+            ("rx", &self.rx),
+            ("tx", &self.tx),
+            ("irq", &self.irq),
+            ("bus-off", &self.bus_off),
+            ("clkout", &self.clkout),
+        ]
+    }
+}
+
+/// A core's declared freedoms.
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub struct Profile {
+    /// Name (an external core co-simulated with it is "<name> (<dir>)").
+    pub name: String,
+    /// What the core is.
+    pub description: String,
+    /// The file it came from.
+    pub file: Option<PathBuf>,
+    /// Where the bit timing's phase starts from.
+    pub phase_origin: PhaseOrigin,
+    /// When a Wishbone access takes effect.
+    pub wishbone: AccessTiming,
+    /// When an Avalon-MM access takes effect.
+    pub avalon: AccessTiming,
+    /// When a PIO (bit-banged Wishbone) access takes effect.
+    pub pio: AccessTiming,
+    /// When the core has committed to an access, per bus (for the host
+    /// bus monitor: a request dropped later is not abandoned).
+    pub latch: Latch,
+    /// The comparator's tolerances for this core.
+    pub tolerances: CompareConfig,
+    /// Port names and polarities.
+    pub ports: PortMap,
+}
+
+/// Our RTL's profile, shipped as `tb/profiles/rtl.toml` (built in).
+const RTL_TOML: &str = include_str!("../../../tb/profiles/rtl.toml");
+
+/// The directory of the shipped profiles (`tb/profiles` of the project).
+pub fn shipped_dir() -> PathBuf {
+    let local = Path::new("tb/profiles");
+    if local.is_dir() {
+        return local.to_path_buf();
+    }
+    Path::new(env!("CARGO_MANIFEST_DIR")).join("../../tb/profiles")
+}
+
+/// Names of the shipped profiles, sorted.
+pub fn shipped_names() -> Vec<String> {
+    let mut v: Vec<String> = std::fs::read_dir(shipped_dir())
+        .map(|d| {
+            d.filter_map(|e| e.ok())
+                .filter_map(|e| {
+                    let p = e.path();
+                    (p.extension()? == "toml").then(|| p.file_stem()?.to_str().map(str::to_string))?
+                })
+                .collect()
+        })
+        .unwrap_or_default();
+    v.sort();
+    v
+}
+
+impl Profile {
+    /// Our RTL's profile (`tb/profiles/rtl.toml`, compiled in).
+    pub fn rtl() -> Profile {
+        Profile::parse(RTL_TOML, "tb/profiles/rtl.toml").expect("the shipped rtl.toml parses (tested)")
+    }
+
+    /// A profile by bare name (looked up in `tb/profiles/`) or by file path.
+    pub fn find(name_or_file: &str) -> Result<Profile, ProfileError> {
+        let p = Path::new(name_or_file);
+        if name_or_file.ends_with(".toml") || p.components().count() > 1 {
+            return Profile::load(p);
+        }
+        let dir = shipped_dir();
+        let f = dir.join(format!("{name_or_file}.toml"));
+        if f.is_file() {
+            return Profile::load(&f);
+        }
+        Err(ProfileError::Unknown {
+            name: name_or_file.into(),
+            dir: dir.display().to_string(),
+            known: shipped_names().join(", "),
+        })
+    }
+
+    /// Reads a profile file.
+    pub fn load(path: impl AsRef<Path>) -> Result<Profile, ProfileError> {
+        let path = path.as_ref();
+        let file = path.display().to_string();
+        let text = std::fs::read_to_string(path).map_err(|source| ProfileError::Io { file: file.clone(), source })?;
+        let mut p = Profile::parse(&text, &file)?;
+        p.file = Some(path.to_path_buf());
+        Ok(p)
+    }
+
+    /// Parses profile text; `file` names it in errors.
+    pub fn parse(text: &str, file: &str) -> Result<Profile, ProfileError> {
+        let raw: RawProfile = toml::from_str(text).map_err(|e| from_toml(file, text, &e))?;
+        let bad = |span: std::ops::Range<usize>, key: &str, message: String| ProfileError::Invalid {
+            file: file.into(),
+            line: line_of(text, span.start),
+            key: key.into(),
+            message,
+        };
+        let name = raw.name.get_ref().trim().to_string();
+        if name.is_empty() {
+            return Err(bad(raw.name.span(), "name", "must not be empty".into()));
+        }
+        let access = |a: &RawAccess, key: &str| -> Result<AccessTiming, ProfileError> {
+            let nums = [&a.read, &a.write, &a.command];
+            match a.takes_effect.get_ref() {
+                TakesEffect::AtAck => {
+                    if let Some(n) = nums.iter().find_map(|n| n.as_ref()) {
+                        return Err(bad(n.span(), key, "edge counts make no sense with takes-effect = \"at-ack\"".into()));
+                    }
+                    Ok(AccessTiming::AtAck)
+                }
+                TakesEffect::CanEdges => {
+                    let get = |n: &Option<Spanned<u32>>, k: &str| {
+                        n.as_ref().map(|v| *v.get_ref()).ok_or_else(|| {
+                            bad(a.takes_effect.span(), key, format!("takes-effect = \"can-edges\" needs `{k}` (CAN edges after the access starts)"))
+                        })
+                    };
+                    let (read, write, command) = (get(&a.read, "read")?, get(&a.write, "write")?, get(&a.command, "command")?);
+                    for n in nums.into_iter().flatten() {
+                        if *n.get_ref() > 64 {
+                            return Err(bad(n.span(), key, format!("{} CAN edges: at most 64", n.get_ref())));
+                        }
+                    }
+                    Ok(AccessTiming::CanEdges { read, write, command })
+                }
+            }
+        };
+        let t = &raw.tolerances;
+        for (k, v) in [("tx-edge", &t.tx_edge), ("sof", &t.sof), ("status", &t.status), ("pins", &t.pins)] {
+            if *v.get_ref() > 1_000 {
+                return Err(bad(v.span(), k, format!("{} CAN clocks: at most 1000", v.get_ref())));
+            }
+        }
+        let mut ports = PortMap::default();
+        if let Some(rp) = &raw.ports {
+            // (serde's untagged enums cannot carry spans: the line is the key's.)
+            let set = |pin: &mut Pin, raw: &Option<RawPin>, key: &str, polar: bool| -> Result<(), ProfileError> {
+                match raw {
+                    None => {}
+                    Some(RawPin::Name(n)) => pin.name = n.clone(),
+                    Some(RawPin::Full { name, active }) => {
+                        if !polar {
+                            return Err(ProfileError::Invalid {
+                                file: file.into(),
+                                line: key_line(text, key),
+                                key: key.into(),
+                                message: "only reset, irq and bus-off have a polarity (`active`)".into(),
+                            });
+                        }
+                        pin.name = name.clone();
+                        pin.active_high = *active == Active::High;
+                    }
+                }
+                Ok(())
+            };
+            set(&mut ports.host_clock, &rp.host_clock, "host-clock", false)?;
+            set(&mut ports.reset, &rp.reset, "reset", true)?;
+            set(&mut ports.dat_i, &rp.dat_i, "dat-i", false)?;
+            set(&mut ports.dat_o, &rp.dat_o, "dat-o", false)?;
+            set(&mut ports.cyc, &rp.cyc, "cyc", false)?;
+            set(&mut ports.stb, &rp.stb, "stb", false)?;
+            set(&mut ports.we, &rp.we, "we", false)?;
+            set(&mut ports.adr, &rp.adr, "adr", false)?;
+            set(&mut ports.ack, &rp.ack, "ack", false)?;
+            set(&mut ports.can_clock, &rp.can_clock, "can-clock", false)?;
+            set(&mut ports.rx, &rp.rx, "rx", false)?;
+            set(&mut ports.tx, &rp.tx, "tx", false)?;
+            set(&mut ports.irq, &rp.irq, "irq", true)?;
+            set(&mut ports.bus_off, &rp.bus_off, "bus-off", true)?;
+            set(&mut ports.clkout, &rp.clkout, "clkout", false)?;
+        }
+        Ok(Profile {
+            name,
+            description: raw.description.get_ref().trim().to_string(),
+            file: None,
+            phase_origin: match raw.phase_origin {
+                OriginName::HardwareReset => PhaseOrigin::HardwareReset,
+                OriginName::ResetModeExit => PhaseOrigin::ResetModeExit,
+            },
+            latch: Latch {
+                wishbone: raw.access.wishbone.latch.as_ref().map(|v| *v.get_ref()),
+                avalon: raw.access.avalon.latch.as_ref().map(|v| *v.get_ref()),
+                pio: raw.access.pio.latch.as_ref().map(|v| *v.get_ref()),
+            },
+            wishbone: access(&raw.access.wishbone, "access.wishbone")?,
+            avalon: access(&raw.access.avalon, "access.avalon")?,
+            pio: access(&raw.access.pio, "access.pio")?,
+            tolerances: CompareConfig {
+                tx_edge_tolerance: *t.tx_edge.get_ref(),
+                sof_tolerance: *t.sof.get_ref(),
+                status_tolerance: *t.status.get_ref(),
+                pin_tolerance: *t.pins.get_ref(),
+                ..CompareConfig::default()
+            },
+            ports,
+        })
+    }
+
+    /// The profile in one paragraph, for report headers.
+    pub fn describe(&self) -> String {
+        let origin = match self.phase_origin {
+            PhaseOrigin::HardwareReset => "hardware reset",
+            PhaseOrigin::ResetModeExit => "reset-mode exit",
+        };
+        let ports = self.ports.describe();
+        format!(
+            "profile {}{}: bit timing phase from the {origin}; host access takes effect: wishbone {}, avalon {}, pio {}; ports {}",
+            self.name,
+            self.file.as_ref().map(|f| format!(" ({})", f.display())).unwrap_or_default(),
+            self.wishbone.describe(),
+            self.avalon.describe(),
+            self.pio.describe(),
+            if ports.is_empty() { "as can_top".to_string() } else { ports },
+        )
+    }
+
+    /// Does a top with these ports look like the opencores `can_top`?
+    /// (for the hint when an external core comes without a profile)
+    pub fn looks_like_opencores(verilog_dir: &Path, top: &str) -> bool {
+        let Ok(d) = std::fs::read_dir(verilog_dir) else { return false };
+        let names: Vec<String> = d.filter_map(|e| e.ok()).filter_map(|e| e.file_name().to_str().map(str::to_string)).collect();
+        top == "can_top" && ["can_bsp.v", "can_btl.v", "can_registers.v"].iter().all(|f| names.iter().any(|n| n == f))
+    }
+}
+
+/// What to tell a user who points the kit at an external core without a
+/// profile: what a profile declares, the shipped ones, and a hint when the
+/// directory looks like the opencores core.
+pub fn missing_profile_message(dir: &Path, top: &str) -> String {
+    let hint = if Profile::looks_like_opencores(dir, top) {
+        " This looks like the opencores core (can_top with can_bsp.v, can_btl.v, can_registers.v): try --profile opencores-can."
+    } else {
+        ""
+    };
+    format!(
+        "external core {} has no profile: without one the reference would assume when it takes host accesses \
+         and where its bit timing starts, and could report the kit's guess as the core's fault. \
+         Give --profile NAME|FILE declaring phase-origin (hardware-reset | reset-mode-exit), \
+         [access.wishbone], [access.avalon], [access.pio] (takes-effect = at-ack | can-edges with read/write/command), \
+         [tolerances] (tx-edge, sof, status, pins) and [ports] where its top differs from can_top \
+         (format: the cosim::profile docs). Shipped profiles in {}: {}.{hint}",
+        dir.display(),
+        shipped_dir().display(),
+        shipped_names().join(", ")
+    )
+}
+
+#[derive(Deserialize)]
+#[serde(deny_unknown_fields, rename_all = "kebab-case")]
+struct RawProfile {
+    name: Spanned<String>,
+    description: Spanned<String>,
+    phase_origin: OriginName,
+    access: RawAccessSet,
+    tolerances: RawTolerances,
+    ports: Option<RawPorts>,
+}
+
+#[derive(Deserialize, Clone, Copy)]
+#[serde(rename_all = "kebab-case")]
+enum OriginName {
+    HardwareReset,
+    ResetModeExit,
+}
+
+#[derive(Deserialize)]
+#[serde(deny_unknown_fields)]
+struct RawAccessSet {
+    wishbone: RawAccess,
+    avalon: RawAccess,
+    pio: RawAccess,
+}
+
+#[derive(Deserialize, Clone, Copy, PartialEq, Eq)]
+#[serde(rename_all = "kebab-case")]
+enum TakesEffect {
+    AtAck,
+    CanEdges,
+}
+
+#[derive(Deserialize)]
+#[serde(deny_unknown_fields, rename_all = "kebab-case")]
+struct RawAccess {
+    takes_effect: Spanned<TakesEffect>,
+    latch: Option<Spanned<u32>>,
+    read: Option<Spanned<u32>>,
+    write: Option<Spanned<u32>>,
+    command: Option<Spanned<u32>>,
+}
+
+#[derive(Deserialize)]
+#[serde(deny_unknown_fields, rename_all = "kebab-case")]
+struct RawTolerances {
+    tx_edge: Spanned<u32>,
+    sof: Spanned<u32>,
+    status: Spanned<u32>,
+    pins: Spanned<u32>,
+}
+
+#[derive(Deserialize, Clone, Copy, PartialEq, Eq)]
+#[serde(rename_all = "kebab-case")]
+enum Active {
+    High,
+    Low,
+}
+
+#[derive(Deserialize)]
+#[serde(untagged)]
+enum RawPin {
+    Name(String),
+    Full { name: String, active: Active },
+}
+
+#[derive(Deserialize)]
+#[serde(deny_unknown_fields, rename_all = "kebab-case")]
+struct RawPorts {
+    host_clock: Option<RawPin>,
+    reset: Option<RawPin>,
+    dat_i: Option<RawPin>,
+    dat_o: Option<RawPin>,
+    cyc: Option<RawPin>,
+    stb: Option<RawPin>,
+    we: Option<RawPin>,
+    adr: Option<RawPin>,
+    ack: Option<RawPin>,
+    can_clock: Option<RawPin>,
+    rx: Option<RawPin>,
+    tx: Option<RawPin>,
+    irq: Option<RawPin>,
+    bus_off: Option<RawPin>,
+    clkout: Option<RawPin>,
+}
+
+/// 1-based line of the last `key = ...` in `src` (1 if none).
+fn key_line(src: &str, key: &str) -> usize {
+    src.lines()
+        .enumerate()
+        .filter(|(_, l)| l.trim_start().strip_prefix(key).is_some_and(|r| r.trim_start().starts_with('=')))
+        .map(|(i, _)| i + 1)
+        .last()
+        .unwrap_or(1)
+}
+
+fn line_of(src: &str, at: usize) -> usize {
+    src[..at.min(src.len())].bytes().filter(|b| *b == b'\n').count() + 1
+}
+
+/// A toml error as `file:line: key: message`: the key the message quotes
+/// (missing/unknown field), else the key written on that line or the table
+/// it is in.
+fn from_toml(file: &str, src: &str, e: &toml::de::Error) -> ProfileError {
+    let message = e.message().trim().to_string();
+    let span = e.span().unwrap_or(0..0);
+    let line = line_of(src, span.start);
+    let quoted = (message.starts_with("missing field") || message.starts_with("unknown field"))
+        .then(|| message.split('`').nth(1).map(str::to_string))
+        .flatten();
+    let key = quoted
+        .or_else(|| {
+            src.lines().take(line).collect::<Vec<_>>().iter().rev().find_map(|t| {
+                let t = t.trim();
+                if let Some(h) = t.strip_prefix('[').and_then(|t| t.strip_suffix(']')) {
+                    return Some(h.trim().to_string());
+                }
+                let (k, _) = t.split_once('=')?;
+                let k = k.trim();
+                (!k.is_empty() && k.chars().all(|c| c.is_ascii_alphanumeric() || c == '-' || c == '_')).then(|| k.to_string())
+            })
+        })
+        .unwrap_or_else(|| "profile".into());
+    ProfileError::Invalid { file: file.into(), line, key, message }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// rtl.toml is exactly what the bench assumed for our RTL before
+    /// profiles existed: the can_wb_cdc timing on every bus, the phase
+    /// from reset-mode exit, the default tolerances, can_top's ports.
+    #[test]
+    fn rtl_profile_is_the_old_default() {
+        let p = Profile::rtl();
+        let cdc = AccessTiming::CanEdges { read: 3, write: 4, command: 4 };
+        assert_eq!((p.wishbone, p.avalon, p.pio), (cdc, cdc, cdc));
+        assert_eq!(p.phase_origin, PhaseOrigin::ResetModeExit);
+        assert_eq!(p.tolerances, CompareConfig::default());
+        assert_eq!(p.ports, PortMap::default());
+    }
+
+    #[test]
+    fn every_shipped_profile_parses() {
+        let names = shipped_names();
+        assert!(names.contains(&"rtl".to_string()) && names.contains(&"opencores-can".to_string()), "{names:?}");
+        for n in names {
+            Profile::find(&n).unwrap_or_else(|e| panic!("{e}"));
+        }
+        let oc = Profile::find("opencores-can").unwrap();
+        assert_eq!(oc.name, "opencores-can");
+        assert_eq!(oc.phase_origin, PhaseOrigin::HardwareReset);
+    }
+
+    fn err(text: &str) -> String {
+        Profile::parse(text, "p.toml").unwrap_err().to_string()
+    }
+
+    const GOOD: &str = "name = \"x\"\ndescription = \"d\"\nphase-origin = \"hardware-reset\"\n\
+        [access.wishbone]\ntakes-effect = \"at-ack\"\n[access.avalon]\ntakes-effect = \"at-ack\"\n\
+        [access.pio]\ntakes-effect = \"can-edges\"\nread = 3\nwrite = 3\ncommand = 3\n\
+        [tolerances]\ntx-edge = 4\nsof = 40\nstatus = 48\npins = 48\n";
+
+    #[test]
+    fn bad_profiles_name_file_line_and_key() {
+        assert!(Profile::parse(GOOD, "p.toml").is_ok());
+        assert_eq!(err(&GOOD.replace("sof = 40", "sof = 40\nsofa = 1")), "p.toml:16: sofa: unknown field `sofa`, expected one of `tx-edge`, `sof`, `status`, `pins`");
+        let e = err(&GOOD.replace("hardware-reset", "power-on"));
+        assert!(e.starts_with("p.toml:3: phase-origin: unknown variant `power-on`"), "{e}");
+        let e = err(&GOOD.replace("read = 3\n", ""));
+        assert!(e.starts_with("p.toml:9: access.pio: ") && e.contains("needs `read`"), "{e}");
+        let e = err(&GOOD.replace("[access.avalon]\ntakes-effect = \"at-ack\"", "[access.avalon]\ntakes-effect = \"at-ack\"\nread = 2"));
+        assert!(e.starts_with("p.toml:8: access.avalon: "), "{e}");
+        let e = err(&GOOD.replace("pins = 48\n", ""));
+        assert!(e.starts_with("p.toml:13: pins: missing field `pins`"), "{e}");
+        let e = err(&format!("{GOOD}[ports]\ntx = {{ name = \"t\", active = \"low\" }}\n"));
+        assert!(e.starts_with("p.toml:19: tx: only reset, irq and bus-off"), "{e}");
+        let e = err(&format!("{GOOD}[ports]\nirq = {{ name = \"i\", active = \"sideways\" }}\n"));
+        assert!(e.starts_with("p.toml:19: irq: "), "{e}");
+    }
+
+    #[test]
+    fn ports_map_names_and_polarities() {
+        let p = Profile::parse(&format!("{GOOD}[ports]\nirq = {{ name = \"irq_o\", active = \"high\" }}\ncan-clock = \"clk\"\n"), "p").unwrap();
+        assert_eq!(p.ports.irq, Pin::new("irq_o", true));
+        assert_eq!(p.ports.can_clock.name, "clk");
+        assert_eq!(p.ports.describe(), "can-clock = clk, irq = irq_o active high");
+    }
+}
