@@ -40,6 +40,16 @@ pub enum Rule {
     /// Avalon: `begintransfer` missing from a transfer's first cycle, or
     /// present in another cycle.
     BegintransferMisplaced,
+    /// 8051 bus: ALE, RD or WR asserted fewer cycles than the slave needs.
+    StrobeTooShort,
+    /// 8051 bus: the address after ALE, or the write data around WR, not
+    /// held (changed or released too early).
+    DataNotHeld,
+    /// 8051 bus: master and slave drive the shared port together.
+    PortContention,
+    /// 8051 bus: the slave drives the port outside an RD strobe with chip
+    /// select (beyond its float time).
+    ReadOutsideStrobe,
 }
 
 impl fmt::Display for Rule {
@@ -58,6 +68,10 @@ impl fmt::Display for Rule {
             Rule::WaitrequestStuck => "waitrequest stuck",
             Rule::NoReaddatavalid => "no readdatavalid",
             Rule::BegintransferMisplaced => "begintransfer misplaced",
+            Rule::StrobeTooShort => "strobe too short",
+            Rule::DataNotHeld => "address/data not held",
+            Rule::PortContention => "port contention",
+            Rule::ReadOutsideStrobe => "slave drives outside RD",
         })
     }
 }
@@ -157,7 +171,13 @@ impl WishboneMonitor {
         if self.pending {
             // Built only when a rule fires: this runs every waiting cycle.
             let started = self.started;
-            let what = || format!("{} at 0x{:02X} started at cycle {started}", dir(pm.we), pm.adr);
+            let what = || {
+                format!(
+                    "{} at 0x{:02X} started at cycle {started}",
+                    dir(pm.we),
+                    pm.adr
+                )
+            };
             if !m.cyc {
                 flag(
                     Rule::CycDroppedBeforeAck,
