@@ -7,7 +7,7 @@
 
 use std::path::Path;
 
-use bfm::{AvMasterOut, AvSlaveOut, WbMasterOut, WbSlaveOut};
+use bfm::{AvMasterOut, AvSlaveOut, I8051Out, I8051SlaveOut, WbMasterOut, WbSlaveOut};
 
 use crate::bridge::{BatchPins, BridgeError, Model, Port};
 
@@ -18,6 +18,10 @@ pub enum HostPort {
     Wishbone,
     /// Our `can_avalon` wrapper (address, chipselect, read, write, ...).
     Avalon,
+    /// The 8051 multiplexed bus (`rst_i ale_i cs_can_i rd_i wr_i`, all
+    /// active high, and the shared port: `port_0_i`/`port_0_o`/`port_0_oe`
+    /// as on our `can_top_8051`). Sampled by `clk_i`: no host clock port.
+    I8051,
 }
 
 /// The CAN-side outputs of a DUT.
@@ -53,6 +57,12 @@ pub trait Dut {
     /// Avalon slave outputs (idle for a Wishbone DUT, the default).
     fn av(&self) -> AvSlaveOut {
         AvSlaveOut::default()
+    }
+    /// 8051-bus pins (ignored by other DUTs, the default).
+    fn set_i8051(&mut self, _m: &I8051Out) {}
+    /// 8051-bus slave outputs (port not driven for other DUTs, the default).
+    fn i8051(&self) -> I8051SlaveOut {
+        I8051SlaveOut::default()
     }
     /// `rx_i`: `true` = recessive.
     fn set_rx(&mut self, rx: bool);
@@ -96,9 +106,21 @@ struct AvPorts {
     waitrequest: Port,
 }
 
+struct I8051Ports {
+    rst: Port,
+    ale: Port,
+    cs: Port,
+    rd: Port,
+    wr: Port,
+    port_i: Port,
+    port_o: Port,
+    port_oe: Port,
+}
+
 enum HostPorts {
     Wb(WbPorts),
     Av(AvPorts),
+    I8051(I8051Ports),
 }
 
 /// A Verilated top with the `can_top` Wishbone port list or the
@@ -127,6 +149,7 @@ struct OutCache {
     can: CanPins,
     wb: WbSlaveOut,
     av: AvSlaveOut,
+    i8051: I8051SlaveOut,
 }
 
 impl VerilatedDut {
@@ -163,6 +186,12 @@ impl VerilatedDut {
                     readdata: get(a.readdata),
                     waitrequest: get(a.waitrequest) != 0,
                     readdatavalid: false,
+                }
+            }
+            HostPorts::I8051(p) => {
+                self.out.i8051 = I8051SlaveOut {
+                    ad: get(p.port_o),
+                    ad_oe: get(p.port_oe) != 0,
                 }
             }
         }
@@ -236,14 +265,18 @@ impl VerilatedDut {
     #[inline]
     pub fn eval_pins(&mut self, host_clk: bool, can_clk: bool) -> CanPins {
         let hc = match &self.host {
-            HostPorts::Wb(w) => w.clk,
-            HostPorts::Av(a) => a.clk,
+            HostPorts::Wb(w) => Some(w.clk),
+            HostPorts::Av(a) => Some(a.clk),
+            // The 8051 bus has no clock: clk_i samples it.
+            HostPorts::I8051(_) => None,
         };
         let cc = self.can_clk;
-        assert!(self.m.owns(hc), "VerilatedDut: the model was replaced");
+        assert!(self.m.owns(cc), "VerilatedDut: the model was replaced");
         // SAFETY: both clocks are 1-bit ports of this model (bound in `new`).
         unsafe {
-            self.m.set_bit_unchecked(hc, host_clk);
+            if let Some(hc) = hc {
+                self.m.set_bit_unchecked(hc, host_clk);
+            }
             self.m.set_bit_unchecked(cc, can_clk);
         }
         self.m.eval();
@@ -270,7 +303,12 @@ impl VerilatedDut {
                     adr: p("wb_adr_i", 8)?,
                     ack: p("wb_ack_o", 1)?,
                 });
-                (host, ["clk_i", "rx_i", "tx_o", "irq_on", "bus_off_on", "clkout_o"], false, k)
+                (
+                    host,
+                    ["clk_i", "rx_i", "tx_o", "irq_on", "bus_off_on", "clkout_o"],
+                    false,
+                    k,
+                )
             }
             HostPort::Avalon => {
                 let k = "can_avalon";
@@ -286,7 +324,32 @@ impl VerilatedDut {
                     readdata: p("readdata", 8)?,
                     waitrequest: p("waitrequest", 1)?,
                 });
-                (host, ["can_clk", "rx", "tx", "irq", "bus_off_on", "clkout"], true, k)
+                (
+                    host,
+                    ["can_clk", "rx", "tx", "irq", "bus_off_on", "clkout"],
+                    true,
+                    k,
+                )
+            }
+            HostPort::I8051 => {
+                let k = "8051 bus (can_top_8051)";
+                let p = |n: &str, w: u32| m.port(n, Some(w), k);
+                let host = HostPorts::I8051(I8051Ports {
+                    rst: p("rst_i", 1)?,
+                    ale: p("ale_i", 1)?,
+                    cs: p("cs_can_i", 1)?,
+                    rd: p("rd_i", 1)?,
+                    wr: p("wr_i", 1)?,
+                    port_i: p("port_0_i", 8)?,
+                    port_o: p("port_0_o", 8)?,
+                    port_oe: p("port_0_oe", 1)?,
+                });
+                (
+                    host,
+                    ["clk_i", "rx_i", "tx_o", "irq_on", "bus_off_on", "clkout_o"],
+                    false,
+                    k,
+                )
             }
         };
         let p = |i: usize| m.port(can_names[i], Some(1), k);
@@ -332,12 +395,14 @@ impl Dut for VerilatedDut {
         match self.host {
             HostPorts::Wb(_) => HostPort::Wishbone,
             HostPorts::Av(_) => HostPort::Avalon,
+            HostPorts::I8051(_) => HostPort::I8051,
         }
     }
     fn set_reset(&mut self, on: bool) {
         let p = match &self.host {
             HostPorts::Wb(w) => w.rst,
             HostPorts::Av(a) => a.reset,
+            HostPorts::I8051(p) => p.rst,
         };
         self.m.set(p, on as u64);
     }
@@ -372,6 +437,20 @@ impl Dut for VerilatedDut {
     }
     fn av(&self) -> AvSlaveOut {
         self.out.av
+    }
+    fn set_i8051(&mut self, x: &I8051Out) {
+        if let HostPorts::I8051(p) = &self.host {
+            let (ale, cs, rd, wr, pi) = (p.ale, p.cs, p.rd, p.wr, p.port_i);
+            self.m.set(ale, x.ale as u64);
+            self.m.set(cs, x.cs as u64);
+            self.m.set(rd, x.rd as u64);
+            self.m.set(wr, x.wr as u64);
+            // An undriven port reads as the pull-ups.
+            self.m.set(pi, if x.ad_oe { x.ad } else { 0xFF } as u64);
+        }
+    }
+    fn i8051(&self) -> I8051SlaveOut {
+        self.out.i8051
     }
     #[inline]
     fn set_rx(&mut self, rx: bool) {

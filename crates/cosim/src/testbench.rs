@@ -16,7 +16,8 @@ use std::path::PathBuf;
 
 use bfm::{
     AvMasterOut, AvalonMaster, AvalonMasterConfig, AvalonMonitor, AvalonMonitorConfig,
-    AvalonTiming, BfmError, HostMaster, OpHandle, OpResult, PioMaster, PioTiming, WbMasterOut,
+    AvalonTiming, BfmError, HostMaster, I8051Config, I8051Master, I8051Monitor, I8051MonitorConfig,
+    I8051Out, I8051Polarity, I8051Timing, OpHandle, OpResult, PioMaster, PioTiming, WbMasterOut,
     WbSlaveOut, WishboneMaster, WishboneMonitor, wiring::Wiring as AvWiring,
 };
 use can_proto::decode::{DecodeEvent, Decoder};
@@ -79,6 +80,10 @@ pub enum HostBfm {
     },
     /// Nios II bit-banging the Wishbone pins through PIO registers.
     Pio(PioTiming),
+    /// Intel-mode (8051) multiplexed bus master (pins active high, as on
+    /// `can_top_8051` and the opencores 8051 build); drives a DUT with the
+    /// [`HostPort::I8051`] port list (`DutChoice::Rtl` becomes `can_top_8051`).
+    I8051(I8051Timing),
 }
 
 /// The reference of a lockstep run.
@@ -248,6 +253,7 @@ enum Master {
     Wb(WishboneMaster),
     Av(AvalonMaster, AvalonWiring),
     Pio(PioMaster),
+    I8051(I8051Master, I8051Monitor),
 }
 
 macro_rules! with_master {
@@ -256,6 +262,7 @@ macro_rules! with_master {
             Master::Wb($x) => $e,
             Master::Av($x, _) => $e,
             Master::Pio($x) => $e,
+            Master::I8051($x, _) => $e,
         }
     };
 }
@@ -298,6 +305,7 @@ pub struct Testbench {
     host_bus: HostBus,
     applied_wb: WbMasterOut,
     applied_av: AvMasterOut,
+    applied_i8051: I8051Out,
     wb_mon: WishboneMonitor,
     /// Master pins and slave outputs the Wishbone monitor saw last.
     wb_mon_seen: Option<(WbMasterOut, WbSlaveOut)>,
@@ -356,7 +364,19 @@ impl Testbench {
     pub fn new(mut cfg: TbConfig) -> Result<Testbench, TbError> {
         let kernel = Kernel::new(cfg.host_hz, cfg.can_hz)?;
         let trace = cfg.dut_trace.is_some();
+        // A DUT driven over the 8051 bus binds that port list.
+        let i8051 = matches!(cfg.host, HostBfm::I8051(_));
+        let wb_or_8051 = if i8051 {
+            HostPort::I8051
+        } else {
+            HostPort::Wishbone
+        };
         let mut dut = match &cfg.dut {
+            DutChoice::Rtl if i8051 => AnyDut::Verilated(VerilatedDut::bundled(
+                "can_top_8051",
+                HostPort::I8051,
+                trace,
+            )?),
             DutChoice::Rtl => {
                 AnyDut::Verilated(VerilatedDut::bundled("can_top", HostPort::Wishbone, trace)?)
             }
@@ -366,12 +386,17 @@ impl Testbench {
                 trace,
             )?),
             DutChoice::Bundled(top) => {
-                AnyDut::Verilated(VerilatedDut::bundled(top, HostPort::Wishbone, trace)?)
+                AnyDut::Verilated(VerilatedDut::bundled(top, wb_or_8051, trace)?)
             }
             DutChoice::External(core) => AnyDut::Verilated(VerilatedDut::new(
                 core.build()?.instantiate(trace),
-                HostPort::Wishbone,
+                wb_or_8051,
             )?),
+            DutChoice::Model | DutChoice::Echo if i8051 => {
+                return Err(TbError::Config(
+                    "the 8051 host drives a DUT with the 8051 port list (can_top_8051 or an external core); the golden model and the echo model have Wishbone only".into(),
+                ));
+            }
             // A GPIO-polled host needs the level ack (as can_top_pio).
             DutChoice::Model if matches!(cfg.host, HostBfm::Pio(_)) => {
                 AnyDut::Other(Box::new(ModelDut::with_level_ack()))
@@ -412,7 +437,35 @@ impl Testbench {
                 m.set_timeout(cfg.op_timeout_cycles);
                 (Master::Pio(m), HostBus::Pio)
             }
+            HostBfm::I8051(timing) => {
+                let polarity = I8051Polarity::ACTIVE_HIGH;
+                let m = I8051Master::new(
+                    "host",
+                    I8051Config {
+                        polarity,
+                        timing,
+                        timeout_cycles: cfg.op_timeout_cycles,
+                    },
+                );
+                let mon = I8051Monitor::new(
+                    "8051 monitor",
+                    I8051MonitorConfig::for_timing(polarity, &timing),
+                );
+                (Master::I8051(m, mon), HostBus::I8051)
+            }
         };
+        if (dut.host_port() == HostPort::I8051) != i8051 {
+            return Err(TbError::Config(format!(
+                "{} has the {:?} port list: drive {} with the 8051 host",
+                dut.name(),
+                dut.host_port(),
+                if i8051 {
+                    "only a DUT with the 8051 port list"
+                } else {
+                    "it only"
+                }
+            )));
+        }
         if dut.host_port() == HostPort::Avalon && !matches!(master, Master::Av(..)) {
             return Err(TbError::Config(format!(
                 "{} has an Avalon port: drive it with the Avalon BFM (wiring Native)",
@@ -535,6 +588,7 @@ impl Testbench {
             host_bus,
             applied_wb: WbMasterOut::default(),
             applied_av: AvMasterOut::default(),
+            applied_i8051: I8051Polarity::ACTIVE_HIGH.drive(false, false, false, false),
             wb_mon: WishboneMonitor::new("wishbone monitor", cfg.monitor_ack_timeout),
             wb_mon_seen: None,
             dut_pins: crate::dut::CanPins::default(),
@@ -574,6 +628,8 @@ impl Testbench {
             batch_times: Vec::new(),
         };
         tb.dut.set_reset(true);
+        let idle = tb.applied_i8051;
+        tb.dut.set_i8051(&idle);
         tb.dut.set_rx(RECESSIVE);
         tb.dut_pins = tb.dut.can();
         while tb.reset_left > 0 {
@@ -939,6 +995,11 @@ impl Testbench {
                 let s = self.dut.av();
                 (self.applied_av.chipselect && !s.waitrequest, s.readdata)
             }
+            // The port as the DUT drives it; "ack" = it drives.
+            HostPort::I8051 => {
+                let s = self.dut.i8051();
+                (s.ad_oe, s.ad)
+            }
         };
         let (cyc, stb, we, adr, dat_i) = match self.dut.host_port() {
             HostPort::Wishbone => (
@@ -957,6 +1018,11 @@ impl Testbench {
                     a.address,
                     a.writedata,
                 )
+            }
+            // cyc = CS, stb = RD or WR, adr = the port while ALE is high.
+            HostPort::I8051 => {
+                let a = self.applied_i8051;
+                (a.cs, a.rd || a.wr, a.wr, if a.ale { a.ad } else { 0 }, a.ad)
             }
         };
         let (model_tx, model_field) = match &self.reference {
@@ -1006,6 +1072,7 @@ impl Testbench {
         }
         let mut viol: Vec<bfm::Violation> = Vec::new();
         let mut av_viol: Vec<bfm::Violation> = Vec::new();
+        let mut i8051_viol: Vec<bfm::Violation> = Vec::new();
         match &mut self.master {
             Master::Wb(m) => {
                 let s = self.dut.wb();
@@ -1032,6 +1099,13 @@ impl Testbench {
                 self.applied_wb = m.outputs();
                 self.dut.set_wb(&self.applied_wb);
                 self.dut.set_reset(m.rst());
+            }
+            Master::I8051(m, mon) => {
+                let s = self.dut.i8051();
+                i8051_viol = mon.observe(cycle, &self.applied_i8051, &s);
+                m.on_edge(&s);
+                self.applied_i8051 = m.outputs();
+                self.dut.set_i8051(&self.applied_i8051);
             }
             Master::Av(m, AvalonWiring::Native) => {
                 let s = self.dut.av();
@@ -1071,6 +1145,13 @@ impl Testbench {
             self.record.violations.push(diagnose::Violation {
                 cycle: v.cycle,
                 rule: rule_id("avalon.", v.rule),
+                message: v.message,
+            });
+        }
+        for v in i8051_viol {
+            self.record.violations.push(diagnose::Violation {
+                cycle: v.cycle,
+                rule: rule_id("i8051.", v.rule),
                 message: v.message,
             });
         }
@@ -1371,6 +1452,9 @@ impl Testbench {
                 }
                 let presented = if native_avalon {
                     self.applied_av.chipselect && (self.applied_av.read || self.applied_av.write)
+                } else if let Master::I8051(m, _) = &self.master {
+                    let (p, w) = (m.config().polarity, &self.applied_i8051);
+                    p.cs(w) && (p.rd(w) || p.wr(w))
                 } else {
                     self.applied_wb.cyc && self.applied_wb.stb
                 };
@@ -1395,6 +1479,9 @@ impl Testbench {
             // For the diagnosis of a failed access: did the DUT answer at all?
             let answered = if native_avalon {
                 self.applied_av.chipselect && !self.dut.av().waitrequest
+            } else if matches!(self.master, Master::I8051(..)) {
+                // No acknowledge on this bus: the DUT answered if it drove the port.
+                self.dut.i8051().ad_oe
             } else {
                 self.dut.wb().ack
             };
