@@ -139,10 +139,14 @@ impl I8051Polarity {
 /// around WR, RD and WR pulse widths of a few tens of ns) is met with
 /// margin by a classic 12 MHz 80C51 `MOVX` cycle, which these defaults
 /// follow (ALE 120 ns, address hold 40 ns, ALE-to-strobe 200 ns, data
-/// hold 40 ns). The RD strobe is stretched to 720 ns (36 cycles), WR is
+/// hold 40 ns). The RD strobe is stretched to 760 ns (38 cycles), WR is
 /// 400 ns: our `can_top_8051` answers a read through its clock-domain
 /// crossing only from the 31st RD cycle at 50/24 MHz (measured by
 /// `cosim/tests/i8051.rs`), where the chip answers within tens of ns.
+/// Recovery is 260 ns (13 cycles, 6 CAN clocks at 24 MHz) so that a write,
+/// which the wrapper performs after WR is released, is done before the
+/// next access's RD (an 80C51 spends at least that long between two
+/// `MOVX`). `cosim::i8051_timing_for_rtl` scales both to other clocks.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub struct I8051Timing {
     /// Cycles with ALE asserted and the address driven.
@@ -170,10 +174,10 @@ impl Default for I8051Timing {
             addr_hold: 2,
             read_float: 8,
             data_setup: 8,
-            rd: 36,
+            rd: 38,
             wr: 20,
             data_hold: 2,
-            recovery: 4,
+            recovery: 13,
         }
     }
 }

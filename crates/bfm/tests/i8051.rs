@@ -294,7 +294,7 @@ fn slow_float_gives_contention_and_drive_outside_rd() {
         I8051Timing::default(),
         1,
     );
-    b.target.float_delay = 2; // recovery 4 covers it
+    b.target.float_delay = 2; // the default recovery covers it
     let h = b.master.start_read(7);
     b.wait(h).unwrap();
     let h = b.master.start_write(8, 0x80);

@@ -24,6 +24,7 @@ pub use kernel::{Kernel, KernelError, Tick};
 pub use model::{ModelDut, ModelRef};
 pub use testbench::{
     AvalonWiring, DutChoice, HostBfm, NodeConfig, ReferenceChoice, TbConfig, TbError, Testbench,
+    i8051_timing_for_rtl,
 };
 /// The waivers crate the test bench takes (`TbConfig::waivers`) and reports
 /// with (`Testbench::waiver_report`), for callers without their own dependency.

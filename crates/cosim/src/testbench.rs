@@ -86,6 +86,23 @@ pub enum HostBfm {
     I8051(I8051Timing),
 }
 
+/// 8051-bus timing for our `can_top_8051` at the given clocks: the default
+/// [`I8051Timing`] with the RD strobe long enough for the wrapper's read
+/// latency (about 15 CAN clocks, see `rtl/can_top_8051.v`; 18 with margin)
+/// and at least 6 CAN clocks of recovery, so that a write, done after WR is
+/// released (about 14 CAN clocks), is over before the next access's RD
+/// (with 4 host cycles at 50/24 MHz a read waits behind the write and
+/// `pelican-error-kinds` diverges: measured).
+pub fn i8051_timing_for_rtl(host_hz: u64, can_hz: u64) -> I8051Timing {
+    let d = I8051Timing::default();
+    let host_cycles = |can_clocks: u64| (can_clocks * host_hz).div_ceil(can_hz.max(1)) as u32;
+    I8051Timing {
+        rd: d.rd.max(host_cycles(18)),
+        recovery: d.recovery.max(host_cycles(6)),
+        ..d
+    }
+}
+
 /// The reference of a lockstep run.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum ReferenceChoice {
@@ -516,6 +533,7 @@ impl Testbench {
             None => None,
         };
         let dut_name = match &cfg.dut {
+            DutChoice::Rtl if i8051 => "rtl (can_top_8051)".to_string(),
             DutChoice::Rtl => "rtl".to_string(),
             DutChoice::RtlAvalon => "rtl (can_avalon)".to_string(),
             DutChoice::Bundled(t) => t.clone(),
@@ -573,6 +591,16 @@ impl Testbench {
         let ref_timing = match (&cfg.dut, cfg.host) {
             _ if seed000 => RefTiming::AtAck,
             (DutChoice::Rtl, HostBfm::Wishbone | HostBfm::Avalon { .. }) => rtl_cdc,
+            // can_top_8051 (rtl/can_top_8051.v), from the host edge that
+            // raises RD or releases WR: 2 sampling flops, the strobe edge
+            // registered, the Wishbone request registered (CAN edge 4),
+            // can_top's own launch at edge 5 (its wb_clk_i is clk_i), then
+            // can_top's 3 (read) or 4 (write, CMR) edges.
+            (DutChoice::Rtl, HostBfm::I8051(_)) => RefTiming::CanEdges {
+                read: 8,
+                write: 9,
+                command: 9,
+            },
             (DutChoice::RtlAvalon, HostBfm::Avalon { .. }) => rtl_cdc,
             (DutChoice::Bundled(t), HostBfm::Pio(_)) if t == "can_top_pio" => rtl_cdc,
             (DutChoice::Model, HostBfm::Wishbone | HostBfm::Pio(_) | HostBfm::Avalon { .. }) => {
@@ -1432,6 +1460,7 @@ impl Testbench {
             _ => 0,
         };
         let mut launched = false;
+        let mut i8051_wr_seen = false;
         let mut acks_seen = 0u32;
         let mut can_edges = 0u32;
         let mut taken: Option<(Option<diagnose::WriteOutcome>, u8)> = None;
@@ -1452,9 +1481,6 @@ impl Testbench {
                 }
                 let presented = if native_avalon {
                     self.applied_av.chipselect && (self.applied_av.read || self.applied_av.write)
-                } else if let Master::I8051(m, _) = &self.master {
-                    let (p, w) = (m.config().polarity, &self.applied_i8051);
-                    p.cs(w) && (p.rd(w) || p.wr(w))
                 } else {
                     self.applied_wb.cyc && self.applied_wb.stb
                 };
@@ -1462,6 +1488,15 @@ impl Testbench {
                 self.tick();
                 if launched {
                     can_edges += (self.can_clocks != cc) as u32;
+                } else if let Master::I8051(m, _) = &self.master {
+                    // No host clock in the DUT: it sees the pins from the
+                    // host edge that sets them. A read launches there with
+                    // RD, a write with the release of WR.
+                    let (p, w) = (m.config().polarity, &self.applied_i8051);
+                    let (rd, wr) = (p.cs(w) && p.rd(w), p.cs(w) && p.wr(w));
+                    i8051_wr_seen |= wr;
+                    launched =
+                        self.host_cycle != c && if write { i8051_wr_seen && !wr } else { rd };
                 } else {
                     // The first host edge at which the DUT sees cyc & stb.
                     launched = self.host_cycle != c && presented;
