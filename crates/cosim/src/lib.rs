@@ -19,7 +19,9 @@ pub mod wave;
 
 pub use bridge::{BridgeError, CompiledCore, ExternalCore, Model, Port, PortInfo, bundled_tops};
 pub use compare::{Comparator, CompareConfig, Reference};
-pub use dut::{CanPins, Dut, EchoModel, HostPort, VerilatedDut};
+pub use dut::{
+    CanPins, Dut, EchoModel, HostPort, I8051_SHELL_TOP, VerilatedDut, i8051_inout_shell,
+};
 pub use kernel::{Kernel, KernelError, Tick};
 pub use model::{ModelDut, ModelRef};
 pub use testbench::{
