@@ -363,6 +363,9 @@ pub struct Testbench {
     adopt_rec_at_read: bool,
     /// When the reference takes a host access (Wishbone master only).
     ref_timing: RefTiming,
+    /// 8051 host: the DUT takes a write when WR is released (our
+    /// `can_top_8051`), not when WR rises (an external core).
+    i8051_write_at_release: bool,
     /// Batches allowed (see [`Testbench::set_batching`]).
     batching: bool,
     /// Buffers of `run_batch` (clock levels in, pins out), kept between calls.
@@ -601,6 +604,15 @@ impl Testbench {
                 write: 9,
                 command: 9,
             },
+            // An external 8051 core is taken to act at the first clk_i edge
+            // of the strobe, with the port as it is then (the opencores
+            // 8051 build: rd_i/wr_i registered once, the access on the
+            // rising edge of the strobe, writes included).
+            (DutChoice::External(_), HostBfm::I8051(_)) => RefTiming::CanEdges {
+                read: 1,
+                write: 1,
+                command: 1,
+            },
             (DutChoice::RtlAvalon, HostBfm::Avalon { .. }) => rtl_cdc,
             (DutChoice::Bundled(t), HostBfm::Pio(_)) if t == "can_top_pio" => rtl_cdc,
             (DutChoice::Model, HostBfm::Wishbone | HostBfm::Pio(_) | HostBfm::Avalon { .. }) => {
@@ -650,6 +662,7 @@ impl Testbench {
             adopt_tec_at_read: false,
             adopt_rec_at_read: false,
             ref_timing,
+            i8051_write_at_release: !matches!(cfg.dut, DutChoice::External(_)),
             batching: true,
             batch_levels: Vec::new(),
             batch_out: Vec::new(),
@@ -1495,8 +1508,12 @@ impl Testbench {
                     let (p, w) = (m.config().polarity, &self.applied_i8051);
                     let (rd, wr) = (p.cs(w) && p.rd(w), p.cs(w) && p.wr(w));
                     i8051_wr_seen |= wr;
-                    launched =
-                        self.host_cycle != c && if write { i8051_wr_seen && !wr } else { rd };
+                    let write_launch = if self.i8051_write_at_release {
+                        i8051_wr_seen && !wr
+                    } else {
+                        wr
+                    };
+                    launched = self.host_cycle != c && if write { write_launch } else { rd };
                 } else {
                     // The first host edge at which the DUT sees cyc & stb.
                     launched = self.host_cycle != c && presented;
