@@ -1,7 +1,7 @@
 #!/usr/bin/env bash
 # Installs what the project needs on a fresh Debian machine: Verilator (the
 # co-simulation DUT build), Icarus Verilog (RTL compile check, bench) and
-# Yosys (resource estimate). Rust comes with the machine (rustup).
+# Yosys (resource estimate), SDCC (8051 header check). Rust comes with the machine (rustup).
 # Fails with one clear sentence when something cannot be had.
 set -euo pipefail
 
@@ -15,6 +15,8 @@ command -v make >/dev/null 2>&1 || need_pkgs+=(make)
 command -v gcc  >/dev/null 2>&1 || need_pkgs+=(gcc)
 # tclsh sources the generated _hw.tcl in the generator tests.
 command -v tclsh >/dev/null 2>&1 || need_pkgs+=(tcl)
+# sdcc compiles the generated 8051 header in the generator tests.
+command -v sdcc  >/dev/null 2>&1 || need_pkgs+=(sdcc)
 
 if [ ${#need_pkgs[@]} -gt 0 ]; then
   if ! command -v apt-get >/dev/null 2>&1; then

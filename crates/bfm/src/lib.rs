@@ -1,5 +1,6 @@
 //! Host bus-functional models for the SJA1000-compatible core: Wishbone
-//! classic, Avalon-MM and PIO (GPIO bit-banging) masters, passive protocol
+//! classic, Avalon-MM, PIO (GPIO bit-banging) and Intel-mode 8051
+//! multiplexed-bus masters, passive protocol
 //! monitors, RAM targets to test them, and fault wrappers.
 //!
 //! The crate knows no simulator and no async runtime: every role is a plain
@@ -58,8 +59,9 @@
 //! # Roles
 //!
 //! One type per role, as cocotbext-axi does: [`WishboneMaster`],
-//! [`AvalonMaster`], [`PioMaster`]; [`WishboneMonitor`], [`AvalonMonitor`];
-//! [`WishboneRam`], [`AvalonRam`]; fault wrappers in [`faults`]; seed 000's
+//! [`AvalonMaster`], [`PioMaster`], [`I8051Master`]; [`WishboneMonitor`],
+//! [`AvalonMonitor`], [`I8051Monitor`]; [`WishboneRam`], [`AvalonRam`],
+//! [`I8051Ram`]; fault wrappers in [`faults`]; seed 000's
 //! Avalon-to-Wishbone wiring in [`wiring`]. Masters queue operations
 //! (`start_read`/`start_write` return an [`OpHandle`]), take an optional
 //! idle-inserting [`Pause`], time out every operation, and flush their queue
@@ -69,6 +71,7 @@
 
 mod avalon;
 pub mod faults;
+mod i8051;
 mod monitor;
 mod op;
 mod pins;
@@ -77,6 +80,10 @@ pub mod wiring;
 mod wishbone;
 
 pub use avalon::{AvalonMaster, AvalonMasterConfig, AvalonRam, AvalonTiming};
+pub use i8051::{
+    DEFAULT_I8051_TIMEOUT_CYCLES, I8051Config, I8051Master, I8051Monitor, I8051MonitorConfig,
+    I8051Out, I8051Polarity, I8051Ram, I8051SlaveOut, I8051Timing, port_level,
+};
 pub use monitor::{AvalonMonitor, AvalonMonitorConfig, Rule, Violation, WishboneMonitor};
 pub use op::{
     BfmError, DEFAULT_TIMEOUT_CYCLES, OpHandle, OpKind, OpResult, Pause, cycle_pause, random_pause,

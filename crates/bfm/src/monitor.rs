@@ -40,6 +40,16 @@ pub enum Rule {
     /// Avalon: `begintransfer` missing from a transfer's first cycle, or
     /// present in another cycle.
     BegintransferMisplaced,
+    /// 8051 bus: ALE, RD or WR asserted fewer cycles than the slave needs.
+    StrobeTooShort,
+    /// 8051 bus: the address after ALE, or the write data around WR, not
+    /// held (changed or released too early).
+    DataNotHeld,
+    /// 8051 bus: master and slave drive the shared port together.
+    PortContention,
+    /// 8051 bus: the slave drives the port outside an RD strobe with chip
+    /// select (beyond its float time).
+    ReadOutsideStrobe,
 }
 
 impl fmt::Display for Rule {
@@ -58,6 +68,10 @@ impl fmt::Display for Rule {
             Rule::WaitrequestStuck => "waitrequest stuck",
             Rule::NoReaddatavalid => "no readdatavalid",
             Rule::BegintransferMisplaced => "begintransfer misplaced",
+            Rule::StrobeTooShort => "strobe too short",
+            Rule::DataNotHeld => "address/data not held",
+            Rule::PortContention => "port contention",
+            Rule::ReadOutsideStrobe => "slave drives outside RD",
         })
     }
 }

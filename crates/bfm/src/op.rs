@@ -300,7 +300,10 @@ pub(crate) fn reset_pin_edge(name: &str, in_reset: &mut bool, asserted: bool) ->
     if asserted == *in_reset {
         return false;
     }
-    log::info!("{name}: reset {}", if asserted { "asserted" } else { "released" });
+    log::info!(
+        "{name}: reset {}",
+        if asserted { "asserted" } else { "released" }
+    );
     *in_reset = asserted;
     asserted
 }

@@ -22,13 +22,15 @@ pub mod wave;
 
 pub use bridge::{BridgeError, CompiledCore, ExternalCore, Model, Port, PortInfo, bundled_tops};
 pub use compare::{Comparator, CompareConfig, Reference};
-pub use dut::{CanPins, Dut, EchoModel, HostPort, VerilatedDut};
+pub use dut::{
+    CanPins, Dut, EchoModel, HostPort, I8051_SHELL_TOP, VerilatedDut, i8051_inout_shell,
+};
 pub use kernel::{Kernel, KernelError, Tick};
 pub use model::{ModelDut, ModelRef};
 pub use profile::{AccessTiming, PhaseOrigin, PortMap, Profile, ProfileError};
 pub use testbench::{
     AvalonWiring, CustomDut, DutChoice, HostBfm, NodeConfig, ReferenceChoice, TbConfig, TbError,
-    Testbench,
+    Testbench, i8051_timing_for_rtl,
 };
 /// The waivers crate the test bench takes (`TbConfig::waivers`) and reports
 /// with (`Testbench::waiver_report`), for callers without their own dependency.

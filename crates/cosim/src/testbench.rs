@@ -16,7 +16,8 @@ use std::path::PathBuf;
 
 use bfm::{
     AvMasterOut, AvalonMaster, AvalonMasterConfig, AvalonMonitor, AvalonMonitorConfig,
-    AvalonTiming, BfmError, HostMaster, OpHandle, OpResult, PioMaster, PioTiming, WbMasterOut,
+    AvalonTiming, BfmError, HostMaster, I8051Config, I8051Master, I8051Monitor, I8051MonitorConfig,
+    I8051Out, I8051Polarity, I8051Timing, OpHandle, OpResult, PioMaster, PioTiming, WbMasterOut,
     WbSlaveOut, WishboneMaster, WishboneMonitor, wiring::Wiring as AvWiring,
 };
 use can_proto::decode::{DecodeEvent, Decoder};
@@ -100,6 +101,27 @@ pub enum HostBfm {
     },
     /// Nios II bit-banging the Wishbone pins through PIO registers.
     Pio(PioTiming),
+    /// Intel-mode (8051) multiplexed bus master (pins active high, as on
+    /// `can_top_8051` and the opencores 8051 build); drives a DUT with the
+    /// [`HostPort::I8051`] port list (`DutChoice::Rtl` becomes `can_top_8051`).
+    I8051(I8051Timing),
+}
+
+/// 8051-bus timing for our `can_top_8051` at the given clocks: the default
+/// [`I8051Timing`] with the RD strobe long enough for the wrapper's read
+/// latency (about 15 CAN clocks, see `rtl/can_top_8051.v`; 18 with margin)
+/// and at least 6 CAN clocks of recovery, so that a write, done after WR is
+/// released (about 14 CAN clocks), is over before the next access's RD
+/// (with 4 host cycles at 50/24 MHz a read waits behind the write and
+/// `pelican-error-kinds` diverges: measured).
+pub fn i8051_timing_for_rtl(host_hz: u64, can_hz: u64) -> I8051Timing {
+    let d = I8051Timing::default();
+    let host_cycles = |can_clocks: u64| (can_clocks * host_hz).div_ceil(can_hz.max(1)) as u32;
+    I8051Timing {
+        rd: d.rd.max(host_cycles(18)),
+        recovery: d.recovery.max(host_cycles(6)),
+        ..d
+    }
 }
 
 /// The reference of a lockstep run.
@@ -281,6 +303,7 @@ enum Master {
     Wb(WishboneMaster),
     Av(AvalonMaster, AvalonWiring),
     Pio(PioMaster),
+    I8051(I8051Master, I8051Monitor),
 }
 
 macro_rules! with_master {
@@ -289,6 +312,7 @@ macro_rules! with_master {
             Master::Wb($x) => $e,
             Master::Av($x, _) => $e,
             Master::Pio($x) => $e,
+            Master::I8051($x, _) => $e,
         }
     };
 }
@@ -331,6 +355,7 @@ pub struct Testbench {
     host_bus: HostBus,
     applied_wb: WbMasterOut,
     applied_av: AvMasterOut,
+    applied_i8051: I8051Out,
     wb_mon: WishboneMonitor,
     /// Master pins and slave outputs the Wishbone monitor saw last.
     wb_mon_seen: Option<(WbMasterOut, WbSlaveOut)>,
@@ -378,6 +403,9 @@ pub struct Testbench {
     req_wires: WbMasterOut,
     /// The profile's `latch` for the host bus in use, if it gives one.
     latch_edges: Option<u32>,
+    /// 8051 host: the DUT takes a write when WR is released (our
+    /// `can_top_8051`), not when WR rises (an external core).
+    i8051_write_at_release: bool,
     /// Batches allowed (see [`Testbench::set_batching`]).
     batching: bool,
     /// Buffers of `run_batch` (clock levels in, pins out), kept between calls.
@@ -410,7 +438,19 @@ impl Testbench {
         });
         let default_ports = PortMap::default();
         let ports = profile.as_ref().map_or(&default_ports, |p| &p.ports);
+        // A DUT driven over the 8051 bus binds that port list.
+        let i8051 = matches!(cfg.host, HostBfm::I8051(_));
+        let wb_or_8051 = if i8051 {
+            HostPort::I8051
+        } else {
+            HostPort::Wishbone
+        };
         let mut dut = match &cfg.dut {
+            DutChoice::Rtl if i8051 => AnyDut::Verilated(VerilatedDut::bundled(
+                "can_top_8051",
+                HostPort::I8051,
+                trace,
+            )?),
             DutChoice::Rtl => {
                 AnyDut::Verilated(VerilatedDut::bundled("can_top", HostPort::Wishbone, trace)?)
             }
@@ -421,14 +461,19 @@ impl Testbench {
             )?),
             DutChoice::Bundled(top) => AnyDut::Verilated(VerilatedDut::with_ports(
                 crate::bridge::Model::bundled(top, trace)?,
-                HostPort::Wishbone,
+                wb_or_8051,
                 ports,
             )?),
             DutChoice::External(core) => AnyDut::Verilated(VerilatedDut::with_ports(
                 core.build()?.instantiate(trace),
-                HostPort::Wishbone,
+                wb_or_8051,
                 ports,
             )?),
+            DutChoice::Model | DutChoice::Echo if i8051 => {
+                return Err(TbError::Config(
+                    "the 8051 host drives a DUT with the 8051 port list (can_top_8051 or an external core); the golden model and the echo model have Wishbone only".into(),
+                ));
+            }
             // A GPIO-polled host needs the level ack (as can_top_pio).
             DutChoice::Model if matches!(cfg.host, HostBfm::Pio(_)) => AnyDut::Other(Box::new(
                 ModelDut::with_level_ack().with_phase_origin(cfg.model_dut_phase_origin),
@@ -472,7 +517,35 @@ impl Testbench {
                 m.set_timeout(cfg.op_timeout_cycles);
                 (Master::Pio(m), HostBus::Pio)
             }
+            HostBfm::I8051(timing) => {
+                let polarity = I8051Polarity::ACTIVE_HIGH;
+                let m = I8051Master::new(
+                    "host",
+                    I8051Config {
+                        polarity,
+                        timing,
+                        timeout_cycles: cfg.op_timeout_cycles,
+                    },
+                );
+                let mon = I8051Monitor::new(
+                    "8051 monitor",
+                    I8051MonitorConfig::for_timing(polarity, &timing),
+                );
+                (Master::I8051(m, mon), HostBus::I8051)
+            }
         };
+        if (dut.host_port() == HostPort::I8051) != i8051 {
+            return Err(TbError::Config(format!(
+                "{} has the {:?} port list: drive {} with the 8051 host",
+                dut.name(),
+                dut.host_port(),
+                if i8051 {
+                    "only a DUT with the 8051 port list"
+                } else {
+                    "it only"
+                }
+            )));
+        }
         if dut.host_port() == HostPort::Avalon && !matches!(master, Master::Av(..)) {
             return Err(TbError::Config(format!(
                 "{} has an Avalon port: drive it with the Avalon BFM (wiring Native)",
@@ -525,6 +598,7 @@ impl Testbench {
             None => None,
         };
         let dut_name = match &cfg.dut {
+            DutChoice::Rtl if i8051 => "rtl (can_top_8051)".to_string(),
             DutChoice::Rtl => "rtl".to_string(),
             DutChoice::RtlAvalon => "rtl (can_avalon)".to_string(),
             DutChoice::Bundled(t) => t.clone(),
@@ -588,6 +662,17 @@ impl Testbench {
         let ref_timing = match (&cfg.dut, cfg.host, &profile) {
             _ if seed000 => RefTiming::AtAck,
             (DutChoice::Model, ..) => RefTiming::LaunchEdge,
+            // can_top_8051 (rtl/can_top_8051.v), from the host edge that
+            // raises RD or releases WR: 2 sampling flops, the strobe edge
+            // registered, the Wishbone request registered (CAN edge 4),
+            // can_top's own launch at edge 5 (its wb_clk_i is clk_i), then
+            // can_top's 3 (read) or 4 (write, CMR) edges.
+            (DutChoice::Rtl, HostBfm::I8051(_), _) => RefTiming::CanEdges { read: 8, write: 9, command: 9 },
+            // An external 8051 core is taken to act at the first clk_i edge
+            // of the strobe, with the port as it is then (the opencores
+            // 8051 build: rd_i/wr_i registered once, the access on the
+            // rising edge of the strobe, writes included).
+            (DutChoice::External(_), HostBfm::I8051(_), _) => RefTiming::CanEdges { read: 1, write: 1, command: 1 },
             (_, HostBfm::Wishbone, Some(p)) => from_profile(p.wishbone),
             (_, HostBfm::Avalon { .. }, Some(p)) => from_profile(p.avalon),
             (_, HostBfm::Pio(_), Some(p)) => from_profile(p.pio),
@@ -601,6 +686,7 @@ impl Testbench {
             host_bus,
             applied_wb: WbMasterOut::default(),
             applied_av: AvMasterOut::default(),
+            applied_i8051: I8051Polarity::ACTIVE_HIGH.drive(false, false, false, false),
             wb_mon: WishboneMonitor::new("wishbone monitor", cfg.monitor_ack_timeout),
             wb_mon_seen: None,
             dut_pins: crate::dut::CanPins::default(),
@@ -640,7 +726,9 @@ impl Testbench {
                 HostBfm::Wishbone => p.latch.wishbone,
                 HostBfm::Avalon { .. } => p.latch.avalon,
                 HostBfm::Pio(_) => p.latch.pio,
+                HostBfm::I8051(_) => None,
             }),
+            i8051_write_at_release: !matches!(cfg.dut, DutChoice::External(_)),
             batching: true,
             batch_levels: Vec::new(),
             batch_out: Vec::new(),
@@ -648,6 +736,8 @@ impl Testbench {
             bus_log: crate::candump::BusLog::new(),
         };
         tb.dut.set_reset(true);
+        let idle = tb.applied_i8051;
+        tb.dut.set_i8051(&idle);
         tb.dut.set_rx(RECESSIVE);
         tb.dut_pins = tb.dut.can();
         while tb.reset_left > 0 {
@@ -1047,6 +1137,11 @@ impl Testbench {
                 let s = self.dut.av();
                 (self.applied_av.chipselect && !s.waitrequest, s.readdata)
             }
+            // The port as the DUT drives it; "ack" = it drives.
+            HostPort::I8051 => {
+                let s = self.dut.i8051();
+                (s.ad_oe, s.ad)
+            }
         };
         let (cyc, stb, we, adr, dat_i) = match self.dut.host_port() {
             HostPort::Wishbone => (
@@ -1065,6 +1160,11 @@ impl Testbench {
                     a.address,
                     a.writedata,
                 )
+            }
+            // cyc = CS, stb = RD or WR, adr = the port while ALE is high.
+            HostPort::I8051 => {
+                let a = self.applied_i8051;
+                (a.cs, a.rd || a.wr, a.wr, if a.ale { a.ad } else { 0 }, a.ad)
             }
         };
         let (model_tx, model_field) = match &self.reference {
@@ -1133,6 +1233,7 @@ impl Testbench {
         if !(self.applied_wb.cyc && self.applied_wb.stb) {
             self.req_edges = 0;
         }
+        let mut i8051_viol: Vec<bfm::Violation> = Vec::new();
         match &mut self.master {
             Master::Wb(m) => {
                 let s = self.dut.wb();
@@ -1159,6 +1260,13 @@ impl Testbench {
                 self.applied_wb = m.outputs();
                 self.dut.set_wb(&self.applied_wb);
                 self.dut.set_reset(m.rst());
+            }
+            Master::I8051(m, mon) => {
+                let s = self.dut.i8051();
+                i8051_viol = mon.observe(cycle, &self.applied_i8051, &s);
+                m.on_edge(&s);
+                self.applied_i8051 = m.outputs();
+                self.dut.set_i8051(&self.applied_i8051);
             }
             Master::Av(m, AvalonWiring::Native) => {
                 let s = self.dut.av();
@@ -1201,6 +1309,13 @@ impl Testbench {
             self.record.violations.push(diagnose::Violation {
                 cycle: v.cycle,
                 rule: rule_id("avalon.", v.rule),
+                message: v.message,
+            });
+        }
+        for v in i8051_viol {
+            self.record.violations.push(diagnose::Violation {
+                cycle: v.cycle,
+                rule: rule_id("i8051.", v.rule),
                 message: v.message,
             });
         }
@@ -1494,6 +1609,7 @@ impl Testbench {
             _ => 0,
         };
         let mut launched = false;
+        let mut i8051_wr_seen = false;
         let mut acks_seen = 0u32;
         let mut can_edges = 0u32;
         let mut taken: Option<(Option<diagnose::WriteOutcome>, u8)> = None;
@@ -1521,6 +1637,19 @@ impl Testbench {
                 self.tick();
                 if launched {
                     can_edges += (self.can_clocks != cc) as u32;
+                } else if let Master::I8051(m, _) = &self.master {
+                    // No host clock in the DUT: it sees the pins from the
+                    // host edge that sets them. A read launches there with
+                    // RD, a write with the release of WR.
+                    let (p, w) = (m.config().polarity, &self.applied_i8051);
+                    let (rd, wr) = (p.cs(w) && p.rd(w), p.cs(w) && p.wr(w));
+                    i8051_wr_seen |= wr;
+                    let write_launch = if self.i8051_write_at_release {
+                        i8051_wr_seen && !wr
+                    } else {
+                        wr
+                    };
+                    launched = self.host_cycle != c && if write { write_launch } else { rd };
                 } else {
                     // The first host edge at which the DUT sees cyc & stb.
                     launched = self.host_cycle != c && presented;
@@ -1538,6 +1667,9 @@ impl Testbench {
             // For the diagnosis of a failed access: did the DUT answer at all?
             let answered = if native_avalon {
                 self.applied_av.chipselect && !self.dut.av().waitrequest
+            } else if matches!(self.master, Master::I8051(..)) {
+                // No acknowledge on this bus: the DUT answered if it drove the port.
+                self.dut.i8051().ad_oe
             } else {
                 self.dut.wb().ack
             };

@@ -86,6 +86,8 @@ pub enum HostBus {
     Avalon,
     /// Soft CPU bit-banging the Wishbone pins through GPIO (PIO) registers.
     Pio,
+    /// Intel-mode (8051) multiplexed bus: ALE, CS, RD, WR, shared port.
+    I8051,
 }
 
 /// Bit timing and clocks of one node.

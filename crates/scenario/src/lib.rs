@@ -20,7 +20,7 @@
 //! bit_rate = 125000   # optional: some BTR setting must reach it; the BTR
 //!                     # values the program writes are checked against it
 //! [host]
-//! bfm = "wishbone"    # | "avalon" | "pio"
+//! bfm = "wishbone"    # | "avalon" | "pio" | "i8051"
 //! avalon_map = "wrapper"   # | "begintransfer-cyc" (seed 000 Tableau 3.2)
 //! timeout_cycles = 1000    # host cycles before an access without ack fails
 //! fixed = "why"       # the host wiring is this scenario's point: a run
@@ -150,6 +150,9 @@ pub enum HostBfm {
     },
     /// Nios-style PIO bit-banging (seed 000 annexe 4).
     Pio,
+    /// Intel-mode (8051) multiplexed bus (ALE, CS, RD, WR, shared port):
+    /// our RTL through `can_top_8051`.
+    I8051,
 }
 
 impl HostBfm {
@@ -160,6 +163,7 @@ impl HostBfm {
             "wishbone" | "wb" => Some(HostBfm::Wishbone),
             "avalon" => Some(HostBfm::Avalon { begintransfer_cyc: false }),
             "pio" => Some(HostBfm::Pio),
+            "i8051" | "8051" => Some(HostBfm::I8051),
             _ => None,
         }
     }
@@ -171,6 +175,7 @@ impl HostBfm {
             HostBfm::Avalon { begintransfer_cyc: false } => "avalon",
             HostBfm::Avalon { begintransfer_cyc: true } => "avalon-begintransfer",
             HostBfm::Pio => "pio",
+            HostBfm::I8051 => "i8051",
         }
     }
 }
@@ -689,6 +694,7 @@ fn build(ctx: &Ctx, raw: RawScenario, file: &Path) -> Result<Scenario, ScenarioE
     let host = match raw.host.bfm.as_deref().unwrap_or("wishbone") {
         "wishbone" => HostBfm::Wishbone,
         "pio" => HostBfm::Pio,
+        "i8051" => HostBfm::I8051,
         "avalon" => HostBfm::Avalon {
             begintransfer_cyc: match raw.host.avalon_map.as_deref().unwrap_or("wrapper") {
                 "wrapper" => false,
@@ -696,7 +702,7 @@ fn build(ctx: &Ctx, raw: RawScenario, file: &Path) -> Result<Scenario, ScenarioE
                 other => return Err(ctx.err(0..0, "host.avalon_map", format!("`{other}`: use \"wrapper\" or \"begintransfer-cyc\""))),
             },
         },
-        other => return Err(ctx.err(find(ctx.text, "bfm"), "host.bfm", format!("`{other}` is not a host BFM; use \"wishbone\", \"avalon\" or \"pio\""))),
+        other => return Err(ctx.err(find(ctx.text, "bfm"), "host.bfm", format!("`{other}` is not a host BFM; use \"wishbone\", \"avalon\", \"pio\" or \"i8051\""))),
     };
 
     // [dut]

@@ -237,6 +237,8 @@ pub fn tb_config(s: &Scenario, dut: &DutKind, opts: &RunOptions) -> Result<TbCon
     let host = match s.host {
         HostBfm::Wishbone => cosim::HostBfm::Wishbone,
         HostBfm::Pio => cosim::HostBfm::Pio(bfm::PioTiming::default()),
+        // DutChoice::Rtl is can_top_8051 under this host.
+        HostBfm::I8051 => cosim::HostBfm::I8051(cosim::i8051_timing_for_rtl(s.host_hz as u64, s.can_hz as u64)),
         HostBfm::Avalon { begintransfer_cyc: true } => cosim::HostBfm::Avalon {
             // SOPC Builder without waitrequest: fixed wait states.
             timing: bfm::AvalonTiming::FixedWaitStates { read: 1, write: 1 },

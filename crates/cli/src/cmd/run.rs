@@ -125,8 +125,9 @@ pub struct Args {
 pub struct HostArgs {
     /// Drive the DUT through this host instead of the scenario's own: `wishbone` (can_top),
     /// `avalon` (our can_avalon wrapper with the Avalon-MM BFM), `pio` (GPIO bit-banging,
-    /// can_top_pio). Scenarios whose point is their host wiring (`[host] fixed`) are skipped.
-    #[arg(long, value_parser = ["wishbone", "avalon", "pio"])]
+    /// can_top_pio), `i8051` (the SJA1000's Intel-mode multiplexed bus, can_top_8051).
+    /// Scenarios whose point is their host wiring (`[host] fixed`) are skipped.
+    #[arg(long, value_parser = ["wishbone", "avalon", "pio", "i8051"])]
     pub host: Option<String>,
 }
 

@@ -32,7 +32,7 @@ fn addr_expr(sp: Spacing, off: &str) -> String {
 }
 
 /// Wraps text into ` * ` comment lines of at most ~76 columns.
-fn comment_lines(out: &mut String, text: &str) {
+pub(crate) fn comment_lines(out: &mut String, text: &str) {
     let mut line = String::new();
     for word in text.split_whitespace() {
         if !line.is_empty() && line.len() + word.len() + 1 > 72 {

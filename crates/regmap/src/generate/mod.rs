@@ -6,11 +6,13 @@
 
 mod c;
 mod docs;
+mod i8051;
 mod tcl;
 mod verilog;
 
 pub use c::{nios_header, pio_header};
 pub use docs::markdown;
+pub use i8051::i8051_header;
 pub use tcl::{hw_tcl, TclOptions, RTL_FILES};
 pub use verilog::verilog_include;
 
@@ -92,6 +94,11 @@ impl HeaderOptions {
     pub fn pio_file(&self) -> String {
         format!("{}_pio.h", self.prefix.to_lowercase())
     }
+
+    /// File name of the 8051 (SDCC) header: `<prefix>_8051.h` in lower case.
+    pub fn i8051_file(&self) -> String {
+        format!("{}_8051.h", self.prefix.to_lowercase())
+    }
 }
 
 /// Options of [`write_all`].
@@ -113,6 +120,7 @@ pub fn all_files(opts: &GenOptions) -> Vec<(String, String)> {
     vec![
         (opts.header.regs_file(), nios_header(&opts.header)),
         (opts.header.pio_file(), pio_header(&opts.header)),
+        (opts.header.i8051_file(), i8051_header(&opts.header)),
         (format!("{}_hw.tcl", opts.tcl.name), hw_tcl(&opts.tcl)),
         (MARKDOWN_FILE.to_string(), markdown()),
         (VERILOG_FILE.to_string(), verilog_include()),

@@ -10,7 +10,7 @@ fn regenerating_gives_identical_output() {
         let a = all_files(&opts);
         let b = all_files(&opts);
         assert_eq!(a, b);
-        assert_eq!(a.len(), 5);
+        assert_eq!(a.len(), 6);
         for (name, text) in &a {
             assert!(text.contains("Do not edit"), "{name} lacks the stamp");
             assert!(!text.contains("\r"), "{name} has CR");
@@ -26,7 +26,23 @@ fn regenerating_gives_identical_output() {
         assert_eq!(std::fs::read(a).unwrap(), std::fs::read(b).unwrap());
     }
     let names: Vec<_> = p1.iter().map(|p| p.file_name().unwrap().to_string_lossy().into_owned()).collect();
-    assert_eq!(names, ["can_sja_regs.h", "can_sja_pio.h", "can_avalon_hw.tcl", "sja1000_registers.md", "sja1000_regs.vh"]);
+    assert_eq!(
+        names,
+        ["can_sja_regs.h", "can_sja_pio.h", "can_sja_8051.h", "can_avalon_hw.tcl", "sja1000_registers.md", "sja1000_regs.vh"]
+    );
+}
+
+#[test]
+fn i8051_header_respects_access_rules() {
+    let h = i8051_header(&HeaderOptions::default());
+    // Write-only CMR has no RD_, read-only SR has no WR_.
+    assert!(h.contains("#define WR_CAN_SJA_PELI_CMR(data) CAN_SJA_WR(CAN_SJA_PELI_CMR_REG, data)"));
+    assert!(!h.contains("RD_CAN_SJA_PELI_CMR("));
+    assert!(h.contains("#define RD_CAN_SJA_PELI_SR() CAN_SJA_RD(CAN_SJA_PELI_SR_REG)"));
+    assert!(!h.contains("WR_CAN_SJA_PELI_SR("));
+    assert!(h.contains("volatile CAN_SJA_XDATA unsigned char *"));
+    let c = i8051_header(&HeaderOptions::new("CAN0", Spacing::Byte).unwrap());
+    assert!(c.contains("#ifndef CAN0_BASE") && !c.contains("CAN_SJA_"));
 }
 
 #[test]
