@@ -241,9 +241,10 @@ fn external_hdl_that_does_not_compile() {
 /// shipped ones.
 #[test]
 fn external_core_without_a_profile_says_what_to_declare() {
-    let dir = external_core("some_core", "module can_top(input wb_clk_i, output tx_o);
-endmodule
-");
+    // A directory of its own: the opencores-like file names added below
+    // must not leak into a later run's first case.
+    let dir = scratch("some_core");
+    std::fs::write(dir.join("some_core.v"), "module can_top(input wb_clk_i, output tx_o);\nendmodule\n").unwrap();
     let d = dir.to_str().unwrap();
     let (_, stderr) = fails_cleanly(&["run", "tb/de2-with-ack-node.toml", "--external", d], Duration::from_secs(20));
     for needle in ["has no profile", "phase-origin", "[access.wishbone]", "takes-effect", "[tolerances]", "[ports]", "opencores-can", "rtl"] {

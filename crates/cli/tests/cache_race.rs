@@ -14,7 +14,7 @@ fn two_cancosim_runs_build_one_external_core_at_once_on_an_empty_cache() {
     std::fs::copy(root.join("tb/fixtures/cosim_echo.v"), core.join("cosim_echo.v")).unwrap();
     let spawn = || {
         Command::new(env!("CARGO_BIN_EXE_cancosim"))
-            .args(["run", "tb/de2-pelican-selftest.toml", "--top", "cosim_echo", "--external"])
+            .args(["run", "tb/de2-pelican-selftest.toml", "--top", "cosim_echo", "--profile", "tb/fixtures/at-ack.toml", "--external"])
             .arg(&core)
             .current_dir(&root)
             .env("COSIM_CACHE_DIR", &cache)

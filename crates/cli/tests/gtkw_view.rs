@@ -76,7 +76,7 @@ fn the_gtkwave_view_marks_and_shows_the_first_divergence() {
         .arg(here.join("tx-deviant.toml"))
         .arg("--external")
         .arg(deviant_core())
-        .args(["--top", "cosim_deviant", "--waivers"])
+        .args(["--top", "cosim_deviant", "--profile", "tb/fixtures/at-ack.toml", "--waivers"])
         .arg(here.join("deviant-waivers.toml"))
         .arg("--vcd")
         .arg(dir.join("run.vcd"))

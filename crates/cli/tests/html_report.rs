@@ -65,7 +65,7 @@ fn the_html_report_renders_every_verdict_with_waveform_and_links() {
     let out_dir = scratch.join("report");
     let here = root().join("crates/cli/tests/html");
     let out = Command::new(env!("CARGO_BIN_EXE_cancosim"))
-        .args(["regress", "--dut", "model", "--top", "cosim_deviant", "--html"])
+        .args(["regress", "--dut", "model", "--top", "cosim_deviant", "--profile", "tb/fixtures/at-ack.toml", "--html"])
         .arg(&out_dir)
         .arg(here.join("regression.list"))
         .arg("--external")

@@ -61,6 +61,9 @@ pub fn run(a: Args) -> anyhow::Result<i32> {
             Some((d, p)) => (d, Some(cosim::Profile::find(p).with_context(|| format!("--external {e}"))?)),
             None => (spec, None),
         };
+        // The directory first: a path that holds no core is the first thing to say.
+        let probe = cosim::ExternalCore { dir: dir.into(), top: a.top.clone(), ..Default::default() };
+        probe.check().with_context(|| format!("--external {name}={dir}"))?;
         let Some(profile) = own.or_else(|| common.clone()) else {
             anyhow::bail!("--external {e}: {}", cosim::profile::missing_profile_message(std::path::Path::new(dir), &a.top));
         };
