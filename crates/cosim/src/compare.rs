@@ -112,6 +112,11 @@ pub trait Reference {
     fn adopt_register(&mut self, _addr: u8, _value: u8) -> bool {
         false
     }
+    /// Leaves sleep without a wake-up interrupt, as a DUT without sleep mode
+    /// never entered it (`model-skips-sleep`); false if this reference cannot.
+    fn skip_sleep(&mut self) -> bool {
+        false
+    }
 }
 
 /// Comparator tolerances.

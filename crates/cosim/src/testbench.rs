@@ -862,6 +862,7 @@ impl Testbench {
                                 true
                             }
                             Resync::AdoptRegister { addr, value } => r.adopt_register(addr, value),
+                            Resync::ModelSkipsSleep => r.skip_sleep(),
                         };
                         if !applied {
                             self.waivers.note(format!(

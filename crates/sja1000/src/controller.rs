@@ -1183,6 +1183,19 @@ impl Sja1000 {
         head + data.len()
     }
 
+    /// Leaves sleep with no wake-up interrupt (lockstep resync for a DUT
+    /// that has no sleep mode: it never slept, so nothing woke it). True if
+    /// the model was asleep.
+    pub fn skip_sleep(&mut self) -> bool {
+        if !self.sleeping {
+            return false;
+        }
+        self.sleeping = false;
+        self.engine.cancel_sleep();
+        self.log(NodeEvent::Sleep(false));
+        true
+    }
+
     /// Enters or leaves sleep; `None` when it took effect or nothing changed.
     fn set_sleep(&mut self, on: bool, command: &'static str) -> Option<WriteOutcome> {
         if on && !self.sleeping {
