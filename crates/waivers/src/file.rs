@@ -24,8 +24,13 @@
 //! - `skip-bits N`: N bit times are not compared (the diverging one first).
 //! - `adopt-dut-tec` / `adopt-dut-rec`: the model takes the DUT's counter.
 //! - `adopt-dut-register`: the model takes the value the DUT returned
-//!   (register-read with `address`; plain storage registers only, a status
-//!   register the model cannot take is noted in the report).
+//!   (register-read with `address`): storage registers, TXERR/RXERR, and
+//!   SR's latched flags TCS and DOS when every other SR bit already agrees
+//!   (the rest of SR, IR and RMC follow the model's engine, interrupts and
+//!   FIFO: not adoptable; the report notes a step the model refused).
+//!   After adoption later reads agree, so a scenario expectation on them is
+//!   judged against the adopted value: prefer `none` where a scenario step
+//!   checks the datasheet value again.
 //! - `model-skips-sleep`: for a core with no sleep mode. The model leaves
 //!   sleep at once and raises no wake-up interrupt, as the DUT never slept;
 //!   the frame that would have woken it is then received by both. Only on
