@@ -229,3 +229,40 @@ resync = ["{resync}"]
     let failures: Vec<(u32, u32)> = r.failures.iter().map(|d| (d.seen, d.expected)).collect();
     assert_eq!(failures, [(0x0C, 0x04), (0x08, 0x00)], "second hit beyond max-hits: {}", r.to_text());
 }
+
+/// A failed expectation on an SR read whose divergence is waived counts as
+/// waived even when the read is still inside the comparator's look-ahead
+/// window (pelican-listen-only's TCS read failed before: the waiver was
+/// applied only after the expectation had been judged).
+#[test]
+fn an_expectation_on_a_waived_sr_read_in_its_look_ahead_window_is_waived() {
+    let set = cosim::waivers::WaiverSet::parse(
+        r#"
+[[waiver]]
+id = "tcs-set-by-abort"
+kind = "register-read"
+register = "SR"
+bits = [3]
+max-hits = 1
+dut = ["tcs-after-abort"]
+explanation = "TCS set by an abort (test wrapper)"
+resync = ["none"]
+"#,
+        "t.toml",
+    )
+    .unwrap();
+    let mut tb = bench_with(CollectMode::Collect, set);
+    listen_only_with_a_pending_request(&mut tb);
+    tb.write(CMR, 0x02).unwrap();
+    tb.run_bits(2).unwrap();
+    let met = tb.expect(7, "SR: TBS, not TCS", SR, 0x0C, 0x04).unwrap();
+    let r = tb.waiver_report();
+    assert!(met, "the read's own waived deviation: {}", r.to_text());
+    assert_eq!(r.waived_expectations.len(), 1, "{}", r.to_text());
+    assert_eq!(r.waived_expectations[0].waiver_id, "tcs-set-by-abort");
+    // The same read again is beyond max-hits: a failure, and its
+    // expectation is not waived.
+    assert!(!tb.expect(8, "SR: TBS, not TCS", SR, 0x0C, 0x04).unwrap());
+    let r = tb.waiver_report();
+    assert_eq!((r.waived_expectations.len(), r.failures.len()), (1, 1), "{}", r.to_text());
+}
