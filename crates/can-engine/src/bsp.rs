@@ -139,6 +139,8 @@ pub(crate) struct Bsp {
     pub(crate) tx: bool,
     /// Bits done in a fixed-length phase, or the recessive run length.
     cnt: u8,
+    /// Phase and count when sleep was entered, for [`Bsp::cancel_sleep`].
+    slept_from: (Phase, u8),
     // Decoder of the stuffed region.
     fld: Field,
     idx: u8,
@@ -188,6 +190,7 @@ impl Bsp {
             phase: Phase::Integrating,
             tx: RECESSIVE,
             cnt: 0,
+            slept_from: (Phase::Idle, 0),
             fld: Field::Sof,
             idx: 0,
             flen: 1,
@@ -933,7 +936,8 @@ impl Bsp {
 
     pub(crate) fn set_sleep(&mut self, on: bool) {
         if on {
-            if !matches!(self.phase, Phase::Off | Phase::BusOff) {
+            if !matches!(self.phase, Phase::Off | Phase::BusOff | Phase::Sleep) {
+                self.slept_from = (self.phase, self.cnt);
                 self.phase = Phase::Sleep;
                 self.tx = RECESSIVE;
                 self.role_tx = false;
@@ -941,6 +945,15 @@ impl Bsp {
         } else if self.phase == Phase::Sleep {
             self.phase = Phase::Integrating;
             self.cnt = 0;
+        }
+    }
+
+    /// Undoes a sleep as if it had never been entered (lockstep resync for
+    /// a DUT with no sleep mode): back to the phase it left, no wake-up
+    /// integration. Bits that passed meanwhile are not replayed.
+    pub(crate) fn cancel_sleep(&mut self) {
+        if self.phase == Phase::Sleep {
+            (self.phase, self.cnt) = self.slept_from;
         }
     }
 

@@ -268,6 +268,13 @@ impl Engine {
         }
     }
 
+    /// Leaves sleep as if it had never been entered (back to the phase it
+    /// left, e.g. bus idle, without the wake-up's bus integration): the
+    /// lockstep reference's resync for a DUT that has no sleep mode.
+    pub fn cancel_sleep(&mut self) {
+        self.bsp.cancel_sleep();
+    }
+
     /// True while sleeping.
     pub fn is_sleeping(&self) -> bool {
         self.bsp.phase == bsp::Phase::Sleep

@@ -112,6 +112,11 @@ pub trait Reference {
     fn adopt_register(&mut self, _addr: u8, _value: u8) -> bool {
         false
     }
+    /// Leaves sleep without a wake-up interrupt, as a DUT without sleep mode
+    /// never entered it (`model-skips-sleep`); false if this reference cannot.
+    fn skip_sleep(&mut self) -> bool {
+        false
+    }
 }
 
 /// Comparator tolerances.
@@ -888,6 +893,16 @@ impl Comparator {
     /// within its tolerance, a sample point not yet in the middle of its tx
     /// window. A run must not end before them, or what the host read last
     /// goes uncompared ([`crate::Testbench::settle`]). 0 when halted.
+    /// CAN clocks until every read still within its look-ahead window is
+    /// decided (0: none open).
+    pub fn open_read_clocks(&self) -> u32 {
+        if self.halted {
+            return 0;
+        }
+        self.pending.iter().map(|p| p.clocks_left + 1).max().unwrap_or(0)
+    }
+
+    /// CAN clocks until every open comparison is decided (0: none open).
     pub fn open_clocks(&self) -> u32 {
         if self.halted {
             return 0;

@@ -327,6 +327,11 @@ impl Reference for ModelRef {
         self.stale = true;
         self.m.adopt_register(addr, value)
     }
+    fn skip_sleep(&mut self) -> bool {
+        self.stale = true;
+        self.m.skip_sleep();
+        true
+    }
     fn pins(&self) -> CanPins {
         pins_of(&self.m)
     }

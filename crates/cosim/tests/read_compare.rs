@@ -62,6 +62,10 @@ impl Dut for TcsAfterAbort {
 }
 
 fn bench(collect: CollectMode) -> Testbench {
+    bench_with(collect, cosim::waivers::WaiverSet::default())
+}
+
+fn bench_with(collect: CollectMode, waivers: cosim::waivers::WaiverSet) -> Testbench {
     let make: Arc<dyn Fn() -> Box<dyn Dut> + Send + Sync> = Arc::new(|| {
         Box::new(TcsAfterAbort {
             inner: ModelDut::new(),
@@ -79,6 +83,7 @@ fn bench(collect: CollectMode) -> Testbench {
         host: HostBfm::Wishbone,
         lockstep: Some((ReferenceChoice::Model, CompareConfig::default())),
         collect,
+        waivers,
         ..TbConfig::default()
     })
     .expect("test bench")
@@ -171,4 +176,93 @@ fn collect_mode_lists_each_distinct_read_difference_once() {
         r.to_text()
     );
     assert_eq!(rec.divergence.map(|d| d.time_ps), Some(r.failures[0].time_ps), "the record keeps the first");
+}
+
+/// `adopt-dut-register` on SR: after the waived read (DUT 0x0C, model 0x04)
+/// the model takes TCS, so the same state read again is no new hit; a later
+/// different SR (a new request: DUT 0x08, model 0x00) is still reported.
+/// With `none` the second read is a second hit, beyond `max-hits = 1`.
+#[test]
+fn an_adopted_sr_flag_keeps_the_next_real_difference_reported() {
+    let waiver = |resync: &str| {
+        cosim::waivers::WaiverSet::parse(
+            &format!(
+                r#"
+[[waiver]]
+id = "tcs-set-by-abort"
+kind = "register-read"
+register = "SR"
+address = 2
+bits = [3]
+seen = [0x0C]
+max-hits = 1
+dut = ["tcs-after-abort"]
+explanation = "TCS set by an abort (test wrapper)"
+resync = ["{resync}"]
+"#
+            ),
+            "t.toml",
+        )
+        .unwrap()
+    };
+    let play = |resync: &str| {
+        let mut tb = bench_with(CollectMode::Collect, waiver(resync));
+        listen_only_with_a_pending_request(&mut tb);
+        tb.write(CMR, 0x02).unwrap();
+        tb.run_bits(2).unwrap();
+        assert_eq!(tb.read(SR).unwrap() & 0x0C, 0x0C);
+        assert_eq!(tb.read(SR).unwrap() & 0x0C, 0x0C);
+        tb.run_bits(3).unwrap();
+        tb.write(CMR, 0x01).unwrap();
+        tb.run_bits(20).unwrap();
+        let v = tb.read(SR).unwrap();
+        tb.run_bits(5).unwrap();
+        assert_eq!(v & 0x0C, 0x08);
+        tb.waiver_report()
+    };
+    let r = play("adopt-dut-register");
+    let failures: Vec<(u32, u32)> = r.failures.iter().map(|d| (d.seen, d.expected)).collect();
+    assert_eq!(r.waived.len(), 1, "{}", r.to_text());
+    assert_eq!(failures, [(0x08, 0x00)], "only the new difference: {}", r.to_text());
+    assert!(!r.notes.iter().any(|n| n.contains("could not be applied")), "{}", r.to_text());
+    let r = play("none");
+    let failures: Vec<(u32, u32)> = r.failures.iter().map(|d| (d.seen, d.expected)).collect();
+    assert_eq!(failures, [(0x0C, 0x04), (0x08, 0x00)], "second hit beyond max-hits: {}", r.to_text());
+}
+
+/// A failed expectation on an SR read whose divergence is waived counts as
+/// waived even when the read is still inside the comparator's look-ahead
+/// window (pelican-listen-only's TCS read failed before: the waiver was
+/// applied only after the expectation had been judged).
+#[test]
+fn an_expectation_on_a_waived_sr_read_in_its_look_ahead_window_is_waived() {
+    let set = cosim::waivers::WaiverSet::parse(
+        r#"
+[[waiver]]
+id = "tcs-set-by-abort"
+kind = "register-read"
+register = "SR"
+bits = [3]
+max-hits = 1
+dut = ["tcs-after-abort"]
+explanation = "TCS set by an abort (test wrapper)"
+resync = ["none"]
+"#,
+        "t.toml",
+    )
+    .unwrap();
+    let mut tb = bench_with(CollectMode::Collect, set);
+    listen_only_with_a_pending_request(&mut tb);
+    tb.write(CMR, 0x02).unwrap();
+    tb.run_bits(2).unwrap();
+    let met = tb.expect(7, "SR: TBS, not TCS", SR, 0x0C, 0x04).unwrap();
+    let r = tb.waiver_report();
+    assert!(met, "the read's own waived deviation: {}", r.to_text());
+    assert_eq!(r.waived_expectations.len(), 1, "{}", r.to_text());
+    assert_eq!(r.waived_expectations[0].waiver_id, "tcs-set-by-abort");
+    // The same read again is beyond max-hits: a failure, and its
+    // expectation is not waived.
+    assert!(!tb.expect(8, "SR: TBS, not TCS", SR, 0x0C, 0x04).unwrap());
+    let r = tb.waiver_report();
+    assert_eq!((r.waived_expectations.len(), r.failures.len()), (1, 1), "{}", r.to_text());
 }

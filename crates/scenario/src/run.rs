@@ -570,12 +570,8 @@ pub fn run(s: &Scenario, opts: &RunOptions) -> RunOutcome {
     }
     let mut warnings = Vec::new();
     if let Some(rep) = &report {
-        // In collect mode the run goes on past an unwaived divergence: the
-        // report is what fails it. A scenario that expects a failure
-        // category (a host-bus violation makes the DUT diverge) is judged
-        // by the diagnosis alone, as before.
-        if !rep.passed() && s.expect.category.unwrap_or(diagnose::Category::Pass) == diagnose::Category::Pass {
-            mismatches.push(format!("{} unwaived divergence(s) from the golden model", rep.failures.len()));
+        if let Some(m) = unwaived_divergence_mismatch(s.expect.category, rep) {
+            mismatches.push(m);
         }
         for w in rep.warnings() {
             log::warn!("{}: {w}", s.name);
@@ -715,6 +711,36 @@ fn count_received(tb: &mut Testbench, node: usize) -> u32 {
     n
 }
 
+/// Expected categories whose point is that the DUT departs from the golden
+/// model because of how it is driven or wired (a host-bus violation, an rx
+/// that does not follow tx, ...): there an unwaived divergence is the
+/// expected symptom, and the diagnosis judges the run.
+fn divergence_is_the_symptom(c: diagnose::Category) -> bool {
+    use diagnose::Category as C;
+    matches!(
+        c,
+        C::HostBusViolation
+            | C::HostBusTimeout
+            | C::AddressModeConfusion
+            | C::ConfigWriteOutsideReset
+            | C::TxBufferWriteWhileLocked
+            | C::RxNotFollowingTx
+            | C::StuckTransfer
+            | C::DutDeviatesFromModel
+    )
+}
+
+/// The mismatch an unwaived divergence adds to a run's verdict, if any.
+/// A scenario expecting `Pass` or a bus-level outcome that DUT and model
+/// share (e.g. `NoAcknowledge`: a lone node; both see the ACK errors) must
+/// not pass with an unwaived difference: the category alone would be a
+/// false pass (issue 19: pelican-self-test-abort "passed" with 44).
+pub fn unwaived_divergence_mismatch(expected: Option<diagnose::Category>, rep: &waivers::WaiverReport) -> Option<String> {
+    let want = expected.unwrap_or(diagnose::Category::Pass);
+    (!rep.passed() && !divergence_is_the_symptom(want))
+        .then(|| format!("{} unwaived divergence(s) from the golden model", rep.failures.len()))
+}
+
 /// Compares the diagnosis with the scenario's `[expect]`.
 pub fn check_expect(s: &Scenario, d: &Diagnosis) -> Vec<String> {
     let e = &s.expect;
@@ -744,3 +770,36 @@ pub fn check_expect(s: &Scenario, d: &Diagnosis) -> Vec<String> {
     m
 }
 
+
+#[cfg(test)]
+mod judge_tests {
+    use super::unwaived_divergence_mismatch;
+    use diagnose::{Category, Divergence, DivergenceKind};
+    use waivers::WaiverReport;
+
+    fn report(failures: usize) -> WaiverReport {
+        WaiverReport {
+            failures: vec![Divergence { kind: DivergenceKind::RegisterRead, ..Default::default() }; failures],
+            ..Default::default()
+        }
+    }
+
+    #[test]
+    fn an_expected_no_acknowledge_does_not_pass_with_an_unwaived_divergence() {
+        // Before: only an expected Pass was failed by the report, so a
+        // NoAcknowledge scenario passed whatever the comparator found.
+        let m = unwaived_divergence_mismatch(Some(Category::NoAcknowledge), &report(3));
+        assert_eq!(m.as_deref(), Some("3 unwaived divergence(s) from the golden model"));
+        assert!(unwaived_divergence_mismatch(None, &report(1)).is_some());
+        assert!(unwaived_divergence_mismatch(Some(Category::BitTimingMismatch), &report(1)).is_some());
+        // Nothing unwaived: nothing to add.
+        assert_eq!(unwaived_divergence_mismatch(Some(Category::NoAcknowledge), &report(0)), None);
+    }
+
+    #[test]
+    fn a_host_caused_failure_category_is_judged_by_its_diagnosis() {
+        // There the divergence is the expected symptom (de2-avalon-begintransfer).
+        assert_eq!(unwaived_divergence_mismatch(Some(Category::HostBusViolation), &report(2)), None);
+        assert_eq!(unwaived_divergence_mismatch(Some(Category::RxNotFollowingTx), &report(2)), None);
+    }
+}

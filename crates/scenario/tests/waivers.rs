@@ -195,6 +195,13 @@ fn the_model_adopts_counters_in_operating_mode_and_reevaluates_its_fault_state()
     assert!(m.adopt_register(4, 0x05), "IER");
     assert_eq!(m.peek(4), 0x05);
     assert!(!m.adopt_register(2, 0x00), "SR is derived state");
+    // SR's latched flags (TCS, DOS) are taken when every other bit agrees.
+    let sr = m.peek(2);
+    assert!(m.adopt_register(2, sr ^ 0x08), "SR.TCS is a stored flag");
+    assert_eq!(m.peek(2), sr ^ 0x08);
+    assert!(m.adopt_register(2, sr), "and back");
+    assert!(!m.adopt_register(2, sr ^ 0x08 ^ 0x04), "TBS follows the TX buffer: refused");
+    assert_eq!(m.peek(2), sr, "a refused adoption changes nothing");
     assert!(m.adopt_register(15, 42), "TXERR via adopt_counters");
     assert_eq!(m.engine().tec(), 42);
     assert!(m.adopt_register(14, 9), "RXERR via adopt_counters");

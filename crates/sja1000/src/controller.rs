@@ -778,6 +778,17 @@ impl Sja1000 {
             R::TxErr => self.adopt_counters(Some(value), None),
             R::RxErr => self.adopt_counters(None, Some(value)),
             R::Ier | R::Ocr | R::Test | R::Acr(_) | R::Amr(_) => self.poke(r, value),
+            R::Sr => {
+                // Only SR's latched flags are stored (TCS, DOS); the other
+                // bits follow the engine, the FIFO and the TX buffer, so an
+                // SR that differs there cannot be taken: nothing changes.
+                let flags = peli::sr::TCS | peli::sr::DOS;
+                if self.peek(addr) & !flags != value & !flags {
+                    return false;
+                }
+                self.tcs = value & peli::sr::TCS != 0;
+                self.dos = value & peli::sr::DOS != 0;
+            }
             _ => return false,
         }
         self.peek(addr) == value
@@ -1181,6 +1192,19 @@ impl Sja1000 {
         };
         out[head..head + data.len()].copy_from_slice(data);
         head + data.len()
+    }
+
+    /// Leaves sleep with no wake-up interrupt (lockstep resync for a DUT
+    /// that has no sleep mode: it never slept, so nothing woke it). True if
+    /// the model was asleep.
+    pub fn skip_sleep(&mut self) -> bool {
+        if !self.sleeping {
+            return false;
+        }
+        self.sleeping = false;
+        self.engine.cancel_sleep();
+        self.log(NodeEvent::Sleep(false));
+        true
     }
 
     /// Enters or leaves sleep; `None` when it took effect or nothing changed.

@@ -17,6 +17,26 @@
 //! resync = ["skip-bits 1", "adopt-dut-tec"]
 //! ```
 //!
+//! Resync steps (applied in order once the divergence is waived, so the
+//! next report is the next real difference, not a consequence of this one):
+//!
+//! - `none`: nothing; compare on.
+//! - `skip-bits N`: N bit times are not compared (the diverging one first).
+//! - `adopt-dut-tec` / `adopt-dut-rec`: the model takes the DUT's counter.
+//! - `adopt-dut-register`: the model takes the value the DUT returned
+//!   (register-read with `address`): storage registers, TXERR/RXERR, and
+//!   SR's latched flags TCS and DOS when every other SR bit already agrees
+//!   (the rest of SR, IR and RMC follow the model's engine, interrupts and
+//!   FIFO: not adoptable; the report notes a step the model refused).
+//!   After adoption later reads agree, so a scenario expectation on them is
+//!   judged against the adopted value: prefer `none` where a scenario step
+//!   checks the datasheet value again.
+//! - `model-skips-sleep`: for a core with no sleep mode. The model leaves
+//!   sleep at once and raises no wake-up interrupt, as the DUT never slept;
+//!   the frame that would have woken it is then received by both. Only on
+//!   a register-read of MOD (PeliCAN address 0, the SM bit: `bits = [4]`),
+//!   so a waiver cannot use it to forget anything but the sleep request.
+//!
 //! Narrower bounds for deviations that are a bit pattern or a lateness:
 //!
 //! ```toml
@@ -448,6 +468,10 @@ pub enum ResyncSpec {
     /// `adopt-dut-register`: the model takes the value the DUT returned for
     /// the register read that diverged (needs `address`).
     AdoptDutRegister,
+    /// `model-skips-sleep`: for a core without sleep mode. The model leaves
+    /// sleep at once, without a wake-up interrupt, as the DUT never entered
+    /// it; later sleep requests still reach the model (and diverge again).
+    ModelSkipsSleep,
     /// `skip-bits N`: N bit times are not compared, the diverging one
     /// included (`skip-bits 1` forgives that bit only).
     SkipBits(u32),
@@ -462,13 +486,14 @@ impl TryFrom<String> for ResyncSpec {
             (Some("adopt-dut-tec"), None, _) => ResyncSpec::AdoptDutTec,
             (Some("adopt-dut-rec"), None, _) => ResyncSpec::AdoptDutRec,
             (Some("adopt-dut-register"), None, _) => ResyncSpec::AdoptDutRegister,
+            (Some("model-skips-sleep"), None, _) => ResyncSpec::ModelSkipsSleep,
             (Some("skip-bits"), Some(n), None) => match n.parse::<u32>() {
                 Ok(n) if n > 0 => ResyncSpec::SkipBits(n),
                 _ => return Err(format!("`{s}`: skip-bits takes a positive number of bits")),
             },
             _ => {
                 return Err(format!(
-                    "unknown resync `{s}`, expected one of: none, adopt-dut-tec, adopt-dut-rec, adopt-dut-register, skip-bits N"
+                    "unknown resync `{s}`, expected one of: none, adopt-dut-tec, adopt-dut-rec, adopt-dut-register, model-skips-sleep, skip-bits N"
                 ));
             }
         };
@@ -483,6 +508,7 @@ impl From<ResyncSpec> for String {
             ResyncSpec::AdoptDutTec => "adopt-dut-tec".into(),
             ResyncSpec::AdoptDutRec => "adopt-dut-rec".into(),
             ResyncSpec::AdoptDutRegister => "adopt-dut-register".into(),
+            ResyncSpec::ModelSkipsSleep => "model-skips-sleep".into(),
             ResyncSpec::SkipBits(n) => format!("skip-bits {n}"),
         }
     }
@@ -649,6 +675,8 @@ mod tests {
 
     #[test]
     fn resync_and_frames_spelling() {
+        assert_eq!(ResyncSpec::try_from("model-skips-sleep".to_string()), Ok(ResyncSpec::ModelSkipsSleep));
+        assert!(ResyncSpec::try_from("model-skips-sleep 2".to_string()).is_err());
         assert_eq!(ResyncSpec::try_from("skip-bits 3".to_string()), Ok(ResyncSpec::SkipBits(3)));
         assert!(ResyncSpec::try_from("skip-bits 0".to_string()).is_err());
         assert!(ResyncSpec::try_from("skip-bits".to_string()).is_err());

@@ -91,6 +91,8 @@ pub enum Resync {
         /// The DUT's value.
         value: u8,
     },
+    /// The model leaves sleep without a wake-up interrupt (`model-skips-sleep`).
+    ModelSkipsSleep,
     /// Compare nothing for this many bit times, counting the diverging bit
     /// as the first (`SkipBits(1)`: compare again from the next bit); the
     /// adopt steps of the same verdict apply when comparison resumes.
@@ -326,6 +328,7 @@ impl Waiver {
                     addr: self.address.expect("validated at load: adopt-dut-register has an address"),
                     value: d.seen as u8,
                 }),
+                ResyncSpec::ModelSkipsSleep => Some(Resync::ModelSkipsSleep),
                 ResyncSpec::SkipBits(n) => Some(Resync::SkipBits(*n)),
             })
             .collect()
@@ -610,6 +613,18 @@ fn validate(name: &str, src: &str, w: RawWaiver) -> Result<Waiver, WaiverError> 
             "resync",
             "adopt-dut-register needs kind = \"register-read\" and the register's `address`".into(),
         ));
+    }
+    if resync.contains(&ResyncSpec::ModelSkipsSleep) {
+        let mod_read = w.kind == KindName::RegisterRead
+            && (w.address == Some(0) || w.register.as_ref().is_some_and(|r| r.get_ref().eq_ignore_ascii_case("MOD")));
+        if !mod_read {
+            return Err(invalid(
+                name,
+                resync_line,
+                "resync",
+                "model-skips-sleep needs kind = \"register-read\" of MOD (register = \"MOD\" or address = 0)".into(),
+            ));
+        }
     }
     if let Some(l) = &w.late_bits
         && *l.get_ref() == 0

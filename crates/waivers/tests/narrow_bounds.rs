@@ -262,3 +262,21 @@ fn fields_bind_an_irq_waiver_to_where_the_difference_started() {
     let (_, key, _) = err(&TS_FOR_RS.trim_start().replace("bits = [4, 5]", "bits = [4, 5]\nfields = [\"Eof\"]"));
     assert_eq!(key, "fields");
 }
+
+/// `model-skips-sleep` forgets a sleep request: only on a read of MOD, so a
+/// waiver cannot use it on a tx bit or another register.
+#[test]
+fn model_skips_sleep_is_only_for_a_read_of_mod() {
+    let waiver = |kind_and_place: &str| {
+        format!(
+            "[[waiver]]\nid = \"no-sleep\"\n{kind_and_place}\ndut = [\"x\"]\nexplanation = \"no sleep mode\"\nresync = [\"model-skips-sleep\"]\n"
+        )
+    };
+    for ok in ["kind = \"register-read\"\nregister = \"MOD\"\nbits = [4]", "kind = \"register-read\"\naddress = 0"] {
+        WaiverSet::parse(&waiver(ok), "w.toml").unwrap_or_else(|e| panic!("{ok}: {e}"));
+    }
+    for bad in ["kind = \"tx-bit\"", "kind = \"register-read\"\nregister = \"IR\"\naddress = 3", "kind = \"irq\""] {
+        let e = WaiverSet::parse(&waiver(bad), "w.toml").expect_err(bad).to_string();
+        assert!(e.starts_with("w.toml:") && e.contains("resync") && e.contains("model-skips-sleep needs"), "{e}");
+    }
+}
