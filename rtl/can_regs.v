@@ -151,10 +151,12 @@ module can_regs (
     // reset mode: PeliCAN shows RS = TS = 1 (waiting for bus-free), BasicCAN 0
     // TS/RS keep their reset-mode value (PeliCAN 1, BasicCAN 0) until bus-free
     // is seen after reset mode or sleep ("wait idle")
-    // Bus-off sets MOD.RM one clk after BS rises: in that clk TS/RS already
-    // show their reset-mode value, as TBS below (one SR snapshot: BS = 1
-    // with TS = 1, RS = 0 never shows).
-    wire       wait_idle = rm || integrating || (bus_off && !bus_off_q);
+    // While bus-off (in reset mode or counting the recovery) the node is
+    // also waiting to become idle: datasheet SR note 3, after bus-off idle
+    // takes 128 x 11 recessive bits. This covers the clk in which BS rises
+    // before MOD.RM follows (one SR snapshot: BS = 1 with TS = 1, RS = 0
+    // never shows).
+    wire       wait_idle = rm || integrating || bus_off;
     // bus-off releases the TX buffer at the same instant BS rises (one SR
     // snapshot: BS = 1 with TBS = 0 never shows)
     wire       tbs_sr = tbs | (bus_off & ~bus_off_q);

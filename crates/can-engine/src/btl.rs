@@ -106,8 +106,15 @@ impl Btl {
         self.end0 = self.sp0 + t.tseg2_tq() as u8;
         self.sjw = t.sjw_tq() as u8;
         self.sam = t.sam;
-        self.sp = self.sp0;
-        self.end = self.end0;
+        if self.pos > self.sp {
+            // Past the sample point: the bit stays in phase segment 2, which
+            // now lasts the new TSEG2 counted from its start (a segment
+            // counter, as the opencores core has, does not go back to TSEG1).
+            self.end = (self.sp + t.tseg2_tq() as u8).max(self.pos);
+        } else {
+            self.sp = self.sp0.max(self.pos);
+            self.end = self.sp + t.tseg2_tq() as u8;
+        }
         self.clk = self.clk.min(self.cpt - 1);
     }
 
@@ -206,5 +213,51 @@ impl Btl {
         self.sp = self.sp0;
         self.end = self.end0;
         self.synced = true;
+    }
+}
+
+#[cfg(test)]
+mod retime_tests {
+    use super::*;
+
+    /// Quanta from now to the next bit start, and how many sample points on the way.
+    fn to_bit_start(b: &mut Btl) -> (u32, u32) {
+        let (mut n, mut samples) = (0, 0);
+        loop {
+            n += 1;
+            match b.tq(true, false, false) {
+                Tq::BitStart => return (n, samples),
+                Tq::Sample(_) => samples += 1,
+                Tq::Quiet => {}
+            }
+        }
+    }
+
+    /// A BTR1 write that lands in phase segment 2 (after the sample point)
+    /// keeps the bit in phase segment 2, which then lasts the new TSEG2 from
+    /// its start: no second sample point in that bit (a segment counter, as
+    /// the opencores core has). Before: the bit went back to TSEG1, sampled
+    /// a second time and ended new TSEG1 + TSEG2 quanta later.
+    #[test]
+    fn retime_in_phase_segment_2_stays_in_phase_segment_2() {
+        // Hardware-reset BTRs: 1 tq TSEG1, 1 tq TSEG2 (3 tq bits).
+        let mut b = Btl::new(BusTiming::from_btr(0x00, 0x00));
+        to_bit_start(&mut b);
+        assert_eq!(b.tq(true, false, false), Tq::Quiet, "sync segment");
+        assert_eq!(b.tq(true, false, false), Tq::Sample(true), "TSEG1 (1 tq) ends at the sample point");
+        // Now in phase segment 2 (its first quantum is next); TSEG2 becomes 3 tq.
+        b.retime(BusTiming::from_btr(0x00, 0x25));
+        assert_eq!(to_bit_start(&mut b), (3, 0), "phase segment 2 of 3 tq, no sample");
+        // The next bit has the new lengths: sample after 6 tq, 10 tq in all.
+        assert_eq!(to_bit_start(&mut b), (10, 1));
+    }
+
+    /// A write in TSEG1 before its sample point takes the new TSEG1.
+    #[test]
+    fn retime_in_tseg1_takes_the_new_lengths() {
+        let mut b = Btl::new(BusTiming::from_btr(0x00, 0x00));
+        to_bit_start(&mut b);
+        b.retime(BusTiming::from_btr(0x00, 0x25));
+        assert_eq!(to_bit_start(&mut b), (10, 1), "sync + 6 tq TSEG1 + 3 tq TSEG2");
     }
 }

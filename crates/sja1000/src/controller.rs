@@ -885,22 +885,25 @@ impl Sja1000 {
             // (PeliCAN: TS = RS = 1, waiting for bus-free).
             v = r.reset_rm.apply(v);
         } else if self.waiting_for_bus_free() {
-            // Reset mode left, bus-free (11 recessive bits) not seen yet: TS
-            // and RS keep their reset-mode value ("wait idle", Table 6).
+            // Reset mode left, bus-free not reached yet (11 recessive bits
+            // after reset mode, 128 x 11 in the bus-off recovery): TS and RS
+            // keep their reset-mode value ("waiting to become idle again",
+            // SR note 3 of the datasheet).
             let ts_rs = sr::TS | sr::RS;
             v = (v & !(ts_rs & r.reset_rm.defined)) | (r.reset_rm.value & ts_rs);
         }
         v
     }
 
-    /// Operating mode, integrating: reset mode was left and the engine has
-    /// not yet seen bus-free (not asleep, not counting bus-off recovery).
+    /// Operating mode, waiting to become idle: reset mode was left and the
+    /// engine has not yet seen bus-free, or it is counting the bus-off
+    /// recovery (datasheet SR note 3: after bus-off "idle" takes 128
+    /// occurrences of 11 recessive bits; TS = RS = 1 until then).
     fn waiting_for_bus_free(&self) -> bool {
-        !self.rm
-            && !self.bs
-            && !self.sleeping
-            && self.engine.field() == Field::BusIdle
-            && !self.engine.is_bus_idle()
+        if self.rm || self.sleeping {
+            return false;
+        }
+        self.bs || (self.engine.field() == Field::BusIdle && !self.engine.is_bus_idle())
     }
 
     /// IR flags now: the latched ones and RI, restricted to the view.

@@ -479,6 +479,35 @@ fn bus_off_recovery_timing() {
     assert_eq!(n.read(peli::IR) & peli::ir::EI, peli::ir::EI);
 }
 
+/// Bus-off recovery reads "waiting to become idle" (datasheet SR note 3:
+/// TS = RS = 1 until idle, which after bus-off takes 128 occurrences of
+/// 11 recessive bits): from MOD.RM cleared to bus-on every SR sample shows
+/// TS = RS = 1 with BS = 1; the first sample after bus-on shows both 0.
+#[test]
+fn ts_rs_read_waiting_through_the_bus_off_recovery() {
+    let mut bus = bus_of(&[Config::pelican()]);
+    bus.add_fault(StuckAt::forever(RECESSIVE, Target::Node(0)));
+    host::transmit(bus.node_mut(0), &std_frame(0x123, &[]), peli::cmr::TR).unwrap();
+    assert!(bus.run_until(20_000, |b| b.node(0).bus_off()));
+    bus.clear_faults();
+    host::leave_reset(bus.node_mut(0));
+    let both = peli::sr::TS | peli::sr::RS;
+    let mut samples = 0;
+    while bus.node(0).bus_off() {
+        let sr = bus.node(0).peek(peli::SR);
+        assert_eq!(
+            sr & (peli::sr::BS | both),
+            peli::sr::BS | both,
+            "SR {sr:#04x} after {samples} bit times of the recovery"
+        );
+        bus.run_bits(1);
+        samples += 1;
+        assert!(samples < 128 * 11 + 20, "recovery never ended");
+    }
+    assert!(samples >= 128 * 11, "recovery took {samples} bit times");
+    assert_eq!(bus.node(0).peek(peli::SR) & (peli::sr::BS | both), 0, "bus-on: idle");
+}
+
 /// Loopback without a receiver: every attempt ends in an ACK error; TEC
 /// climbs by 8 to 128 (error passive) and stays there: a passive
 /// transmitter's ACK error with no dominant bit during its passive error

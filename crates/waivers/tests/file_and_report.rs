@@ -425,3 +425,36 @@ fn every_shipped_upstream_waiver_is_bounded_documented_and_for_upstream_only() {
         }
     }
 }
+
+/// The bus-off and self-reception waivers of branch busoff take only their
+/// pattern, and only as often as measured.
+#[test]
+fn bus_off_and_self_reception_waivers_catch_the_rest() {
+    let path = concat!(env!("CARGO_MANIFEST_DIR"), "/../../tb/waivers/opencores-upstream.toml");
+    let mut set = WaiverSet::load(path).unwrap();
+    let dut = DutInfo::new("opencores-can (/cores/can)");
+    let by = |v: &Verdict| match v {
+        Verdict::Waived { waiver_id, .. } => Some(waiver_id.clone()),
+        _ => None,
+    };
+    // D10e: BS with TS, no RS, TBS 0, once.
+    let d10e = "bus-off-sr-before-reset-mode".to_string();
+    assert_eq!(by(&set.check(&read_div("SR", 0xF4, 0xE0), &dut)), Some(d10e.clone()));
+    assert_eq!(by(&set.check(&read_div("SR", 0xF4, 0xE0), &dut)), None, "max-hits 1");
+    let mut set = WaiverSet::load(path).unwrap();
+    assert_ne!(by(&set.check(&read_div("SR", 0x74, 0x60), &dut)), Some(d10e.clone()), "not bus-off");
+    assert_ne!(by(&set.check(&read_div("SR", 0xF4, 0xE8), &dut)), Some(d10e), "TCS differs too");
+    // D10f: IR.EI only, in operating mode.
+    let d10f = "ei-when-es-clears-during-bus-off-recovery".to_string();
+    let operating = waivers::Observed { model_mod: Some(0x00), ..Default::default() };
+    let reset = waivers::Observed { model_mod: Some(0x01), ..Default::default() };
+    assert_ne!(by(&set.check_observed(&read_div("IR", 0x00, 0x04), &dut, &reset)), Some(d10f.clone()));
+    assert_ne!(by(&set.check_observed(&read_div("IR", 0x00, 0x06), &dut, &operating)), Some(d10f.clone()), "TI too");
+    assert_eq!(by(&set.check_observed(&read_div("IR", 0x00, 0x04), &dut, &operating)), Some(d10f));
+    // D1 with self reception: RBS late with TS = 1, RS = 0 on both.
+    let d1s = "rbs-late-at-eof-self-reception".to_string();
+    assert_ne!(by(&set.check(&read_div("SR", 0x2D, 0x28), &dut)), Some(d1s.clone()), "TBS differs too");
+    assert_ne!(by(&set.check(&read_div("SR", 0x0D, 0x0C), &dut)), Some(d1s.clone()), "not transmitting");
+    assert_eq!(by(&set.check(&read_div("SR", 0x2D, 0x2C), &dut)), Some(d1s));
+    assert!(!set.get("rbs-late-at-eof-self-reception").unwrap().applies_to(&DutInfo::new("rtl")));
+}
