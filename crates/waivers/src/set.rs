@@ -120,6 +120,8 @@ pub struct Waiver {
     pub kind: DivergenceKind,
     /// Why the deviation is accepted.
     pub explanation: String,
+    /// The datasheet or CAN 2.0B clause the deviation breaks (`clause`), for reports.
+    pub clause: Option<String>,
     /// File it comes from.
     pub file: String,
     /// Line of the `id` key in the file.
@@ -191,6 +193,17 @@ struct LateEpisode {
 }
 
 impl Waiver {
+    /// The deviation in plain words: the first sentence of the explanation,
+    /// without a leading table tag such as `D1.` (docs/opencores-deviations.md).
+    pub fn summary(&self) -> String {
+        summary_of(&self.explanation)
+    }
+
+    /// What a report says of this waiver after `hits` divergences.
+    pub fn deviation(&self, hits: u32) -> diagnose::WaivedDeviation {
+        diagnose::WaivedDeviation { waiver_id: self.id.clone(), summary: self.summary(), clause: self.clause.clone(), hits }
+    }
+
     /// True if the waiver is for this DUT (name glob and revision range).
     pub fn applies_to(&self, dut: &DutInfo) -> bool {
         if !self.dut.iter().any(|g| g.matches(&dut.name)) {
@@ -677,6 +690,7 @@ fn validate(name: &str, src: &str, w: RawWaiver) -> Result<Waiver, WaiverError> 
         id,
         kind,
         explanation,
+        clause: w.clause.filter(|c| !c.trim().is_empty()),
         file: name.into(),
         line: id_line,
         dut: w.dut.into_inner(),
@@ -703,4 +717,18 @@ fn validate(name: &str, src: &str, w: RawWaiver) -> Result<Waiver, WaiverError> 
         episode: None,
         late: None,
     })
+}
+
+/// The first sentence of a waiver explanation (up to `. ` or `; ` or the
+/// end of its first line), a leading tag such as `D8a. ` dropped.
+pub fn summary_of(explanation: &str) -> String {
+    let line = explanation.trim().lines().next().unwrap_or("").trim();
+    let tag_end = line.find(". ").filter(|&n| {
+        let t = &line[..n];
+        t.len() <= 5 && t.starts_with(|c: char| c.is_ascii_uppercase()) && t[1..].starts_with(|c: char| c.is_ascii_digit())
+            && t.chars().all(|c| c.is_ascii_alphanumeric())
+    });
+    let rest = tag_end.map_or(line, |n| &line[n + 2..]);
+    let end = [". ", "; "].iter().filter_map(|p| rest.find(p)).min().unwrap_or(rest.len());
+    rest[..end].trim_end_matches('.').trim().to_string()
 }
