@@ -720,15 +720,40 @@ fn validate(name: &str, src: &str, w: RawWaiver) -> Result<Waiver, WaiverError> 
 }
 
 /// The first sentence of a waiver explanation (up to `. ` or `; ` or the
-/// end of its first line), a leading tag such as `D8a. ` dropped.
+/// end of its first line), a leading table tag dropped: `D8a. ` or
+/// `D3 (a remark). ` (docs/opencores-deviations.md numbers its rows so).
 pub fn summary_of(explanation: &str) -> String {
     let line = explanation.trim().lines().next().unwrap_or("").trim();
-    let tag_end = line.find(". ").filter(|&n| {
-        let t = &line[..n];
-        t.len() <= 5 && t.starts_with(|c: char| c.is_ascii_uppercase()) && t[1..].starts_with(|c: char| c.is_ascii_digit())
+    let is_tag = |t: &str| {
+        t.len() <= 5
+            && t.starts_with(|c: char| c.is_ascii_uppercase())
+            && t[1..].starts_with(|c: char| c.is_ascii_digit())
             && t.chars().all(|c| c.is_ascii_alphanumeric())
-    });
-    let rest = tag_end.map_or(line, |n| &line[n + 2..]);
+    };
+    let mut rest = line;
+    if let Some(n) = rest.find(". ") {
+        let head = &rest[..n];
+        let tag = head.split(" (").next().unwrap_or(head);
+        if is_tag(tag) && (head == tag || head.ends_with(')')) {
+            rest = &rest[n + 2..];
+        }
+    }
     let end = [". ", "; "].iter().filter_map(|p| rest.find(p)).min().unwrap_or(rest.len());
     rest[..end].trim_end_matches('.').trim().to_string()
+}
+
+#[cfg(test)]
+mod summary_tests {
+    use super::summary_of;
+
+    #[test]
+    fn the_summary_is_the_first_sentence_without_the_row_tag() {
+        assert_eq!(summary_of("D1. The core stores it late; CAN 2.0B §5 says. More."), "The core stores it late");
+        assert_eq!(summary_of("D8b. RBSA (address 30, datasheet 6.4.17) reads 0."), "RBSA (address 30, datasheet 6.4.17) reads 0");
+        assert_eq!(summary_of("D3 (a freedom, not a deviation). TS = 0 in suspend. Why."), "TS = 0 in suspend");
+        assert_eq!(summary_of("D1 with D2, in one read: both late. Only that."), "D1 with D2, in one read: both late");
+        assert_eq!(summary_of("bit 7 of address 4 is not implemented"), "bit 7 of address 4 is not implemented");
+        assert_eq!(summary_of("SR.TS (and SR.RS) late. Next."), "SR.TS (and SR.RS) late");
+        assert_eq!(summary_of("first line\nsecond line"), "first line");
+    }
 }
