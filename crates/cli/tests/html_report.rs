@@ -96,6 +96,10 @@ fn the_html_report_renders_every_verdict_with_waveform_and_links() {
     assert_eq!(per_core(&dom, "model"), [2, 0, 0, 1, 0, 0], "{dom}");
     assert_eq!(per_core(&dom, "deviant"), [0, 1, 1, 1, 0, 0], "{dom}");
     assert!(dom.contains("<b>FAIL</b>"), "{dom}");
+    // The known deviations waived per core, in words (the model hits none).
+    let hit = dom.split("<table class=\"waivers-hit\" data-core=\"deviant\">").nth(1).and_then(|t| t.split("</table>").next()).unwrap_or_else(|| panic!("no waivers-hit table for deviant\n{dom}"));
+    assert!(hit.contains("echo-registers") && hit.contains("the echo fixture's registers are plain memory"), "{hit}");
+    assert!(!dom.contains("data-core=\"model\"><tr><th>waiver"), "the model hits no waiver\n{dom}");
     // The diverged cell links to its section, which has the divergence,
     // the diagnosis, a waveform with four traces and the marker, and the frame.
     assert!(dom.contains("href=\"#f-tx-deviant-deviant\""), "{dom}");

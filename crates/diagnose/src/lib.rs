@@ -181,6 +181,10 @@ pub struct Diagnosis {
     pub counts_note: Option<String>,
     /// Other findings, in priority order.
     pub also: Vec<Finding>,
+    /// Known deviations of the DUT that waivers let through in this run:
+    /// the run's outcome holds them, so the report names them.
+    #[serde(default)]
+    pub waived: Vec<WaivedDeviation>,
 }
 
 impl Diagnosis {
@@ -193,6 +197,7 @@ impl Diagnosis {
             for a in &self.also {
                 let _ = writeln!(s, "  Note ({}): {}", a.category, a.what_happened);
             }
+            self.write_waived(&mut s);
             return s;
         }
         let _ = writeln!(s, "What happened: {}", self.what_happened);
@@ -249,7 +254,15 @@ impl Diagnosis {
         for a in &self.also {
             let _ = writeln!(s, "Also ({}): {}", a.category, a.what_happened);
         }
+        self.write_waived(&mut s);
         s
+    }
+
+    /// One line per waived deviation: what the core showed, in words.
+    fn write_waived(&self, s: &mut String) {
+        for w in &self.waived {
+            let _ = writeln!(s, "Waived: {}; {} divergence(s), a known deviation of this core", lower_first(&w.describe()), w.hits);
+        }
     }
 
     /// Report for tools.
@@ -276,6 +289,7 @@ pub fn diagnose(r: &RunRecord) -> Diagnosis {
             figures: rules::base_figures(r),
             counts_note,
             also: findings,
+            waived: r.waived.clone(),
         };
     };
     let first = findings.remove(primary);
@@ -289,5 +303,15 @@ pub fn diagnose(r: &RunRecord) -> Diagnosis {
         figures: first.figures,
         counts_note,
         also: findings,
+        waived: r.waived.clone(),
+    }
+}
+
+/// `The core ...` -> `the core ...` (a summary after "Waived: ").
+fn lower_first(s: &str) -> String {
+    let mut c = s.chars();
+    match c.next() {
+        Some(f) if f.is_uppercase() && c.clone().next().is_some_and(char::is_lowercase) => f.to_lowercase().chain(c).collect(),
+        _ => s.to_string(),
     }
 }

@@ -588,6 +588,33 @@ pub struct RunRecord {
     pub error: Option<String>,
     /// Bit times simulated.
     pub bits_simulated: u64,
+    /// Known deviations a waiver let through in this run, in plain words.
+    pub waived: Vec<WaivedDeviation>,
+}
+
+/// A known deviation of the DUT that a waiver let through in a run: which
+/// waiver, the deviation in plain words, the clause it breaks, how often.
+#[derive(Clone, Debug, PartialEq, Eq, Serialize, Deserialize, Default)]
+#[serde(default)]
+pub struct WaivedDeviation {
+    /// Waiver id.
+    pub waiver_id: String,
+    /// The deviation in plain words (the first sentence of the waiver's explanation).
+    pub summary: String,
+    /// The datasheet or CAN 2.0B clause it breaks, if the waiver names it.
+    pub clause: Option<String>,
+    /// Divergences the waiver covered.
+    pub hits: u32,
+}
+
+impl WaivedDeviation {
+    /// `summary (id, clause)`.
+    pub fn describe(&self) -> String {
+        match &self.clause {
+            Some(c) => format!("{} ({}, {c})", self.summary, self.waiver_id),
+            None => format!("{} ({})", self.summary, self.waiver_id),
+        }
+    }
 }
 
 impl RunRecord {

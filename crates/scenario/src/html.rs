@@ -152,7 +152,37 @@ pub fn render(report: &RegressReport, details: &[Detail], title: &str) -> String
             n("skipped")
         );
     }
-    h.push_str("</table>\n<h2>Scenarios</h2>\n<table id=\"cells\"><tr><th>scenario</th>");
+    h.push_str("</table>\n");
+    // Per core: the known deviations its waivers let through, in words.
+    for d in &report.duts {
+        let used = report.waivers_hit(d);
+        if used.is_empty() {
+            continue;
+        }
+        let _ = writeln!(h, "<h3>Known deviations waived on {}</h3>\n<table class=\"waivers-hit\" data-core=\"{0}\"><tr><th>waiver</th><th>hits</th><th>scenarios</th><th>deviation</th><th>clause</th></tr>", esc(d));
+        for u in &used {
+            let x = &u.deviation;
+            let _ = writeln!(
+                h,
+                "<tr><td>{}</td><td>{}</td><td>{}</td><td>{}</td><td>{}</td></tr>",
+                esc(&x.waiver_id),
+                x.hits,
+                esc(&u.scenarios.join(", ")),
+                esc(&x.summary),
+                esc(x.clause.as_deref().unwrap_or(""))
+            );
+        }
+        h.push_str("</table>\n");
+    }
+    let stale = report.stale_warnings();
+    if !stale.is_empty() {
+        h.push_str("<ul id=\"stale-waivers\">");
+        for (_, w) in &stale {
+            let _ = write!(h, "<li>{}</li>", esc(w));
+        }
+        h.push_str("</ul>\n");
+    }
+    h.push_str("<h2>Scenarios</h2>\n<table id=\"cells\"><tr><th>scenario</th>");
     for d in &report.duts {
         let _ = write!(h, "<th>{}</th>", esc(d));
     }

@@ -83,8 +83,17 @@ pub struct Cell {
     pub wall: Duration,
     /// Waived divergences: (waiver id, divergence in words).
     pub waived: Vec<(String, String)>,
-    /// Stale-waiver warnings.
+    /// Other remarks of the run (stale waivers are judged over the whole
+    /// suite instead: [`RegressReport::stale_warnings`]).
     pub warnings: Vec<String>,
+    /// The run had a waiver report (a test bench ran).
+    pub had_waivers: bool,
+    /// Waivers that matched nothing in this run.
+    pub stale: Vec<waivers::Stale>,
+    /// The run stopped at its first unwaived divergence.
+    pub stopped_early: bool,
+    /// The waivers that matched in this run, in plain words, with counts.
+    pub deviations: Vec<diagnose::WaivedDeviation>,
 }
 
 impl Cell {
@@ -133,9 +142,23 @@ impl Cell {
             report,
             wall: o.wall,
             waived,
-            warnings: o.warnings.clone(),
+            // Stale waivers are a property of the suite, not of one run.
+            warnings: Vec::new(),
+            had_waivers: o.waivers.is_some(),
+            stale: o.waivers.as_ref().map(|r| r.stale.clone()).unwrap_or_default(),
+            stopped_early: o.waivers.as_ref().is_some_and(|r| r.stopped_early),
+            deviations: o.waivers.as_ref().map(|r| r.deviations.clone()).unwrap_or_default(),
         }
     }
+}
+
+/// A waiver that matched on a DUT somewhere in the suite.
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub struct WaiverUse {
+    /// The deviation (hits summed over the scenarios).
+    pub deviation: diagnose::WaivedDeviation,
+    /// Scenarios in which it matched.
+    pub scenarios: Vec<String>,
 }
 
 /// All cells of a regression.
@@ -158,6 +181,80 @@ impl RegressReport {
     /// Process exit code: 0 if all passed, 1 otherwise.
     pub fn exit_code(&self) -> i32 {
         if self.passed() { 0 } else { 1 }
+    }
+
+    /// The waivers that matched on `dut`, in order of first use, with hits
+    /// summed over the suite and the scenarios that hit them.
+    pub fn waivers_hit(&self, dut: &str) -> Vec<WaiverUse> {
+        let mut out: Vec<WaiverUse> = Vec::new();
+        for c in self.cells.iter().filter(|c| c.dut == dut) {
+            for d in &c.deviations {
+                match out.iter_mut().find(|u| u.deviation.waiver_id == d.waiver_id) {
+                    Some(u) => {
+                        u.deviation.hits += d.hits;
+                        u.scenarios.push(c.scenario.clone());
+                    }
+                    None => out.push(WaiverUse { deviation: d.clone(), scenarios: vec![c.scenario.clone()] }),
+                }
+            }
+        }
+        out
+    }
+
+    /// Stale waivers, judged over the suite: a waiver is stale on a DUT only
+    /// if it matched in none of the scenarios run on it. One line per
+    /// (DUT, waiver); when some of those runs stopped at a failure, the line
+    /// says the waiver may not have been reached instead.
+    pub fn stale_warnings(&self) -> Vec<(String, String)> {
+        let mut out = Vec::new();
+        for dut in &self.duts {
+            let runs: Vec<&Cell> = self.cells.iter().filter(|c| &c.dut == dut && c.had_waivers).collect();
+            let used: std::collections::BTreeSet<&str> = runs.iter().flat_map(|c| c.deviations.iter().map(|d| d.waiver_id.as_str())).collect();
+            let mut seen = std::collections::BTreeSet::new();
+            for st in runs.iter().flat_map(|c| c.stale.iter()) {
+                if used.contains(st.waiver_id.as_str()) || !seen.insert((st.waiver_id.clone(), st.location.clone())) {
+                    continue;
+                }
+                let with: Vec<&&Cell> = runs.iter().filter(|c| c.stale.contains(st)).collect();
+                let stopped = with.iter().filter(|c| c.stopped_early).count();
+                let n = with.len();
+                let line = if stopped == 0 {
+                    format!("stale waiver `{}` ({}) never matched in the {n} scenario(s) run on {dut}: remove it or check it still applies", st.waiver_id, st.location)
+                } else {
+                    format!(
+                        "waiver `{}` ({}) never matched in the {n} scenario(s) run on {dut}, but {stopped} of them stopped at a failure: it may not have got that far",
+                        st.waiver_id, st.location
+                    )
+                };
+                out.push((dut.clone(), line));
+            }
+        }
+        out
+    }
+
+    /// The waivers hit per DUT, one line each: id, hits, scenarios, the
+    /// deviation in plain words.
+    pub fn waivers_text(&self) -> String {
+        let mut out = String::new();
+        for dut in &self.duts {
+            let used = self.waivers_hit(dut);
+            if used.is_empty() {
+                continue;
+            }
+            out += &format!("known deviations waived on {dut} ({} waiver(s)):\n", used.len());
+            for u in &used {
+                let d = &u.deviation;
+                out += &format!(
+                    "  {} x{} in {} scenario(s): {}{}\n",
+                    d.waiver_id,
+                    d.hits,
+                    u.scenarios.len(),
+                    d.summary,
+                    d.clause.as_ref().map(|c| format!(" ({c})")).unwrap_or_default()
+                );
+            }
+        }
+        out
     }
 
     fn cell(&self, s: &str, d: &str) -> Option<&Cell> {
@@ -211,10 +308,14 @@ impl RegressReport {
         if waived > 0 {
             out += &format!("{waived} divergence(s) waived\n");
         }
+        out += &self.waivers_text();
         for c in &self.cells {
             for w in &c.warnings {
                 out += &format!("WARNING {} on {}: {w}\n", c.scenario, c.dut);
             }
+        }
+        for (_, w) in self.stale_warnings() {
+            out += &format!("WARNING {w}\n");
         }
         out
     }
@@ -248,8 +349,14 @@ impl RegressReport {
             suite.push_attribute(("errors", count(&cells, is_err).as_str()));
             suite.push_attribute(("time", format!("{:.3}", cells.iter().map(|c| c.wall.as_secs_f64()).sum::<f64>()).as_str()));
             let _ = w.write_event(Event::Start(suite));
-            let warnings: Vec<String> =
+            let mut warnings: Vec<String> =
                 cells.iter().flat_map(|c| c.warnings.iter().map(move |w| format!("{}: {w}", c.scenario))).collect();
+            warnings.extend(self.stale_warnings().into_iter().filter(|(x, _)| x == d).map(|(_, w)| format!("warning: {w}")));
+            let hit: Vec<String> = self
+                .waivers_hit(d)
+                .iter()
+                .map(|u| format!("waived {} x{} in {}: {}", u.deviation.waiver_id, u.deviation.hits, u.scenarios.join(", "), u.deviation.describe()))
+                .collect();
             for c in &cells {
                 // Each waived divergence is its own skipped testcase, so CI
                 // shows what was let through and by which waiver.
@@ -295,6 +402,11 @@ impl RegressReport {
                 let _ = w.write_event(Event::Text(BytesText::new(&c.report)));
                 let _ = w.write_event(Event::End(BytesEnd::new(tag)));
                 let _ = w.write_event(Event::End(BytesEnd::new("testcase")));
+            }
+            if !hit.is_empty() {
+                let _ = w.write_event(Event::Start(BytesStart::new("system-out")));
+                let _ = w.write_event(Event::Text(BytesText::new(&hit.join("\n"))));
+                let _ = w.write_event(Event::End(BytesEnd::new("system-out")));
             }
             if !warnings.is_empty() {
                 let _ = w.write_event(Event::Start(BytesStart::new("system-err")));
@@ -412,6 +524,10 @@ pub fn regress_inputs(inputs: &[std::path::PathBuf], duts: &[DutSpec], opts: &Re
                     wall: Duration::ZERO,
                     waived: Vec::new(),
                     warnings: Vec::new(),
+                    had_waivers: false,
+                    stale: Vec::new(),
+                    stopped_early: false,
+                    deviations: Vec::new(),
                 });
             }
             report.scenarios.push(name);

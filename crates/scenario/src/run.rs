@@ -559,6 +559,10 @@ pub fn run(s: &Scenario, opts: &RunOptions) -> RunOutcome {
     if record.scenario.is_empty() {
         record.scenario = s.name.clone();
     }
+    // The diagnosis names the known deviations the DUT showed.
+    if let Some(rep) = &report {
+        record.waived = rep.deviations.clone();
+    }
     let diagnosis = diagnose(&record);
     let mut mismatches = check_expect(s, &diagnosis);
     mismatches.extend(lost);

@@ -13,7 +13,9 @@
 //! dut-tec = [136]                  # optional bound on the DUT's TEC (see Waiver::dut_tec)
 //! # Other keys: register = "SR", address = 2, bits = [6] (register bits that
 //! # may differ), expected = [..] / seen = [..] (allowed model / DUT values),
-//! # dut-rec = [..], frames = "2..5", context = "text", max-hits = N.
+//! # dut-rec = [..], frames = "2..5", context = "text", max-hits = N,
+//! # clause = "CAN 2.0B §8" (the clause the deviation breaks, for reports;
+//! # the first sentence of `explanation` is the deviation in plain words).
 //! resync = ["skip-bits 1", "adopt-dut-tec"]
 //! ```
 //!
@@ -521,6 +523,8 @@ pub(crate) struct RawWaiver {
     pub id: Spanned<String>,
     pub kind: KindName,
     pub explanation: Spanned<String>,
+    #[serde(default)]
+    pub clause: Option<String>,
     pub dut: Spanned<Vec<DutGlob>>,
     #[serde(default)]
     pub revisions: Vec<RevRange>,

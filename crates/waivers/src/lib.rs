@@ -47,5 +47,5 @@ pub mod suggest;
 pub use file::{BitPattern, KindName, Lateness, ResyncSpec, RevRange, Revision, WaiverError};
 pub use report::{Counts, Stale, WaivedExpectation, Waived, WaiverReport, describe};
 pub use run::{Action, CollectMode, Session};
-pub use set::{DutInfo, Observed, Resync, Verdict, Waiver, WaiverSet};
+pub use set::{DutInfo, Observed, Resync, Verdict, Waiver, WaiverSet, summary_of};
 pub use suggest::suggest;

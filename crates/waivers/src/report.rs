@@ -67,6 +67,10 @@ pub struct WaiverReport {
     pub notes: Vec<String>,
     /// Waivers that never matched.
     pub stale: Vec<Stale>,
+    /// The waivers that matched, in file order: the deviations the DUT
+    /// showed, in plain words, with their hit counts.
+    #[serde(default)]
+    pub deviations: Vec<diagnose::WaivedDeviation>,
     /// The comparator stopped at the first failure (`--stop-at-first`).
     pub stopped_early: bool,
 }
@@ -134,6 +138,7 @@ impl WaiverReport {
             .into_iter()
             .map(|w| Stale { waiver_id: w.id.clone(), location: format!("{}:{}", w.file, w.line) })
             .collect();
+        self.deviations = set.waivers().iter().filter(|w| w.hits > 0).map(|w| w.deviation(w.hits)).collect();
     }
 
     /// Counts.

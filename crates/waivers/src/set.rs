@@ -122,6 +122,8 @@ pub struct Waiver {
     pub kind: DivergenceKind,
     /// Why the deviation is accepted.
     pub explanation: String,
+    /// The datasheet or CAN 2.0B clause the deviation breaks (`clause`), for reports.
+    pub clause: Option<String>,
     /// File it comes from.
     pub file: String,
     /// Line of the `id` key in the file.
@@ -193,6 +195,17 @@ struct LateEpisode {
 }
 
 impl Waiver {
+    /// The deviation in plain words: the first sentence of the explanation,
+    /// without a leading table tag such as `D1.` (docs/opencores-deviations.md).
+    pub fn summary(&self) -> String {
+        summary_of(&self.explanation)
+    }
+
+    /// What a report says of this waiver after `hits` divergences.
+    pub fn deviation(&self, hits: u32) -> diagnose::WaivedDeviation {
+        diagnose::WaivedDeviation { waiver_id: self.id.clone(), summary: self.summary(), clause: self.clause.clone(), hits }
+    }
+
     /// True if the waiver is for this DUT (name glob and revision range).
     pub fn applies_to(&self, dut: &DutInfo) -> bool {
         if !self.dut.iter().any(|g| g.matches(&dut.name)) {
@@ -692,6 +705,7 @@ fn validate(name: &str, src: &str, w: RawWaiver) -> Result<Waiver, WaiverError> 
         id,
         kind,
         explanation,
+        clause: w.clause.filter(|c| !c.trim().is_empty()),
         file: name.into(),
         line: id_line,
         dut: w.dut.into_inner(),
@@ -718,4 +732,43 @@ fn validate(name: &str, src: &str, w: RawWaiver) -> Result<Waiver, WaiverError> 
         episode: None,
         late: None,
     })
+}
+
+/// The first sentence of a waiver explanation (up to `. ` or `; ` or the
+/// end of its first line), a leading table tag dropped: `D8a. ` or
+/// `D3 (a remark). ` (docs/opencores-deviations.md numbers its rows so).
+pub fn summary_of(explanation: &str) -> String {
+    let line = explanation.trim().lines().next().unwrap_or("").trim();
+    let is_tag = |t: &str| {
+        t.len() <= 5
+            && t.starts_with(|c: char| c.is_ascii_uppercase())
+            && t[1..].starts_with(|c: char| c.is_ascii_digit())
+            && t.chars().all(|c| c.is_ascii_alphanumeric())
+    };
+    let mut rest = line;
+    if let Some(n) = rest.find(". ") {
+        let head = &rest[..n];
+        let tag = head.split(" (").next().unwrap_or(head);
+        if is_tag(tag) && (head == tag || head.ends_with(')')) {
+            rest = &rest[n + 2..];
+        }
+    }
+    let end = [". ", "; "].iter().filter_map(|p| rest.find(p)).min().unwrap_or(rest.len());
+    rest[..end].trim_end_matches('.').trim().to_string()
+}
+
+#[cfg(test)]
+mod summary_tests {
+    use super::summary_of;
+
+    #[test]
+    fn the_summary_is_the_first_sentence_without_the_row_tag() {
+        assert_eq!(summary_of("D1. The core stores it late; CAN 2.0B §5 says. More."), "The core stores it late");
+        assert_eq!(summary_of("D8b. RBSA (address 30, datasheet 6.4.17) reads 0."), "RBSA (address 30, datasheet 6.4.17) reads 0");
+        assert_eq!(summary_of("D3 (a freedom, not a deviation). TS = 0 in suspend. Why."), "TS = 0 in suspend");
+        assert_eq!(summary_of("D1 with D2, in one read: both late. Only that."), "D1 with D2, in one read: both late");
+        assert_eq!(summary_of("bit 7 of address 4 is not implemented"), "bit 7 of address 4 is not implemented");
+        assert_eq!(summary_of("SR.TS (and SR.RS) late. Next."), "SR.TS (and SR.RS) late");
+        assert_eq!(summary_of("first line\nsecond line"), "first line");
+    }
 }

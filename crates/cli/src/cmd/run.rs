@@ -184,6 +184,13 @@ pub fn run_cmd(a: Args) -> anyhow::Result<i32> {
         }
         println!();
         println!("{}", out.diagnosis.to_text());
+        // The opencores core without its Wishbone define is its 8051 build:
+        // say how to get the Wishbone one (regress adds the define itself).
+        if a.dut.defines.is_empty()
+            && out.record.error.as_deref().is_some_and(|e| e.contains("no port `wb_clk_i`") && e.contains("ale_i"))
+        {
+            println!("hint: this top has the 8051 port list; the opencores core selects its Wishbone interface with --define CAN_WISHBONE_IF (and --include DIR for timescale.v), as `regress --external` does\n");
+        }
         if let Some(r) = out.waivers.as_ref().filter(|r| !r.waiver_file.is_empty() || !r.failures.is_empty()) {
             println!("{}", r.to_text());
         }
