@@ -457,4 +457,14 @@ fn bus_off_and_self_reception_waivers_catch_the_rest() {
     assert_ne!(by(&set.check(&read_div("SR", 0x0D, 0x0C), &dut)), Some(d1s.clone()), "not transmitting");
     assert_eq!(by(&set.check(&read_div("SR", 0x2D, 0x2C), &dut)), Some(d1s));
     assert!(!set.get("rbs-late-at-eof-self-reception").unwrap().applies_to(&DutInfo::new("rtl")));
+    // D10d in BasicCAN: RS without TS at bus-off, twice at most; RS with TS,
+    // RS while on the bus, or another bit too are still failures.
+    let mut set = WaiverSet::load(path).unwrap();
+    let d10b = "basic-rs-without-ts-at-bus-off".to_string();
+    assert_ne!(by(&set.check(&read_div("SR", 0xC4, 0xF4), &dut)), Some(d10b.clone()), "TS too");
+    assert_ne!(by(&set.check(&read_div("SR", 0x44, 0x54), &dut)), Some(d10b.clone()), "not bus-off");
+    assert_ne!(by(&set.check(&read_div("SR", 0xC4, 0xD5), &dut)), Some(d10b.clone()), "RBS too");
+    assert_eq!(by(&set.check(&read_div("SR", 0xC4, 0xD4), &dut)), Some(d10b.clone()));
+    assert_eq!(by(&set.check(&read_div("SR", 0xC4, 0xD4), &dut)), Some(d10b.clone()));
+    assert_ne!(by(&set.check(&read_div("SR", 0xC4, 0xD4), &dut)), Some(d10b), "max-hits 2");
 }
