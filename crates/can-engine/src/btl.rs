@@ -106,9 +106,25 @@ impl Btl {
         self.end0 = self.sp0 + t.tseg2_tq() as u8;
         self.sjw = t.sjw_tq() as u8;
         self.sam = t.sam;
+        // The bit keeps its segment and the quanta done in it: a bit in
+        // phase segment 2 stays there (it does not go back into TSEG1 when
+        // TSEG1 grows), with the new TSEG2 length.
+        if self.pos > self.sp {
+            let done_in_tseg2 = self.pos - self.sp - 1;
+            self.pos = self.sp0 + 1 + done_in_tseg2;
+        }
         self.sp = self.sp0;
         self.end = self.end0;
+        self.pos = self.pos.min(self.end);
         self.clk = self.clk.min(self.cpt - 1);
+    }
+
+    /// The first quantum after a hardware reset is the first of TSEG1, not
+    /// a sync segment (a bit timing that runs from the hardware reset and
+    /// comes out of it in TSEG1, as the opencores core does).
+    pub(crate) fn start_in_tseg1(&mut self) {
+        self.restart();
+        self.pos = 1;
     }
 
     /// Starts a fresh bit on the next clock (reset, wake-up).
