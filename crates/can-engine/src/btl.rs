@@ -224,3 +224,42 @@ impl Btl {
         self.synced = true;
     }
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// The next quantum boundary that is a sample point or a bit start
+    /// (bus recessive, no synchronisation), and the quanta it took.
+    fn next_event(b: &mut Btl) -> (Tq, u32) {
+        for n in 1..64 {
+            while !b.clock() {}
+            match b.tq(true, false, false) {
+                Tq::Quiet => {}
+                e => return (e, n),
+            }
+        }
+        panic!("no sample point or bit start in 64 quanta");
+    }
+
+    #[test]
+    fn out_of_a_hardware_reset_the_first_quantum_is_tseg1s() {
+        // BTR0 = BTR1 = 0: 1 tq sync, 1 tq TSEG1, 1 tq TSEG2.
+        let mut b = Btl::new(BusTiming::from_btr(0, 0));
+        b.start_in_tseg1();
+        assert_eq!(next_event(&mut b), (Tq::Sample(true), 1), "sampled at the end of the first quantum");
+        assert_eq!(next_event(&mut b), (Tq::BitStart, 1));
+    }
+
+    #[test]
+    fn a_btr_write_in_phase_segment_2_keeps_the_bit_there() {
+        let mut b = Btl::new(BusTiming::from_btr(0, 0));
+        b.start_in_tseg1();
+        assert_eq!(next_event(&mut b).0, Tq::Sample(true));
+        // Now in TSEG2; TSEG1 grows to 6 tq and TSEG2 to 3 tq: the bit ends
+        // after the new TSEG2, without a second sample point.
+        b.retime(BusTiming::from_btr(0x41, 0x25));
+        assert_eq!(next_event(&mut b), (Tq::BitStart, 3));
+        assert_eq!(next_event(&mut b), (Tq::Sample(true), 7), "then whole bits: sync + 6 tq");
+    }
+}
