@@ -670,6 +670,20 @@ mod tests {
         let oc = Profile::find("opencores-can").unwrap();
         assert_eq!(oc.name, "opencores-can");
         assert_eq!(oc.phase_origin, PhaseOrigin::HardwareReset);
+        let hold = Some(BusyAfterAck { can: 3, host: 3, can_again: 2 });
+        assert_eq!(oc.holdoff, Holdoff { wishbone: hold, avalon: hold, pio: hold });
+        assert_eq!(Profile::rtl().holdoff, Holdoff::default(), "our RTL takes a new request at once");
+    }
+
+    #[test]
+    fn busy_after_ack_needs_three_counts() {
+        let ok = Profile::parse(&GOOD.replace("[access.pio]\n", "[access.pio]\nbusy-after-ack = [3, 3, 2]\n"), "p.toml").unwrap();
+        assert_eq!(ok.holdoff.pio, Some(BusyAfterAck { can: 3, host: 3, can_again: 2 }));
+        assert_eq!(ok.holdoff.wishbone, None);
+        let e = err(&GOOD.replace("[access.pio]\n", "[access.pio]\nbusy-after-ack = [3, 3]\n"));
+        assert!(e.starts_with("p.toml:9: access.pio: busy-after-ack needs"), "{e}");
+        let e = err(&GOOD.replace("[access.pio]\n", "[access.pio]\nbusy-after-ack = [3, 300, 2]\n"));
+        assert!(e.contains("at most 64"), "{e}");
     }
 
     fn err(text: &str) -> String {
