@@ -474,13 +474,20 @@ impl Profile {
             PhaseOrigin::ResetModeExit => "reset-mode exit",
         };
         let ports = self.ports.describe();
+        let busy = |b: Option<BusyAfterAck>| match b {
+            None => String::new(),
+            Some(b) => format!(" (no new request until {}/{}/{} CAN/host/CAN edges after an ack)", b.can, b.host, b.can_again),
+        };
         format!(
-            "profile {}{}: bit timing phase from the {origin}; host access takes effect: wishbone {}, avalon {}, pio {}; ports {}",
+            "profile {}{}: bit timing phase from the {origin}; host access takes effect: wishbone {}{}, avalon {}{}, pio {}{}; ports {}",
             self.name,
             self.file.as_ref().map(|f| format!(" ({})", f.display())).unwrap_or_default(),
             self.wishbone.describe(),
+            busy(self.holdoff.wishbone),
             self.avalon.describe(),
+            busy(self.holdoff.avalon),
             self.pio.describe(),
+            busy(self.holdoff.pio),
             if ports.is_empty() { "as can_top".to_string() } else { ports },
         )
     }
