@@ -106,16 +106,25 @@ impl Btl {
         self.end0 = self.sp0 + t.tseg2_tq() as u8;
         self.sjw = t.sjw_tq() as u8;
         self.sam = t.sam;
+        // The bit keeps its segment and the quanta done in it: a bit in
+        // phase segment 2 stays there (it does not go back into TSEG1 when
+        // TSEG1 grows), with the new TSEG2 length.
         if self.pos > self.sp {
-            // Past the sample point: the bit stays in phase segment 2, which
-            // now lasts the new TSEG2 counted from its start (a segment
-            // counter, as the opencores core has, does not go back to TSEG1).
-            self.end = (self.sp + t.tseg2_tq() as u8).max(self.pos);
-        } else {
-            self.sp = self.sp0.max(self.pos);
-            self.end = self.sp + t.tseg2_tq() as u8;
+            let done_in_tseg2 = self.pos - self.sp - 1;
+            self.pos = self.sp0 + 1 + done_in_tseg2;
         }
+        self.sp = self.sp0;
+        self.end = self.end0;
+        self.pos = self.pos.min(self.end);
         self.clk = self.clk.min(self.cpt - 1);
+    }
+
+    /// The first quantum after a hardware reset is the first of TSEG1, not
+    /// a sync segment (a bit timing that runs from the hardware reset and
+    /// comes out of it in TSEG1, as the opencores core does).
+    pub(crate) fn start_in_tseg1(&mut self) {
+        self.restart();
+        self.pos = 1;
     }
 
     /// Starts a fresh bit on the next clock (reset, wake-up).
@@ -259,5 +268,44 @@ mod retime_tests {
         to_bit_start(&mut b);
         b.retime(BusTiming::from_btr(0x00, 0x25));
         assert_eq!(to_bit_start(&mut b), (10, 1), "sync + 6 tq TSEG1 + 3 tq TSEG2");
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// The next quantum boundary that is a sample point or a bit start
+    /// (bus recessive, no synchronisation), and the quanta it took.
+    fn next_event(b: &mut Btl) -> (Tq, u32) {
+        for n in 1..64 {
+            while !b.clock() {}
+            match b.tq(true, false, false) {
+                Tq::Quiet => {}
+                e => return (e, n),
+            }
+        }
+        panic!("no sample point or bit start in 64 quanta");
+    }
+
+    #[test]
+    fn out_of_a_hardware_reset_the_first_quantum_is_tseg1s() {
+        // BTR0 = BTR1 = 0: 1 tq sync, 1 tq TSEG1, 1 tq TSEG2.
+        let mut b = Btl::new(BusTiming::from_btr(0, 0));
+        b.start_in_tseg1();
+        assert_eq!(next_event(&mut b), (Tq::Sample(true), 1), "sampled at the end of the first quantum");
+        assert_eq!(next_event(&mut b), (Tq::BitStart, 1));
+    }
+
+    #[test]
+    fn a_btr_write_in_phase_segment_2_keeps_the_bit_there() {
+        let mut b = Btl::new(BusTiming::from_btr(0, 0));
+        b.start_in_tseg1();
+        assert_eq!(next_event(&mut b).0, Tq::Sample(true));
+        // Now in TSEG2; TSEG1 grows to 6 tq and TSEG2 to 3 tq: the bit ends
+        // after the new TSEG2, without a second sample point.
+        b.retime(BusTiming::from_btr(0x41, 0x25));
+        assert_eq!(next_event(&mut b), (Tq::BitStart, 3));
+        assert_eq!(next_event(&mut b), (Tq::Sample(true), 7), "then whole bits: sync + 6 tq");
     }
 }

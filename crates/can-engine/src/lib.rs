@@ -190,6 +190,11 @@ impl Engine {
     /// or timing change.
     pub fn set_phase_origin(&mut self, origin: PhaseOrigin) {
         self.origin = origin;
+        if origin == PhaseOrigin::HardwareReset {
+            // Set at the hardware reset (before the first clock): a bit
+            // timing running from the reset starts in TSEG1.
+            self.btl.start_in_tseg1();
+        }
     }
 
     /// Where the bit timing's phase starts from.

@@ -12,6 +12,7 @@ pub mod bridge;
 pub mod compare;
 pub mod dut;
 pub mod gtkw;
+pub mod holdoff;
 pub mod kernel;
 pub mod model;
 pub mod perf;

@@ -15,6 +15,10 @@
 //! command = 3                            #   presents the access (CMR writes: `command`)
 //! [access.avalon]                        # same keys
 //! [access.pio]                           # same keys
+//! busy-after-ack = [3, 3, 2]             # optional, any bus: after an ack the core sees no
+//!                                        #   new request for this many CAN, then host, then CAN
+//!                                        #   edges (a handshake returning to idle); the edge
+//!                                        #   counts above start at the first edge it can see
 //! latch = 1                              # optional, any bus: CAN edges after which the core
 //!                                        #   has committed to the access; a request dropped
 //!                                        #   later is no abandoned transfer for the bus monitor
@@ -36,6 +40,8 @@
 use std::path::{Path, PathBuf};
 
 use serde::Deserialize;
+
+use crate::holdoff::BusyAfterAck;
 use toml::Spanned;
 
 pub use can_engine::PhaseOrigin;
@@ -130,6 +136,18 @@ pub struct Latch {
     pub avalon: Option<u32>,
     /// PIO.
     pub pio: Option<u32>,
+}
+
+/// The per-bus `busy-after-ack` entries of a profile (see
+/// [`crate::holdoff`]). None: a new request is seen at once.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub struct Holdoff {
+    /// Wishbone.
+    pub wishbone: Option<BusyAfterAck>,
+    /// Avalon (through a Wishbone bridge).
+    pub avalon: Option<BusyAfterAck>,
+    /// PIO.
+    pub pio: Option<BusyAfterAck>,
 }
 
 /// A port of the DUT's top: its name, and for the polarity-bearing roles
@@ -253,6 +271,8 @@ pub struct Profile {
     /// When the core has committed to an access, per bus (for the host
     /// bus monitor: a request dropped later is not abandoned).
     pub latch: Latch,
+    /// How long the core takes no new request after an ack, per bus.
+    pub holdoff: Holdoff,
     /// The comparator's tolerances for this core.
     pub tolerances: CompareConfig,
     /// Port names and polarities.
@@ -359,6 +379,18 @@ impl Profile {
                 }
             }
         };
+        let busy = |a: &RawAccess, key: &str| -> Result<Option<BusyAfterAck>, ProfileError> {
+            let Some(v) = &a.busy_after_ack else { return Ok(None) };
+            let n = v.get_ref();
+            if n.len() != 3 || n.iter().any(|&e| e > 64) {
+                return Err(bad(
+                    v.span(),
+                    key,
+                    "busy-after-ack needs [CAN edges, host edges, CAN edges], each at most 64".into(),
+                ));
+            }
+            Ok(Some(BusyAfterAck { can: n[0], host: n[1], can_again: n[2] }))
+        };
         let t = &raw.tolerances;
         for (k, v) in [("tx-edge", &t.tx_edge), ("sof", &t.sof), ("status", &t.status), ("pins", &t.pins)] {
             if *v.get_ref() > 1_000 {
@@ -416,6 +448,11 @@ impl Profile {
                 avalon: raw.access.avalon.latch.as_ref().map(|v| *v.get_ref()),
                 pio: raw.access.pio.latch.as_ref().map(|v| *v.get_ref()),
             },
+            holdoff: Holdoff {
+                wishbone: busy(&raw.access.wishbone, "access.wishbone")?,
+                avalon: busy(&raw.access.avalon, "access.avalon")?,
+                pio: busy(&raw.access.pio, "access.pio")?,
+            },
             wishbone: access(&raw.access.wishbone, "access.wishbone")?,
             avalon: access(&raw.access.avalon, "access.avalon")?,
             pio: access(&raw.access.pio, "access.pio")?,
@@ -437,13 +474,20 @@ impl Profile {
             PhaseOrigin::ResetModeExit => "reset-mode exit",
         };
         let ports = self.ports.describe();
+        let busy = |b: Option<BusyAfterAck>| match b {
+            None => String::new(),
+            Some(b) => format!(" (no new request until {}/{}/{} CAN/host/CAN edges after an ack)", b.can, b.host, b.can_again),
+        };
         format!(
-            "profile {}{}: bit timing phase from the {origin}; host access takes effect: wishbone {}, avalon {}, pio {}; ports {}",
+            "profile {}{}: bit timing phase from the {origin}; host access takes effect: wishbone {}{}, avalon {}{}, pio {}{}; ports {}",
             self.name,
             self.file.as_ref().map(|f| format!(" ({})", f.display())).unwrap_or_default(),
             self.wishbone.describe(),
+            busy(self.holdoff.wishbone),
             self.avalon.describe(),
+            busy(self.holdoff.avalon),
             self.pio.describe(),
+            busy(self.holdoff.pio),
             if ports.is_empty() { "as can_top".to_string() } else { ports },
         )
     }
@@ -517,6 +561,7 @@ enum TakesEffect {
 struct RawAccess {
     takes_effect: Spanned<TakesEffect>,
     latch: Option<Spanned<u32>>,
+    busy_after_ack: Option<Spanned<Vec<u32>>>,
     read: Option<Spanned<u32>>,
     write: Option<Spanned<u32>>,
     command: Option<Spanned<u32>>,
@@ -632,6 +677,20 @@ mod tests {
         let oc = Profile::find("opencores-can").unwrap();
         assert_eq!(oc.name, "opencores-can");
         assert_eq!(oc.phase_origin, PhaseOrigin::HardwareReset);
+        let hold = Some(BusyAfterAck { can: 3, host: 3, can_again: 2 });
+        assert_eq!(oc.holdoff, Holdoff { wishbone: hold, avalon: hold, pio: hold });
+        assert_eq!(Profile::rtl().holdoff, Holdoff::default(), "our RTL takes a new request at once");
+    }
+
+    #[test]
+    fn busy_after_ack_needs_three_counts() {
+        let ok = Profile::parse(&GOOD.replace("[access.pio]\n", "[access.pio]\nbusy-after-ack = [3, 3, 2]\n"), "p.toml").unwrap();
+        assert_eq!(ok.holdoff.pio, Some(BusyAfterAck { can: 3, host: 3, can_again: 2 }));
+        assert_eq!(ok.holdoff.wishbone, None);
+        let e = err(&GOOD.replace("[access.pio]\n", "[access.pio]\nbusy-after-ack = [3, 3]\n"));
+        assert!(e.starts_with("p.toml:9: access.pio: busy-after-ack needs"), "{e}");
+        let e = err(&GOOD.replace("[access.pio]\n", "[access.pio]\nbusy-after-ack = [3, 300, 2]\n"));
+        assert!(e.contains("at most 64"), "{e}");
     }
 
     fn err(text: &str) -> String {

@@ -403,6 +403,9 @@ pub struct Testbench {
     req_wires: WbMasterOut,
     /// The profile's `latch` for the host bus in use, if it gives one.
     latch_edges: Option<u32>,
+    /// The profile's `busy-after-ack` for the host bus in use: when the
+    /// core can see a new request after an ack.
+    holdoff: Option<crate::holdoff::AckHoldoff>,
     /// 8051 host: the DUT takes a write when WR is released (our
     /// `can_top_8051`), not when WR rises (an external core).
     i8051_write_at_release: bool,
@@ -728,6 +731,15 @@ impl Testbench {
                 HostBfm::Pio(_) => p.latch.pio,
                 HostBfm::I8051(_) => None,
             }),
+            holdoff: profile
+                .as_ref()
+                .and_then(|p| match cfg.host {
+                    HostBfm::Wishbone => p.holdoff.wishbone,
+                    HostBfm::Avalon { wiring: AvalonWiring::Bridge, .. } => p.holdoff.avalon,
+                    HostBfm::Pio(_) => p.holdoff.pio,
+                    _ => None,
+                })
+                .map(crate::holdoff::AckHoldoff::new),
             i8051_write_at_release: !matches!(cfg.dut, DutChoice::External(_)),
             batching: true,
             batch_levels: Vec::new(),
@@ -924,6 +936,9 @@ impl Testbench {
         let pins = self
             .dut
             .eval_pins(self.kernel.host().level(), self.kernel.can().level());
+        if let Some(h) = &mut self.holdoff {
+            h.on_tick(&t, self.dut.wb().ack);
+        }
         self.after_eval(t, pins);
     }
 
@@ -1635,9 +1650,12 @@ impl Testbench {
                     self.applied_wb.cyc && self.applied_wb.stb
                 };
                 let cc = self.can_clocks;
+                // A CAN edge counts for the access only if the core could
+                // see the request at it (its hold-off after the last ack).
+                let ready_before = self.holdoff.as_ref().is_none_or(|h| h.ready());
                 self.tick();
                 if launched {
-                    can_edges += (self.can_clocks != cc) as u32;
+                    can_edges += (self.can_clocks != cc && ready_before) as u32;
                 } else if let Master::I8051(m, _) = &self.master {
                     // No host clock in the DUT: it sees the pins from the
                     // host edge that sets them. A read launches there with
@@ -1655,7 +1673,8 @@ impl Testbench {
                     // The first host edge at which the DUT sees cyc & stb.
                     launched = self.host_cycle != c && presented;
                 }
-                if launched && can_edges >= due_edges {
+                let ready_now = self.holdoff.as_ref().is_none_or(|h| h.ready());
+                if launched && can_edges >= due_edges && (due_edges > 0 || ready_now) {
                     if let Some(refm) = &mut self.reference {
                         taken = Some(if write {
                             (refm.write(addr, data), 0)
