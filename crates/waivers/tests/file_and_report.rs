@@ -471,3 +471,60 @@ fn bus_off_and_self_reception_waivers_catch_the_rest() {
     assert_eq!(by(&set.check(&read_div("SR", 0xC4, 0xD4), &dut)), Some(d10b.clone()));
     assert_ne!(by(&set.check(&read_div("SR", 0xC4, 0xD4), &dut)), Some(d10b), "max-hits 2");
 }
+
+/// The two irq pin waivers (D8d in pelican-fifo-overrun, D10f in
+/// pelican-bus-off-recovery) each take only their own frame, bus idle and
+/// measured count; the RBS-for-a-lost-entry read waiver only RBS with DOS clear.
+#[test]
+fn irq_pin_waivers_take_only_their_own_scenario() {
+    let path = concat!(env!("CARGO_MANIFEST_DIR"), "/../../tb/waivers/opencores-upstream.toml");
+    let dut = DutInfo::new("opencores-can (/cores/can)");
+    let by = |v: &Verdict| match v {
+        Verdict::Waived { waiver_id, .. } => Some(waiver_id.clone()),
+        _ => None,
+    };
+    let pin = |frame: u32, field: Field| Divergence {
+        kind: DivergenceKind::Irq,
+        bit: Some(1406),
+        frame: Some(frame),
+        field: Some(field),
+        expected: 1,
+        seen: 0,
+        ..Divergence::default()
+    };
+    let operating = waivers::Observed { model_mod: Some(0x00), ..Default::default() };
+    let reset = waivers::Observed { model_mod: Some(0x01), ..Default::default() };
+    let d8 = "doi-irq-at-release-not-at-loss".to_string();
+    let d10 = "ei-irq-when-es-clears-during-bus-off-recovery".to_string();
+    let mut set = WaiverSet::load(path).unwrap();
+    // Each takes its own frame and not the other's.
+    assert_eq!(by(&set.check_observed(&pin(8, Field::BusIdle), &dut, &operating)), Some(d8.clone()));
+    assert_eq!(by(&set.check_observed(&pin(16, Field::BusIdle), &dut, &operating)), Some(d10.clone()));
+    // Another frame, another field, or (D10f) reset mode: still failures.
+    for (frame, field, obs) in [
+        (7, Field::BusIdle, &operating),
+        (9, Field::BusIdle, &operating),
+        (8, Field::Intermission, &operating),
+        (16, Field::Eof, &operating),
+        (15, Field::BusIdle, &operating),
+        (16, Field::BusIdle, &reset),
+    ] {
+        let v = set.check_observed(&pin(frame, field), &dut, obs);
+        assert!(by(&v) != Some(d8.clone()) && by(&v) != Some(d10.clone()), "frame {frame} {field:?}: {v:?}");
+    }
+    // Bounded by the measured count: 2 and 153 reports.
+    assert_eq!(by(&set.check_observed(&pin(8, Field::BusIdle), &dut, &operating)), Some(d8.clone()));
+    assert_ne!(by(&set.check_observed(&pin(8, Field::BusIdle), &dut, &operating)), Some(d8), "max-hits 2");
+    for _ in 1..153 {
+        assert_eq!(by(&set.check_observed(&pin(16, Field::BusIdle), &dut, &operating)), Some(d10.clone()));
+    }
+    assert_ne!(by(&set.check_observed(&pin(16, Field::BusIdle), &dut, &operating)), Some(d10), "max-hits 153");
+    // RBS for the lost entry: RBS only, with DOS clear on both, once.
+    let rbs = "rbs-for-lost-message-entry".to_string();
+    let mut set = WaiverSet::load(path).unwrap();
+    assert_ne!(by(&set.check(&read_div("SR", 0x0E, 0x0F), &dut)), Some(rbs.clone()), "DOS set");
+    assert_ne!(by(&set.check(&read_div("SR", 0x0C, 0x1D), &dut)), Some(rbs.clone()), "RS too");
+    assert_ne!(by(&set.check(&read_div("SR", 0x0D, 0x0C), &dut)), Some(rbs.clone()), "the other way round");
+    assert_eq!(by(&set.check(&read_div("SR", 0x0C, 0x0D), &dut)), Some(rbs.clone()));
+    assert_ne!(by(&set.check(&read_div("SR", 0x0C, 0x0D), &dut)), Some(rbs), "max-hits 1");
+}
