@@ -5,8 +5,6 @@
 use crate::run::{DutSpec, RunOptions, RunOutcome, run};
 use crate::{Scenario, ScenarioError};
 use diagnose::Category;
-use quick_xml::Writer;
-use quick_xml::events::{BytesEnd, BytesStart, BytesText, Event};
 use std::sync::Mutex;
 use std::sync::atomic::{AtomicUsize, Ordering};
 use std::time::Duration;
@@ -322,33 +320,12 @@ impl RegressReport {
 
     /// JUnit XML: one testsuite per DUT, one testcase per scenario.
     pub fn to_junit(&self) -> String {
-        let mut w = Writer::new_with_indent(Vec::new(), b' ', 2);
-        let count = |cells: &[&Cell], f: fn(&Status) -> bool| cells.iter().filter(|c| f(&c.status)).count().to_string();
-        let is_fail = |s: &Status| matches!(s, Status::Diverged(_) | Status::Failed(_));
-        let is_err = |s: &Status| matches!(s, Status::Error(_));
-        let all: Vec<&Cell> = self.cells.iter().collect();
-        let total: f64 = all.iter().map(|c| c.wall.as_secs_f64()).sum();
-        let mut root = BytesStart::new("testsuites");
-        root.push_attribute(("name", "cancosim regression"));
-        root.push_attribute(("tests", all.len().to_string().as_str()));
-        root.push_attribute(("failures", count(&all, is_fail).as_str()));
-        root.push_attribute(("errors", count(&all, is_err).as_str()));
-        root.push_attribute(("time", format!("{total:.3}").as_str()));
-        let _ = w.write_event(Event::Start(root));
+        use quick_junit::{NonSuccessKind, Report, TestCase, TestCaseStatus, TestSuite};
+        let secs = |c: &Cell| std::time::Duration::from_secs_f64(c.wall.as_secs_f64());
+        let mut report = Report::new("cancosim regression");
         for d in &self.duts {
             let cells: Vec<&Cell> = self.cells.iter().filter(|c| &c.dut == d).collect();
-            let waived: usize = cells.iter().map(|c| c.waived.len()).sum();
-            let skipped = waived + cells.iter().filter(|c| matches!(c.status, Status::Skipped(_))).count();
-            let mut suite = BytesStart::new("testsuite");
-            suite.push_attribute(("name", d.as_str()));
-            suite.push_attribute(("tests", (cells.len() + waived).to_string().as_str()));
-            if skipped > 0 {
-                suite.push_attribute(("skipped", skipped.to_string().as_str()));
-            }
-            suite.push_attribute(("failures", count(&cells, is_fail).as_str()));
-            suite.push_attribute(("errors", count(&cells, is_err).as_str()));
-            suite.push_attribute(("time", format!("{:.3}", cells.iter().map(|c| c.wall.as_secs_f64()).sum::<f64>()).as_str()));
-            let _ = w.write_event(Event::Start(suite));
+            let mut suite = TestSuite::new(d.as_str());
             let mut warnings: Vec<String> =
                 cells.iter().flat_map(|c| c.warnings.iter().map(move |w| format!("{}: {w}", c.scenario))).collect();
             warnings.extend(self.stale_warnings().into_iter().filter(|(x, _)| x == d).map(|(_, w)| format!("warning: {w}")));
@@ -361,65 +338,46 @@ impl RegressReport {
                 // Each waived divergence is its own skipped testcase, so CI
                 // shows what was let through and by which waiver.
                 for (n, (id, what)) in c.waived.iter().enumerate() {
-                    let name = format!("{} waived {}: {what}", c.scenario, n + 1);
-                    let mut tc = BytesStart::new("testcase");
-                    tc.push_attribute(("classname", format!("{}.waivers", c.dut).as_str()));
-                    tc.push_attribute(("name", name.as_str()));
-                    let _ = w.write_event(Event::Start(tc));
-                    let mut sk = BytesStart::new("skipped");
-                    sk.push_attribute(("message", format!("waived by {id}").as_str()));
-                    let _ = w.write_event(Event::Empty(sk));
-                    let _ = w.write_event(Event::End(BytesEnd::new("testcase")));
+                    let mut status = TestCaseStatus::skipped();
+                    status.set_message(format!("waived by {id}"));
+                    let mut tc = TestCase::new(format!("{} waived {}: {what}", c.scenario, n + 1), status);
+                    tc.set_classname(format!("{}.waivers", c.dut));
+                    suite.add_test_case(tc);
                 }
             }
             for c in cells {
-                let mut tc = BytesStart::new("testcase");
-                tc.push_attribute(("classname", c.dut.as_str()));
-                tc.push_attribute(("name", c.scenario.as_str()));
-                tc.push_attribute(("time", format!("{:.3}", c.wall.as_secs_f64()).as_str()));
-                let (tag, msg) = match &c.status {
-                    Status::Pass => {
-                        let _ = w.write_event(Event::Empty(tc));
-                        continue;
-                    }
+                let status = match &c.status {
+                    Status::Pass => TestCaseStatus::success(),
                     Status::Skipped(why) => {
-                        let _ = w.write_event(Event::Start(tc));
-                        let mut sk = BytesStart::new("skipped");
-                        sk.push_attribute(("message", why.as_str()));
-                        let _ = w.write_event(Event::Empty(sk));
-                        let _ = w.write_event(Event::End(BytesEnd::new("testcase")));
-                        continue;
+                        let mut s = TestCaseStatus::skipped();
+                        s.set_message(why.as_str());
+                        s
                     }
-                    Status::Diverged(x) => ("failure", format!("diverged from the golden model: {x}")),
-                    Status::Failed(x) => ("failure", x.clone()),
-                    Status::Error(x) => ("error", x.clone()),
+                    Status::Diverged(_) | Status::Failed(_) | Status::Error(_) => {
+                        let (kind, msg) = match &c.status {
+                            Status::Diverged(x) => (NonSuccessKind::Failure, format!("diverged from the golden model: {x}")),
+                            Status::Failed(x) => (NonSuccessKind::Failure, x.clone()),
+                            Status::Error(x) => (NonSuccessKind::Error, x.clone()),
+                            _ => unreachable!(),
+                        };
+                        let mut s = TestCaseStatus::non_success(kind);
+                        s.set_message(msg).set_type(c.category.name()).set_description(c.report.as_str());
+                        s
+                    }
                 };
-                let _ = w.write_event(Event::Start(tc));
-                let mut f = BytesStart::new(tag);
-                f.push_attribute(("message", msg.as_str()));
-                f.push_attribute(("type", c.category.name()));
-                let _ = w.write_event(Event::Start(f));
-                let _ = w.write_event(Event::Text(BytesText::new(&c.report)));
-                let _ = w.write_event(Event::End(BytesEnd::new(tag)));
-                let _ = w.write_event(Event::End(BytesEnd::new("testcase")));
+                let mut tc = TestCase::new(c.scenario.as_str(), status);
+                tc.set_classname(c.dut.as_str()).set_time(secs(c));
+                suite.add_test_case(tc);
             }
             if !hit.is_empty() {
-                let _ = w.write_event(Event::Start(BytesStart::new("system-out")));
-                let _ = w.write_event(Event::Text(BytesText::new(&hit.join("\n"))));
-                let _ = w.write_event(Event::End(BytesEnd::new("system-out")));
+                suite.set_system_out(hit.join("\n"));
             }
             if !warnings.is_empty() {
-                let _ = w.write_event(Event::Start(BytesStart::new("system-err")));
-                let _ = w.write_event(Event::Text(BytesText::new(&warnings.join("\n"))));
-                let _ = w.write_event(Event::End(BytesEnd::new("system-err")));
+                suite.set_system_err(warnings.join("\n"));
             }
-            let _ = w.write_event(Event::End(BytesEnd::new("testsuite")));
+            report.add_test_suite(suite);
         }
-        let _ = w.write_event(Event::End(BytesEnd::new("testsuites")));
-        let mut s = String::from("<?xml version=\"1.0\" encoding=\"UTF-8\"?>\n");
-        s += &String::from_utf8(w.into_inner()).expect("quick-xml writes UTF-8");
-        s.push('\n');
-        s
+        report.to_string().expect("quick-junit writes a report to a String")
     }
 }
 
