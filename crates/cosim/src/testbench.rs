@@ -798,6 +798,14 @@ impl Testbench {
         self.comparator.as_ref()
     }
 
+    /// The scenario's `received` count of model node `node` missed: waived
+    /// only if a waiver hit earlier in this run lists it as a consequence
+    /// (`Session::waive_received_consequence`); returns that waiver's id.
+    pub fn waive_received_consequence(&mut self, node: &str, want: u32, got: Option<u32>) -> Option<String> {
+        let scenario = self.record.scenario.clone();
+        self.waivers.waive_received_consequence(&scenario, node, want, got)
+    }
+
     /// Waived divergences, failures and stale waivers so far. In collect
     /// mode the run goes on after a failure: check `passed()` here.
     /// An `adopt-dut-tec`/`-rec` still waiting for a TXERR/RXERR read is
@@ -1851,6 +1859,16 @@ impl Testbench {
         {
             passed = true;
             seen.push_str(&format!(" (waived by {id})"));
+        }
+        // A miss on a read the model agrees with (nothing diverged) may be a
+        // listed consequence of a deviation waived earlier in this run.
+        if !passed
+            && self.waivers.waived_count() == waived_before
+            && let Some(id) =
+                self.waivers.waive_consequence(&self.record.scenario, step, what, mask, expected, v)
+        {
+            passed = true;
+            seen.push_str(&format!(" (waived: a consequence of {id})"));
         }
         self.record.expectations.push(Expectation {
             step,

@@ -594,3 +594,40 @@ fn a_profile_port_map_binds_a_renamed_and_inverted_top() {
     let e = run(wrong).unwrap_err();
     assert!(matches!(e, TbError::Diverged(ref m) if m.contains("Irq")), "{e}");
 }
+
+/// A waiver's `consequences`: a listed expectation that fails on a read
+/// where DUT and model agree is waived (and listed) only after the waiver
+/// was hit in this run; before the hit, or unlisted, it still fails.
+#[test]
+fn a_listed_consequence_is_waived_only_after_its_waiver_was_hit() {
+    use waivers::CollectMode::*;
+    let one = DEVIANT_WAIVERS.split("[[waiver]]").find(|t| t.contains("id = \"reg4-bit7\"")).unwrap();
+    let src = format!("[[waiver]]{}\nconsequences = [\"fixture:step 2\"]\n", one.trim_end());
+    let tb_with = || {
+        let mut c = cfg("cosim_deviant", HostBfm::Wishbone);
+        c.lockstep = Some((ReferenceChoice::Echo, CompareConfig { tx_edge_tolerance: 2, ..CompareConfig::default() }));
+        c.waivers = waivers::WaiverSet::parse(&src, "deviant.toml").unwrap();
+        c.collect = StopAtFirst;
+        Testbench::new(c).unwrap()
+    };
+    // Before any hit: DUT and model agree on 0x7F, the listed step 2 fails.
+    let mut tb = tb_with();
+    tb.write(4, 0x7F).unwrap();
+    assert!(!tb.expect(2, "address 4 bit 7", 4, 0x80, 0x80).unwrap());
+    assert!(tb.waiver_report().waived_expectations.is_empty());
+    // After the hit (step 1, model adopts 0x7F): step 2 is waived as a
+    // consequence; step 3, the same read unlisted, still fails.
+    let mut tb = tb_with();
+    tb.write(4, 0xFF).unwrap();
+    assert!(tb.expect(1, "address 4 all ones", 4, 0xFF, 0xFF).unwrap());
+    assert!(tb.expect(2, "address 4 bit 7", 4, 0x80, 0x80).unwrap());
+    assert!(!tb.expect(3, "address 4 bit 7 again", 4, 0x80, 0x80).unwrap());
+    let r = tb.waiver_report();
+    assert_eq!(r.waived_expectations.len(), 2, "{}", r.to_text());
+    let e = &r.waived_expectations[1];
+    assert!(e.consequence && e.step == 2 && e.seen == 0x00 && e.model == 0x00 && e.waiver_id == "reg4-bit7", "{e:?}");
+    assert!(r.to_text().contains("a listed consequence of waiver reg4-bit7"), "{}", r.to_text());
+    let exp = &tb.record().expectations;
+    assert!(exp[1].passed && exp[1].seen.contains("a consequence of reg4-bit7"), "{exp:?}");
+    assert!(!exp[2].passed, "{exp:?}");
+}

@@ -69,6 +69,24 @@
 //! value meets, counts as waived by that waiver: it is listed in
 //! `WaiverReport::waived_expectations`, never passed silently
 //! (`Session::waive_expectation`).
+//!
+//! A scenario expectation on a read where DUT and model AGREE (so no
+//! divergence to waive) can still follow from a waived deviation, e.g. a
+//! core without sleep mode never reads SM = 1. A waiver lists such
+//! expectations explicitly, each as `"<scenario>:step <n>"` (the scenario's
+//! name and the 1-based step number of the expectation) or
+//! `"<scenario>:received by <node>"` (the scenario's `received` count of
+//! that model node):
+//!
+//! ```toml
+//! consequences = ["pelican-sleep-wakeup:step 12", "pelican-sleep-wakeup:received by acker"]
+//! ```
+//!
+//! A listed expectation that fails counts as waived ONLY if this waiver
+//! was hit earlier in the same run; it is then listed in
+//! `WaiverReport::waived_expectations` as a consequence of the waiver
+//! (`Session::waive_consequence`). Otherwise, and for any expectation not
+//! listed, the failure stands.
 
 use std::fmt;
 use std::str::FromStr;
@@ -516,6 +534,69 @@ impl From<ResyncSpec> for String {
     }
 }
 
+/// A scenario expectation that follows from a waived deviation:
+/// `"<scenario>:step <n>"` or `"<scenario>:received by <node>"` (see the module doc).
+#[derive(Clone, Debug, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(try_from = "String", into = "String")]
+pub struct Consequence {
+    /// Scenario name (as in its file's `name`).
+    pub scenario: String,
+    /// Which of its expectations.
+    pub of: ConsequenceOf,
+}
+
+/// The expectation a [`Consequence`] names.
+#[derive(Clone, Debug, PartialEq, Eq, Serialize, Deserialize)]
+pub enum ConsequenceOf {
+    /// The register-read expectation of this 1-based step.
+    Step(usize),
+    /// The scenario's `received = { node = n }` count of this model node.
+    Received(String),
+}
+
+impl TryFrom<String> for Consequence {
+    type Error = String;
+    fn try_from(s: String) -> Result<Self, String> {
+        let bad = || {
+            format!("`{s}`: a consequence is \"<scenario>:step <n>\" or \"<scenario>:received by <node>\", e.g. \"pelican-sleep-wakeup:step 12\"")
+        };
+        let (scenario, rest) = s.split_once(':').ok_or_else(bad)?;
+        let scenario = scenario.trim();
+        if scenario.is_empty() || scenario.contains(char::is_whitespace) {
+            return Err(bad());
+        }
+        let rest = rest.trim();
+        let of = if let Some(n) = rest.strip_prefix("step") {
+            if !n.starts_with(char::is_whitespace) {
+                return Err(bad());
+            }
+            let step: usize = n.trim().parse().map_err(|_| bad())?;
+            if step == 0 {
+                return Err(format!("`{s}`: steps are numbered from 1"));
+            }
+            ConsequenceOf::Step(step)
+        } else if let Some(node) = rest.strip_prefix("received by ") {
+            let node = node.trim();
+            if node.is_empty() || node.contains(char::is_whitespace) {
+                return Err(bad());
+            }
+            ConsequenceOf::Received(node.into())
+        } else {
+            return Err(bad());
+        };
+        Ok(Consequence { scenario: scenario.into(), of })
+    }
+}
+
+impl From<Consequence> for String {
+    fn from(c: Consequence) -> String {
+        match c.of {
+            ConsequenceOf::Step(n) => format!("{}:step {n}", c.scenario),
+            ConsequenceOf::Received(node) => format!("{}:received by {node}", c.scenario),
+        }
+    }
+}
+
 /// One `[[waiver]]` table as written (see the module doc for the keys).
 #[derive(Debug, Deserialize)]
 #[serde(deny_unknown_fields, rename_all = "kebab-case")]
@@ -547,6 +628,8 @@ pub(crate) struct RawWaiver {
     pub model_mod_bits: Option<BitPattern>,
     pub max_hits: Option<Spanned<u32>>,
     pub resync: Spanned<Vec<ResyncSpec>>,
+    #[serde(default)]
+    pub consequences: Option<Spanned<Vec<Consequence>>>,
 }
 
 #[derive(Debug, Deserialize)]
@@ -674,6 +757,18 @@ mod tests {
         assert_eq!(String::from(ts), "xx10xxxx");
         for bad in ["xx10xxx", "xx10_xxxxx", "xx12_xxxx", "xxxx_xxxx", ""] {
             assert!(p(bad).is_err(), "{bad} must be rejected");
+        }
+    }
+
+    #[test]
+    fn consequence_spelling() {
+        let c = |s: &str| Consequence::try_from(s.to_string());
+        let step = |n| ConsequenceOf::Step(n);
+        assert_eq!(c("pelican-sleep-wakeup:step 12"), Ok(Consequence { scenario: "pelican-sleep-wakeup".into(), of: step(12) }));
+        assert_eq!(String::from(c(" a : step  3").unwrap()), "a:step 3");
+        assert_eq!(c("a:received by acker").unwrap().of, ConsequenceOf::Received("acker".into()));
+        for bad in ["", "a", "a:12", "a:step", "a:step x", "a:step 0", ":step 1", "a b:step 1", "a:steps 1", "a:step1", "a:received by", "a:received acker", "a:received by a b"] {
+            assert!(c(bad).is_err(), "{bad} must be rejected");
         }
     }
 

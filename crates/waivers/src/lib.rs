@@ -44,7 +44,7 @@ pub mod run;
 pub mod set;
 pub mod suggest;
 
-pub use file::{BitPattern, KindName, Lateness, ResyncSpec, RevRange, Revision, WaiverError};
+pub use file::{BitPattern, Consequence, ConsequenceOf, KindName, Lateness, ResyncSpec, RevRange, Revision, WaiverError};
 pub use report::{Counts, Stale, WaivedExpectation, Waived, WaiverReport, describe};
 pub use run::{Action, CollectMode, Session};
 pub use set::{DutInfo, Observed, Resync, Verdict, Waiver, WaiverSet, summary_of};

@@ -34,6 +34,11 @@ pub struct WaivedExpectation {
     pub model: u8,
     /// The waiver that covered the read.
     pub waiver_id: String,
+    /// True if DUT and model agreed on the read and the expectation is a
+    /// listed consequence of the waiver (its `consequences`), waived
+    /// because the waiver was hit earlier in the run.
+    #[serde(default)]
+    pub consequence: bool,
 }
 
 /// A waiver that never matched during the run.
@@ -203,8 +208,14 @@ impl WaiverReport {
         for e in &self.waived_expectations {
             let _ = writeln!(
                 s,
-                "WAIVED [{}] expectation of step {}: {}: expected {}, DUT 0x{:02X} (model 0x{:02X})",
-                e.waiver_id, e.step, e.what, e.expected, e.seen, e.model
+                "WAIVED [{}] expectation of step {}: {}: expected {}, DUT 0x{:02X} (model 0x{:02X}){}",
+                e.waiver_id,
+                if e.step == 0 { "-".to_string() } else { e.step.to_string() },
+                e.what,
+                e.expected,
+                e.seen,
+                e.model,
+                if e.consequence { format!(" (a listed consequence of waiver {}, hit earlier)", e.waiver_id) } else { String::new() }
             );
         }
         for w in self.warnings() {
@@ -263,7 +274,11 @@ impl WaiverReport {
         for e in &self.waived_expectations {
             n += 1;
             let mut status = TestCaseStatus::skipped();
-            status.set_message(format!("waived by {}", e.waiver_id));
+            status.set_message(if e.consequence {
+                format!("waived: a listed consequence of waiver {}, hit earlier in the run", e.waiver_id)
+            } else {
+                format!("waived by {}", e.waiver_id)
+            });
             let mut tc = TestCase::new(format!("expectation {n}: step {} {}", e.step, e.what), status);
             tc.set_classname(classname.as_str());
             ts.add_test_case(tc);

@@ -5,6 +5,7 @@ use std::str::FromStr;
 use diagnose::Divergence;
 use serde::{Deserialize, Serialize};
 
+use crate::file::ConsequenceOf;
 use crate::report::{WaivedExpectation, Waived, WaiverReport};
 use crate::set::{DutInfo, Observed, Resync, Verdict, WaiverSet};
 
@@ -127,8 +128,74 @@ impl Session {
             seen: seen & mask,
             model: model & mask,
             waiver_id: id.clone(),
+            consequence: false,
         });
         Some(id)
+    }
+
+    /// A scenario expectation failed on a read where the DUT and the model
+    /// agree (no divergence to waive). If a waiver lists it among its
+    /// `consequences` (`scenario` and `step`) AND that waiver was hit
+    /// earlier in this run, the failure is a consequence of the waived
+    /// deviation: it is listed in the report as such and the waiver's id is
+    /// returned. Otherwise `None`: the expectation fails.
+    pub fn waive_consequence(
+        &mut self,
+        scenario: &str,
+        step: usize,
+        what: &str,
+        mask: u8,
+        expected: u8,
+        seen: u8,
+    ) -> Option<String> {
+        if seen & mask == expected & mask {
+            return None;
+        }
+        let id = self.consequence_of(scenario, &ConsequenceOf::Step(step))?;
+        self.report.waived_expectations.push(WaivedExpectation {
+            step,
+            what: what.into(),
+            expected: format!("0x{:02X} (mask 0x{mask:02X})", expected & mask),
+            seen: seen & mask,
+            model: seen & mask,
+            waiver_id: id.clone(),
+            consequence: true,
+        });
+        Some(id)
+    }
+
+    /// The scenario's count of frames received by model node `node` is
+    /// `got`, not `want`: waived (and listed, as step 0) only as for
+    /// [`Session::waive_consequence`], with `"<scenario>:received by <node>"`.
+    pub fn waive_received_consequence(&mut self, scenario: &str, node: &str, want: u32, got: Option<u32>) -> Option<String> {
+        if got == Some(want) {
+            return None;
+        }
+        let id = self.consequence_of(scenario, &ConsequenceOf::Received(node.into()))?;
+        let clip = |n: u32| n.min(0xFF) as u8;
+        self.report.waived_expectations.push(WaivedExpectation {
+            step: 0,
+            what: format!("frames received by {node}"),
+            expected: want.to_string(),
+            seen: got.map_or(0, clip),
+            model: got.map_or(0, clip),
+            waiver_id: id.clone(),
+            consequence: true,
+        });
+        Some(id)
+    }
+
+    /// The first waiver that lists this expectation of `scenario` as a
+    /// consequence and was hit earlier in this run.
+    fn consequence_of(&self, scenario: &str, of: &ConsequenceOf) -> Option<String> {
+        self.set
+            .waivers()
+            .iter()
+            .find(|w| {
+                w.consequences.iter().any(|c| c.scenario == scenario && &c.of == of)
+                    && self.report.waived.iter().any(|x| x.waiver_id == w.id)
+            })
+            .map(|w| w.id.clone())
     }
 
     /// The number of divergences waived so far (pass it to

@@ -7,7 +7,7 @@ use diagnose::{Divergence, DivergenceKind};
 use serde::{Deserialize, Serialize};
 
 use crate::file::{
-    self, BitPattern, DutGlob, FrameRange, KindName, Lateness, RawFile, RawWaiver, ResyncSpec, RevRange, Revision,
+    self, BitPattern, Consequence, DutGlob, FrameRange, KindName, Lateness, RawFile, RawWaiver, ResyncSpec, RevRange, Revision,
     WaiverError,
 };
 
@@ -173,6 +173,9 @@ pub struct Waiver {
     pub max_hits: Option<u32>,
     /// Re-synchronisation allowed.
     pub resync: Vec<ResyncSpec>,
+    /// Scenario expectations that follow from this deviation (waived only
+    /// after this waiver was hit in the same run; `Session::waive_consequence`).
+    pub consequences: Vec<Consequence>,
     /// Divergences waived so far.
     pub hits: u32,
     episode: Option<Episode>,
@@ -701,6 +704,20 @@ fn validate(name: &str, src: &str, w: RawWaiver) -> Result<Waiver, WaiverError> 
     {
         return Err(invalid(name, at(m.span()), "max-hits", "max-hits = 0 would never waive anything".into()));
     }
+    let consequences = match w.consequences {
+        Some(c) => {
+            let line = at(c.span());
+            let c = c.into_inner();
+            if c.is_empty() {
+                return Err(invalid(name, line, "consequences", "an empty list: leave the key out".into()));
+            }
+            if let Some(d) = c.iter().enumerate().find(|(i, x)| c[..*i].contains(x)) {
+                return Err(invalid(name, line, "consequences", format!("`{}` is listed twice", String::from(d.1.clone()))));
+            }
+            c
+        }
+        None => Vec::new(),
+    };
     Ok(Waiver {
         id,
         kind,
@@ -728,6 +745,7 @@ fn validate(name: &str, src: &str, w: RawWaiver) -> Result<Waiver, WaiverError> 
         model_mod_bits: w.model_mod_bits,
         max_hits: w.max_hits.map(|m| m.into_inner()),
         resync,
+        consequences,
         hits: 0,
         episode: None,
         late: None,
