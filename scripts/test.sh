@@ -12,13 +12,11 @@ if [ -n "${COSIM_ALLOW_MISSING_RTL:-}" ]; then
 fi
 # Build caches (verilated external cores in $COSIM_CACHE_DIR, the bench's
 # harness and Icarus images in $TMPDIR/cancosim-bench, test scratch files in
-# $TMPDIR): under CI (CI=true) they start empty, so every run takes the path
-# a fresh machine takes; COSIM_FRESH_CACHES=1 does the same locally, and
-# COSIM_FRESH_CACHES=0 keeps the warm caches (also under CI).
-fresh="${COSIM_FRESH_CACHES:-}"
-if [ -z "$fresh" ]; then
-  if [ "${CI:-}" = true ]; then fresh=1; else fresh=0; fi
-fi
+# $TMPDIR) start empty on every run, CI or not, so every run takes the path
+# a fresh machine takes (a warm cache once hid a race from CI; the cold
+# path costs about a minute). COSIM_FRESH_CACHES=0 keeps the warm caches
+# for quick local runs.
+fresh="${COSIM_FRESH_CACHES:-1}"
 if [ "$fresh" = 1 ]; then
   cold=$(mktemp -d "${TMPDIR:-/tmp}/cancosim-test.XXXXXX")
   trap 'rm -rf "$cold"' EXIT
