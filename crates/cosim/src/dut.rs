@@ -9,7 +9,8 @@ use std::path::Path;
 
 use bfm::{AvMasterOut, AvSlaveOut, I8051Out, I8051SlaveOut, WbMasterOut, WbSlaveOut};
 
-use crate::bridge::{BatchPins, BridgeError, Model, Port};
+use crate::bridge::{BridgeError, Model, Port};
+use crate::verilated::BatchPins;
 use crate::profile::PortMap;
 
 /// Which host interface a DUT has natively.
@@ -262,7 +263,7 @@ impl VerilatedDut {
 
     /// Makes `levels.len()` instants in one call while only the clocks
     /// and `rx` drive the inputs, `rx` taking at each CAN rising edge the
-    /// level given, or (`None`) the DUT's own `tx` (see `bridge::Batch` for the encodings); returns how many were
+    /// level given, or (`None`) the DUT's own `tx` (see `verilated::Batch` for the encodings); returns how many were
     /// made: it stops after an instant that changed the Wishbone outputs,
     /// or, with `stop_on_irq`, that shows an interrupt pending. `None` for
     /// a DUT without the Wishbone port list. The output cache is left as it
@@ -297,7 +298,7 @@ impl VerilatedDut {
         let stop = stop_on_irq.then_some(self.polarity.irq_active_high);
         // SAFETY: every port above was bound from this model in `new` with
         // a width of 1 or 8; `out` is long enough (asserted).
-        Some(unsafe { self.m.run_batch(&pins, levels, out, rx, stop) })
+        Some(unsafe { crate::verilated::run_batch(&mut self.m, &pins, levels, out, rx, stop) })
     }
 
     /// The CAN-side pins of one `out` byte of [`VerilatedDut::run_batch`]
@@ -437,7 +438,7 @@ impl VerilatedDut {
 
     /// A bundled top (`can_top`, `can_avalon` or a fixture).
     pub fn bundled(top: &str, kind: HostPort, trace: bool) -> Result<VerilatedDut, BridgeError> {
-        VerilatedDut::new(Model::bundled(top, trace)?, kind)
+        VerilatedDut::new(crate::verilated::bundled(top, trace)?, kind)
     }
 
     /// The underlying model (for extra ports). Inputs set through it are

@@ -161,7 +161,7 @@ impl Kernel {
     /// edge (`can_rises` >= 1), and returns how many. Per instant `k`:
     /// `times[k]` its time, `levels[k]` bit 0 the host clock level after
     /// it, bit 1 the CAN clock level, bit 2 "the CAN clock rose", bit 3
-    /// "the host clock rose" (the layout of `bridge::Batch`, which ignores
+    /// "the host clock rose" (the layout of `verilated::Batch`, which ignores
     /// bit 3). `times` is at least as long as `levels`. Not inlined: in a
     /// function of its own the clock's state stays in registers.
     #[inline(never)]

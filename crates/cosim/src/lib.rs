@@ -1,14 +1,15 @@
-//! Co-simulation of HDL CAN controllers against the golden model: a thin
-//! Verilator bridge of our own ([`bridge`], see the README's design notes),
+//! Co-simulation of HDL CAN controllers against the golden model: the
+//! Verilator bridge (the `vbridge` crate, re-exported as [`bridge`]; our
+//! tops and inner loop in [`verilated`]),
 //! a simulation kernel with two independent clocks ([`kernel`]), DUTs
 //! (Verilated RTL, the golden model itself, or a Rust twin of a fixture:
 //! [`dut`]), a bit clock, a lockstep comparator ([`compare`]), a VCD
 //! writer ([`wave`]) and the [`Testbench`] that ties them together.
 #![warn(missing_docs)]
 
+mod batch_shim;
 pub mod bitclock;
 pub mod candump;
-pub mod bridge;
 pub mod compare;
 pub mod dut;
 pub mod gtkw;
@@ -17,11 +18,14 @@ pub mod kernel;
 pub mod model;
 pub mod perf;
 pub mod profile;
-pub mod shimgen;
 pub mod testbench;
+pub mod verilated;
 pub mod wave;
 
-pub use bridge::{BridgeError, CompiledCore, ExternalCore, Model, Port, PortInfo, bundled_tops};
+/// The Verilator bridge (`vbridge`), under the name it had in this crate.
+pub use vbridge as bridge;
+pub use vbridge::{BridgeError, CompiledCore, ExternalCore, Model, Port, PortInfo};
+pub use verilated::{build_external, bundled, bundled_tops, cache_dir};
 pub use compare::{Comparator, CompareConfig, Reference};
 pub use dut::{
     CanPins, Dut, EchoModel, HostPort, I8051_SHELL_TOP, VerilatedDut, i8051_inout_shell,

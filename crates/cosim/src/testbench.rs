@@ -463,12 +463,12 @@ impl Testbench {
                 trace,
             )?),
             DutChoice::Bundled(top) => AnyDut::Verilated(VerilatedDut::with_ports(
-                crate::bridge::Model::bundled(top, trace)?,
+                crate::verilated::bundled(top, trace)?,
                 wb_or_8051,
                 ports,
             )?),
             DutChoice::External(core) => AnyDut::Verilated(VerilatedDut::with_ports(
-                core.build()?.instantiate(trace),
+                crate::verilated::build_external(core)?.instantiate(trace),
                 wb_or_8051,
                 ports,
             )?),

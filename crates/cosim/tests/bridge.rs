@@ -11,7 +11,7 @@ fn edge(m: &mut Model, clk: cosim::Port) {
 
 #[test]
 fn echo_fixture_registers_and_tx_through_raw_ports() {
-    let mut m = Model::bundled("cosim_echo", false).unwrap();
+    let mut m = cosim::bundled("cosim_echo", false).unwrap();
     let p = |n: &str| m.port(n, None, "can_top").unwrap();
     let (clk, rst, cyc, stb, we, adr, dat_i, dat_o, ack, tx) = (
         p("wb_clk_i"),
@@ -63,13 +63,13 @@ fn echo_fixture_registers_and_tx_through_raw_ports() {
 
 #[test]
 fn unknown_top_and_missing_port_are_clear_errors() {
-    let e = Model::bundled("no_such_top", false).unwrap_err();
+    let e = cosim::bundled("no_such_top", false).unwrap_err();
     let msg = e.to_string();
     assert!(
         msg.contains("no_such_top") && msg.contains("cosim_echo"),
         "{msg}"
     );
-    let m = Model::bundled("cosim_noack", false).unwrap();
+    let m = cosim::bundled("cosim_noack", false).unwrap();
     let e = m.port("avalon_address", None, "Avalon").unwrap_err();
     assert!(matches!(e, BridgeError::MissingPort { .. }));
     assert!(
@@ -82,8 +82,8 @@ fn unknown_top_and_missing_port_are_clear_errors() {
 
 #[test]
 fn two_instances_are_independent() {
-    let mut a = Model::bundled("cosim_echo", false).unwrap();
-    let b = Model::bundled("cosim_echo", false).unwrap();
+    let mut a = cosim::bundled("cosim_echo", false).unwrap();
+    let b = cosim::bundled("cosim_echo", false).unwrap();
     let pa = a.port("wb_adr_i", None, "").unwrap();
     let pb = b.port("wb_adr_i", None, "").unwrap();
     a.set(pa, 7);
@@ -94,8 +94,8 @@ fn two_instances_are_independent() {
 #[test]
 #[should_panic(expected = "another model")]
 fn a_port_of_one_model_cannot_be_used_on_another() {
-    let a = Model::bundled("cosim_echo", false).unwrap();
-    let mut b = Model::bundled("cosim_echo", false).unwrap();
+    let a = cosim::bundled("cosim_echo", false).unwrap();
+    let mut b = cosim::bundled("cosim_echo", false).unwrap();
     let pa = a.port("wb_adr_i", None, "").unwrap();
     b.set(pa, 1);
 }
@@ -114,7 +114,7 @@ fn verilator_error_in_an_external_core_is_one_paragraph_not_a_panic() {
         top: "broken".into(),
         ..Default::default()
     };
-    let e = core.build().unwrap_err();
+    let e = cosim::build_external(&core).unwrap_err();
     let msg = e.to_string();
     assert!(matches!(e, BridgeError::Verilate { .. }), "{msg}");
     assert!(
@@ -133,7 +133,7 @@ fn models_run_on_their_own_threads_from_one_build() {
     let handles: Vec<_> = (0..2u8)
         .map(|k| {
             std::thread::spawn(move || {
-                let mut m = Model::bundled("cosim_echo", false).unwrap();
+                let mut m = cosim::bundled("cosim_echo", false).unwrap();
                 let adr = m.port("wb_adr_i", None, "").unwrap();
                 m.set(adr, 10 + k as u64);
                 m.eval();

@@ -57,7 +57,7 @@ fn core_from_env() -> ExternalCore {
 fn external_core_configures_and_transmits_in_lockstep_with_the_model() {
     let core = core_from_env();
     let t0 = std::time::Instant::now();
-    let built = core.build().unwrap_or_else(|e| panic!("{e}"));
+    let built = cosim::build_external(&core).unwrap_or_else(|e| panic!("{e}"));
     println!(
         "built/loaded {} in {:.1} s",
         built.path.display(),

@@ -73,8 +73,7 @@ fn cosim_speed_against_a_raw_cpp_loop() {
         if top == "can_top" {
             // The run-time path: the same RTL built as a shared library and
             // loaded with libloading.
-            let lib = bundled_sources(top)
-                .build()
+            let lib = cosim::build_external(&bundled_sources(top))
                 .unwrap_or_else(|e| panic!("{e}"));
             let dl = bridge_loop(
                 VerilatedDut::new(lib.instantiate(false), HostPort::Wishbone).unwrap(),

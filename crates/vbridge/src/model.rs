@@ -1,8 +1,8 @@
-//! The Verilator bridge: one Rust type, [`Model`], for every Verilated top,
-//! whether compiled into this crate by `build.rs` (bundled RTL and fixtures)
-//! or built at run time from an external directory into a cached shared
-//! library ([`ExternalCore`]). Port reads and writes go straight through
-//! pointers into the model; `eval` is the only foreign call per edge.
+//! One Rust type, [`Model`], for every Verilated top, whether linked into
+//! the executable by a build script ([`Model::from_table`]) or built at run
+//! time into a cached shared library ([`ExternalCore`]). Port reads and
+//! writes go straight through pointers into the model; `eval` is the only
+//! foreign call per edge.
 
 use std::ffi::{CString, c_char, c_void};
 use std::fmt;
@@ -13,36 +13,35 @@ use std::sync::atomic::{AtomicU64, Ordering};
 
 use crate::shimgen::{self, PortDecl, PortDir};
 
-/// The shim's entry points for one top.
+/// The entry points of one top's generated shim ([`shimgen::gen_shim`]).
+/// A build script that links tops into the executable writes one per top
+/// ([`shimgen::gen_rust_table`]); run-time builds resolve them by symbol.
 #[derive(Clone, Copy)]
-pub(crate) struct VTable {
-    pub(crate) new: unsafe extern "C" fn(i32) -> *mut c_void,
-    pub(crate) delete: unsafe extern "C" fn(*mut c_void),
-    pub(crate) eval: unsafe extern "C" fn(*mut c_void),
-    /// Runs a [`Batch`] (its address), returns the instants made.
-    pub(crate) run: unsafe extern "C" fn(*mut c_void, *const c_void) -> u32,
-    pub(crate) ports: unsafe extern "C" fn(*mut c_void, *mut *const c_void) -> u32,
-    pub(crate) trace_open: unsafe extern "C" fn(*mut c_void, *const c_char) -> i32,
-    pub(crate) trace_dump: unsafe extern "C" fn(*mut c_void, u64),
-    pub(crate) trace_close: unsafe extern "C" fn(*mut c_void),
-}
-
-include!(concat!(env!("OUT_DIR"), "/bundled.rs"));
-
-/// Names of the tops compiled into this crate (fixtures, and `can_top` /
-/// `can_avalon` when `rtl/` verilated).
-pub fn bundled_tops() -> Vec<&'static str> {
-    BUNDLED.iter().map(|(n, _)| *n).collect()
+pub struct VTable {
+    /// `new(trace)`: a fresh instance.
+    pub new: unsafe extern "C" fn(i32) -> *mut c_void,
+    /// `delete(instance)`.
+    pub delete: unsafe extern "C" fn(*mut c_void),
+    /// `eval(instance)`.
+    pub eval: unsafe extern "C" fn(*mut c_void),
+    /// `run(instance, arg)`: the caller's inner loop ([`Model::run_inner_loop`]).
+    pub run: unsafe extern "C" fn(*mut c_void, *const c_void) -> u32,
+    /// `ports(instance, &table)`: the port table and its length.
+    pub ports: unsafe extern "C" fn(*mut c_void, *mut *const c_void) -> u32,
+    /// `trace_open(instance, path)`.
+    pub trace_open: unsafe extern "C" fn(*mut c_void, *const c_char) -> i32,
+    /// `trace_dump(instance, t_ps)`.
+    pub trace_dump: unsafe extern "C" fn(*mut c_void, u64),
+    /// `trace_close(instance)`.
+    pub trace_close: unsafe extern "C" fn(*mut c_void),
 }
 
 /// What can go wrong building, loading or binding a model. Each variant
 /// prints as one paragraph, including Verilator's or the compiler's own words.
 #[derive(Debug, thiserror::Error)]
 pub enum BridgeError {
-    /// The top was not compiled into this crate.
-    #[error(
-        "no bundled top `{name}`; this build has: {available}. (The RTL tops are missing when rtl/ did not verilate at build time.)"
-    )]
+    /// The top is not in the table of linked-in tops.
+    #[error("no bundled top `{name}`; this build has: {available}")]
     UnknownTop {
         /// Requested top.
         name: String,
@@ -77,9 +76,9 @@ pub enum BridgeError {
         /// Compiler output.
         message: String,
     },
-    /// A port the DUT kind needs is absent.
+    /// A port the caller needs is absent.
     #[error(
-        "top `{top}` has no port `{port}` (it has: {available}); a DUT needs the {kind} port list"
+        "top `{top}` has no port `{port}` (it has: {available}); the {kind} port list needs it"
     )]
     MissingPort {
         /// Top module.
@@ -88,7 +87,7 @@ pub enum BridgeError {
         port: String,
         /// Ports it has.
         available: String,
-        /// Which port list was expected.
+        /// Which port list was expected (the caller's words).
         kind: String,
     },
     /// A port has an unexpected width or direction.
@@ -163,50 +162,21 @@ pub struct Port {
     model: u64,
 }
 
+impl Port {
+    /// Width in bits.
+    pub fn width(&self) -> u32 {
+        self.width
+    }
+
+    /// The port's storage inside its model, for an inner loop
+    /// ([`Model::run_inner_loop`]) to read or write: 1 byte up to 8 bits
+    /// wide, 2 up to 16, 4 up to 32, else 8. Valid while the model lives.
+    pub fn as_ptr(&self) -> *mut u8 {
+        self.ptr
+    }
+}
+
 static NEXT_MODEL_ID: AtomicU64 = AtomicU64::new(1);
-
-/// The ports a batch drives and watches (all of one model, 8 bits or fewer).
-#[derive(Clone, Copy, Debug)]
-pub(crate) struct BatchPins {
-    pub(crate) host_clk: Port,
-    pub(crate) can_clk: Port,
-    pub(crate) rx: Port,
-    pub(crate) tx: Port,
-    pub(crate) irq: Port,
-    pub(crate) bus_off: Port,
-    pub(crate) clkout: Port,
-    pub(crate) ack: Port,
-    pub(crate) dat: Port,
-}
-
-/// Several instants in one foreign call, for stretches in which nothing
-/// but the two clocks and the DUT's own tx drive its inputs (the host
-/// master idle, no other node, no fault on rx). Per instant `k`,
-/// `levels[k]` has bit 0 the host clock level, bit 1 the CAN clock level,
-/// bit 2 "the CAN clock rises": then `rx` takes `rx_mode` (0 or 1), or
-/// `tx` (2), before the eval; other bits are the caller's (ignored).
-/// After the eval, `out[k]` gets bit 0 `tx`, bit 1 `irq`, bit 2 `bus_off`,
-/// bit 3 `clkout` (nonzero = 1). The call returns after an instant whose
-/// `ack` or `dat` differs from before the call, or whose `irq` equals
-/// `stop_irq` (2: never), so the caller can replay every instant's
-/// outputs exactly. Layout shared with the generated shim.
-#[repr(C)]
-struct Batch {
-    host_clk: *mut u8,
-    can_clk: *mut u8,
-    rx: *mut u8,
-    tx: *const u8,
-    irq: *const u8,
-    bus_off: *const u8,
-    clkout: *const u8,
-    ack: *const u8,
-    dat: *const u8,
-    levels: *const u8,
-    out: *mut u8,
-    n: u32,
-    rx_mode: u8,
-    stop_irq: u8,
-}
 
 /// One instance of a Verilated top. Not `Send`: Verilator models belong to
 /// the thread that made them; run several on several threads.
@@ -231,17 +201,26 @@ impl fmt::Debug for Model {
 }
 
 impl Model {
-    /// A fresh instance of a bundled top (`can_top`, `can_avalon`, or a
-    /// fixture such as `cosim_echo`). `trace` enables VCD tracing (it must
-    /// be chosen before construction; it costs a little speed).
-    pub fn bundled(name: &str, trace: bool) -> Result<Model, BridgeError> {
-        let Some((_, vt)) = BUNDLED.iter().find(|(n, _)| *n == name) else {
+    /// A fresh instance of the top `name` of `table`, the tops a build
+    /// script linked into the executable ([`shimgen::gen_rust_table`]).
+    /// `trace` enables VCD tracing (it must be chosen before construction;
+    /// it costs a little speed).
+    ///
+    /// # Safety
+    /// Every entry of `table` holds the entry points of the shim generated
+    /// for that top ([`shimgen::gen_shim`]).
+    pub unsafe fn from_table(
+        table: &[(&str, VTable)],
+        name: &str,
+        trace: bool,
+    ) -> Result<Model, BridgeError> {
+        let Some((_, vt)) = table.iter().find(|(n, _)| *n == name) else {
             return Err(BridgeError::UnknownTop {
                 name: name.to_string(),
-                available: bundled_tops().join(", "),
+                available: table.iter().map(|(n, _)| *n).collect::<Vec<_>>().join(", "),
             });
         };
-        // SAFETY: the vtable entries are the shim generated for this top.
+        // SAFETY: by the caller's contract.
         Ok(unsafe { Model::from_vtable(*vt, name, trace, None) })
     }
 
@@ -379,7 +358,7 @@ impl Model {
 
     /// Whether `p` is a port of this model.
     #[inline(always)]
-    pub(crate) fn owns(&self, p: Port) -> bool {
+    pub fn owns(&self, p: Port) -> bool {
         p.model == self.id
     }
 
@@ -388,7 +367,7 @@ impl Model {
     /// # Safety
     /// `p` is a port of this model ([`Model::owns`]) at most 8 bits wide.
     #[inline(always)]
-    pub(crate) unsafe fn get_u8_unchecked(&self, p: Port) -> u8 {
+    pub unsafe fn get_u8_unchecked(&self, p: Port) -> u8 {
         debug_assert!(self.owns(p) && p.width <= 8);
         // SAFETY: by the caller's contract the pointer is this live model's
         // byte-sized port storage.
@@ -400,7 +379,7 @@ impl Model {
     /// # Safety
     /// `p` is a port of this model ([`Model::owns`]) 1 bit wide.
     #[inline(always)]
-    pub(crate) unsafe fn set_bit_unchecked(&mut self, p: Port, v: bool) {
+    pub unsafe fn set_bit_unchecked(&mut self, p: Port, v: bool) {
         debug_assert!(self.owns(p) && p.width == 1);
         // SAFETY: by the caller's contract, this live model's 1-bit port.
         unsafe { *p.ptr = v as u8 }
@@ -413,42 +392,30 @@ impl Model {
         unsafe { (self.vt.eval)(self.handle) }
     }
 
-    /// Makes `levels.len()` instants in one foreign call (see [`Batch`];
-    /// `rx`: the level `rx` takes at each CAN rising edge, `None`: `tx`);
-    /// returns how many were made (it stops early after an instant that
-    /// changed `ack` or `dat`, or whose `irq` equals `stop_irq`).
+    /// Calls the top's inner loop: the C++ function body given to the shim
+    /// generator ([`shimgen::gen_shim`]'s `inner_loop`, [`ExternalCore::inner_loop`])
+    /// runs with this instance's model and `arg`; returns what it returns
+    /// (0 when the shim has no inner loop). Many evals in one foreign call,
+    /// for stretches the caller can describe in a buffer.
     ///
     /// # Safety
-    /// Every port of `pins` belongs to this model and is 8 bits or fewer;
-    /// `out` is at least as long as `levels`.
-    pub(crate) unsafe fn run_batch(
-        &mut self,
-        pins: &BatchPins,
-        levels: &[u8],
-        out: &mut [u8],
-        rx: Option<bool>,
-        stop_irq: Option<bool>,
-    ) -> usize {
-        debug_assert!(out.len() >= levels.len());
-        let b = Batch {
-            host_clk: pins.host_clk.ptr,
-            can_clk: pins.can_clk.ptr,
-            rx: pins.rx.ptr,
-            tx: pins.tx.ptr,
-            irq: pins.irq.ptr,
-            bus_off: pins.bus_off.ptr,
-            clkout: pins.clkout.ptr,
-            ack: pins.ack.ptr,
-            dat: pins.dat.ptr,
-            levels: levels.as_ptr(),
-            out: out.as_mut_ptr(),
-            n: levels.len() as u32,
-            rx_mode: rx.map_or(2, |v| v as u8),
-            stop_irq: stop_irq.map_or(2, |v| v as u8),
-        };
-        // SAFETY: handle is live; the batch's pointers are this model's
-        // byte-sized ports (caller's contract) and the two buffers.
-        unsafe { (self.vt.run)(self.handle, &b as *const Batch as *const c_void) as usize }
+    /// `arg` is what that C++ code expects, and every pointer in it that
+    /// points into a model points into this one.
+    #[inline]
+    pub unsafe fn run_inner_loop(&mut self, arg: *const c_void) -> u32 {
+        // SAFETY: handle is live; `arg` by the caller's contract.
+        unsafe { (self.vt.run)(self.handle, arg) }
+    }
+
+    /// Sets the 1-bit input `clk` high, evaluates, sets it low, evaluates:
+    /// `cycles` times. The simplest way to step a single-clock design.
+    pub fn step_clock(&mut self, clk: Port, cycles: u64) {
+        for _ in 0..cycles {
+            self.set(clk, 1);
+            self.eval();
+            self.set(clk, 0);
+            self.eval();
+        }
     }
 
     /// Starts Verilator's VCD trace of every signal of the design.
@@ -490,11 +457,9 @@ impl Drop for Model {
     }
 }
 
-/// An HDL core outside this repository, built at run time with Verilator's
-/// own makefile into a shared library cached by a hash of its sources and
-/// options. The opencores core, for instance, needs
-/// `defines = ["CAN_WISHBONE_IF"]` and its directory as include dir (for
-/// `timescale.v`).
+/// A Verilog top built at run time with Verilator's own makefile into a
+/// shared library cached by a hash of its sources and options
+/// ([`ExternalCore::build_in`]).
 #[derive(Clone, Debug, Default)]
 pub struct ExternalCore {
     /// Directory holding the sources.
@@ -509,8 +474,11 @@ pub struct ExternalCore {
     pub include_dirs: Vec<PathBuf>,
     /// Extra Verilator arguments. `*.v` files are read as Verilog-2005
     /// (`+1364-2005ext+v`, so identifiers such as `do` that SystemVerilog
-    /// reserves still parse); `*.sv` as SystemVerilog.
+    /// reserves still parse); `*.sv` as SystemVerilog. `--coverage` and
+    /// the like go here (the runtime classes they need are linked).
     pub extra_args: Vec<String>,
+    /// C++ body of the inner loop ([`Model::run_inner_loop`]), if any.
+    pub inner_loop: Option<String>,
 }
 
 /// A built external core: the loaded library and the symbol prefix.
@@ -553,21 +521,6 @@ fn declares_module(text: &str, top: &str) -> bool {
     let ident = |c: char| c.is_ascii_alphanumeric() || c == '_' || c == '$';
     let words: Vec<&str> = text.split(|c: char| !ident(c)).filter(|w| !w.is_empty()).collect();
     words.windows(2).any(|w| (w[0] == "module" || w[0] == "macromodule") && w[1] == top)
-}
-
-/// Where run-time builds are cached: `$COSIM_CACHE_DIR`, else
-/// `$XDG_CACHE_HOME/sja1000-cosim`, else `~/.cache/sja1000-cosim`.
-pub fn cache_dir() -> PathBuf {
-    if let Some(d) = std::env::var_os("COSIM_CACHE_DIR") {
-        return PathBuf::from(d);
-    }
-    if let Some(d) = std::env::var_os("XDG_CACHE_HOME") {
-        return PathBuf::from(d).join("sja1000-cosim");
-    }
-    if let Some(h) = std::env::var_os("HOME") {
-        return PathBuf::from(h).join(".cache/sja1000-cosim");
-    }
-    std::env::temp_dir().join("sja1000-cosim")
 }
 
 const OPT_FLAGS: &str = "-fPIC -fno-semantic-interposition";
@@ -722,6 +675,7 @@ impl ExternalCore {
         fnv1a(&mut h, self.verilator_args(sources).join(" ").as_bytes());
         fnv1a(&mut h, OPT_FLAGS.as_bytes());
         fnv1a(&mut h, include_str!("shimgen.rs").as_bytes());
+        fnv1a(&mut h, self.inner_loop.as_deref().unwrap_or("").as_bytes());
         let ver = Command::new("verilator")
             .arg("--version")
             .output()
@@ -731,13 +685,10 @@ impl ExternalCore {
         Ok(format!("{}-{h:016x}", self.top))
     }
 
-    /// Verilates, compiles and loads the core (or loads it from the cache,
-    /// [`cache_dir`]).
-    pub fn build(&self) -> Result<CompiledCore, BridgeError> {
-        self.build_in(&cache_dir())
-    }
-
-    /// [`ExternalCore::build`] with the cache in `cache`.
+    /// Verilates, compiles and loads the core, or loads it from `cache`
+    /// where an earlier build of the same sources and options left it
+    /// (one sub-directory per key; threads and processes building the same
+    /// key at once are safe).
     pub fn build_in(&self, cache: &Path) -> Result<CompiledCore, BridgeError> {
         let sources = self.sources()?;
         let key = self.cache_key(&sources)?;
@@ -766,7 +717,7 @@ impl ExternalCore {
         let top = &self.top;
         let which = Command::new("verilator").arg("--version").output();
         if which.is_err() {
-            return Err(BridgeError::Verilate { top: top.clone(), dir: self.dir.display().to_string(), message: "`verilator` was not found: install Verilator (apt-get install verilator) or run scripts/setup.sh".into() });
+            return Err(BridgeError::Verilate { top: top.clone(), dir: self.dir.display().to_string(), message: "`verilator` was not found: install Verilator (apt-get install verilator)".into() });
         }
         let o = Command::new("verilator")
             .args(self.verilator_args(sources))
@@ -793,7 +744,7 @@ impl ExternalCore {
         let ports: Vec<PortDecl> = shimgen::parse_ports(&header);
         std::fs::write(
             tmp.join("cosim_shim.cpp"),
-            shimgen::gen_shim(top, &ports, true),
+            shimgen::gen_shim(top, &ports, true, self.inner_loop.as_deref()),
         )
         .map_err(io_err("writing the shim"))?;
         let classes = shimgen::parse_classes_mk(
@@ -889,9 +840,9 @@ mod tests {
 
     #[test]
     fn module_scan_finds_the_top_by_whole_name_only() {
-        assert!(declares_module("// x\nmodule can_top (\n input a);", "can_top"));
-        assert!(declares_module("module\n  can_top#(parameter P=1)(a);", "can_top"));
-        assert!(!declares_module("module can_top_pio (a);", "can_top"));
-        assert!(!declares_module("can_top u0 (.a(a));", "can_top"), "an instance is not a declaration");
+        assert!(declares_module("// x\nmodule core (\n input a);", "core"));
+        assert!(declares_module("module\n  core#(parameter P=1)(a);", "core"));
+        assert!(!declares_module("module core_pio (a);", "core"));
+        assert!(!declares_module("core u0 (.a(a));", "core"), "an instance is not a declaration");
     }
 }

@@ -139,7 +139,7 @@ fn check_externals(duts: &[DutSpec]) -> anyhow::Result<()> {
             };
             let what = || format!("--external {}={}", d.name, path.display());
             core.check().with_context(what)?;
-            core.build().with_context(what)?;
+            cosim::build_external(&core).with_context(what)?;
         }
     }
     Ok(())
