@@ -73,18 +73,7 @@ endmodule\n"
     )
 }
 
-/// The CAN-side outputs of a DUT.
-#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
-pub struct CanPins {
-    /// `tx_o`: `true` = recessive.
-    pub tx: bool,
-    /// `irq_on`: active low (`false` = interrupt pending).
-    pub irq_n: bool,
-    /// `bus_off_on`: `true` while on the bus, `false` while bus-off.
-    pub bus_on: bool,
-    /// `clkout_o`.
-    pub clkout: bool,
-}
+pub use crate::types::CanPins;
 
 /// A device the kernel can step. Inputs set with `set_*` take effect at the
 /// next [`Dut::eval`]; outputs read after it.
@@ -704,7 +693,7 @@ impl Dut for EchoModel {
     }
 }
 
-impl crate::compare::Reference for EchoModel {
+impl crate::types::Reference for EchoModel {
     fn name(&self) -> String {
         "Rust echo model".into()
     }

@@ -19,6 +19,7 @@ pub mod model;
 pub mod perf;
 pub mod profile;
 pub mod testbench;
+pub mod types;
 pub mod verilated;
 pub mod wave;
 

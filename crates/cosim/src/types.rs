@@ -1,0 +1,109 @@
+//! The types both sides of the comparison use: the DUT's CAN-side pins
+//! (`dut` produces them, `compare` checks them) and the [`Reference`] a DUT
+//! is compared with (`model` and `dut` implement it, `compare` and
+//! `testbench` drive it). Here so that neither `dut` nor `compare` imports
+//! the other.
+
+use can_proto::Field;
+use diagnose::{CanMode, EventKind, WriteOutcome};
+
+/// The CAN-side outputs of a DUT.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub struct CanPins {
+    /// `tx_o`: `true` = recessive.
+    pub tx: bool,
+    /// `irq_on`: active low (`false` = interrupt pending).
+    pub irq_n: bool,
+    /// `bus_off_on`: `true` while on the bus, `false` while bus-off.
+    pub bus_on: bool,
+    /// `clkout_o`.
+    pub clkout: bool,
+}
+
+/// SR address (both register views).
+pub const SR_ADDR: u8 = 2;
+/// IR address (both register views).
+pub const IR_ADDR: u8 = 3;
+
+/// What the comparator needs from the reference after one CAN clock
+/// ([`Reference::step`]).
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub struct RefView {
+    /// Output pins ([`Reference::pins`]).
+    pub pins: CanPins,
+    /// Field ([`Reference::field`]).
+    pub field: Option<Field>,
+    /// SR as a peek would return it.
+    pub sr: u8,
+    /// IR as a peek would return it.
+    pub ir: u8,
+    /// [`Reference::drain_events`] may have something (false: it has nothing).
+    pub events: bool,
+}
+
+/// A reference the DUT is compared with: host access by direct calls and
+/// one CAN clock at a time.
+pub trait Reference {
+    /// What it is.
+    fn name(&self) -> String;
+    /// Hardware reset.
+    fn hard_reset(&mut self);
+    /// Host write; the model's verdict if it has one.
+    fn write(&mut self, addr: u8, data: u8) -> Option<WriteOutcome>;
+    /// Host read (with side effects).
+    fn read(&mut self, addr: u8) -> u8;
+    /// Read without side effects.
+    fn peek(&self, addr: u8) -> u8;
+    /// One CAN clock with rx level `rx`.
+    fn clock(&mut self, rx: bool);
+    /// One CAN clock with rx level `rx`, then everything the test bench
+    /// and the comparator look at after it, in one call. The default asks
+    /// the other methods; a reference may answer from a cache, as long as
+    /// it is exactly what they would return.
+    fn step(&mut self, rx: bool) -> RefView {
+        self.clock(rx);
+        RefView {
+            pins: self.pins(),
+            field: self.field(),
+            sr: self.peek(SR_ADDR),
+            ir: self.peek(IR_ADDR),
+            events: true,
+        }
+    }
+    /// Output pins after the last clock.
+    fn pins(&self) -> CanPins;
+    /// Field of the bit stream the reference is in, if it knows.
+    fn field(&self) -> Option<Field> {
+        None
+    }
+    /// TEC and REC, if it has them.
+    fn counters(&self) -> Option<(u16, u16)> {
+        None
+    }
+    /// Register view and reset mode, if it has them.
+    fn mode(&self) -> Option<(CanMode, bool)> {
+        None
+    }
+    /// Register name at `addr` in the view in force.
+    fn reg_name(&self, _addr: u8, _write: bool) -> Option<String> {
+        None
+    }
+    /// Engine events since the last call.
+    fn drain_events(&mut self, _out: &mut Vec<EventKind>) {}
+    /// Takes the DUT's error counters after a waived divergence (waivers
+    /// `adopt-dut-tec` / `adopt-dut-rec`), re-evaluating the fault state;
+    /// false if this reference cannot.
+    fn adopt_counters(&mut self, _tec: Option<u8>, _rec: Option<u8>) -> bool {
+        false
+    }
+    /// Takes the DUT's value of a register after a waived read divergence
+    /// (`adopt-dut-register`); false if this reference cannot.
+    fn adopt_register(&mut self, _addr: u8, _value: u8) -> bool {
+        false
+    }
+    /// Leaves sleep without a wake-up interrupt, as a DUT without sleep mode
+    /// never entered it (`model-skips-sleep`); false if this reference cannot.
+    fn skip_sleep(&mut self) -> bool {
+        false
+    }
+}
