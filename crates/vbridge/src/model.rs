@@ -78,7 +78,8 @@ pub enum BridgeError {
     },
     /// A port the caller needs is absent.
     #[error(
-        "top `{top}` has no port `{port}` (it has: {available}); the {kind} port list needs it"
+        "top `{top}` has no port `{port}` (it has: {available}){}",
+        wanted_by(.kind)
     )]
     MissingPort {
         /// Top module.
@@ -126,6 +127,14 @@ pub enum BridgeError {
         /// The error.
         source: std::io::Error,
     },
+}
+
+fn wanted_by(kind: &str) -> String {
+    if kind.is_empty() {
+        String::new()
+    } else {
+        format!("; the {kind} port list needs it")
+    }
 }
 
 fn io_err(context: impl Into<String>) -> impl FnOnce(std::io::Error) -> BridgeError {
@@ -279,8 +288,14 @@ impl Model {
         &self.ports
     }
 
+    /// Resolves a port by name (at most 64 bits wide).
+    pub fn port_by_name(&self, name: &str) -> Result<Port, BridgeError> {
+        self.port(name, None, "")
+    }
+
     /// Resolves a port by name; `width` (if given) must match, and the
-    /// port must be at most 64 bits wide.
+    /// port must be at most 64 bits wide. `kind` names the port list the
+    /// caller wants, for the error message ("" for none).
     pub fn port(&self, name: &str, width: Option<u32>, kind: &str) -> Result<Port, BridgeError> {
         let Some(p) = self.ports.iter().find(|p| p.name == name) else {
             return Err(BridgeError::MissingPort {
@@ -489,6 +504,8 @@ pub struct CompiledCore {
     top: String,
     /// The cached shared library.
     pub path: PathBuf,
+    /// Whether an earlier build left it in the cache (nothing was built).
+    pub cached: bool,
 }
 
 impl fmt::Debug for CompiledCore {
@@ -708,7 +725,9 @@ impl ExternalCore {
                 source,
             },
         })?;
-        self.load(&entry.product)
+        let mut core = self.load(&entry.product)?;
+        core.cached = entry.origin == buildcache::Origin::Cached;
+        Ok(core)
     }
 
     /// Verilates and links the shared library `lib_name` in `tmp` (an empty
@@ -830,6 +849,7 @@ impl ExternalCore {
             vt,
             top: self.top.clone(),
             path: lib_path.to_path_buf(),
+            cached: false,
         })
     }
 }
