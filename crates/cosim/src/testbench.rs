@@ -909,6 +909,15 @@ impl Testbench {
                     c.resume(skip_to, false);
                 }
                 Action::Continue => {
+                    // Collect mode: the difference is listed; the reference
+                    // then takes the DUT's value where it can (storage
+                    // registers, TXERR/RXERR, SR's latched flags), so later
+                    // reads show the next real difference, not this one's
+                    // cascade (issue 19 item 4). Derived registers keep the
+                    // model's value.
+                    if let Some((addr, value)) = c.taken_read() {
+                        r.adopt_register(addr, value);
+                    }
                     self.record.divergence.get_or_insert(d);
                     c.resume(None, true);
                 }
