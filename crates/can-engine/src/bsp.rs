@@ -176,6 +176,13 @@ pub(crate) struct Bsp {
     /// raised only if a dominant bit shows during the passive flag.
     ack_exc: bool,
     recovery: u8,
+    /// Recessive bus-idle bits since the last bus-on (255: not idle since
+    /// a bus-on), for [`Bsp::wait_bus_free_after_bus_on`].
+    since_bus_on: u8,
+    /// Bits past the 11th recessive one for which integration holds a
+    /// pending transmission, waiting for another node's start of frame
+    /// (a resync; 0: no hold).
+    sof_hold: u8,
     pub(crate) reset_mode: bool,
     pub(crate) fc: Fault,
     pub(crate) ev: Vec<Event>,
@@ -219,6 +226,8 @@ impl Bsp {
             dom_cnt: 0,
             ack_exc: false,
             recovery: 0,
+            since_bus_on: u8::MAX,
+            sof_hold: 0,
             reset_mode: false,
             fc,
             ev: Vec::with_capacity(8),
@@ -303,12 +312,15 @@ impl Bsp {
             }
             Phase::Integrating => {
                 if rx {
-                    self.cnt += 1;
-                    if self.cnt >= 11 {
+                    self.cnt = self.cnt.saturating_add(1);
+                    let held = self.sof_hold > 0 && self.pending.is_some() && self.cnt < 11 + self.sof_hold;
+                    if self.cnt >= 11 && !held {
+                        self.sof_hold = 0;
                         self.enter_idle();
                     }
                 } else {
                     self.cnt = 0;
+                    self.sof_hold = 0;
                 }
             }
             Phase::BusOff => self.bus_off_recovery(rx),
@@ -341,15 +353,20 @@ impl Bsp {
 
     fn idle(&mut self, rx: bool) {
         if !rx {
+            self.since_bus_on = u8::MAX;
             self.role_tx = false;
             self.begin_frame();
             return self.stuffed(rx);
+        }
+        if self.since_bus_on < u8::MAX {
+            self.since_bus_on += 1;
         }
         self.try_start_tx();
     }
 
     /// Bus idle reached: start a pending transmission with the next bit.
     fn enter_idle(&mut self) {
+        self.since_bus_on = u8::MAX;
         self.phase = Phase::Idle;
         self.role_tx = false;
         self.tx = RECESSIVE;
@@ -829,8 +846,52 @@ impl Bsp {
             self.recovery += 1;
             if self.fc.recovery_step(self.recovery, &mut self.ev) {
                 self.enter_idle();
+                if self.phase == Phase::Idle && !self.role_tx {
+                    self.since_bus_on = 0;
+                }
             }
         }
+    }
+
+    // ---- resynchronisation (waivers) ------------------------------------
+
+    /// For a DUT that waits for one more bus-free sequence (11 recessive
+    /// bits) after bus-on before it may start a frame: if at most
+    /// `max_since` recessive idle bits have passed since this node's bus-on
+    /// and it has started nothing since, it goes back to integrating, as if
+    /// the sequence had begun at its bus-on; a transmission requested now
+    /// is then held for at most `slack` bits past the 11th, for another
+    /// node's start of frame ([`Bsp::start_held_tx`]). True if done, or
+    /// already so.
+    pub(crate) fn wait_bus_free_after_bus_on(&mut self, max_since: u8, slack: u8) -> bool {
+        if self.phase == Phase::Integrating && self.sof_hold > 0 {
+            return true;
+        }
+        if self.phase != Phase::Idle || self.role_tx || self.since_bus_on > max_since || slack == 0 {
+            return false;
+        }
+        self.phase = Phase::Integrating;
+        self.cnt = self.since_bus_on;
+        self.since_bus_on = u8::MAX;
+        self.sof_hold = slack;
+        true
+    }
+
+    /// A transmission held by [`Bsp::wait_bus_free_after_bus_on`] past its
+    /// 11 recessive bits, waiting for another node's start of frame.
+    pub(crate) fn tx_held(&self) -> bool {
+        self.phase == Phase::Integrating && self.sof_hold > 0 && self.cnt >= 11 && self.pending.is_some()
+    }
+
+    /// Starts the held transmission: its start of frame is driven from now.
+    pub(crate) fn start_held_tx(&mut self) -> bool {
+        if !self.tx_held() || self.opt.listen_only || self.reset_mode {
+            return false;
+        }
+        self.sof_hold = 0;
+        self.phase = Phase::Idle;
+        self.try_start_tx();
+        true
     }
 
     // ---- queries -----------------------------------------------------
@@ -913,6 +974,7 @@ impl Bsp {
             return;
         }
         self.reset_mode = on;
+        self.sof_hold = 0;
         if on {
             if self.phase != Phase::BusOff {
                 self.phase = Phase::Off;

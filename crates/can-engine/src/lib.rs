@@ -328,6 +328,37 @@ impl Engine {
         self.tx_out
     }
 
+    /// Resync for a DUT that waits for one more bus-free sequence (11
+    /// recessive bits) after bus-on before it starts a frame: if this node
+    /// came out of bus-off at most `max_since` bits ago and has been idle
+    /// since, it integrates again as if the sequence had begun at its
+    /// bus-on (SR shows TS = RS = 1, waiting), and a transmission then
+    /// pending is held for at most `slack` more bits, for the DUT's start
+    /// of frame ([`Engine::start_held_tx_now`]). False if it does not
+    /// apply (no recent bus-on, a frame already started).
+    pub fn wait_bus_free_after_bus_on(&mut self, max_since: u8, slack: u8) -> bool {
+        self.bsp.wait_bus_free_after_bus_on(max_since, slack)
+    }
+
+    /// A transmission held by [`Engine::wait_bus_free_after_bus_on`] waits
+    /// for another node's start of frame.
+    pub fn tx_held(&self) -> bool {
+        self.bsp.tx_held()
+    }
+
+    /// Starts the held transmission at this clock: the start of frame is
+    /// driven now and the bit timing starts a bit here (as a hard
+    /// synchronisation on the DUT's own SOF edge would). False (nothing
+    /// changed) if no transmission is held.
+    pub fn start_held_tx_now(&mut self) -> bool {
+        if !self.bsp.start_held_tx() {
+            return false;
+        }
+        self.btl.restart();
+        self.tx_out = self.bsp.tx;
+        true
+    }
+
     /// Level this node drives for the current bit (fast path and BTL).
     #[inline]
     pub fn tx(&self) -> bool {

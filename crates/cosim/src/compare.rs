@@ -328,6 +328,15 @@ impl Comparator {
         d
     }
 
+    /// The register read of the divergence last taken, if it was one: its
+    /// address and the DUT's value (what a collect-mode resync adopts).
+    pub fn taken_read(&self) -> Option<(u8, u8)> {
+        match self.latch_info {
+            Some(Latch::Read(DiffKey::Read { addr, dut, .. })) => Some((addr, dut)),
+            _ => None,
+        }
+    }
+
     /// True while a divergence halts the comparison (until [`Comparator::resume`]).
     pub fn halted(&self) -> bool {
         self.halted

@@ -332,6 +332,14 @@ impl Reference for ModelRef {
         self.m.skip_sleep();
         true
     }
+    fn wait_bus_free_after_bus_on(&mut self) -> bool {
+        self.stale = true;
+        self.m.wait_bus_free_after_bus_on()
+    }
+    fn start_held_tx_now(&mut self) -> bool {
+        self.stale = true;
+        self.m.start_held_tx_now()
+    }
     fn pins(&self) -> CanPins {
         pins_of(&self.m)
     }

@@ -394,6 +394,11 @@ pub struct Testbench {
     /// comparator could not see: taken from the next TXERR/RXERR read.
     adopt_tec_at_read: bool,
     adopt_rec_at_read: bool,
+    /// A `model-waits-bus-free-after-bus-on` resync holds the model's next
+    /// frame: start it at the DUT's next tx falling edge (its SOF).
+    await_dut_sof: bool,
+    /// The DUT's tx at the last CAN edge, while `await_dut_sof`.
+    await_prev_dut_tx: bool,
     /// When the reference takes a host access (Wishbone master only).
     ref_timing: RefTiming,
     /// CAN edges since the Wishbone request on the wires (`req_wires`)
@@ -722,6 +727,8 @@ impl Testbench {
             waivers,
             adopt_tec_at_read: false,
             adopt_rec_at_read: false,
+            await_dut_sof: false,
+            await_prev_dut_tx: true,
             ref_timing,
             req_edges: 0,
             req_wires: WbMasterOut::default(),
@@ -883,6 +890,14 @@ impl Testbench {
                             }
                             Resync::AdoptRegister { addr, value } => r.adopt_register(addr, value),
                             Resync::ModelSkipsSleep => r.skip_sleep(),
+                            Resync::ModelWaitsBusFreeAfterBusOn => {
+                                let held = r.wait_bus_free_after_bus_on();
+                                if held {
+                                    self.await_dut_sof = true;
+                                    self.await_prev_dut_tx = self.dut_pins.tx;
+                                }
+                                held
+                            }
                         };
                         if !applied {
                             self.waivers.note(format!(
@@ -894,6 +909,15 @@ impl Testbench {
                     c.resume(skip_to, false);
                 }
                 Action::Continue => {
+                    // Collect mode: the difference is listed; the reference
+                    // then takes the DUT's value where it can (storage
+                    // registers, TXERR/RXERR, SR's latched flags), so later
+                    // reads show the next real difference, not this one's
+                    // cascade (issue 19 item 4). Derived registers keep the
+                    // model's value.
+                    if let Some((addr, value)) = c.taken_read() {
+                        r.adopt_register(addr, value);
+                    }
                     self.record.divergence.get_or_insert(d);
                     c.resume(None, true);
                 }
@@ -1024,6 +1048,7 @@ impl Testbench {
             || self.wave.is_some()
             || !self.bus.is_empty()
             || !self.dut_faults.is_empty()
+            || self.await_dut_sof
         {
             return None;
         }
@@ -1445,6 +1470,9 @@ impl Testbench {
         let level = self.bus_level;
         let sample = self.bitclock.clock(level);
         self.sample_now = sample;
+        if self.await_dut_sof {
+            self.start_held_frame_at_dut_sof(pins.tx);
+        }
         // Everything read from the reference this clock, in one call.
         let view = match &mut self.reference {
             Some(r) => Some(r.step(self.dut_rx)),
@@ -1475,6 +1503,19 @@ impl Testbench {
                 self.handle_divergences();
             }
         }
+    }
+
+    /// `model-waits-bus-free-after-bus-on`: at the DUT's first tx falling
+    /// edge after the resync, the model starts the frame it holds (if it
+    /// holds one: its hold is bounded, see the resync) in the same clock.
+    fn start_held_frame_at_dut_sof(&mut self, dut_tx: bool) {
+        if self.await_prev_dut_tx && !dut_tx {
+            self.await_dut_sof = false;
+            if let Some(r) = &mut self.reference {
+                r.start_held_tx_now();
+            }
+        }
+        self.await_prev_dut_tx = dut_tx;
     }
 
     fn check_stopped(&self) -> Result<(), TbError> {

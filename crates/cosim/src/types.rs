@@ -106,4 +106,16 @@ pub trait Reference {
     fn skip_sleep(&mut self) -> bool {
         false
     }
+    /// Waits one more bus-free sequence after a bus-on within the last bits,
+    /// holding the next frame for the DUT's start of frame
+    /// (`model-waits-bus-free-after-bus-on`); false if this reference cannot
+    /// or the bus-on is not recent.
+    fn wait_bus_free_after_bus_on(&mut self) -> bool {
+        false
+    }
+    /// Starts the frame held by [`Reference::wait_bus_free_after_bus_on`]
+    /// at this clock (the DUT's tx just went dominant); false if none is held.
+    fn start_held_tx_now(&mut self) -> bool {
+        false
+    }
 }

@@ -1197,6 +1197,26 @@ impl Sja1000 {
         head + data.len()
     }
 
+    /// Lockstep resync for a DUT that waits for one more bus-free sequence
+    /// (11 recessive bits) after bus-on before it may start a frame (the
+    /// opencores core, deviation D10g): see
+    /// [`can_engine::Engine::wait_bus_free_after_bus_on`]. Only within 3
+    /// bits of the bus-on; a pending transmission is then held for at most
+    /// 2 bits past the 11th, for the DUT's start of frame.
+    pub fn wait_bus_free_after_bus_on(&mut self) -> bool {
+        !self.rm && self.engine.wait_bus_free_after_bus_on(3, 2)
+    }
+
+    /// A transmission held by [`Sja1000::wait_bus_free_after_bus_on`].
+    pub fn tx_held(&self) -> bool {
+        self.engine.tx_held()
+    }
+
+    /// Starts the held transmission now (the DUT's SOF edge was seen).
+    pub fn start_held_tx_now(&mut self) -> bool {
+        self.engine.start_held_tx_now()
+    }
+
     /// Leaves sleep with no wake-up interrupt (lockstep resync for a DUT
     /// that has no sleep mode: it never slept, so nothing woke it). True if
     /// the model was asleep.

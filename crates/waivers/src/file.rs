@@ -38,6 +38,12 @@
 //!   the frame that would have woken it is then received by both. Only on
 //!   a register-read of MOD (PeliCAN address 0, the SM bit: `bits = [4]`),
 //!   so a waiver cannot use it to forget anything but the sleep request.
+//! - `model-waits-bus-free-after-bus-on`: for a core that waits for one
+//!   more bus-free sequence (11 recessive bits) after bus-on. The model,
+//!   if its bus-on was at most 3 bits ago and it has been idle since,
+//!   integrates again from its bus-on (SR TS = RS = 1) and holds a frame
+//!   then requested for at most 2 bits past the 11th, starting it at the
+//!   DUT's start of frame. Only on a register-read of SR, with `max-hits`.
 //!
 //! Narrower bounds for deviations that are a bit pattern or a lateness:
 //!
@@ -492,6 +498,14 @@ pub enum ResyncSpec {
     /// sleep at once, without a wake-up interrupt, as the DUT never entered
     /// it; later sleep requests still reach the model (and diverge again).
     ModelSkipsSleep,
+    /// `model-waits-bus-free-after-bus-on`: for a core that waits for one
+    /// more bus-free sequence (11 recessive bits) after bus-on before it
+    /// may start a frame. The model, if it came out of bus-off at most 3
+    /// bits ago and has been idle since, integrates again from its bus-on
+    /// (TS = RS = 1) and holds a transmission then pending for at most 2
+    /// bits past the 11th, starting it with the DUT's start of frame.
+    /// Only on a register-read of SR with `max-hits`.
+    ModelWaitsBusFreeAfterBusOn,
     /// `skip-bits N`: N bit times are not compared, the diverging one
     /// included (`skip-bits 1` forgives that bit only).
     SkipBits(u32),
@@ -507,13 +521,14 @@ impl TryFrom<String> for ResyncSpec {
             (Some("adopt-dut-rec"), None, _) => ResyncSpec::AdoptDutRec,
             (Some("adopt-dut-register"), None, _) => ResyncSpec::AdoptDutRegister,
             (Some("model-skips-sleep"), None, _) => ResyncSpec::ModelSkipsSleep,
+            (Some("model-waits-bus-free-after-bus-on"), None, _) => ResyncSpec::ModelWaitsBusFreeAfterBusOn,
             (Some("skip-bits"), Some(n), None) => match n.parse::<u32>() {
                 Ok(n) if n > 0 => ResyncSpec::SkipBits(n),
                 _ => return Err(format!("`{s}`: skip-bits takes a positive number of bits")),
             },
             _ => {
                 return Err(format!(
-                    "unknown resync `{s}`, expected one of: none, adopt-dut-tec, adopt-dut-rec, adopt-dut-register, model-skips-sleep, skip-bits N"
+                    "unknown resync `{s}`, expected one of: none, adopt-dut-tec, adopt-dut-rec, adopt-dut-register, model-skips-sleep, model-waits-bus-free-after-bus-on, skip-bits N"
                 ));
             }
         };
@@ -529,6 +544,7 @@ impl From<ResyncSpec> for String {
             ResyncSpec::AdoptDutRec => "adopt-dut-rec".into(),
             ResyncSpec::AdoptDutRegister => "adopt-dut-register".into(),
             ResyncSpec::ModelSkipsSleep => "model-skips-sleep".into(),
+            ResyncSpec::ModelWaitsBusFreeAfterBusOn => "model-waits-bus-free-after-bus-on".into(),
             ResyncSpec::SkipBits(n) => format!("skip-bits {n}"),
         }
     }
@@ -776,6 +792,15 @@ mod tests {
     fn resync_and_frames_spelling() {
         assert_eq!(ResyncSpec::try_from("model-skips-sleep".to_string()), Ok(ResyncSpec::ModelSkipsSleep));
         assert!(ResyncSpec::try_from("model-skips-sleep 2".to_string()).is_err());
+        assert_eq!(
+            ResyncSpec::try_from("model-waits-bus-free-after-bus-on".to_string()),
+            Ok(ResyncSpec::ModelWaitsBusFreeAfterBusOn)
+        );
+        assert!(ResyncSpec::try_from("model-waits-bus-free-after-bus-on 11".to_string()).is_err());
+        assert_eq!(
+            String::from(ResyncSpec::ModelWaitsBusFreeAfterBusOn),
+            "model-waits-bus-free-after-bus-on"
+        );
         assert_eq!(ResyncSpec::try_from("skip-bits 3".to_string()), Ok(ResyncSpec::SkipBits(3)));
         assert!(ResyncSpec::try_from("skip-bits 0".to_string()).is_err());
         assert!(ResyncSpec::try_from("skip-bits".to_string()).is_err());

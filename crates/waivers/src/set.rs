@@ -93,6 +93,10 @@ pub enum Resync {
     },
     /// The model leaves sleep without a wake-up interrupt (`model-skips-sleep`).
     ModelSkipsSleep,
+    /// The model waits one more bus-free sequence after its bus-on and
+    /// starts the frame it holds with the DUT's start of frame
+    /// (`model-waits-bus-free-after-bus-on`).
+    ModelWaitsBusFreeAfterBusOn,
     /// Compare nothing for this many bit times, counting the diverging bit
     /// as the first (`SkipBits(1)`: compare again from the next bit); the
     /// adopt steps of the same verdict apply when comparison resumes.
@@ -345,6 +349,7 @@ impl Waiver {
                     value: d.seen as u8,
                 }),
                 ResyncSpec::ModelSkipsSleep => Some(Resync::ModelSkipsSleep),
+                ResyncSpec::ModelWaitsBusFreeAfterBusOn => Some(Resync::ModelWaitsBusFreeAfterBusOn),
                 ResyncSpec::SkipBits(n) => Some(Resync::SkipBits(*n)),
             })
             .collect()
@@ -639,6 +644,18 @@ fn validate(name: &str, src: &str, w: RawWaiver) -> Result<Waiver, WaiverError> 
                 resync_line,
                 "resync",
                 "model-skips-sleep needs kind = \"register-read\" of MOD (register = \"MOD\" or address = 0)".into(),
+            ));
+        }
+    }
+    if resync.contains(&ResyncSpec::ModelWaitsBusFreeAfterBusOn) {
+        let sr_read = w.kind == KindName::RegisterRead
+            && (w.address == Some(2) || w.register.as_ref().is_some_and(|r| r.get_ref().eq_ignore_ascii_case("SR")));
+        if !sr_read || w.max_hits.is_none() {
+            return Err(invalid(
+                name,
+                resync_line,
+                "resync",
+                "model-waits-bus-free-after-bus-on needs kind = \"register-read\" of SR (register = \"SR\" or address = 2) and a `max-hits`".into(),
             ));
         }
     }

@@ -361,3 +361,76 @@ fn passive_receiver_rules_1_2_6() {
     assert_eq!(bus.count(2, |e| matches!(e, Event::Received { .. })), 1);
     assert_eq!(bus.count(0, |e| matches!(e, Event::BusError { .. })), 0);
 }
+
+/// A node at bus-on, after the 128 x 11 recessive bits of the recovery.
+fn node_just_bus_on() -> Engine {
+    let mut e = node_idle();
+    e.set_reset_mode(true);
+    e.set_tec(255);
+    e.set_reset_mode(false);
+    while e.fault_state() == FaultState::BusOff {
+        e.sample_bit(RECESSIVE);
+    }
+    let _ = e.take_events().count();
+    e
+}
+
+/// The resync for a DUT that waits one more bus-free sequence after bus-on
+/// (waiver resync `model-waits-bus-free-after-bus-on`): only within 3 bits
+/// of bus-on; the node integrates 11 recessive bits from its bus-on, holds
+/// a pending frame at most 2 bits more for the DUT's start of frame, and
+/// starts it at once when told.
+#[test]
+fn wait_bus_free_after_bus_on_holds_the_first_frame_for_the_duts_sof() {
+    // Too late: 4 idle bits after bus-on.
+    let mut e = node_just_bus_on();
+    for _ in 0..4 {
+        e.sample_bit(RECESSIVE);
+    }
+    assert!(!e.wait_bus_free_after_bus_on(3, 2), "4 bits after bus-on: refused");
+    // Not after a bus-on at all (plain integration end).
+    let mut plain = node_idle();
+    assert!(!plain.wait_bus_free_after_bus_on(3, 2), "no bus-on: refused");
+    // In time: 1 bit after bus-on, then a request.
+    let mut e = node_just_bus_on();
+    e.sample_bit(RECESSIVE);
+    assert!(e.wait_bus_free_after_bus_on(3, 2));
+    assert!(e.wait_bus_free_after_bus_on(3, 2), "a second hit of the waiver keeps it");
+    e.request_tx(std_frame(0x123, &[1]), false, false);
+    // Bits 2..10 after bus-on: still integrating, nothing held yet.
+    for _ in 2..=10 {
+        e.sample_bit(RECESSIVE);
+        assert!(!e.tx_held() && e.tx() == RECESSIVE && !e.is_transmitting());
+    }
+    assert!(!e.start_held_tx_now(), "before the 11th bit nothing is held");
+    e.sample_bit(RECESSIVE); // the 11th
+    assert!(e.tx_held() && e.tx() == RECESSIVE, "held after 11 bits, no SOF of its own");
+    assert!(e.start_held_tx_now());
+    assert!(e.is_transmitting() && e.tx() == DOMINANT, "SOF driven at once");
+    assert!(!e.tx_held());
+
+    // The hold is bounded: 2 bits past the 11th, then the node starts itself.
+    let mut e = node_just_bus_on();
+    assert!(e.wait_bus_free_after_bus_on(3, 2));
+    e.request_tx(std_frame(0x123, &[1]), false, false);
+    let mut sof_after = None;
+    for n in 1..=20 {
+        e.sample_bit(RECESSIVE);
+        if e.tx() == DOMINANT {
+            sof_after = Some(n);
+            break;
+        }
+    }
+    assert_eq!(sof_after, Some(13), "SOF decided at the 13th bit after bus-on, not later");
+
+    // A dominant bit while held ends the hold: the node integrates afresh.
+    let mut e = node_just_bus_on();
+    assert!(e.wait_bus_free_after_bus_on(3, 2));
+    e.request_tx(std_frame(0x123, &[1]), false, false);
+    for _ in 0..11 {
+        e.sample_bit(RECESSIVE);
+    }
+    assert!(e.tx_held());
+    e.sample_bit(DOMINANT);
+    assert!(!e.tx_held() && !e.start_held_tx_now());
+}
