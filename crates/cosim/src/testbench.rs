@@ -1687,6 +1687,9 @@ impl Testbench {
                         taken = Some(if write {
                             (refm.write(addr, data), 0)
                         } else {
+                            if let Some(c) = &mut self.comparator {
+                                c.reference_read_taken();
+                            }
                             (None, refm.read(addr))
                         });
                     }
@@ -1851,6 +1854,16 @@ impl Testbench {
             if n > 0 {
                 self.run_can_cycles(n as u64)?;
             }
+        }
+        // A miss the comparator let through only by its status tolerance,
+        // where the model's value meets the expectation, is a difference
+        // after all (see `Comparator::hold_tolerated_read`).
+        if !passed
+            && !self.stopped
+            && let Some(c) = &mut self.comparator
+            && c.hold_tolerated_read(addr, v, mask, expected)
+        {
+            self.handle_divergences();
         }
         // A miss that is the read's own waived deviation (the model's value
         // meets the expectation) is waived, and listed in the waiver report.

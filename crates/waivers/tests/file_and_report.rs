@@ -519,12 +519,15 @@ fn irq_pin_waivers_take_only_their_own_scenario() {
         assert_eq!(by(&set.check_observed(&pin(16, Field::BusIdle), &dut, &operating)), Some(d10.clone()));
     }
     assert_ne!(by(&set.check_observed(&pin(16, Field::BusIdle), &dut, &operating)), Some(d10), "max-hits 153");
-    // RBS for the lost entry: RBS only, with DOS clear on both, once.
+    // RBS for the lost entry: RBS only, bus idle, TBS = TCS = 1 on both
+    // (DOS either way: before and after CDO), twice.
     let rbs = "rbs-for-lost-message-entry".to_string();
     let mut set = WaiverSet::load(path).unwrap();
-    assert_ne!(by(&set.check(&read_div("SR", 0x0E, 0x0F), &dut)), Some(rbs.clone()), "DOS set");
     assert_ne!(by(&set.check(&read_div("SR", 0x0C, 0x1D), &dut)), Some(rbs.clone()), "RS too");
+    assert_ne!(by(&set.check(&read_div("SR", 0x1C, 0x1D), &dut)), Some(rbs.clone()), "while receiving");
+    assert_ne!(by(&set.check(&read_div("SR", 0x00, 0x01), &dut)), Some(rbs.clone()), "a transmission pending");
     assert_ne!(by(&set.check(&read_div("SR", 0x0D, 0x0C), &dut)), Some(rbs.clone()), "the other way round");
+    assert_eq!(by(&set.check(&read_div("SR", 0x0E, 0x0F), &dut)), Some(rbs.clone()), "DOS set, before CDO");
     assert_eq!(by(&set.check(&read_div("SR", 0x0C, 0x0D), &dut)), Some(rbs.clone()));
-    assert_ne!(by(&set.check(&read_div("SR", 0x0C, 0x0D), &dut)), Some(rbs), "max-hits 1");
+    assert_ne!(by(&set.check(&read_div("SR", 0x0C, 0x0D), &dut)), Some(rbs), "max-hits 2");
 }
