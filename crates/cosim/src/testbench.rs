@@ -1677,7 +1677,16 @@ impl Testbench {
         let mut i8051_wr_seen = false;
         let mut acks_seen = 0u32;
         let mut can_edges = 0u32;
+        // Times the core performed the access again (for the record: acks_seen).
+        let mut repeats = 0u32;
         let mut taken: Option<(Option<diagnose::WriteOutcome>, u8)> = None;
+        // A core with a request/acknowledge handshake (`busy-after-ack`)
+        // sees a request still held once the handshake is idle again as a
+        // new one (Wishbone: stb held after ack is the next transfer), and
+        // performs the access again: a GPIO-polled master that misses the
+        // one-clock ack does that. The reference performs it as often.
+        let mut again = (!native_avalon && !matches!(self.master, Master::I8051(..)) && self.holdoff.is_some())
+            .then_some(Again::default());
         let res = loop {
             if let Some(r) = with_master!(&mut self.master, m => m.poll(h)) {
                 break r;
@@ -1689,6 +1698,28 @@ impl Testbench {
             }
             let c = self.host_cycle;
             while self.host_cycle == c {
+                if let (Some(a), Some(_)) = (&mut again, &taken)
+                    && timing != RefTiming::AtAck
+                {
+                    let presented = self.applied_wb.cyc && self.applied_wb.stb;
+                    let (cc, ready_before) = (self.can_clocks, self.holdoff.as_ref().is_none_or(|h| h.ready()));
+                    self.tick();
+                    let ready_now = self.holdoff.as_ref().is_none_or(|h| h.ready());
+                    if a.observe(presented, ready_before, ready_now, self.can_clocks != cc, due_edges)
+                        && let Some(refm) = &mut self.reference
+                    {
+                        repeats += 1;
+                        taken = Some(if write {
+                            (refm.write(addr, data), 0)
+                        } else {
+                            if let Some(c) = &mut self.comparator {
+                                c.reference_read_taken();
+                            }
+                            (None, refm.read(addr))
+                        });
+                    }
+                    continue;
+                }
                 if timing == RefTiming::AtAck || taken.is_some() {
                     self.tick();
                     continue;
@@ -1728,6 +1759,9 @@ impl Testbench {
                         taken = Some(if write {
                             (refm.write(addr, data), 0)
                         } else {
+                            if let Some(c) = &mut self.comparator {
+                                c.reference_read_taken();
+                            }
                             (None, refm.read(addr))
                         });
                     }
@@ -1744,6 +1778,21 @@ impl Testbench {
             };
             acks_seen += answered as u32;
         };
+        // The master let go while the core was already taking the access
+        // once more (its profile's `latch`): performed all the same.
+        let committed = self.latch_edges.unwrap_or(due_edges).max(1);
+        if let Some(a) = &again
+            && taken.is_some()
+            && a.committed(committed)
+            && let Some(refm) = &mut self.reference
+        {
+            repeats += 1;
+            if write {
+                refm.write(addr, data);
+            } else {
+                refm.read(addr);
+            }
+        }
         let mut rec = HostOp {
             time_ps: t0,
             bfm: self.host_bus,
@@ -1758,6 +1807,7 @@ impl Testbench {
             mode,
             reset_mode,
             acks_seen,
+            repeats,
             ..HostOp::default()
         };
         match res {
@@ -1893,6 +1943,16 @@ impl Testbench {
                 self.run_can_cycles(n as u64)?;
             }
         }
+        // A miss the comparator let through only by its status tolerance,
+        // where the model's value meets the expectation, is a difference
+        // after all (see `Comparator::hold_tolerated_read`).
+        if !passed
+            && !self.stopped
+            && let Some(c) = &mut self.comparator
+            && c.hold_tolerated_read(addr, v, mask, expected)
+        {
+            self.handle_divergences();
+        }
         // A miss that is the read's own waived deviation (the model's value
         // meets the expectation) is waived, and listed in the waiver report.
         if !passed
@@ -2018,5 +2078,90 @@ impl Testbench {
             w.flush()?;
         }
         Ok(())
+    }
+}
+
+/// A request held past the core's ack (see `busy-after-ack`): the core sees
+/// it again once its handshake is idle, and takes it after as many CAN
+/// edges as a new one.
+#[derive(Clone, Copy, Debug, Default)]
+struct Again {
+    /// The core acknowledged the access last taken (its hold-off started).
+    acked: bool,
+    /// CAN edges since then at which the core could see the request.
+    edges: u32,
+}
+
+impl Again {
+    /// One instant of a held request: whether the core takes it again now.
+    fn observe(&mut self, presented: bool, ready_before: bool, ready_now: bool, can_edge: bool, due: u32) -> bool {
+        if !ready_before || !ready_now {
+            // Busy with the last access: its ack came, the hold-off runs.
+            self.acked = true;
+            self.edges = 0;
+            return false;
+        }
+        if !self.acked {
+            return false;
+        }
+        if !presented {
+            self.edges = 0;
+            return false;
+        }
+        self.edges += can_edge as u32;
+        if self.edges >= due && (due > 0 || can_edge) {
+            *self = Again::default();
+            return true;
+        }
+        false
+    }
+
+    /// The core has seen the held request at `latch` CAN edges: it is
+    /// committed to performing it.
+    fn committed(&self, latch: u32) -> bool {
+        self.acked && self.edges >= latch
+    }
+}
+
+#[cfg(test)]
+mod again_tests {
+    use super::Again;
+
+    /// (presented, ready_before, ready_now, can_edge) per instant.
+    fn run(a: &mut Again, steps: &[(bool, bool, bool, bool)], due: u32) -> Vec<usize> {
+        steps.iter().enumerate().filter(|(_, s)| a.observe(s.0, s.1, s.2, s.3, due)).map(|(i, _)| i).collect()
+    }
+
+    #[test]
+    fn a_request_held_past_the_hold_off_is_taken_again_after_due_edges() {
+        // Held throughout: busy (hold-off) for 2 instants, then ready; the
+        // 3rd CAN edge after that takes it again.
+        let held = [
+            (true, true, true, true),   // before the ack: nothing
+            (true, true, false, false), // the ack: hold-off starts
+            (true, false, true, true),  // hold-off ends
+            (true, true, true, true),
+            (true, true, true, false),
+            (true, true, true, true),
+            (true, true, true, true),
+        ];
+        assert_eq!(run(&mut Again::default(), &held, 3), vec![6]);
+        // A command (due 0): at the first CAN edge the core can see it.
+        assert_eq!(run(&mut Again::default(), &held, 0), vec![3]);
+        // Released during the hold-off (a Wishbone master): never again.
+        let released = [
+            (true, true, false, false),
+            (false, false, true, true),
+            (false, true, true, true),
+            (false, true, true, true),
+            (false, true, true, true),
+        ];
+        let mut a = Again::default();
+        assert!(run(&mut a, &released, 3).is_empty());
+        assert!(!a.committed(1));
+        // Dropped after the core saw it at one edge: committed (latch 1).
+        let mut a = Again::default();
+        assert!(run(&mut a, &held[..4], 3).is_empty());
+        assert!(a.committed(1) && !a.committed(2));
     }
 }

@@ -251,6 +251,10 @@ pub struct HostOp {
     /// answered, more means the master missed the answer.
     #[serde(default)]
     pub acks_seen: u32,
+    /// Times the DUT performed the access again because the master held
+    /// the request past its ack (the reference performed it as often).
+    #[serde(default)]
+    pub repeats: u32,
 }
 
 impl HostOp {

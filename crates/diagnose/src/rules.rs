@@ -77,7 +77,7 @@ fn in_order(r: &RunRecord) -> Vec<Finding> {
     if !early_divergence {
         rules.push(dut_deviates);
     }
-    rules.extend([expectation_failed, stuck_transfer, pio_handshake_note] as [fn(&RunRecord) -> Option<Finding>; 3]);
+    rules.extend([expectation_failed, stuck_transfer, repeated_access_note, pio_handshake_note] as [fn(&RunRecord) -> Option<Finding>; 4]);
     rules.iter().filter_map(|f| f(r)).collect()
 }
 
@@ -212,6 +212,33 @@ pub fn host_bus_timeout(r: &RunRecord) -> Option<Finding> {
 /// abandons.
 fn pio_handshake(r: &RunRecord, v: &Violation) -> bool {
     r.host_bus == HostBus::Pio && (v.rule.ends_with("cyc_dropped_before_ack") || v.rule.ends_with("ack_without_request"))
+}
+
+/// Accesses the core performed more than once because the master held its
+/// request past the ack (advisory: the reference performed them as often,
+/// so they explain differences from the scenario, not from the model).
+pub fn repeated_access_note(r: &RunRecord) -> Option<Finding> {
+    let ops: Vec<&HostOp> = r.host_ops.iter().filter(|o| o.repeats > 0).collect();
+    let first = *ops.first()?;
+    let side = ops.iter().filter(|o| o.addr == 1 && o.access == Access::Write || o.addr == 3 && o.access == Access::Read).count();
+    let mut f = finding(
+        Category::HostBusViolation,
+        format!(
+            "the core performed {} host access(es) more than once ({} extra in all, {side} of them a CMR write or IR read), the first a {:?} of address {} ({}) at {} ps: the {:?} master held cyc/stb past the core's ack",
+            ops.len(),
+            ops.iter().map(|o| o.repeats).sum::<u32>(),
+            first.access,
+            first.addr,
+            first.reg.as_deref().unwrap_or("?"),
+            first.time_ps,
+            first.bfm
+        ),
+        "a Wishbone slave takes stb still high after its ack as the next transfer; a master that polls a one-cycle ack through a GPIO misses it and keeps the strobe up, so the core repeats the access: a repeated CMR (release receive buffer, abort, transmit, clear overrun) or IR read repeats its side effect, e.g. one release frees two messages",
+        "drop cyc/stb within the core's hold-off after its ack (a level acknowledge, or the Avalon wrapper); the golden model repeated the accesses too, so scenario expectations that fail here fail for the host program, not the core",
+        base_figures(r),
+    );
+    f.advisory = true;
+    Some(f)
 }
 
 /// PIO handshake remarks (advisory: the accesses completed).

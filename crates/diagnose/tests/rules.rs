@@ -604,3 +604,26 @@ fn counters_taken_from_the_model_are_marked_and_dropped_after_a_divergence() {
     assert_eq!(d.figures.tec, Some(160));
     assert!(d.to_text().contains("TEC 160 (the model's); REC 0 (the model's)"), "{}", d.to_text());
 }
+
+/// Issue 19: an access the core performed again (the PIO master held its
+/// request past the core's one-clock ack) is named beside the primary
+/// finding, and never becomes the primary one itself.
+#[test]
+fn accesses_the_core_repeated_are_named_as_the_host_s_doing() {
+    let mut r = RunRecord::new("x", "ext");
+    r.host_bus = HostBus::Pio;
+    r.expectations.push(Expectation { step: 22, what: "RXFI".into(), expected: "0x01".into(), seen: "0x00".into(), passed: false });
+    let mut rrb = HostOp::write(1, 0x04);
+    rrb.bfm = HostBus::Pio;
+    rrb.reg = Some("CMR".into());
+    rrb.repeats = 1;
+    r.host_ops.extend([HostOp::write(4, 0), rrb]);
+    let d = diagnose(&r);
+    assert_eq!(d.category, Category::ExpectationFailed);
+    let note = d.also.iter().find(|f| f.what_happened.contains("more than once")).expect("the repeats are named");
+    assert!(note.what_happened.contains("1 host access(es) more than once (1 extra in all, 1 of them a CMR write"), "{}", note.what_happened);
+    assert!(note.advisory);
+    // No repeats: no note.
+    r.host_ops[1].repeats = 0;
+    assert!(!diagnose(&r).also.iter().any(|f| f.what_happened.contains("more than once")));
+}

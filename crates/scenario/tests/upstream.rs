@@ -219,10 +219,13 @@ const MUTATIONS: &[(&str, &str, &str, &str, &str)] = &[
     ("irq-at-sample-point", "can_registers.v", "else if (irq)", "else if (irq & sample_point)", "parking-10-nodes"),
     // A fault beside the waived SR deviations: TBS never released.
     ("tbs-never-released", "can_registers.v", "else if (reset_mode || !need_to_tx)", "else if (reset_mode)", "de2-with-ack-node"),
+    // D12 widened: the TX buffer is never locked, so TBS reads 1 through
+    // every transmission, not only the one after an abort in an error frame.
+    ("tbs-never-locked", "can_registers.v", "transmit_buffer_status <=#Tp 1'b0;", "transmit_buffer_status <=#Tp 1'b1;", "pelican-self-test-abort"),
 ];
 
 #[test]
-#[ignore = "needs the upstream core (CAN_UPSTREAM_DIR) and a built cancosim; verilates four mutated copies (about 3 minutes)"]
+#[ignore = "needs the upstream core (CAN_UPSTREAM_DIR) and a built cancosim; verilates five mutated copies (about 4 minutes)"]
 fn waivers_hide_no_fault_mutated_upstream_cores_still_fail() {
     let dir = upstream_dir();
     for (name, file, from, to, scen) in MUTATIONS {

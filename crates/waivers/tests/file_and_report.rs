@@ -519,12 +519,75 @@ fn irq_pin_waivers_take_only_their_own_scenario() {
         assert_eq!(by(&set.check_observed(&pin(16, Field::BusIdle), &dut, &operating)), Some(d10.clone()));
     }
     assert_ne!(by(&set.check_observed(&pin(16, Field::BusIdle), &dut, &operating)), Some(d10), "max-hits 153");
-    // RBS for the lost entry: RBS only, with DOS clear on both, once.
+    // RBS for the lost entry: RBS only, bus idle, TBS = TCS = 1 on both
+    // (DOS either way: before and after CDO), twice.
     let rbs = "rbs-for-lost-message-entry".to_string();
     let mut set = WaiverSet::load(path).unwrap();
-    assert_ne!(by(&set.check(&read_div("SR", 0x0E, 0x0F), &dut)), Some(rbs.clone()), "DOS set");
     assert_ne!(by(&set.check(&read_div("SR", 0x0C, 0x1D), &dut)), Some(rbs.clone()), "RS too");
+    assert_ne!(by(&set.check(&read_div("SR", 0x1C, 0x1D), &dut)), Some(rbs.clone()), "while receiving");
+    assert_ne!(by(&set.check(&read_div("SR", 0x00, 0x01), &dut)), Some(rbs.clone()), "a transmission pending");
     assert_ne!(by(&set.check(&read_div("SR", 0x0D, 0x0C), &dut)), Some(rbs.clone()), "the other way round");
+    assert_eq!(by(&set.check(&read_div("SR", 0x0E, 0x0F), &dut)), Some(rbs.clone()), "DOS set, before CDO");
     assert_eq!(by(&set.check(&read_div("SR", 0x0C, 0x0D), &dut)), Some(rbs.clone()));
-    assert_ne!(by(&set.check(&read_div("SR", 0x0C, 0x0D), &dut)), Some(rbs), "max-hits 1");
+    assert_ne!(by(&set.check(&read_div("SR", 0x0C, 0x0D), &dut)), Some(rbs), "max-hits 2");
+}
+
+/// Issue 19 (up-rest): D5 on IR (no WUI) and D12 (abort in an error frame:
+/// TBS, TCS and TI at the start of the attempt still sent) take only their
+/// own bits, modes, frames and counts.
+#[test]
+fn wake_up_and_abort_retransmission_waivers_catch_the_rest() {
+    let path = concat!(env!("CARGO_MANIFEST_DIR"), "/../../tb/waivers/opencores-upstream.toml");
+    let dut = DutInfo::new("opencores-can (/cores/can)");
+    let by = |v: &Verdict| match v {
+        Verdict::Waived { waiver_id, .. } => Some(waiver_id.clone()),
+        _ => None,
+    };
+    let operating = waivers::Observed { model_mod: Some(0x00), ..Default::default() };
+    let reset = waivers::Observed { model_mod: Some(0x01), ..Default::default() };
+    // D5 on IR: WUI only, twice.
+    let wui = "no-wake-up-interrupt".to_string();
+    let mut set = WaiverSet::load(path).unwrap();
+    assert_ne!(by(&set.check(&read_div("IR", 0x11, 0x00), &dut)), Some(wui.clone()), "RI too");
+    assert_ne!(by(&set.check(&read_div("IR", 0x01, 0x11), &dut)), Some(wui.clone()), "the other way round");
+    assert_eq!(by(&set.check(&read_div("IR", 0x11, 0x01), &dut)), Some(wui.clone()));
+    assert_eq!(by(&set.check(&read_div("IR", 0x10, 0x00), &dut)), Some(wui.clone()));
+    assert_ne!(by(&set.check(&read_div("IR", 0x10, 0x00), &dut)), Some(wui), "max-hits 2");
+    // D12 on SR: TBS and TCS together, only while transmitting on both.
+    let tbs = "tbs-released-at-retransmission-after-abort".to_string();
+    let mut set = WaiverSet::load(path).unwrap();
+    assert_ne!(by(&set.check(&read_div("SR", 0x00, 0x0C), &dut)), Some(tbs.clone()), "not transmitting");
+    assert_ne!(by(&set.check(&read_div("SR", 0x20, 0x24), &dut)), Some(tbs.clone()), "TBS alone");
+    assert_ne!(by(&set.check(&read_div("SR", 0x60, 0x6C), &dut)), Some(tbs.clone()), "error status");
+    assert_ne!(by(&set.check(&read_div("SR", 0x20, 0x2D), &dut)), Some(tbs.clone()), "RBS too");
+    for _ in 0..4 {
+        assert_eq!(by(&set.check(&read_div("SR", 0x20, 0x2C), &dut)), Some(tbs.clone()));
+    }
+    assert_ne!(by(&set.check(&read_div("SR", 0x20, 0x2C), &dut)), Some(tbs), "max-hits 4");
+    // D12 on IR: TI only, operating mode, once.
+    let ti = "ti-at-retransmission-after-abort".to_string();
+    let mut set = WaiverSet::load(path).unwrap();
+    assert_ne!(by(&set.check_observed(&read_div("IR", 0x00, 0x02), &dut, &reset)), Some(ti.clone()), "reset mode");
+    assert_ne!(by(&set.check_observed(&read_div("IR", 0x00, 0x82), &dut, &operating)), Some(ti.clone()), "BEI too");
+    assert_eq!(by(&set.check_observed(&read_div("IR", 0x00, 0x02), &dut, &operating)), Some(ti.clone()));
+    assert_ne!(by(&set.check_observed(&read_div("IR", 0x00, 0x02), &dut, &operating)), Some(ti), "max-hits 1");
+    // D12 on the pin: frame 4's header only, operating mode, 26 reports.
+    let pin = |frame: u32, field: Field| Divergence {
+        kind: DivergenceKind::Irq,
+        bit: Some(374),
+        frame: Some(frame),
+        field: Some(field),
+        expected: 1,
+        seen: 0,
+        ..Divergence::default()
+    };
+    let irq = "ti-irq-at-retransmission-after-abort".to_string();
+    let mut set = WaiverSet::load(path).unwrap();
+    for (frame, field, obs) in [(3, Field::BaseId, &operating), (4, Field::Data, &operating), (4, Field::Eof, &operating), (4, Field::BaseId, &reset)] {
+        assert_ne!(by(&set.check_observed(&pin(frame, field), &dut, obs)), Some(irq.clone()), "frame {frame} {field:?}");
+    }
+    for _ in 0..26 {
+        assert_eq!(by(&set.check_observed(&pin(4, Field::ExtId), &dut, &operating)), Some(irq.clone()));
+    }
+    assert_ne!(by(&set.check_observed(&pin(4, Field::ExtId), &dut, &operating)), Some(irq), "max-hits 26");
 }
