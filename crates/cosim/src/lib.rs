@@ -13,12 +13,14 @@ pub mod compare;
 pub mod dut;
 pub mod gtkw;
 pub mod holdoff;
+pub mod i8051_shell;
 pub mod kernel;
 pub mod model;
 pub mod perf;
 pub mod profile;
 pub mod shimgen;
 pub mod testbench;
+pub mod vhdl;
 pub mod wave;
 
 pub use bridge::{BridgeError, CompiledCore, ExternalCore, Model, Port, PortInfo, bundled_tops};

@@ -675,6 +675,7 @@ impl Testbench {
             // of the strobe, with the port as it is then (the opencores
             // 8051 build: rd_i/wr_i registered once, the access on the
             // rising edge of the strobe, writes included).
+            (DutChoice::External(_), HostBfm::I8051(_), Some(Profile { i8051: Some(a), .. })) => from_profile(*a),
             (DutChoice::External(_), HostBfm::I8051(_), _) => RefTiming::CanEdges { read: 1, write: 1, command: 1 },
             (_, HostBfm::Wishbone, Some(p)) => from_profile(p.wishbone),
             (_, HostBfm::Avalon { .. }, Some(p)) => from_profile(p.avalon),
