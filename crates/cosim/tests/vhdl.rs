@@ -68,7 +68,7 @@ fn vhdl_echo_twin_runs_in_lockstep_with_the_echo_model() {
     tb.run_bits(2).unwrap();
     tb.write(1, 0x01).unwrap();
     tb.run_bits(2).unwrap();
-    assert!(!tb.pins().irq, "irq_on low with register 1 bit 0 set");
+    assert!(!tb.pins().irq_n, "irq_on low with register 1 bit 0 set");
     assert_eq!(tb.read(31).unwrap(), 1, "address 31 reads rx_i");
     let c = tb.comparator().unwrap();
     assert!(c.divergence().is_none(), "{:?}", c.divergence());
