@@ -240,8 +240,10 @@ fn ghdl_failure(step: String, standard: VhdlStandard, out: &std::process::Output
     }
 }
 
+/// `ghdl <command> --workdir=W <rest>` (GHDL takes options before files).
 fn ghdl(args: &[String], workdir: &Path) -> std::io::Result<std::process::Output> {
-    Command::new("ghdl").args(args).arg(format!("--workdir={}", workdir.display())).output()
+    let (command, rest) = args.split_first().expect("a GHDL command");
+    Command::new("ghdl").arg(command).arg(format!("--workdir={}", workdir.display())).args(rest).output()
 }
 
 fn fnv1a(h: &mut u64, bytes: &[u8]) {
