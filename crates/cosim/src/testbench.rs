@@ -115,7 +115,8 @@ pub enum HostBfm {
 /// (with 4 host cycles at 50/24 MHz a read waits behind the write and
 /// `pelican-error-kinds` diverges: measured).
 pub fn i8051_timing_for_rtl(host_hz: u64, can_hz: u64) -> I8051Timing {
-    let d = I8051Timing::default();
+    // The phases in ns (bfm::I8051AcTiming), in cycles of this host clock.
+    let d = bfm::I8051AcTiming::default().cycles(host_hz);
     let host_cycles = |can_clocks: u64| (can_clocks * host_hz).div_ceil(can_hz.max(1)) as u32;
     I8051Timing {
         rd: d.rd.max(host_cycles(18)),
