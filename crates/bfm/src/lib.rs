@@ -72,6 +72,7 @@
 mod avalon;
 pub mod faults;
 mod i8051;
+mod i8051_ac;
 mod monitor;
 mod op;
 mod pins;
@@ -80,6 +81,7 @@ pub mod wiring;
 mod wishbone;
 
 pub use avalon::{AvalonMaster, AvalonMasterConfig, AvalonRam, AvalonTiming};
+pub use i8051_ac::I8051AcTiming;
 pub use i8051::{
     DEFAULT_I8051_TIMEOUT_CYCLES, I8051Config, I8051Master, I8051Monitor, I8051MonitorConfig,
     I8051Out, I8051Polarity, I8051Ram, I8051SlaveOut, I8051Timing, port_level,

@@ -14,6 +14,7 @@ pub mod compare;
 pub mod dut;
 pub mod gtkw;
 pub mod holdoff;
+pub mod i8051_shell;
 pub mod kernel;
 pub mod model;
 pub mod perf;
@@ -25,6 +26,8 @@ pub mod wave;
 
 /// The Verilator bridge (`vbridge`), under the name it had in this crate.
 pub use vbridge as bridge;
+/// GHDL lowering of VHDL sources (in `vbridge`, under its old name here).
+pub use vbridge::vhdl;
 pub use vbridge::{BridgeError, CompiledCore, ExternalCore, Model, Port, PortInfo};
 pub use verilated::{build_external, bundled, bundled_tops, cache_dir};
 pub use compare::{Comparator, CompareConfig, Reference};

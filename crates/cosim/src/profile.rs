@@ -15,6 +15,11 @@
 //! command = 3                            #   presents the access (CMR writes: `command`)
 //! [access.avalon]                        # same keys
 //! [access.pio]                           # same keys
+//! [access.i8051]                         # optional: the 8051 bus (`--host i8051`), edges counted
+//!                                        #   from the host edge raising RD or WR (default: 1/1/1)
+//! inout-drive = "cs_can_i & rd_i"        # optional: the top has `inout [7:0] port_0_io`; the
+//!                                        #   kit wraps it in a shell (cosim::i8051_inout_shell)
+//!                                        #   and takes this as the core's output enable
 //! busy-after-ack = [3, 3, 2]             # optional, any bus: after an ack the core sees no
 //!                                        #   new request for this many CAN, then host, then CAN
 //!                                        #   edges (a handshake returning to idle); the edge
@@ -33,6 +38,11 @@
 //! bus-off = { name = "bo", active = "high" }  #   bus-off = while bus-off (can_top: low)
 //! can-clock = "clk"                      # other roles: host-clock, reset, dat-i, dat-o, cyc,
 //!                                        #   stb, we, adr, ack, rx, tx, clkout (names only)
+//! [vhdl]                                 # optional: a core with .vhd/.vhdl sources (GHDL)
+//! standard = "08"                        # "93", "93c" (GHDL's default) or "08"
+//! files = ["pkg.vhd", "top.vhd"]         # optional analysis order (default: GHDL's
+//!                                        #   --elab-order of every .vhd/.vhdl in the directory)
+//! ghdl-args = ["-fsynopsys"]             # optional extra GHDL options
 //! ```
 //!
 //! Unknown keys are rejected; every error reads `file:line: key: message`.
@@ -268,6 +278,13 @@ pub struct Profile {
     pub avalon: AccessTiming,
     /// When a PIO (bit-banged Wishbone) access takes effect.
     pub pio: AccessTiming,
+    /// When an 8051-bus access takes effect (`[access.i8051]`; None: the
+    /// bench's default for an external 8051 core, the 1st CAN edge of the
+    /// strobe).
+    pub i8051: Option<AccessTiming>,
+    /// The 8051 top's `port_0_io` is an `inout` driven when this Verilog
+    /// expression of its inputs holds (`[access.i8051] inout-drive`).
+    pub i8051_inout_drive: Option<String>,
     /// When the core has committed to an access, per bus (for the host
     /// bus monitor: a request dropped later is not abandoned).
     pub latch: Latch,
@@ -277,6 +294,9 @@ pub struct Profile {
     pub tolerances: CompareConfig,
     /// Port names and polarities.
     pub ports: PortMap,
+    /// How its VHDL sources go through GHDL (`[vhdl]`; default: VHDL-93c,
+    /// GHDL's order).
+    pub vhdl: crate::vhdl::VhdlOptions,
 }
 
 /// Our RTL's profile, shipped as `tb/profiles/rtl.toml` (built in).
@@ -435,7 +455,38 @@ impl Profile {
             set(&mut ports.bus_off, &rp.bus_off, "bus-off", true)?;
             set(&mut ports.clkout, &rp.clkout, "clkout", false)?;
         }
+        for (a, key) in [(&raw.access.wishbone, "access.wishbone"), (&raw.access.avalon, "access.avalon"), (&raw.access.pio, "access.pio")] {
+            if let Some(d) = &a.inout_drive {
+                return Err(bad(d.span(), key, "inout-drive belongs to [access.i8051] (the 8051 bus's shared port)".into()));
+            }
+        }
+        let i8051 = match &raw.access.i8051 {
+            None => None,
+            Some(a) => {
+                if a.latch.is_some() || a.busy_after_ack.is_some() {
+                    return Err(bad(a.takes_effect.span(), "access.i8051", "latch and busy-after-ack are not used on the 8051 bus (no handshake)".into()));
+                }
+                Some(access(a, "access.i8051")?)
+            }
+        };
+        let i8051_inout_drive = match raw.access.i8051.as_ref().and_then(|a| a.inout_drive.as_ref()) {
+            Some(d) if d.get_ref().trim().is_empty() => return Err(bad(d.span(), "inout-drive", "must not be empty".into())),
+            Some(d) => Some(d.get_ref().trim().to_string()),
+            None => None,
+        };
+        let mut vhdl = crate::vhdl::VhdlOptions::default();
+        if let Some(v) = &raw.vhdl {
+            if let Some(st) = &v.standard {
+                vhdl.standard = crate::vhdl::VhdlStandard::from_name(st.get_ref().trim())
+                    .ok_or_else(|| bad(st.span(), "standard", format!("`{}`: expected \"93\", \"93c\" or \"08\"", st.get_ref())))?;
+            }
+            vhdl.files = v.files.iter().map(PathBuf::from).collect();
+            vhdl.ghdl_args = v.ghdl_args.clone();
+        }
         Ok(Profile {
+            i8051,
+            i8051_inout_drive,
+            vhdl,
             name,
             description: raw.description.get_ref().trim().to_string(),
             file: None,
@@ -489,7 +540,14 @@ impl Profile {
             self.pio.describe(),
             busy(self.holdoff.pio),
             if ports.is_empty() { "as can_top".to_string() } else { ports },
-        )
+        ) + &match (&self.i8051, &self.i8051_inout_drive) {
+            (None, None) => String::new(),
+            (t, d) => format!(
+                "; 8051 bus: {}{}",
+                t.map_or("the 1st CAN edge of the strobe (default)".to_string(), |t| t.describe()),
+                d.as_ref().map(|d| format!(", inout port_0_io driven when {d}")).unwrap_or_default()
+            ),
+        } + &if self.vhdl == crate::vhdl::VhdlOptions::default() { String::new() } else { format!("; VHDL: {}", self.vhdl.describe()) }
     }
 
     /// Does a top with these ports look like the opencores `can_top`?
@@ -532,6 +590,17 @@ struct RawProfile {
     access: RawAccessSet,
     tolerances: RawTolerances,
     ports: Option<RawPorts>,
+    vhdl: Option<RawVhdl>,
+}
+
+#[derive(Deserialize)]
+#[serde(deny_unknown_fields, rename_all = "kebab-case")]
+struct RawVhdl {
+    standard: Option<Spanned<String>>,
+    #[serde(default)]
+    files: Vec<String>,
+    #[serde(default)]
+    ghdl_args: Vec<String>,
 }
 
 #[derive(Deserialize, Clone, Copy)]
@@ -547,6 +616,7 @@ struct RawAccessSet {
     wishbone: RawAccess,
     avalon: RawAccess,
     pio: RawAccess,
+    i8051: Option<RawAccess>,
 }
 
 #[derive(Deserialize, Clone, Copy, PartialEq, Eq)]
@@ -562,6 +632,7 @@ struct RawAccess {
     takes_effect: Spanned<TakesEffect>,
     latch: Option<Spanned<u32>>,
     busy_after_ack: Option<Spanned<Vec<u32>>>,
+    inout_drive: Option<Spanned<String>>,
     read: Option<Spanned<u32>>,
     write: Option<Spanned<u32>>,
     command: Option<Spanned<u32>>,
@@ -718,6 +789,32 @@ mod tests {
         assert!(e.starts_with("p.toml:19: tx: only reset, irq and bus-off"), "{e}");
         let e = err(&format!("{GOOD}[ports]\nirq = {{ name = \"i\", active = \"sideways\" }}\n"));
         assert!(e.starts_with("p.toml:19: irq: "), "{e}");
+    }
+
+    #[test]
+    fn i8051_access_and_inout_drive() {
+        assert_eq!((Profile::parse(GOOD, "p").unwrap().i8051, Profile::parse(GOOD, "p").unwrap().i8051_inout_drive), (None, None));
+        let p = Profile::parse(&GOOD.replace("[tolerances]", "[access.i8051]\ntakes-effect = \"can-edges\"\nread = 1\nwrite = 1\ncommand = 0\ninout-drive = \"cs_can_i & rd_i\"\n[tolerances]"), "p").unwrap();
+        assert_eq!(p.i8051, Some(AccessTiming::CanEdges { read: 1, write: 1, command: 0 }));
+        assert_eq!(p.i8051_inout_drive.as_deref(), Some("cs_can_i & rd_i"));
+        assert!(p.describe().contains("8051 bus: read/write/command after CAN edge 1/1/0, inout port_0_io driven when cs_can_i & rd_i"), "{}", p.describe());
+        let e = err(&GOOD.replace("[access.avalon]\n", "[access.avalon]\ninout-drive = \"x\"\n"));
+        assert!(e.starts_with("p.toml:7: access.avalon: inout-drive belongs to [access.i8051]"), "{e}");
+        let e = err(&GOOD.replace("[tolerances]", "[access.i8051]\ntakes-effect = \"at-ack\"\nlatch = 1\n[tolerances]"));
+        assert!(e.contains("access.i8051: latch and busy-after-ack"), "{e}");
+    }
+
+    #[test]
+    fn vhdl_table_sets_standard_files_and_args() {
+        assert_eq!(Profile::parse(GOOD, "p.toml").unwrap().vhdl, crate::vhdl::VhdlOptions::default());
+        let p = Profile::parse(&format!("{GOOD}[vhdl]\nstandard = \"08\"\nfiles = [\"a.vhd\", \"b.vhd\"]\nghdl-args = [\"-fsynopsys\"]\n"), "p").unwrap();
+        assert_eq!(p.vhdl.standard, crate::vhdl::VhdlStandard::V08);
+        assert_eq!(p.vhdl.files, vec![PathBuf::from("a.vhd"), PathBuf::from("b.vhd")]);
+        assert_eq!(p.vhdl.ghdl_args, vec!["-fsynopsys".to_string()]);
+        let e = err(&format!("{GOOD}[vhdl]\nstandard = \"2019\"\n"));
+        assert!(e.starts_with("p.toml:19: standard: `2019`: expected"), "{e}");
+        let e = err(&format!("{GOOD}[vhdl]\nstd = \"08\"\n"));
+        assert!(e.starts_with("p.toml:19: std: unknown field"), "{e}");
     }
 
     #[test]

@@ -115,7 +115,8 @@ pub enum HostBfm {
 /// (with 4 host cycles at 50/24 MHz a read waits behind the write and
 /// `pelican-error-kinds` diverges: measured).
 pub fn i8051_timing_for_rtl(host_hz: u64, can_hz: u64) -> I8051Timing {
-    let d = I8051Timing::default();
+    // The phases in ns (bfm::I8051AcTiming), in cycles of this host clock.
+    let d = bfm::I8051AcTiming::default().cycles(host_hz);
     let host_cycles = |can_clocks: u64| (can_clocks * host_hz).div_ceil(can_hz.max(1)) as u32;
     I8051Timing {
         rd: d.rd.max(host_cycles(18)),
@@ -680,6 +681,7 @@ impl Testbench {
             // of the strobe, with the port as it is then (the opencores
             // 8051 build: rd_i/wr_i registered once, the access on the
             // rising edge of the strobe, writes included).
+            (DutChoice::External(_), HostBfm::I8051(_), Some(Profile { i8051: Some(a), .. })) => from_profile(*a),
             (DutChoice::External(_), HostBfm::I8051(_), _) => RefTiming::CanEdges { read: 1, write: 1, command: 1 },
             (_, HostBfm::Wishbone, Some(p)) => from_profile(p.wishbone),
             (_, HostBfm::Avalon { .. }, Some(p)) => from_profile(p.avalon),
@@ -1961,10 +1963,15 @@ impl Testbench {
             passed = true;
             seen.push_str(&format!(" (waived by {id})"));
         }
-        // A miss on a read the model agrees with (nothing diverged) may be a
+        // A miss on a read the model agrees with (no read diverged) may be a
         // listed consequence of a deviation waived earlier in this run.
+        // Waived tx or pin divergences during the read do not count: a slow
+        // bus's read (the 8051's, about a bit time) overlaps them.
+        let read_waived = self.waivers.report().waived[waived_before..]
+            .iter()
+            .any(|w| w.divergence.kind == diagnose::DivergenceKind::RegisterRead);
         if !passed
-            && self.waivers.waived_count() == waived_before
+            && !read_waived
             && let Some(id) =
                 self.waivers.waive_consequence(&self.record.scenario, step, what, mask, expected, v)
         {

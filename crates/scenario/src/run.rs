@@ -203,6 +203,33 @@ fn node_init(n: &NodeSpec) -> Vec<(u8, u8)> {
     v
 }
 
+/// The external core a DUT spec names (sources, defines, includes, and the
+/// `[vhdl]` options of its profile); `None` for bundled DUTs.
+/// Driven over the 8051 bus (`host`), a core whose profile declares an
+/// `inout` port (`[access.i8051] inout-drive`) is wrapped in the split-port
+/// shell (`cosim::i8051_shell`).
+pub fn external_core(d: &DutSpec, host: Option<HostBfm>) -> Result<Option<ExternalCore>, String> {
+    external_core_of(&d.kind, d.profile.as_ref(), host)
+}
+
+fn external_core_of(kind: &DutKind, profile: Option<&cosim::Profile>, host: Option<HostBfm>) -> Result<Option<ExternalCore>, String> {
+    let DutKind::External { path, top, defines, includes } = kind else { return Ok(None) };
+    let core = ExternalCore {
+        dir: path.clone(),
+        top: top.clone(),
+        defines: defines.clone(),
+        include_dirs: includes.clone(),
+        vhdl: profile.map(|p| p.vhdl.clone()).unwrap_or_default(),
+        ..ExternalCore::default()
+    };
+    match (host, profile.and_then(|p| p.i8051_inout_drive.as_deref())) {
+        (Some(HostBfm::I8051), Some(drive)) => {
+            cosim::i8051_shell::wrap(&core, drive, &cosim::cache_dir()).map(Some).map_err(|e| e.to_string())
+        }
+        _ => Ok(Some(core)),
+    }
+}
+
 /// Builds the test-bench configuration for `s` on `dut`.
 pub fn tb_config(s: &Scenario, dut: &DutKind, opts: &RunOptions) -> Result<TbConfig, String> {
     let avalon_dut = matches!(s.dut, DutKind::AvalonWrapper);
@@ -225,14 +252,9 @@ pub fn tb_config(s: &Scenario, dut: &DutKind, opts: &RunOptions) -> Result<TbCon
         }
         DutKind::Rtl | DutKind::AvalonWrapper => DutChoice::Rtl,
         DutKind::Model => DutChoice::Model,
-        DutKind::External { path, top, defines, includes } => DutChoice::External(ExternalCore {
-            dir: path.clone(),
-            top: top.clone(),
-            files: Vec::new(),
-            defines: defines.clone(),
-            include_dirs: includes.clone(),
-            ..ExternalCore::default()
-        }),
+        DutKind::External { .. } => DutChoice::External(
+            external_core_of(dut, opts.dut.as_ref().and_then(|d| d.profile.as_ref()), Some(s.host))?.expect("an external kind"),
+        ),
     };
     let host = match s.host {
         HostBfm::Wishbone => cosim::HostBfm::Wishbone,

@@ -4,6 +4,7 @@
 
 mod model;
 pub mod shimgen;
+pub mod vhdl;
 
 pub use model::{BridgeError, CompiledCore, ExternalCore, Model, Port, PortInfo, VTable};
 pub use shimgen::PortDir;

@@ -119,6 +119,9 @@ pub enum BridgeError {
         /// Why.
         reason: String,
     },
+    /// The GHDL step of a core with VHDL sources failed ([`crate::vhdl`]).
+    #[error(transparent)]
+    Vhdl(#[from] crate::vhdl::VhdlError),
     /// File-system trouble.
     #[error("{context}: {source}")]
     Io {
@@ -494,6 +497,8 @@ pub struct ExternalCore {
     pub extra_args: Vec<String>,
     /// C++ body of the inner loop ([`Model::run_inner_loop`]), if any.
     pub inner_loop: Option<String>,
+    /// How VHDL sources (`*.vhd`, `*.vhdl`) go through GHDL ([`crate::vhdl`]).
+    pub vhdl: crate::vhdl::VhdlOptions,
 }
 
 /// A built external core: the loaded library and the symbol prefix.
@@ -609,6 +614,9 @@ impl ExternalCore {
             Ok(_) => return Err(bad("is not a directory".into())),
             Err(e) => return Err(bad(format!("cannot be read ({e})"))),
         }
+        if let Some(r) = crate::vhdl::check(self) {
+            return r;
+        }
         let sources = self.sources().map_err(|_| bad("holds no *.v or *.sv files".into()))?;
         let mut texts = Vec::new();
         for f in &sources {
@@ -707,6 +715,9 @@ impl ExternalCore {
     /// (one sub-directory per key; threads and processes building the same
     /// key at once are safe).
     pub fn build_in(&self, cache: &Path) -> Result<CompiledCore, BridgeError> {
+        if let Some(lowered) = crate::vhdl::lower(self, cache)? {
+            return lowered.build_in(cache);
+        }
         let sources = self.sources()?;
         let key = self.cache_key(&sources)?;
         let dir = cache.join(&key);

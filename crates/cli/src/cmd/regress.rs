@@ -73,7 +73,11 @@ pub fn run(a: Args) -> anyhow::Result<i32> {
         let mut d = DutSpec::external(dir, dir, &a.top).with_profile(profile);
         d.name = name.to_string();
         if let scenario::DutKind::External { defines, includes, .. } = &mut d.kind {
-            defines.push("CAN_WISHBONE_IF".into());
+            // The opencores core's Wishbone build; over the 8051 bus its
+            // default build (the profile's [access.i8051] says how).
+            if a.host.bfm() != Some(scenario::HostBfm::I8051) {
+                defines.push("CAN_WISHBONE_IF".into());
+            }
             includes.push(dir.into());
         }
         duts.push(d);
@@ -81,7 +85,7 @@ pub fn run(a: Args) -> anyhow::Result<i32> {
     if duts.is_empty() {
         duts.push(DutSpec::rtl());
     }
-    check_externals(&duts)?;
+    check_externals(&duts, a.host.bfm())?;
     let opts = RegressOptions {
         jobs: a.jobs,
         shard: a.shard,
@@ -127,17 +131,10 @@ pub fn run(a: Args) -> anyhow::Result<i32> {
 /// Bad `--external` input fails here, once, before the first scenario (an
 /// error: exit 2), not once per scenario. Building the core here also hands
 /// every worker a warm cache instead of one build per worker.
-fn check_externals(duts: &[DutSpec]) -> anyhow::Result<()> {
+fn check_externals(duts: &[DutSpec], host: Option<scenario::HostBfm>) -> anyhow::Result<()> {
     for d in duts {
-        if let scenario::DutKind::External { path, top, defines, includes } = &d.kind {
-            let core = cosim::ExternalCore {
-                dir: path.clone(),
-                top: top.clone(),
-                defines: defines.clone(),
-                include_dirs: includes.clone(),
-                ..Default::default()
-            };
-            let what = || format!("--external {}={}", d.name, path.display());
+        if let Some(core) = scenario::run::external_core(d, host).map_err(anyhow::Error::msg)? {
+            let what = || format!("--external {}={}", d.name, core.dir.display());
             core.check().with_context(what)?;
             cosim::build_external(&core).with_context(what)?;
         }

@@ -11,7 +11,7 @@ pub struct DutArgs {
     /// Bundled DUT instead of the scenario's: `rtl` (our can_top) or `model` (the golden model).
     #[arg(long, value_parser = ["rtl", "model"], conflicts_with = "external")]
     pub dut: Option<String>,
-    /// An external core's directory (Verilog files with the opencores can_top port list).
+    /// An external core's directory (Verilog and/or VHDL files; the opencores can_top port list or the 8051 bus).
     #[arg(long, value_name = "DIR")]
     pub external: Option<PathBuf>,
     /// Top module of the external core.
@@ -146,8 +146,13 @@ pub fn run_cmd(a: Args) -> anyhow::Result<i32> {
         let core = cosim::ExternalCore { dir: dir.clone(), top: a.dut.top.clone(), ..Default::default() };
         core.check().with_context(|| format!("--external {}", dir.display()))?;
     }
+    let dut = a.dut.spec()?;
+    // VHDL sources: GHDL's errors are bad input too (exit 2, file:line), said before the run.
+    if let Some(core) = dut.as_ref().map(|d| scenario::run::external_core(d, a.host.bfm())).transpose().map_err(anyhow::Error::msg)?.flatten() {
+        cosim::vhdl::lower(&core, &cosim::cache_dir()).with_context(|| format!("--external {}", core.dir.display()))?;
+    }
     let opts = RunOptions {
-        dut: a.dut.spec()?,
+        dut,
         vcd: a.vcd.clone(),
         max_bits: a.max_bits,
         waivers: a.waivers.waivers.clone(),
