@@ -604,3 +604,21 @@ fn counters_taken_from_the_model_are_marked_and_dropped_after_a_divergence() {
     assert_eq!(d.figures.tec, Some(160));
     assert!(d.to_text().contains("TEC 160 (the model's); REC 0 (the model's)"), "{}", d.to_text());
 }
+
+/// A node with the same BTR on a clock off by less than the two timings'
+/// oscillator tolerances (CAN 2.0B section 10) is a clock tolerance test,
+/// not a mismatch; beyond them it is one.
+#[test]
+fn drifting_oscillator_is_a_mismatch_only_beyond_the_tolerance() {
+    let drift = |hz: f64| {
+        let mut r = RunRecord::new("drift", "rtl");
+        r.wiring.nodes.push(BusNode { name: "n".into(), timing: Timing { can_clock_hz: hz, ..Timing::default() }, acknowledges: true });
+        rules::bit_timing_mismatch(&r).is_some()
+    };
+    // Timing::default: 24 MHz, 0x41/0x25: 10 tq, SJW 2 tq: 1 % per node.
+    assert!(!drift(24e6 * 1.015));
+    assert!(!drift(24e6 * 0.985));
+    assert!(drift(24e6 * 1.025));
+    assert!(drift(24e6 * 0.97));
+    assert!((can_proto::timing::BusTiming::from_btr(0x41, 0x25).oscillator_tolerance() - 0.01).abs() < 1e-12);
+}
