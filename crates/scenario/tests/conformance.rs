@@ -84,3 +84,19 @@ fn clock_tolerance_scenarios_depend_on_the_drifting_oscillator() {
     // frames fail (on the bench clock every read would still pass).
     assert!(o.record.expectations.iter().any(|e| !e.passed), "5 % off: every register read passed: the node clock is not applied");
 }
+
+/// A scenario that expects `BitTimingMismatch` (7.7.4) still has its reads
+/// judged: a wrong expectation there fails although the category matches.
+#[test]
+fn reads_are_judged_behind_an_expected_bit_timing_mismatch() {
+    let path = root().join("tb/conformance/rx-7.7.4-beyond-sjw.toml");
+    let text = std::fs::read_to_string(&path).unwrap();
+    let from = "read = \"RMC\", expect = 0,";
+    assert!(text.contains(from), "the mutation point moved");
+    let good = run(&Scenario::parse(&text, &path).unwrap(), &RunOptions { dut: Some(DutSpec::model()), ..Default::default() });
+    assert!(good.passed, "{:?}", good.mismatches);
+    let s = Scenario::parse(&text.replacen(from, "read = \"RMC\", expect = 1,", 1), &path).unwrap();
+    let o = run(&s, &RunOptions { dut: Some(DutSpec::model()), ..Default::default() });
+    assert_eq!(o.diagnosis.category, diagnose::Category::BitTimingMismatch);
+    assert!(!o.passed, "a wrong RMC expectation hid behind the expected BitTimingMismatch");
+}
