@@ -63,6 +63,18 @@ impl BusTiming {
     pub fn sample_point(&self) -> f64 {
         (1 + self.tseg1 as u32 + 1) as f64 / self.tq_per_bit() as f64
     }
+
+    /// Largest oscillator deviation per node (a fraction) that this timing
+    /// absorbs, CAN 2.0B section 10: df <= min(PS1, PS2) / (2 (13 NBT - PS2))
+    /// and df <= SJW / (20 NBT), in time quanta. The SJA1000's TSEG1 holds
+    /// the propagation segment too, so all of it counts as PS1 here: an upper
+    /// bound (two nodes may differ by up to twice this).
+    pub fn oscillator_tolerance(&self) -> f64 {
+        let nbt = self.tq_per_bit() as f64;
+        let (ps1, ps2) = (self.tseg1 as f64 + 1.0, self.tseg2 as f64 + 1.0);
+        let sjw = self.sjw as f64 + 1.0;
+        (ps1.min(ps2) / (2.0 * (13.0 * nbt - ps2))).min(sjw / (20.0 * nbt))
+    }
 }
 
 /// Largest bit-rate deviation from the target that [`BusTiming::candidates`]

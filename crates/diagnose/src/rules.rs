@@ -551,9 +551,13 @@ pub fn suggest_btr(clk: f64, rate: f64, sp: f64) -> Option<(u8, u8)> {
 pub fn bit_timing_mismatch(r: &RunRecord) -> Option<Finding> {
     let me = r.timing;
     let (rate, sp) = (me.bit_rate(), me.sample_point());
+    // A node with its own oscillator (a clock tolerance test) is no mismatch
+    // while both timings absorb the difference (CAN 2.0B section 10).
     let node = r.wiring.nodes.iter().find(|n| {
         let (nr, ns) = (n.timing.bit_rate(), n.timing.sample_point());
-        ((nr - rate) / rate).abs() > 0.005 || (ns - sp).abs() > 0.15
+        let same_btr = (n.timing.btr0, n.timing.btr1) == (me.btr0, me.btr1);
+        let allowed = if same_btr { me.bus_timing().oscillator_tolerance() + n.timing.bus_timing().oscillator_tolerance() } else { 0.0 };
+        ((nr - rate) / rate).abs() > allowed.max(0.005) || (ns - sp).abs() > 0.15
     })?;
     let (nr, ns) = (node.timing.bit_rate(), node.timing.sample_point());
     let mut f = base_figures(r);

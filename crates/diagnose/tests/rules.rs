@@ -627,3 +627,21 @@ fn accesses_the_core_repeated_are_named_as_the_host_s_doing() {
     r.host_ops[1].repeats = 0;
     assert!(!diagnose(&r).also.iter().any(|f| f.what_happened.contains("more than once")));
 }
+
+/// A node with the same BTR on a clock off by less than the two timings'
+/// oscillator tolerances (CAN 2.0B section 10) is a clock tolerance test,
+/// not a mismatch; beyond them it is one.
+#[test]
+fn drifting_oscillator_is_a_mismatch_only_beyond_the_tolerance() {
+    let drift = |hz: f64| {
+        let mut r = RunRecord::new("drift", "rtl");
+        r.wiring.nodes.push(BusNode { name: "n".into(), timing: Timing { can_clock_hz: hz, ..Timing::default() }, acknowledges: true });
+        rules::bit_timing_mismatch(&r).is_some()
+    };
+    // Timing::default: 24 MHz, 0x41/0x25: 10 tq, SJW 2 tq: 1 % per node.
+    assert!(!drift(24e6 * 1.015));
+    assert!(!drift(24e6 * 0.985));
+    assert!(drift(24e6 * 1.025));
+    assert!(drift(24e6 * 0.97));
+    assert!((can_proto::timing::BusTiming::from_btr(0x41, 0x25).oscillator_tolerance() - 0.01).abs() < 1e-12);
+}

@@ -55,7 +55,7 @@
 //!
 //! [[node]]            # golden-model node on the bus
 //! name = "acker"; btr0 = 0x41; btr1 = 0x25; mode = "basic"; acr = [0xFF]; amr = [0xFF]
-//! listen_only = false; can_mhz = 24.0
+//! listen_only = false; can_mhz = 24.0   # its own oscillator (clock tolerance), below twice clocks.can_mhz
 //! send = [{ id = 0x0F, data = [0x0F], at_bit = 100 }]
 //! # and/or a candump log (`candump -l`) as its traffic, gaps kept: in bit
 //! # times at the capture's bit_rate, else in seconds at the node's rate
@@ -831,6 +831,9 @@ fn build(ctx: &Ctx, raw: RawScenario, file: &Path) -> Result<Scenario, ScenarioE
         let node_hz = n.can_mhz.map(|m| m * 1e6).unwrap_or(can_hz);
         if !(node_hz.is_finite() && node_hz > 0.0) {
             return Err(ctx.err_key(&span, "can_mhz", &format!("{p}.can_mhz"), "not a usable clock"));
+        }
+        if node_hz >= 2.0 * can_hz {
+            return Err(ctx.err_key(&span, "can_mhz", &format!("{p}.can_mhz"), format!("a node's clock must be below twice the bus clock ({} MHz)", clocks.can_mhz)));
         }
         let btr0 = byte(ctx, &span, "btr0", &format!("{p}.btr0"), n.btr0)?;
         let btr1 = byte(ctx, &span, "btr1", &format!("{p}.btr1"), n.btr1)?;

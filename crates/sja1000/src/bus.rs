@@ -350,6 +350,31 @@ pub enum AccountingError {
     },
 }
 
+/// A node's oscillator against the bus clock (fractional clock divider).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+struct NodeClock {
+    node_hz: u64,
+    bus_hz: u64,
+    /// Node clock phase in units of 1 / bus_hz of a node clock.
+    phase: u64,
+}
+
+impl NodeClock {
+    const SAME: NodeClock = NodeClock { node_hz: 1, bus_hz: 1, phase: 0 };
+
+    /// Node clocks due in the next bus clock.
+    #[inline]
+    fn ticks(&mut self) -> u32 {
+        if self.node_hz == self.bus_hz {
+            return 1;
+        }
+        self.phase += self.node_hz;
+        let n = self.phase / self.bus_hz;
+        self.phase %= self.bus_hz;
+        n as u32
+    }
+}
+
 /// N SJA1000 nodes on one wired-AND bus.
 #[derive(Debug)]
 pub struct Bus {
@@ -357,6 +382,9 @@ pub struct Bus {
     tx_delay: Vec<DelayLine>,
     rx_delay: Vec<DelayLine>,
     delays: Vec<u32>,
+    /// Each node's own oscillator against the bus clock: (node Hz, bus Hz)
+    /// and the phase accumulated so far ([`Bus::set_node_clock`]).
+    node_clock: Vec<NodeClock>,
     faults: Vec<Box<dyn FaultInjector>>,
     level: bool,
     clock: u64,
@@ -386,6 +414,7 @@ impl Bus {
             tx_delay: Vec::new(),
             rx_delay: Vec::new(),
             delays: Vec::new(),
+            node_clock: Vec::new(),
             faults: Vec::new(),
             level: RECESSIVE,
             clock: 0,
@@ -417,6 +446,7 @@ impl Bus {
         self.tx_delay.push(DelayLine::new(0));
         self.rx_delay.push(DelayLine::new(0));
         self.delays.push(0);
+        self.node_clock.push(NodeClock::SAME);
         i
     }
 
@@ -451,6 +481,18 @@ impl Bus {
         self.tx_delay[i] = DelayLine::new(clocks);
         self.rx_delay[i] = DelayLine::new(clocks);
         self.delays[i] = clocks;
+    }
+
+    /// Gives node `i` its own oscillator: `node_hz` against the bus clock's
+    /// `bus_hz` (a clock tolerance test: CAN 2.0B section 9 lets each node's
+    /// oscillator deviate, resynchronisation keeps them in step). Each bus
+    /// clock the node gets `node_hz / bus_hz` clocks on average (0, 1 or 2
+    /// in one bus clock, so at most one bus clock of jitter); it sees the
+    /// bus level of the bus clock its edge falls in. `node_hz` must be
+    /// below twice `bus_hz`; equal rates (the default) change nothing.
+    pub fn set_node_clock(&mut self, i: usize, node_hz: u64, bus_hz: u64) {
+        assert!(bus_hz > 0 && node_hz > 0 && node_hz < 2 * bus_hz, "node clock {node_hz} Hz against bus {bus_hz} Hz: must be in (0, 2 x bus)");
+        self.node_clock[i] = if node_hz == bus_hz { NodeClock::SAME } else { NodeClock { node_hz, bus_hz, phase: 0 } };
     }
 
     /// Adds a fault injector; they apply in the order added.
@@ -569,6 +611,7 @@ impl Bus {
         let t = first.engine().timing();
         self.nodes.iter().all(|n| n.engine().timing() == t)
             && self.delays.iter().all(|&d| d == 0)
+            && self.node_clock.iter().all(|c| c.node_hz == c.bus_hz)
             && self.faults.iter().all(|f| !f.needs_clocks())
     }
 
@@ -601,7 +644,9 @@ impl Bus {
             for f in &mut self.faults {
                 rx = f.apply(&ctx, i, rx);
             }
-            self.nodes[i].clock(rx);
+            for _ in 0..self.node_clock[i].ticks() {
+                self.nodes[i].clock(rx);
+            }
         }
         self.clock += 1;
         self.collect();

@@ -591,3 +591,20 @@ fn wake_up_and_abort_retransmission_waivers_catch_the_rest() {
     }
     assert_ne!(by(&set.check_observed(&pin(4, Field::ExtId), &dut, &operating)), Some(irq), "max-hits 26");
 }
+
+/// D10b's BEI part (conformance tx-8.5.11): BEI cleared by bus-off is
+/// waived only in the bus-off read (EI set in both), once.
+#[test]
+fn bei_cleared_by_bus_off_takes_only_the_bus_off_read() {
+    let path = concat!(env!("CARGO_MANIFEST_DIR"), "/../../tb/waivers/opencores-upstream.toml");
+    let dut = DutInfo::new("opencores-can (/cores/can)");
+    let by = |v: &Verdict| match v {
+        Verdict::Waived { waiver_id, .. } => Some(waiver_id.clone()),
+        _ => None,
+    };
+    let mut set = WaiverSet::load(path).unwrap();
+    assert_eq!(by(&set.check(&read_div("IR", 0x80, 0x00), &dut)), None, "BEI without EI is not the bus-off read");
+    assert_eq!(by(&set.check(&read_div("IR", 0x84, 0x00), &dut)), None, "EI lost too: more than BEI");
+    assert_eq!(by(&set.check(&read_div("IR", 0x84, 0x04), &dut)), Some("bei-cleared-by-bus-off".into()));
+    assert_eq!(by(&set.check(&read_div("IR", 0x84, 0x04), &dut)), None, "max-hits 1");
+}
