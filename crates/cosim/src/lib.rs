@@ -10,6 +10,7 @@ pub mod bitclock;
 pub mod candump;
 pub mod bridge;
 pub mod compare;
+pub mod coverage;
 pub mod dut;
 pub mod gtkw;
 pub mod holdoff;

@@ -246,6 +246,16 @@ pub fn gen_shim(top: &str, ports: &[PortDecl], trace: bool) -> String {
     s
 }
 
+/// The extra C++ of a coverage build (`verilator --coverage`): writes the
+/// instance's counters to a `.dat` (`verilator_coverage` merges them).
+pub fn gen_coverage_writer(top: &str) -> String {
+    let p = symbol_prefix(top);
+    format!(
+        "#include \"verilated_cov.h\"\nextern \"C\" int {p}coverage_write(void* h, const char* path) {{\n  \
+         auto* i = (CosimInst_{top}*)h;\n  i->ctx->coveragep()->write(path);\n  return 0;\n}}\n"
+    )
+}
+
 /// A raw C++ harness for the same top: the speed baseline for the bridge.
 /// It toggles `clk_port` (and `host_clk_port`, if given, at its own
 /// period) with the same event order as the Rust kernel, one `eval` per
