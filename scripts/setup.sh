@@ -1,7 +1,8 @@
 #!/usr/bin/env bash
 # Installs what the project needs on a fresh Debian machine: Verilator (the
 # co-simulation DUT build), Icarus Verilog (RTL compile check, bench) and
-# Yosys (resource estimate), SDCC (8051 header check). Rust comes with the machine (rustup).
+# Yosys (resource estimate), SDCC (8051 header check), lcov (genhtml for
+# `regress --coverage`). Rust comes with the machine (rustup).
 # Fails with one clear sentence when something cannot be had.
 set -euo pipefail
 
@@ -17,6 +18,8 @@ command -v gcc  >/dev/null 2>&1 || need_pkgs+=(gcc)
 command -v tclsh >/dev/null 2>&1 || need_pkgs+=(tcl)
 # sdcc compiles the generated 8051 header in the generator tests.
 command -v sdcc  >/dev/null 2>&1 || need_pkgs+=(sdcc)
+# lcov's genhtml writes the HTML report of `regress --coverage`.
+command -v genhtml >/dev/null 2>&1 || need_pkgs+=(lcov)
 
 if [ ${#need_pkgs[@]} -gt 0 ]; then
   if ! command -v apt-get >/dev/null 2>&1; then

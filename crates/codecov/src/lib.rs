@@ -76,6 +76,8 @@ pub struct Point {
     pub file: String,
     /// Source line.
     pub line: u32,
+    /// Source column (Verilator's `n`).
+    pub column: u32,
     /// Kind.
     pub kind: Kind,
     /// Verilator's comment: the signal of a toggle point, `if`/`else`/`case`/`block`...
@@ -103,12 +105,13 @@ pub fn parse_dat(text: &str, name: &str) -> Result<Vec<Point>, Error> {
         let rest = l.strip_prefix("C '").ok_or_else(bad)?;
         let (keys, count) = rest.rsplit_once("' ").ok_or_else(bad)?;
         let count: u64 = count.trim().parse().map_err(|_| bad())?;
-        let mut p = Point { file: String::new(), line: 0, kind: Kind::Other, comment: String::new(), hier: String::new(), count };
+        let mut p = Point { file: String::new(), line: 0, column: 0, kind: Kind::Other, comment: String::new(), hier: String::new(), count };
         for kv in keys.split('\x01').filter(|s| !s.is_empty()) {
             let (k, v) = kv.split_once('\x02').ok_or_else(bad)?;
             match k {
                 "f" => p.file = v.to_string(),
                 "l" => p.line = v.parse().map_err(|_| bad())?,
+                "n" => p.column = v.parse().map_err(|_| bad())?,
                 "o" => p.comment = v.to_string(),
                 "h" => p.hier = v.to_string(),
                 "page" => {
@@ -161,11 +164,26 @@ pub struct FileCoverage {
     pub branch: Counts,
 }
 
-/// Per file (sorted by path), and the total last.
+/// The points of the source, each counted once: a module instantiated
+/// twice (or in two tops' runs) has its points hit when any instance hit
+/// them (the count is the sum).
+pub fn by_source(points: &[Point]) -> Vec<Point> {
+    let mut m: BTreeMap<(&str, u32, u32, Kind, &str), Point> = BTreeMap::new();
+    for p in points {
+        m.entry((&p.file, p.line, p.column, p.kind, &p.comment))
+            .and_modify(|q| q.count += p.count)
+            .or_insert_with(|| Point { hier: String::new(), ..p.clone() });
+    }
+    m.into_values().collect()
+}
+
+/// Per file (sorted by path), and the total last; points counted per
+/// source ([`by_source`]), not per instance.
 pub fn summarize(points: &[Point]) -> Vec<FileCoverage> {
     let mut by: BTreeMap<&str, FileCoverage> = BTreeMap::new();
     let mut total = FileCoverage { file: "total".into(), ..Default::default() };
-    for p in points {
+    let points = by_source(points);
+    for p in &points {
         let f = by.entry(&p.file).or_insert_with(|| FileCoverage { file: p.file.clone(), ..Default::default() });
         for fc in [f, &mut total] {
             match p.kind {

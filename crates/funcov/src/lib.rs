@@ -165,6 +165,12 @@ impl Coverage {
         observe::run(self, record, frames);
     }
 
+    /// The holes of `group` in words, register bits folded per register
+    /// and value (`ACR0 =1 bits 7-0`).
+    pub fn holes_in(&self, group: &str) -> Vec<String> {
+        table::compact_holes(self, group)
+    }
+
     /// The table: groups with the fewest hit bins first, then every hole
     /// by group, then anything unlisted.
     pub fn to_table(&self) -> String {

@@ -90,6 +90,10 @@ fn register_bits_count_per_view_mode_and_value_and_ignored_writes_do_not() {
     assert_eq!(c.hits(g, "ACR0 bit 0=0"), Some(1));
     assert_eq!(c.hits(g, "ACR0 bit 0=1"), Some(0), "the ignored write sets nothing");
     assert_eq!(c.hits(g, "ACR0 bit 7=0"), Some(0));
+    // The holes fold per register and value.
+    let holes = c.holes_in(g);
+    assert!(holes.contains(&"ACR0 =1 bits 6-0".to_string()), "{holes:?}");
+    assert!(holes.contains(&"ACR0 =0 bit 7".to_string()), "{holes:?}");
 }
 
 #[test]
