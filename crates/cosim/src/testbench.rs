@@ -1768,6 +1768,7 @@ impl Testbench {
                             Some((_, v)) => v,
                             None => refm.read(addr),
                         };
+                        rec.model_data = Some(mv);
                         if let Some(c) = &mut self.comparator
                             && !self.stopped
                         {

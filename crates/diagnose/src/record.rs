@@ -251,6 +251,10 @@ pub struct HostOp {
     /// answered, more means the master missed the answer.
     #[serde(default)]
     pub acks_seen: u32,
+    /// On a read: what the golden model read at the same access (the
+    /// functional coverage counts register bits from the model's side).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub model_data: Option<u8>,
 }
 
 impl HostOp {

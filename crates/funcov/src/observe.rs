@@ -107,22 +107,25 @@ fn host_ops(c: &mut Coverage, ops: &[HostOp]) {
             OpAccess::Read => Access::Read,
             OpAccess::Write => Access::Write,
         };
+        // A read counts what the golden model read (the DUT's value when the
+        // record has no model value, e.g. a record written before it had one).
+        let data = if access == Access::Read { op.model_data.unwrap_or(op.data) } else { op.data };
         if let Some((reg, mask)) = bins::register_bits(v, opm, access, op.addr) {
             let group = bins::register_group(v, opm, access);
             for bit in (0..8).filter(|b| mask & (1 << b) != 0) {
-                c.hit(&group, &bins::register_bit(reg, bit, op.data & (1 << bit) != 0));
+                c.hit(&group, &bins::register_bit(reg, bit, data & (1 << bit) != 0));
             }
         }
         if access == Access::Read && op.addr == bins::ir_addr(v) {
             let k = (v == Mode::PeliCan) as usize;
             for (name, m) in bins::interrupt_fields(v) {
-                if op.data & m != 0 {
+                if data & m != 0 {
                     c.hit(&bins::interrupt_group(v), &format!("{name} raised"));
                 } else if last_ir[k] & m != 0 {
                     c.hit(&bins::interrupt_group(v), &format!("{name} cleared"));
                 }
             }
-            last_ir[k] = op.data;
+            last_ir[k] = data;
         }
     }
 }
@@ -152,7 +155,12 @@ fn events(c: &mut Coverage, r: &RunRecord, frames: &[BusFrame]) {
             c.hit(bins::FAULT, if warning { bins::WARNING_REACHED } else { bins::WARNING_LEFT });
         }
         match &e.kind {
-            EventKind::BusError { kind, field, .. } => c.hit(bins::ERRORS, &bins::error(*kind, *field)),
+            // The event's field is where the engine is when it reports (an
+            // ACK error shows up in the error flag); the ECC says where the
+            // error was detected, as the SJA1000 reports it.
+            EventKind::BusError { kind, field, ecc } => {
+                c.hit(bins::ERRORS, &bins::error(*kind, diagnose::field_from_ecc(*ecc).unwrap_or(*field)))
+            }
             EventKind::ArbitrationLost { alc } => c.hit(bins::ARBITRATION, &bins::arbitration(*alc)),
             EventKind::FaultState(s) if *s != state => {
                 c.hit(bins::FAULT, &bins::transition(state, *s));

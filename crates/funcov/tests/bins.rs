@@ -146,3 +146,17 @@ fn merging_adds_hits_and_keeps_unlisted_bins() {
     m.merge(&back);
     assert_eq!(m.hits("frame kinds", "SFF data DLC 1"), Some(2));
 }
+
+#[test]
+fn reads_count_the_golden_models_value_not_the_duts() {
+    // The DUT read IR = 0x02 (TI), the model 0x01 (RI): coverage is the model's.
+    let op = HostOp { mode: CanMode::PeliCan, model_data: Some(0x01), ..HostOp::read(3, 0x02) };
+    let mut r = RunRecord::new("t", "rtl");
+    r.host_ops.push(op);
+    let mut c = Coverage::new();
+    c.observe(&r, &[]);
+    assert_eq!(c.hits("interrupts PeliCAN", "RI raised"), Some(1));
+    assert_eq!(c.hits("interrupts PeliCAN", "TI raised"), Some(0));
+    assert_eq!(c.hits("registers PeliCAN operating read", "IR bit 0=1"), Some(1));
+    assert_eq!(c.hits("registers PeliCAN operating read", "IR bit 1=1"), Some(0));
+}
