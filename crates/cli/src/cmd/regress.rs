@@ -93,7 +93,7 @@ pub fn run(a: Args) -> anyhow::Result<i32> {
     if duts.is_empty() {
         duts.push(DutSpec::rtl());
     }
-    check_externals(&duts)?;
+    check_externals(&duts, a.coverage.is_some())?;
     let opts = RegressOptions {
         jobs: a.jobs,
         shard: a.shard,
@@ -177,8 +177,9 @@ fn code_coverage(dir: &std::path::Path, report: &scenario::regress::RegressRepor
 
 /// Bad `--external` input fails here, once, before the first scenario (an
 /// error: exit 2), not once per scenario. Building the core here also hands
-/// every worker a warm cache instead of one build per worker.
-fn check_externals(duts: &[DutSpec]) -> anyhow::Result<()> {
+/// every worker a warm cache instead of one build per worker (the coverage
+/// build under `--coverage`, the one the runs use).
+fn check_externals(duts: &[DutSpec], coverage: bool) -> anyhow::Result<()> {
     for d in duts {
         if let scenario::DutKind::External { path, top, defines, includes } = &d.kind {
             let core = cosim::ExternalCore {
@@ -186,6 +187,7 @@ fn check_externals(duts: &[DutSpec]) -> anyhow::Result<()> {
                 top: top.clone(),
                 defines: defines.clone(),
                 include_dirs: includes.clone(),
+                coverage,
                 ..Default::default()
             };
             let what = || format!("--external {}={}", d.name, path.display());
