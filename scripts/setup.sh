@@ -1,7 +1,8 @@
 #!/usr/bin/env bash
 # Installs what the project needs on a fresh Debian machine: Verilator (the
 # co-simulation DUT build), Icarus Verilog (RTL compile check, bench) and
-# Yosys (resource estimate), SDCC (8051 header check), GHDL (VHDL cores). Rust comes with the machine (rustup).
+# Yosys (resource estimate), SDCC (8051 header check), GHDL (VHDL cores),
+# lcov (genhtml for `regress --coverage`). Rust comes with the machine (rustup).
 # Fails with one clear sentence when something cannot be had.
 set -euo pipefail
 
@@ -19,6 +20,8 @@ command -v tclsh >/dev/null 2>&1 || need_pkgs+=(tcl)
 command -v sdcc  >/dev/null 2>&1 || need_pkgs+=(sdcc)
 # ghdl turns VHDL cores into Verilog (ghdl --synth) for Verilator.
 command -v ghdl  >/dev/null 2>&1 || need_pkgs+=(ghdl)
+# lcov's genhtml writes the HTML report of `regress --coverage`.
+command -v genhtml >/dev/null 2>&1 || need_pkgs+=(lcov)
 
 if [ ${#need_pkgs[@]} -gt 0 ]; then
   if ! command -v apt-get >/dev/null 2>&1; then

@@ -11,6 +11,7 @@ mod batch_shim;
 pub mod bitclock;
 pub mod candump;
 pub mod compare;
+pub mod coverage;
 pub mod dut;
 pub mod gtkw;
 pub mod holdoff;

@@ -227,6 +227,9 @@ pub struct TbConfig {
     /// The golden model as DUT (`DutChoice::Model`) starts its bit timing
     /// from here: it stands in for a core with either freedom.
     pub model_dut_phase_origin: PhaseOrigin,
+    /// Build the DUT with Verilator's coverage and write its counters here
+    /// when the bench is dropped ([`crate::coverage`]); a Verilated DUT only.
+    pub coverage_dat: Option<PathBuf>,
 }
 
 impl Default for TbConfig {
@@ -256,6 +259,7 @@ impl Default for TbConfig {
             collect: CollectMode::StopAtFirst,
             profile: None,
             model_dut_phase_origin: PhaseOrigin::ResetModeExit,
+            coverage_dat: None,
         }
     }
 }
@@ -454,7 +458,8 @@ impl Testbench {
         } else {
             HostPort::Wishbone
         };
-        let mut dut = match &cfg.dut {
+        let covered = cfg.coverage_dat.as_deref().map(|dat| crate::coverage::covered_dut(&cfg.dut, wb_or_8051, ports, trace, dat)).transpose()?;
+        let mut dut = if let Some(d) = covered { AnyDut::Verilated(d) } else { match &cfg.dut {
             DutChoice::Rtl if i8051 => AnyDut::Verilated(VerilatedDut::bundled(
                 "can_top_8051",
                 HostPort::I8051,
@@ -492,7 +497,7 @@ impl Testbench {
             )),
             DutChoice::Echo => AnyDut::Other(Box::new(EchoModel::new())),
             DutChoice::Custom(c) => AnyDut::Other((c.make)()),
-        };
+        }};
         if let Some(p) = &cfg.dut_trace {
             dut.trace_open(p)?;
         }
@@ -1856,6 +1861,7 @@ impl Testbench {
                             Some((_, v)) => v,
                             None => refm.read(addr),
                         };
+                        rec.model_data = Some(mv);
                         if let Some(c) = &mut self.comparator
                             && !self.stopped
                         {

@@ -255,6 +255,10 @@ pub struct HostOp {
     /// the request past its ack (the reference performed it as often).
     #[serde(default)]
     pub repeats: u32,
+    /// On a read: what the golden model read at the same access (the
+    /// functional coverage counts register bits from the model's side).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub model_data: Option<u8>,
 }
 
 impl HostOp {

@@ -28,6 +28,20 @@ pub struct RegressOptions {
     pub collect: waivers::CollectMode,
     /// Host override for every run (see [`RunOptions::host`]).
     pub host: Option<crate::HostBfm>,
+    /// `--coverage DIR`: every run builds its DUT with Verilator's coverage
+    /// and writes [`coverage_dat`]`(DIR, dut, scenario)`.
+    pub coverage_dir: Option<std::path::PathBuf>,
+}
+
+/// Where a run of `scenario` on `dut` writes its coverage counters under
+/// `dir`: `dir/dat/<dut>/<scenario>.dat`, names made file-safe.
+pub fn coverage_dat(dir: &std::path::Path, dut: &str, scenario: &str) -> std::path::PathBuf {
+    dir.join("dat").join(file_safe(dut)).join(format!("{}.dat", file_safe(scenario)))
+}
+
+/// `name` with everything but letters, digits, `-`, `_` and `.` as `_`.
+pub fn file_safe(name: &str) -> String {
+    name.chars().map(|c| if c.is_ascii_alphanumeric() || matches!(c, '-' | '_' | '.') { c } else { '_' }).collect()
 }
 
 /// Parses `--shard k/n` (1 <= k <= n).
@@ -92,6 +106,9 @@ pub struct Cell {
     pub stopped_early: bool,
     /// The waivers that matched in this run, in plain words, with counts.
     pub deviations: Vec<diagnose::WaivedDeviation>,
+    /// What the run exercised, seen from the golden model's side (None: no
+    /// run, or skipped).
+    pub funcov: Option<funcov::Coverage>,
 }
 
 impl Cell {
@@ -146,8 +163,24 @@ impl Cell {
             stale: o.waivers.as_ref().map(|r| r.stale.clone()).unwrap_or_default(),
             stopped_early: o.waivers.as_ref().is_some_and(|r| r.stopped_early),
             deviations: o.waivers.as_ref().map(|r| r.deviations.clone()).unwrap_or_default(),
+            funcov: o.skipped.is_none().then(|| run_funcov(o)),
         }
     }
+}
+
+/// Functional coverage of one run: its record and its bus frames.
+pub fn run_funcov(o: &RunOutcome) -> funcov::Coverage {
+    let frames: Vec<funcov::BusFrame> = o
+        .bus_log
+        .iter()
+        .filter_map(|e| match e.kind {
+            cosim::candump::LogKind::Frame(frame) => Some(funcov::BusFrame { t_ps: e.t_ps, frame }),
+            _ => None,
+        })
+        .collect();
+    let mut c = funcov::Coverage::new();
+    c.observe(&o.record, &frames);
+    c
 }
 
 /// A waiver that matched on a DUT somewhere in the suite.
@@ -171,6 +204,15 @@ pub struct RegressReport {
 }
 
 impl RegressReport {
+    /// Functional coverage on `dut`, merged over the scenarios that ran.
+    pub fn funcov(&self, dut: &str) -> funcov::Coverage {
+        let mut c = funcov::Coverage::new();
+        for f in self.cells.iter().filter(|c| c.dut == dut).filter_map(|c| c.funcov.as_ref()) {
+            c.merge(f);
+        }
+        c
+    }
+
     /// True if every cell passed.
     pub fn passed(&self) -> bool {
         self.cells.iter().all(|c| c.status.ok())
@@ -372,6 +414,17 @@ impl RegressReport {
             if !hit.is_empty() {
                 suite.set_system_out(hit.join("\n"));
             }
+            // Functional coverage (golden model's side) as properties:
+            // the total, each group, and the holes by name.
+            let fc = self.funcov(d);
+            let pct = |g: &funcov::GroupSummary| format!("{}/{} ({:.1}%)", g.hit, g.total, g.percent());
+            suite.add_property(quick_junit::Property::new("funcov", pct(&fc.totals())));
+            for g in fc.summary() {
+                suite.add_property(quick_junit::Property::new(format!("funcov {}", g.group), pct(&g)));
+            }
+            for g in fc.summary().iter().filter(|g| g.hit < g.total) {
+                suite.add_property(quick_junit::Property::new(format!("funcov holes {}", g.group), fc.holes_in(&g.group).join(", ")));
+            }
             if !warnings.is_empty() {
                 suite.set_system_err(warnings.join("\n"));
             }
@@ -423,8 +476,14 @@ pub fn regress_with(
                         dut_revision: opts.dut_revision.clone(),
                         collect: opts.collect,
                         host: opts.host,
+                        // The golden model as DUT has no code to cover.
+                        coverage_dat: opts.coverage_dir.as_deref().filter(|_| duts[di].kind != crate::DutKind::Model).map(|d| coverage_dat(d, &duts[di].name, &s.name)),
                         ..Default::default()
                     };
+                    if let Some(dir) = o.coverage_dat.as_deref().and_then(std::path::Path::parent) {
+                        // A failure shows as a missing .dat, which the merge reports.
+                        let _ = std::fs::create_dir_all(dir);
+                    }
                     let out = runner(s, &o);
                     let cell = Cell::from_outcome(&s.name, &out);
                     bar.set_message(format!("{} on {}", s.name, duts[di].name));
@@ -486,6 +545,7 @@ pub fn regress_inputs(inputs: &[std::path::PathBuf], duts: &[DutSpec], opts: &Re
                     stale: Vec::new(),
                     stopped_early: false,
                     deviations: Vec::new(),
+                    funcov: None,
                 });
             }
             report.scenarios.push(name);

@@ -76,6 +76,9 @@ pub struct RunOptions {
     /// A scenario whose point is its host wiring (`[host] fixed`) is
     /// skipped, see [`RunOutcome::skipped`].
     pub host: Option<HostBfm>,
+    /// Build the DUT with Verilator's coverage and write its counters to
+    /// this `.dat` at the end of the run (`regress --coverage`).
+    pub coverage_dat: Option<std::path::PathBuf>,
 }
 
 /// The scenario as run with a host override: the host replaced, and our
@@ -334,6 +337,7 @@ pub fn tb_config(s: &Scenario, dut: &DutKind, opts: &RunOptions) -> Result<TbCon
         dut_revision: opts.dut_revision.clone(),
         collect: opts.collect,
         profile,
+        coverage_dat: opts.coverage_dat.clone(),
         ..TbConfig::default()
     })
 }

@@ -201,7 +201,13 @@ pub struct Model {
     tracing: bool,
     /// Keeps a run-time built library mapped while the model lives.
     _lib: Option<Arc<libloading::Library>>,
+    /// Coverage build: the shim's writer and the `.dat` it writes when the
+    /// model is dropped ([`CompiledCore::instantiate_with_coverage`]).
+    coverage_out: Option<(CoverageWrite, CString)>,
 }
+
+/// `cosim_<top>_coverage_write(handle, path)` of a coverage build.
+type CoverageWrite = unsafe extern "C" fn(*mut c_void, *const c_char) -> i32;
 
 impl fmt::Debug for Model {
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
@@ -278,6 +284,7 @@ impl Model {
             top: top.to_string(),
             tracing: trace,
             _lib: lib,
+            coverage_out: None,
         }
     }
 
@@ -470,6 +477,11 @@ impl Model {
 
 impl Drop for Model {
     fn drop(&mut self) {
+        if let Some((write, path)) = &self.coverage_out {
+            // SAFETY: handle is live; the writer is this library's shim.
+            // A failed write shows as a missing .dat, which the caller reports.
+            unsafe { write(self.handle, path.as_ptr()) };
+        }
         // SAFETY: handle is live and dropped once.
         unsafe { (self.vt.delete)(self.handle) }
     }
@@ -490,6 +502,10 @@ pub struct ExternalCore {
     pub defines: Vec<String>,
     /// Extra include directories (`dir` is always one).
     pub include_dirs: Vec<PathBuf>,
+    /// Build with Verilator's line, toggle and branch coverage (`--coverage`;
+    /// a cache entry of its own): instances made with
+    /// [`CompiledCore::instantiate_with_coverage`] write a `.dat` when dropped.
+    pub coverage: bool,
     /// Extra Verilator arguments. `*.v` files are read as Verilog-2005
     /// (`+1364-2005ext+v`, so identifiers such as `do` that SystemVerilog
     /// reserves still parse); `*.sv` as SystemVerilog. `--coverage` and
@@ -506,6 +522,8 @@ pub struct ExternalCore {
 pub struct CompiledCore {
     lib: Arc<libloading::Library>,
     vt: VTable,
+    /// The coverage writer of a coverage build.
+    coverage_write: Option<CoverageWrite>,
     top: String,
     /// The cached shared library.
     pub path: PathBuf,
@@ -527,6 +545,18 @@ impl CompiledCore {
     pub fn instantiate(&self, trace: bool) -> Model {
         // SAFETY: vt was resolved from this library's generated shim.
         unsafe { Model::from_vtable(self.vt, &self.top, trace, Some(self.lib.clone())) }
+    }
+
+    /// A fresh instance that writes its coverage counters to `dat` when
+    /// dropped; an error when the core was not built with `coverage`.
+    pub fn instantiate_with_coverage(&self, trace: bool, dat: &Path) -> Result<Model, BridgeError> {
+        let Some(write) = self.coverage_write else {
+            return Err(BridgeError::Load { path: self.path.display().to_string(), message: "not a coverage build (ExternalCore::coverage is false)".into() });
+        };
+        let path = CString::new(dat.display().to_string()).map_err(|_| BridgeError::Load { path: dat.display().to_string(), message: "coverage path holds a NUL byte".into() })?;
+        let mut m = self.instantiate(trace);
+        m.coverage_out = Some((write, path));
+        Ok(m)
     }
 }
 
@@ -646,6 +676,10 @@ impl ExternalCore {
         .map(|s| s.to_string())
         .collect();
         a.push(self.top.clone());
+        if self.coverage {
+            // line (with its branch points), toggle and user coverage
+            a.push("--coverage".into());
+        }
         a.push("--prefix".into());
         a.push(format!("V{}", self.top));
         a.push("+1364-2005ext+v".into());
@@ -772,10 +806,11 @@ impl ExternalCore {
         let header = std::fs::read_to_string(tmp.join(format!("{prefix}.h")))
             .map_err(io_err(format!("reading {prefix}.h")))?;
         let ports: Vec<PortDecl> = shimgen::parse_ports(&header);
-        std::fs::write(
-            tmp.join("cosim_shim.cpp"),
-            shimgen::gen_shim(top, &ports, true, self.inner_loop.as_deref()),
-        )
+        let mut shim = shimgen::gen_shim(top, &ports, true, self.inner_loop.as_deref());
+        if self.coverage {
+            shim.push_str(&shimgen::gen_coverage_writer(top));
+        }
+        std::fs::write(tmp.join("cosim_shim.cpp"), shim)
         .map_err(io_err("writing the shim"))?;
         let classes = shimgen::parse_classes_mk(
             &std::fs::read_to_string(tmp.join(format!("{prefix}_classes.mk")))
@@ -855,9 +890,15 @@ impl ExternalCore {
             trace_dump: sym!("trace_dump", unsafe extern "C" fn(*mut c_void, u64)),
             trace_close: sym!("trace_close", unsafe extern "C" fn(*mut c_void)),
         };
+        let coverage_write = if self.coverage {
+            Some(sym!("coverage_write", CoverageWrite))
+        } else {
+            None
+        };
         Ok(CompiledCore {
             lib: Arc::new(lib),
             vt,
+            coverage_write,
             top: self.top.clone(),
             path: lib_path.to_path_buf(),
             cached: false,

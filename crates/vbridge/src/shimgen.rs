@@ -228,6 +228,16 @@ pub fn gen_shim(top: &str, ports: &[PortDecl], trace: bool, inner_loop: Option<&
     s
 }
 
+/// The extra C++ of a coverage build (`verilator --coverage`): writes the
+/// instance's counters to a `.dat` (`verilator_coverage` merges them).
+pub fn gen_coverage_writer(top: &str) -> String {
+    let p = symbol_prefix(top);
+    format!(
+        "#include \"verilated_cov.h\"\nextern \"C\" int {p}coverage_write(void* h, const char* path) {{\n  \
+         auto* i = (CosimInst_{top}*)h;\n  i->ctx->coveragep()->write(path);\n  return 0;\n}}\n"
+    )
+}
+
 /// Rust source for a build script that links tops into the executable:
 /// the `extern "C"` declarations of each top's shim and a
 /// `static <table>: &[(&str, vbridge::VTable)]` naming them, to `include!`

@@ -38,6 +38,18 @@ pub struct Args {
     /// Write a self-contained HTML report (DIR/index.html, files of failed runs in DIR/runs/).
     #[arg(long, value_name = "DIR")]
     html: Option<PathBuf>,
+    /// Code coverage: build each Verilated DUT with Verilator's line, toggle
+    /// and branch coverage, merge the runs into DIR/<dut>/coverage.info and
+    /// an HTML report (DIR/<dut>/html/index.html), print a summary per file.
+    #[arg(long, value_name = "DIR")]
+    coverage: Option<PathBuf>,
+    /// Print the functional coverage table (protocol and registers, seen
+    /// from the golden model's side) per DUT; also printed with --coverage.
+    #[arg(long)]
+    funcov: bool,
+    /// Write the functional coverage bins per DUT as JSON here.
+    #[arg(long, value_name = "FILE")]
+    funcov_json: Option<PathBuf>,
     /// Override every scenario's run length, in bit times.
     #[arg(long)]
     max_bits: Option<u64>,
@@ -85,7 +97,7 @@ pub fn run(a: Args) -> anyhow::Result<i32> {
     if duts.is_empty() {
         duts.push(DutSpec::rtl());
     }
-    check_externals(&duts, a.host.bfm())?;
+    check_externals(&duts, a.host.bfm(), a.coverage.is_some())?;
     let opts = RegressOptions {
         jobs: a.jobs,
         shard: a.shard,
@@ -95,6 +107,7 @@ pub fn run(a: Args) -> anyhow::Result<i32> {
         dut_revision: a.waivers.dut_revision.clone(),
         collect: a.waivers.mode(),
         host: a.host.bfm(),
+        coverage_dir: a.coverage.clone(),
     };
     // A scenario that cannot be loaded is an error row; the others still run.
     let report = scenario::regress::regress_inputs(&a.inputs, &duts, &opts)?;
@@ -107,6 +120,20 @@ pub fn run(a: Args) -> anyhow::Result<i32> {
         if let scenario::regress::Status::Error(m) = &c.status {
             println!("error: {} on {}: {m}", c.scenario, c.dut);
         }
+    }
+    if a.funcov || a.coverage.is_some() {
+        for d in &report.duts {
+            println!("\nfunctional coverage on {d} (golden model's side, {} runs):", report.cells.iter().filter(|c| &c.dut == d && c.funcov.is_some()).count());
+            print!("{}", report.funcov(d).to_table());
+        }
+    }
+    if let Some(p) = &a.funcov_json {
+        let all: std::collections::BTreeMap<&str, funcov::Coverage> = report.duts.iter().map(|d| (d.as_str(), report.funcov(d))).collect();
+        std::fs::write(p, serde_json::to_string_pretty(&all)?).with_context(|| format!("writing {}", p.display()))?;
+        println!("functional coverage JSON: {}", p.display());
+    }
+    if let Some(dir) = &a.coverage {
+        code_coverage(dir, &report, &duts)?;
     }
     if let Some(p) = &a.junit {
         std::fs::write(p, report.to_junit()).with_context(|| format!("writing {}", p.display()))?;
@@ -128,12 +155,38 @@ pub fn run(a: Args) -> anyhow::Result<i32> {
     Ok(report.exit_code())
 }
 
+/// `--coverage DIR`: per Verilated DUT, merges its runs' `.dat` files into
+/// DIR/<dut>/ (merged.dat, coverage.info, html/, summary.json) and prints
+/// line/toggle/branch per source file.
+fn code_coverage(dir: &std::path::Path, report: &scenario::regress::RegressReport, duts: &[DutSpec]) -> anyhow::Result<()> {
+    for d in duts {
+        if d.kind == scenario::DutKind::Model {
+            println!("\ncode coverage on {}: none (the golden model is not Verilated)", d.name);
+            continue;
+        }
+        let safe = scenario::regress::file_safe(&d.name);
+        let runs = report.cells.iter().filter(|c| c.dut == d.name && !matches!(c.status, scenario::regress::Status::Skipped(_))).count();
+        let mut dats: Vec<PathBuf> = std::fs::read_dir(dir.join("dat").join(&safe))
+            .map(|rd| rd.filter_map(|e| e.ok().map(|e| e.path())).filter(|p| p.extension().is_some_and(|x| x == "dat")).collect())
+            .unwrap_or_default();
+        dats.sort();
+        let out = dir.join(&safe);
+        let r = codecov::report(&dats, &out).with_context(|| format!("code coverage of {}", d.name))?;
+        std::fs::write(out.join("summary.json"), serde_json::to_string_pretty(&r.files)?).with_context(|| format!("writing {}", out.join("summary.json").display()))?;
+        println!("\ncode coverage on {} ({} of {runs} runs wrote counters): lcov {}, HTML {}", d.name, r.runs, r.info.display(), r.html.display());
+        print!("{}", codecov::to_table(&r.files));
+    }
+    Ok(())
+}
+
 /// Bad `--external` input fails here, once, before the first scenario (an
 /// error: exit 2), not once per scenario. Building the core here also hands
-/// every worker a warm cache instead of one build per worker.
-fn check_externals(duts: &[DutSpec], host: Option<scenario::HostBfm>) -> anyhow::Result<()> {
+/// every worker a warm cache instead of one build per worker (the coverage
+/// build under `--coverage`, the one the runs use).
+fn check_externals(duts: &[DutSpec], host: Option<scenario::HostBfm>, coverage: bool) -> anyhow::Result<()> {
     for d in duts {
-        if let Some(core) = scenario::run::external_core(d, host).map_err(anyhow::Error::msg)? {
+        if let Some(mut core) = scenario::run::external_core(d, host).map_err(anyhow::Error::msg)? {
+            core.coverage = coverage;
             let what = || format!("--external {}={}", d.name, core.dir.display());
             core.check().with_context(what)?;
             cosim::build_external(&core).with_context(what)?;

@@ -159,6 +159,7 @@ pub fn run_cmd(a: Args) -> anyhow::Result<i32> {
         dut_revision: a.waivers.dut_revision.clone(),
         collect: a.waivers.mode(),
         host: a.host.bfm(),
+        coverage_dat: None,
     };
     if !a.json {
         println!("{}", s.header());
