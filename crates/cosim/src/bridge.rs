@@ -511,6 +511,10 @@ pub struct ExternalCore {
     /// (`+1364-2005ext+v`, so identifiers such as `do` that SystemVerilog
     /// reserves still parse); `*.sv` as SystemVerilog.
     pub extra_args: Vec<String>,
+    /// Inputs held at a constant for the whole run, set on every instance
+    /// before its first eval (the run-time mutant select of `cancosim
+    /// mutate`). Not part of the cache key: one build serves every value.
+    pub held_inputs: Vec<(String, u64)>,
 }
 
 /// A built external core: the loaded library and the symbol prefix.
@@ -521,6 +525,8 @@ pub struct CompiledCore {
     top: String,
     /// The cached shared library.
     pub path: PathBuf,
+    /// [`ExternalCore::held_inputs`], checked to exist at build.
+    held: Vec<(String, u64)>,
 }
 
 impl fmt::Debug for CompiledCore {
@@ -536,7 +542,14 @@ impl CompiledCore {
     /// A fresh instance (each thread makes its own).
     pub fn instantiate(&self, trace: bool) -> Model {
         // SAFETY: vt was resolved from this library's generated shim.
-        unsafe { Model::from_vtable(self.vt, &self.top, trace, Some(self.lib.clone())) }
+        let mut m = unsafe { Model::from_vtable(self.vt, &self.top, trace, Some(self.lib.clone())) };
+        for (name, value) in &self.held {
+            // Present: checked in `ExternalCore::build_in`.
+            if let Ok(p) = m.port(name, None, "held input") {
+                m.set(p, *value);
+            }
+        }
+        m
     }
 }
 
@@ -757,7 +770,14 @@ impl ExternalCore {
                 source,
             },
         })?;
-        self.load(&entry.product)
+        let core = self.load(&entry.product)?;
+        if !core.held.is_empty() {
+            let m = core.instantiate(false);
+            for (name, _) in &core.held {
+                m.port(name, None, "held input")?;
+            }
+        }
+        Ok(core)
     }
 
     /// Verilates and links the shared library `lib_name` in `tmp` (an empty
@@ -879,6 +899,7 @@ impl ExternalCore {
             vt,
             top: self.top.clone(),
             path: lib_path.to_path_buf(),
+            held: self.held_inputs.clone(),
         })
     }
 }

@@ -76,6 +76,9 @@ pub struct RunOptions {
     /// A scenario whose point is its host wiring (`[host] fixed`) is
     /// skipped, see [`RunOutcome::skipped`].
     pub host: Option<HostBfm>,
+    /// Inputs of an external core held at a constant for the whole run
+    /// ([`cosim::ExternalCore::held_inputs`]: the mutant select of `cancosim mutate`).
+    pub held_inputs: Vec<(String, u64)>,
 }
 
 /// The scenario as run with a host override: the host replaced, and our
@@ -231,6 +234,7 @@ pub fn tb_config(s: &Scenario, dut: &DutKind, opts: &RunOptions) -> Result<TbCon
             files: Vec::new(),
             defines: defines.clone(),
             include_dirs: includes.clone(),
+            held_inputs: opts.held_inputs.clone(),
             ..ExternalCore::default()
         }),
     };

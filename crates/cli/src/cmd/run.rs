@@ -154,6 +154,7 @@ pub fn run_cmd(a: Args) -> anyhow::Result<i32> {
         dut_revision: a.waivers.dut_revision.clone(),
         collect: a.waivers.mode(),
         host: a.host.bfm(),
+        ..Default::default()
     };
     if !a.json {
         println!("{}", s.header());
