@@ -8,6 +8,7 @@
 //! into a scenario skeleton.
 #![warn(missing_docs)]
 
+pub mod bench;
 pub mod campaign;
 pub mod formal;
 pub mod instrument;

@@ -59,7 +59,8 @@ pub struct Args {
     waivers: Vec<PathBuf>,
 }
 
-const RTL_FILES: [&str; 8] = ["can_top.v", "can_wb_cdc.v", "can_regs.v", "can_btl.v", "can_bsp.v", "can_fce.v", "can_acf.v", "can_rxfifo.v"];
+/// Our rtl/ files of the can_top build (no other top).
+pub const RTL_FILES: [&str; 8] = ["can_top.v", "can_wb_cdc.v", "can_regs.v", "can_btl.v", "can_bsp.v", "can_fce.v", "can_acf.v", "can_rxfifo.v"];
 
 /// Runs the subcommand: exit 0 when no mutant survived (or timed out), 1 otherwise.
 pub fn run(a: Args) -> anyhow::Result<i32> {
