@@ -49,6 +49,7 @@ fn core_from_env() -> ExternalCore {
             .map(PathBuf::from)
             .collect(),
         extra_args: Vec::new(),
+        held_inputs: Vec::new(),
     }
 }
 

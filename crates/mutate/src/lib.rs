@@ -63,7 +63,7 @@ pub struct MutateConfig {
     pub campaign: CampaignOptions,
     /// Formal check of survivors (None: skipped).
     pub formal: Option<FormalOptions>,
-    /// Output directory: journal, report.json, report.md, skeletons/.
+    /// Output directory: journal-<build>.jsonl, report.json, report.md, skeletons/.
     pub out: PathBuf,
     /// Build cache.
     pub cache: PathBuf,
@@ -103,7 +103,10 @@ pub fn mutate(cfg: &MutateConfig, log: &mut dyn FnMut(&str)) -> Result<Report, M
     }
     let t1 = Instant::now();
     let mut copts = cfg.campaign.clone();
-    copts.journal.get_or_insert_with(|| cfg.out.join("journal.jsonl"));
+    // One journal per build of the mutants (sources, list): after an edit
+    // of the core, a mutation with the same options is a different mutant.
+    let key = inst.dir.file_name().map(|n| n.to_string_lossy().into_owned()).unwrap_or_default();
+    copts.journal.get_or_insert_with(|| cfg.out.join(format!("journal-{key}.jsonl")));
     let mutants = campaign::run_mutants(&suite, &base, &inst.mutations, &inst.build_errors, &copts).map_err(io("mutant loop"))?;
     let run_seconds = t1.elapsed().as_secs_f64();
     let mut report = Report {

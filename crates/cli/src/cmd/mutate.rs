@@ -39,7 +39,7 @@ pub struct Args {
     /// Run only shard k of n of the mutants (e.g. 2/4).
     #[arg(long, value_parser = scenario::regress::parse_shard)]
     shard: Option<(usize, usize)>,
-    /// Output directory (journal.jsonl to resume, report.json, report.md, skeletons/).
+    /// Output directory (journal-<build>.jsonl to resume, report.json, report.md, skeletons/).
     #[arg(long, default_value = "out/mutate")]
     out: PathBuf,
     /// Start over: ignore the journal of an earlier run in --out.
@@ -92,7 +92,12 @@ pub fn run(a: Args) -> anyhow::Result<i32> {
         }
     }
     if a.fresh {
-        let _ = std::fs::remove_file(a.out.join("journal.jsonl"));
+        for e in std::fs::read_dir(&a.out).into_iter().flatten().flatten() {
+            let n = e.file_name().to_string_lossy().into_owned();
+            if n.starts_with("journal-") && n.ends_with(".jsonl") {
+                let _ = std::fs::remove_file(e.path());
+            }
+        }
     }
     let cfg = mutate::MutateConfig {
         sources,
