@@ -51,6 +51,9 @@ enum Command {
     /// Seeded random fault-injection campaign, DUT vs golden model.
     #[command(after_help = "Examples:\n  cancosim campaign --frames 500 --seed 7\n  cancosim campaign --dut model --frames 100")]
     Campaign(cmd::campaign::Args),
+    /// Mutation testing: yosys mutants behind one run-time select, verilated once, killed by the first failing scenario.
+    #[command(after_help = "Examples:\n  cancosim mutate tb/regression.list --count 200 --seed 1 --jobs 2\n  cancosim mutate --shard 1/4 --out out/mutate     (run again to resume after an interruption)\n  cancosim mutate --external /path/to/rtl --profile opencores-can --waivers tb/waivers/opencores-upstream.toml\n\nExit: 0 no survivor, 1 survivors or timed-out mutants (listed), 2 bad input or no build.")]
+    Mutate(cmd::mutate::Args),
 }
 
 fn main() {
@@ -64,6 +67,7 @@ fn main() {
         Command::Diagnose(a) => cmd::diagnose::run(a),
         Command::Bench(a) => cmd::bench::run_cmd(a),
         Command::Campaign(a) => cmd::campaign::run_cmd(a),
+        Command::Mutate(a) => cmd::mutate::run(a),
     };
     match result {
         Ok(code) => std::process::exit(code),

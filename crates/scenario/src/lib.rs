@@ -82,6 +82,7 @@ mod format;
 pub mod html;
 pub mod regress;
 pub mod replay;
+pub mod revdiff;
 pub mod run;
 
 pub use regress::{RegressOptions, RegressReport, regress};

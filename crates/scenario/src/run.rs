@@ -79,6 +79,9 @@ pub struct RunOptions {
     /// Build the DUT with Verilator's coverage and write its counters to
     /// this `.dat` at the end of the run (`regress --coverage`).
     pub coverage_dat: Option<std::path::PathBuf>,
+    /// Inputs of an external core held at a constant for the whole run
+    /// ([`cosim::ExternalCore::held_inputs`]: the mutant select of `cancosim mutate`).
+    pub held_inputs: Vec<(String, u64)>,
 }
 
 /// The scenario as run with a host override: the host replaced, and our
@@ -255,9 +258,11 @@ pub fn tb_config(s: &Scenario, dut: &DutKind, opts: &RunOptions) -> Result<TbCon
         }
         DutKind::Rtl | DutKind::AvalonWrapper => DutChoice::Rtl,
         DutKind::Model => DutChoice::Model,
-        DutKind::External { .. } => DutChoice::External(
-            external_core_of(dut, opts.dut.as_ref().and_then(|d| d.profile.as_ref()), Some(s.host))?.expect("an external kind"),
-        ),
+        DutKind::External { .. } => DutChoice::External({
+            let mut core = external_core_of(dut, opts.dut.as_ref().and_then(|d| d.profile.as_ref()), Some(s.host))?.expect("an external kind");
+            core.held_inputs = opts.held_inputs.clone();
+            core
+        }),
     };
     let host = match s.host {
         HostBfm::Wishbone => cosim::HostBfm::Wishbone,

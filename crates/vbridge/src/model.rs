@@ -515,6 +515,10 @@ pub struct ExternalCore {
     pub inner_loop: Option<String>,
     /// How VHDL sources (`*.vhd`, `*.vhdl`) go through GHDL ([`crate::vhdl`]).
     pub vhdl: crate::vhdl::VhdlOptions,
+    /// Inputs held at a constant for the whole run, set on every instance
+    /// before its first eval (the run-time mutant select of `cancosim
+    /// mutate`). Not part of the cache key: one build serves every value.
+    pub held_inputs: Vec<(String, u64)>,
 }
 
 /// A built external core: the loaded library and the symbol prefix.
@@ -529,6 +533,8 @@ pub struct CompiledCore {
     pub path: PathBuf,
     /// Whether an earlier build left it in the cache (nothing was built).
     pub cached: bool,
+    /// [`ExternalCore::held_inputs`], checked to exist at build.
+    held: Vec<(String, u64)>,
 }
 
 impl fmt::Debug for CompiledCore {
@@ -544,7 +550,14 @@ impl CompiledCore {
     /// A fresh instance (each thread makes its own).
     pub fn instantiate(&self, trace: bool) -> Model {
         // SAFETY: vt was resolved from this library's generated shim.
-        unsafe { Model::from_vtable(self.vt, &self.top, trace, Some(self.lib.clone())) }
+        let mut m = unsafe { Model::from_vtable(self.vt, &self.top, trace, Some(self.lib.clone())) };
+        for (name, value) in &self.held {
+            // Present: checked in `ExternalCore::build_in`.
+            if let Ok(p) = m.port(name, None, "held input") {
+                m.set(p, *value);
+            }
+        }
+        m
     }
 
     /// A fresh instance that writes its coverage counters to `dat` when
@@ -772,6 +785,12 @@ impl ExternalCore {
         })?;
         let mut core = self.load(&entry.product)?;
         core.cached = entry.origin == buildcache::Origin::Cached;
+        if !core.held.is_empty() {
+            let m = core.instantiate(false);
+            for (name, _) in &core.held {
+                m.port(name, None, "held input")?;
+            }
+        }
         Ok(core)
     }
 
@@ -902,6 +921,7 @@ impl ExternalCore {
             top: self.top.clone(),
             path: lib_path.to_path_buf(),
             cached: false,
+            held: self.held_inputs.clone(),
         })
     }
 }

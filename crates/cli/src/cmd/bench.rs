@@ -24,6 +24,10 @@ pub struct Args {
     /// Print JSON instead of the table.
     #[arg(long)]
     json: bool,
+    /// Add the mutation row: K mutants of our rtl/ with one `-ctrl` build vs a build per
+    /// mutant (cold Verilator builds: minutes), each running tb/de2-pelican-selftest.toml.
+    #[arg(long, value_name = "K")]
+    mutants: Option<u32>,
 }
 
 /// Runs the subcommand: exit 1 when a workload's read-back was wrong.
@@ -42,10 +46,41 @@ pub fn run_cmd(a: Args) -> anyhow::Result<i32> {
         o.repeat = r;
     }
     let report = run(&o)?;
+    let mutation_row = match a.mutants {
+        Some(k) => Some(mutation_row(k, o.seed)?),
+        None => None,
+    };
     if a.json {
-        println!("{}", report.to_json());
+        let mut v: serde_json::Value = serde_json::from_str(&report.to_json())?;
+        if let Some(r) = &mutation_row {
+            v["mutation"] = serde_json::to_value(r)?;
+        }
+        println!("{}", serde_json::to_string_pretty(&v)?);
     } else {
         print!("{}", report.to_table());
+        if let Some(r) = &mutation_row {
+            println!("{}", r.row());
+        }
     }
     Ok(if report.check().is_ok() { 0 } else { 1 })
+}
+
+/// The mutation row: `-ctrl` build vs a build per mutant, in this run.
+fn mutation_row(k: u32, seed: u64) -> anyhow::Result<mutate::bench::CtrlVsRebuild> {
+    let root = std::path::PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("../..");
+    let rtl = root.join("rtl").canonicalize()?;
+    let files = super::mutate::RTL_FILES.iter().map(std::path::PathBuf::from).collect();
+    let sources = mutate::CoreSources { dir: rtl, top: "can_top".into(), files, ..Default::default() };
+    let s = scenario::Scenario::load(root.join("tb/de2-pelican-selftest.toml"))?;
+    let work = tempfile_dir()?;
+    let r = mutate::bench::ctrl_vs_rebuild(&sources, &s, &cosim::Profile::rtl(), k, seed, &work, 200);
+    let _ = std::fs::remove_dir_all(&work);
+    Ok(r?)
+}
+
+/// A fresh directory for cold builds (under the build cache's parent, same file system).
+fn tempfile_dir() -> anyhow::Result<std::path::PathBuf> {
+    let d = cosim::cache_dir().join(format!("bench-mutants-{}-{}", std::process::id(), std::time::SystemTime::now().duration_since(std::time::UNIX_EPOCH)?.as_millis()));
+    std::fs::create_dir_all(&d)?;
+    Ok(d)
 }

@@ -17,8 +17,14 @@ pub struct Args {
     duts: Vec<String>,
     /// External core as NAME=DIR or NAME=DIR@PROFILE (repeatable; define CAN_WISHBONE_IF, DIR as
     /// include dir). Each needs a profile: its own @PROFILE, else --profile.
+    /// DIR may be `git:REPO@REV[:SUBDIR]` (exported with git archive into the build cache).
     #[arg(long = "external", value_name = "NAME=DIR[@PROFILE]")]
     externals: Vec<String>,
+    /// The old revision to compare the (one) --external with, NAME=DIR[@PROFILE] or
+    /// NAME=git:REPO@REV[:SUBDIR]: per scenario fixed / broken / still failing / still passing;
+    /// exit 1 only when something broke.
+    #[arg(long, value_name = "NAME=DIR[@PROFILE]")]
+    baseline: Option<String>,
     /// Core profile (tb/profiles/NAME.toml or a file) of every --external without @PROFILE
     /// (e.g. --profile opencores-can); the column is then named "<profile> (<dir>)".
     #[arg(long, value_name = "NAME|FILE")]
@@ -67,12 +73,21 @@ pub fn run(a: Args) -> anyhow::Result<i32> {
         .map(|d| if d == "model" { DutSpec::model() } else { DutSpec::rtl() })
         .collect();
     let common = a.profile.as_deref().map(cosim::Profile::find).transpose()?;
-    for e in &a.externals {
+    if a.baseline.is_some() && a.externals.len() != 1 {
+        anyhow::bail!("--baseline compares with exactly one --external (the new revision)");
+    }
+    for e in a.baseline.iter().chain(&a.externals) {
         let (name, spec) = e.split_once('=').with_context(|| format!("--external {e}: expected NAME=DIR[@PROFILE]"))?;
-        let (dir, own) = match spec.rsplit_once('@') {
-            Some((d, p)) => (d, Some(cosim::Profile::find(p).with_context(|| format!("--external {e}"))?)),
-            None => (spec, None),
+        let (dir, own): (String, Option<cosim::Profile>) = if super::gitcore::parse(spec).is_some() {
+            // A git name takes --profile (its @ is the revision's).
+            (super::gitcore::export(spec).with_context(|| format!("--external {e}"))?.display().to_string(), None)
+        } else {
+            match spec.rsplit_once('@') {
+                Some((d, p)) => (d.to_string(), Some(cosim::Profile::find(p).with_context(|| format!("--external {e}"))?)),
+                None => (spec.to_string(), None),
+            }
         };
+        let dir = dir.as_str();
         // The directory first: a path that holds no core is the first thing to say.
         let probe = cosim::ExternalCore { dir: dir.into(), top: a.top.clone(), ..Default::default() };
         probe.check().with_context(|| format!("--external {name}={dir}"))?;
@@ -115,6 +130,13 @@ pub fn run(a: Args) -> anyhow::Result<i32> {
         println!("host: {h} (override of every scenario's own host)");
     }
     print!("{}", report.to_table());
+    if let Some(b) = &a.baseline {
+        let old = b.split_once('=').map(|(n, _)| n).unwrap_or(b);
+        let new = a.externals[0].split_once('=').map(|(n, _)| n).unwrap_or(&a.externals[0]);
+        let rows = scenario::revdiff::diff(&report, old, new);
+        print!("{}", scenario::revdiff::to_text(&rows, old, new));
+        return Ok(if scenario::revdiff::any_broken(&rows) { 1 } else { 0 });
+    }
     // The table cuts long cells; errors are printed whole (file:line:key).
     for c in &report.cells {
         if let scenario::regress::Status::Error(m) = &c.status {

@@ -159,7 +159,7 @@ pub fn run_cmd(a: Args) -> anyhow::Result<i32> {
         dut_revision: a.waivers.dut_revision.clone(),
         collect: a.waivers.mode(),
         host: a.host.bfm(),
-        coverage_dat: None,
+        ..Default::default()
     };
     if !a.json {
         println!("{}", s.header());

@@ -1,0 +1,133 @@
+//! `mutate`: mutation testing of a core against a regression list (issue
+//! 14): yosys mutations behind one run-time select, one Verilator build,
+//! each mutant killed at its first failing scenario; survivors checked
+//! formally; report.json, report.md, skeletons/ in --out.
+
+use anyhow::Context;
+use std::path::PathBuf;
+
+/// Arguments of `cancosim mutate`.
+#[derive(clap::Args)]
+pub struct Args {
+    /// Regression list (one scenario path per line) or scenario files.
+    #[arg(default_value = "tb/regression.list")]
+    inputs: Vec<PathBuf>,
+    /// External core directory (default: this repository's rtl/, top can_top).
+    #[arg(long, value_name = "DIR")]
+    external: Option<PathBuf>,
+    /// Profile of the external core (tb/profiles/NAME.toml or a file); our rtl/ uses rtl.
+    #[arg(long, value_name = "NAME|FILE")]
+    profile: Option<String>,
+    /// Top module.
+    #[arg(long, default_value = "can_top")]
+    top: String,
+    /// Verilog define of the external core (repeatable; CAN_WISHBONE_IF is always set for it).
+    #[arg(long = "define", value_name = "NAME[=VALUE]")]
+    defines: Vec<String>,
+    /// Number of mutations sampled by `yosys mutate -list`.
+    #[arg(long, default_value_t = 200)]
+    count: u32,
+    /// Seed of the sample (recorded in the report; same seed, same mutants).
+    #[arg(long, default_value_t = 1)]
+    seed: u64,
+    /// A saved mutation list (lines of `mutate ...`) instead of a sample.
+    #[arg(long, value_name = "FILE", conflicts_with_all = ["count", "seed"])]
+    list: Option<PathBuf>,
+    /// Worker threads (0 = one per core).
+    #[arg(long, short, default_value_t = 0)]
+    jobs: usize,
+    /// Run only shard k of n of the mutants (e.g. 2/4).
+    #[arg(long, value_parser = scenario::regress::parse_shard)]
+    shard: Option<(usize, usize)>,
+    /// Output directory (journal-<build>.jsonl to resume, report.json, report.md, skeletons/).
+    #[arg(long, default_value = "out/mutate")]
+    out: PathBuf,
+    /// Start over: ignore the journal of an earlier run in --out.
+    #[arg(long)]
+    fresh: bool,
+    /// Skip the formal check of survivors.
+    #[arg(long)]
+    no_formal: bool,
+    /// Steps of the bounded formal check (and induction depth).
+    #[arg(long, default_value_t = 20)]
+    formal_steps: u32,
+    /// Host of every scenario (default wishbone: the mutated core is the can_top port list).
+    #[arg(long, default_value = "wishbone", value_parser = ["wishbone", "avalon", "pio", "i8051"])]
+    host: String,
+    /// Waiver file (repeatable), added to the scenarios' own.
+    #[arg(long = "waivers", value_name = "FILE")]
+    waivers: Vec<PathBuf>,
+}
+
+/// Our rtl/ files of the can_top build (no other top).
+pub const RTL_FILES: [&str; 8] = ["can_top.v", "can_wb_cdc.v", "can_regs.v", "can_btl.v", "can_bsp.v", "can_fce.v", "can_acf.v", "can_rxfifo.v"];
+
+/// Runs the subcommand: exit 0 when no mutant survived (or timed out), 1 otherwise.
+pub fn run(a: Args) -> anyhow::Result<i32> {
+    let (sources, profile) = match &a.external {
+        None => {
+            let dir = PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("../../rtl");
+            let dir = dir.canonicalize().with_context(|| format!("our rtl/ at {}", dir.display()))?;
+            let files = RTL_FILES.iter().map(PathBuf::from).collect();
+            (mutate::CoreSources { dir, top: a.top.clone(), files, ..Default::default() }, cosim::Profile::rtl())
+        }
+        Some(dir) => {
+            let probe = cosim::ExternalCore { dir: dir.clone(), top: a.top.clone(), ..Default::default() };
+            probe.check().with_context(|| format!("--external {}", dir.display()))?;
+            let Some(p) = &a.profile else {
+                anyhow::bail!("--external {}: {}", dir.display(), cosim::profile::missing_profile_message(dir, &a.top));
+            };
+            let mut defines = vec!["CAN_WISHBONE_IF".to_string()];
+            defines.extend(a.defines.iter().cloned());
+            let dir = dir.canonicalize().with_context(|| format!("--external {}", dir.display()))?;
+            (mutate::CoreSources { dir, top: a.top.clone(), defines, ..Default::default() }, cosim::Profile::find(p)?)
+        }
+    };
+    let mut scenarios = Vec::new();
+    for p in &a.inputs {
+        if p.extension().is_some_and(|e| e == "toml") {
+            scenarios.push(scenario::Scenario::load(p)?);
+        } else {
+            scenarios.extend(scenario::load_list(p)?);
+        }
+    }
+    if a.fresh {
+        for e in std::fs::read_dir(&a.out).into_iter().flatten().flatten() {
+            let n = e.file_name().to_string_lossy().into_owned();
+            if n.starts_with("journal-") && n.ends_with(".jsonl") {
+                let _ = std::fs::remove_file(e.path());
+            }
+        }
+    }
+    let cfg = mutate::MutateConfig {
+        sources,
+        from: match &a.list {
+            Some(p) => mutate::MutationSource::Saved(p.clone()),
+            None => mutate::MutationSource::Sample { count: a.count, seed: a.seed },
+        },
+        scenarios,
+        profile,
+        run: scenario::RunOptions { waivers: a.waivers.clone(), host: scenario::HostBfm::from_name(&a.host), ..Default::default() },
+        campaign: mutate::CampaignOptions {
+            jobs: a.jobs,
+            shard: a.shard,
+            progress: std::io::IsTerminal::is_terminal(&std::io::stderr()),
+            ..Default::default()
+        },
+        formal: (!a.no_formal).then_some(mutate::FormalOptions { steps: a.formal_steps, induction: a.formal_steps, ..Default::default() }),
+        out: a.out.clone(),
+        cache: cosim::cache_dir(),
+    };
+    let report = mutate::mutate(&cfg, &mut |l| eprintln!("{l}"))?;
+    println!("{}", report.summary());
+    let surv = report.survivors();
+    if !surv.is_empty() {
+        println!("survivors:");
+        for m in &surv {
+            let f = report.formal_of(m.id).map(|f| f.describe()).unwrap_or_else(|| "not checked".into());
+            println!("  {:>4} {:<18} {}  [{f}]", m.id, m.location, m.description);
+        }
+    }
+    println!("report: {} and {}", a.out.join("report.md").display(), a.out.join("report.json").display());
+    Ok(if surv.is_empty() { 0 } else { 1 })
+}

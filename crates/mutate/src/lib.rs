@@ -1,0 +1,148 @@
+//! Mutation testing of a CAN core against a regression list (`cancosim
+//! mutate`, issue 14): mutations from `yosys mutate -list` over the core's
+//! sources, all inserted behind one run-time select input (as mcy does),
+//! the core verilated once, each mutant one simulation per scenario with
+//! the select held ([`cosim::ExternalCore::held_inputs`]), killed at the
+//! first failing scenario. Survivors get a bounded formal check
+//! ([`formal`]) that proves them equivalent or gives an input trace, turned
+//! into a scenario skeleton.
+#![warn(missing_docs)]
+
+pub mod bench;
+pub mod campaign;
+pub mod formal;
+pub mod instrument;
+pub mod mutation;
+pub mod report;
+pub mod suite;
+
+pub use campaign::{Baseline, CampaignOptions, MutantResult, Suite, TestInfo, TestResult, Verdict};
+pub use formal::{FormalOptions, FormalVerdict};
+pub use instrument::{CoreSources, Instrumented, MutationSource, SELECT, instrument};
+pub use mutation::Mutation;
+pub use report::{Counts, Report};
+
+use std::path::PathBuf;
+use std::time::Instant;
+
+/// What can stop a mutation run.
+#[derive(Debug, thiserror::Error)]
+pub enum MutateError {
+    /// Yosys, the list, files.
+    #[error(transparent)]
+    Instrument(#[from] instrument::InstrumentError),
+    /// Verilator could not build the mutated core.
+    #[error("the mutated core did not build: {0}")]
+    Build(#[from] cosim::BridgeError),
+    /// The journal or the report could not be written.
+    #[error("{what}: {source}")]
+    Io {
+        /// What was being done.
+        what: String,
+        /// The error.
+        source: std::io::Error,
+    },
+    /// No scenario passes on the original core: nothing can kill.
+    #[error("no scenario passes on the original core (select 0): nothing could kill a mutant; baseline: {0}")]
+    NoBaseline(String),
+}
+
+/// A mutation run of a core against scenarios.
+pub struct MutateConfig {
+    /// The core.
+    pub sources: CoreSources,
+    /// The mutations.
+    pub from: MutationSource,
+    /// The scenarios (a regression list).
+    pub scenarios: Vec<scenario::Scenario>,
+    /// The core's profile.
+    pub profile: cosim::Profile,
+    /// Run options of every scenario (waivers, host); the DUT is set here.
+    pub run: scenario::RunOptions,
+    /// The mutant loop.
+    pub campaign: CampaignOptions,
+    /// Formal check of survivors (None: skipped).
+    pub formal: Option<FormalOptions>,
+    /// Output directory: journal-<build>.jsonl, report.json, report.md, skeletons/.
+    pub out: PathBuf,
+    /// Build cache.
+    pub cache: PathBuf,
+}
+
+fn io(what: impl Into<String>) -> impl FnOnce(std::io::Error) -> MutateError {
+    let what = what.into();
+    move |source| MutateError::Io { what, source }
+}
+
+/// Builds the mutants once, runs the baseline and every mutant, checks the
+/// survivors, writes the report files in `cfg.out`.
+pub fn mutate(cfg: &MutateConfig, log: &mut dyn FnMut(&str)) -> Result<Report, MutateError> {
+    std::fs::create_dir_all(&cfg.out).map_err(io(format!("creating {}", cfg.out.display())))?;
+    let t0 = Instant::now();
+    let inst = instrument(&cfg.sources, &cfg.from, &cfg.cache)?;
+    log(&format!("{} mutations ({} not insertable); mutated core {}", inst.mutations.len(), inst.build_errors.len(), inst.verilog.display()));
+    std::fs::copy(inst.dir.join("list.txt"), cfg.out.join("mutations.list")).map_err(io("copying the mutation list"))?;
+    cosim::build_external(&inst.external_core())?;
+    let build_seconds = t0.elapsed().as_secs_f64();
+    log(&format!("built once in {build_seconds:.1} s"));
+    let dut = scenario::DutSpec {
+        name: String::new(),
+        kind: scenario::DutKind::External { path: inst.dir.clone(), top: inst.top.clone(), defines: Vec::new(), includes: Vec::new() },
+        profile: None,
+    }
+    .with_profile(cfg.profile.clone());
+    let mut run = cfg.run.clone();
+    run.dut = Some(dut);
+    let suite = suite::ScenarioSuite { scenarios: cfg.scenarios.clone(), options: run };
+    let base = campaign::baseline(&suite, cfg.campaign.jobs);
+    for b in base.iter().filter(|b| !b.passed) {
+        log(&format!("not used: {}: {}", b.test, b.note.as_deref().unwrap_or("")));
+    }
+    if !base.iter().any(|b| b.passed) {
+        return Err(MutateError::NoBaseline(base.iter().map(|b| format!("{}: {}", b.test, b.note.as_deref().unwrap_or(""))).collect::<Vec<_>>().join("; ")));
+    }
+    let t1 = Instant::now();
+    let mut copts = cfg.campaign.clone();
+    // One journal per build of the mutants (sources, list): after an edit
+    // of the core, a mutation with the same options is a different mutant.
+    let key = inst.dir.file_name().map(|n| n.to_string_lossy().into_owned()).unwrap_or_default();
+    copts.journal.get_or_insert_with(|| cfg.out.join(format!("journal-{key}.jsonl")));
+    let mutants = campaign::run_mutants(&suite, &base, &inst.mutations, &inst.build_errors, &copts).map_err(io("mutant loop"))?;
+    let run_seconds = t1.elapsed().as_secs_f64();
+    let mut report = Report {
+        core: format!("{} ({})", inst.top, cfg.sources.dir.display()),
+        source: match &cfg.from {
+            MutationSource::Sample { count, seed } => format!("yosys mutate -list {count} -seed {seed}"),
+            MutationSource::Saved(p) => format!("list {}", p.display()),
+        },
+        baseline: base,
+        mutants,
+        formal: Vec::new(),
+        build_seconds,
+        run_seconds,
+    };
+    if let Some(f) = &cfg.formal {
+        check_survivors(&mut report, &inst, f, &cfg.out, log)?;
+    }
+    std::fs::write(cfg.out.join("report.json"), report.to_json()).map_err(io("writing report.json"))?;
+    std::fs::write(cfg.out.join("report.md"), report.to_markdown()).map_err(io("writing report.md"))?;
+    Ok(report)
+}
+
+/// The formal check of every survivor; skeletons in `out/skeletons/`.
+pub fn check_survivors(report: &mut Report, inst: &Instrumented, f: &FormalOptions, out: &std::path::Path, log: &mut dyn FnMut(&str)) -> Result<(), MutateError> {
+    let ids: Vec<u32> = report.mutants.iter().filter(|m| m.verdict == Verdict::Survived).map(|m| m.id).collect();
+    for id in ids {
+        let v = formal::check(inst, id, f, &out.join("formal"))?;
+        if let FormalVerdict::Differs { trace, .. } = &v {
+            let m = report.mutants.iter().find(|m| m.id == id).expect("a survivor of this report");
+            let dir = out.join("skeletons");
+            std::fs::create_dir_all(&dir).map_err(io(format!("creating {}", dir.display())))?;
+            let path = dir.join(format!("mutant-{id}.toml"));
+            std::fs::write(&path, formal::skeleton(id, &m.location, &m.description, trace)).map_err(io(format!("writing {}", path.display())))?;
+        }
+        log(&format!("mutant {id}: {}", v.describe()));
+        report.formal.push((id, v));
+    }
+    Ok(())
+}

@@ -1,0 +1,57 @@
+//! The scenarios of a regression list as a mutation [`Suite`]: each run is
+//! `scenario::run` on the one build of the mutated core, its select input
+//! held at the mutant's value.
+
+use crate::campaign::{Suite, TestInfo, TestResult};
+use crate::instrument::SELECT;
+use scenario::{RunOptions, Scenario};
+
+/// Scenarios against one external core.
+pub struct ScenarioSuite {
+    /// The scenarios.
+    pub scenarios: Vec<Scenario>,
+    /// Options of every run (its `dut` is the mutated core); the select is added per run.
+    pub options: RunOptions,
+}
+
+impl Suite for ScenarioSuite {
+    fn tests(&self) -> Vec<TestInfo> {
+        self.scenarios.iter().map(|s| TestInfo { name: s.name.clone() }).collect()
+    }
+
+    fn run(&self, index: usize, select: u64) -> TestResult {
+        let mut o = self.options.clone();
+        o.held_inputs.push((SELECT.into(), select));
+        let out = scenario::run(&self.scenarios[index], &o);
+        if let Some(why) = out.skipped {
+            return TestResult::Skipped(why);
+        }
+        if out.passed {
+            return TestResult::Pass;
+        }
+        let f = &out.diagnosis.figures;
+        let field = f.field.map(|x| format!("{x:?}"));
+        let mut w = vec![format!("{:?}", out.diagnosis.category)];
+        if let Some(x) = f.frame {
+            w.push(format!("frame {x}"));
+        }
+        if let Some(x) = &field {
+            w.push(x.clone());
+        }
+        if let Some(x) = f.bit {
+            w.push(format!("bit {x}"));
+        }
+        if let Some(x) = &f.register {
+            w.push(x.clone());
+        }
+        if let (Some(e), Some(s)) = (&f.expected, &f.seen) {
+            w.push(format!("expected {e}, seen {s}"));
+        }
+        if let Some(e) = &out.record.error {
+            w.push(e.clone());
+        } else if out.diagnosis.category != diagnose::Category::DutDeviatesFromModel && !out.mismatches.is_empty() {
+            w.push(out.mismatches.join("; "));
+        }
+        TestResult::Fail { why: w.join(", "), field }
+    }
+}
