@@ -616,15 +616,8 @@ pub fn run(s: &Scenario, opts: &RunOptions) -> RunOutcome {
     // its host and the model agree, so a wrong read is the scenario's finding,
     // not a consequence (a scenario expecting BitTimingMismatch must still
     // see its register reads judged).
-    let reads_trusted = matches!(diagnosis.category, diagnose::Category::BitTimingMismatch | diagnose::Category::NoAcknowledge);
-    if reads_trusted && s.expect.category == Some(diagnosis.category) {
-        // Expectations a waiver took (a waived read, or a listed consequence)
-        // are the waiver's, reported with it.
-        let waived: Vec<usize> = report.as_ref().map_or_else(Vec::new, |r| r.waived_expectations.iter().map(|w| w.step).collect());
-        for e in record.expectations.iter().filter(|e| !e.passed && !waived.contains(&e.step)) {
-            mismatches.push(format!("step {}: {} expected {}, seen {}", e.step, e.what, e.expected, e.seen));
-        }
-    }
+    let waived: Vec<usize> = report.as_ref().map_or_else(Vec::new, |r| r.waived_expectations.iter().map(|w| w.step).collect());
+    mismatches.extend(failed_reads_under_bus_setup_verdict(s.expect.category, diagnosis.category, &record.expectations, &waived));
     mismatches.extend(lost);
     for (name, want) in &s.expect.received {
         let got = received.iter().find(|(n, _)| n == name).map(|(_, c)| *c);
@@ -655,6 +648,30 @@ pub fn run(s: &Scenario, opts: &RunOptions) -> RunOutcome {
         warnings,
         bus_log,
     }
+}
+
+/// Failed step expectations that count although the diagnosis names the
+/// category the scenario expects, when that category is a bus set-up one
+/// (BitTimingMismatch, NoAcknowledge): there the DUT, its host and the model
+/// agree, so a wrong read is the scenario's finding, not a consequence.
+/// Expectations a waiver took (`waived_steps`: a waived read, or a listed
+/// consequence) are the waiver's, reported with it. For other categories the
+/// diagnosis itself is the finding and `check_expect` judges it.
+fn failed_reads_under_bus_setup_verdict(
+    expected: Option<diagnose::Category>,
+    diagnosed: diagnose::Category,
+    expectations: &[Expectation],
+    waived_steps: &[usize],
+) -> Vec<String> {
+    let reads_trusted = matches!(diagnosed, diagnose::Category::BitTimingMismatch | diagnose::Category::NoAcknowledge);
+    if !reads_trusted || expected != Some(diagnosed) {
+        return Vec::new();
+    }
+    expectations
+        .iter()
+        .filter(|e| !e.passed && !waived_steps.contains(&e.step))
+        .map(|e| format!("step {}: {} expected {}, seen {}", e.step, e.what, e.expected, e.seen))
+        .collect()
 }
 
 /// The outcome of a scenario not run (host override on a fixed host wiring).
@@ -839,7 +856,7 @@ pub fn check_expect(s: &Scenario, d: &Diagnosis) -> Vec<String> {
 
 #[cfg(test)]
 mod judge_tests {
-    use super::unwaived_divergence_mismatch;
+    use super::{failed_reads_under_bus_setup_verdict, unwaived_divergence_mismatch};
     use diagnose::{Category, Divergence, DivergenceKind};
     use waivers::WaiverReport;
 
@@ -876,5 +893,40 @@ mod judge_tests {
         assert!(unwaived_divergence_mismatch(Some(Category::RxNotFollowingTx), &report(1)).is_some());
         assert!(unwaived_divergence_mismatch(Some(Category::StuckTransfer), &report(1)).is_some());
         assert_eq!(unwaived_divergence_mismatch(Some(Category::RxNotFollowingTx), &report(0)), None);
+    }
+
+    fn expectation(step: usize, passed: bool) -> diagnose::Expectation {
+        let seen = if passed { "0x10" } else { "0x08" };
+        diagnose::Expectation { step, what: "TXERR & 0xFF".into(), expected: "0x10 (mask 0xFF)".into(), seen: seen.into(), passed }
+    }
+
+    #[test]
+    fn a_failed_read_under_an_expected_no_acknowledge_verdict_fails_the_scenario() {
+        // pelican-self-test-abort: the verdict NoAcknowledge is the expected
+        // one, yet TXERR read 8 where the scenario wants 16: that must count.
+        let reads = [expectation(53, true), expectation(55, false)];
+        let m = failed_reads_under_bus_setup_verdict(Some(Category::NoAcknowledge), Category::NoAcknowledge, &reads, &[]);
+        assert_eq!(m, vec!["step 55: TXERR & 0xFF expected 0x10 (mask 0xFF), seen 0x08".to_string()]);
+        // The same under an expected BitTimingMismatch.
+        let m = failed_reads_under_bus_setup_verdict(Some(Category::BitTimingMismatch), Category::BitTimingMismatch, &reads, &[]);
+        assert_eq!(m.len(), 1);
+    }
+
+    #[test]
+    fn a_failed_read_a_waiver_took_does_not_fail_the_scenario_but_others_still_do() {
+        let reads = [expectation(53, false), expectation(54, false), expectation(55, false)];
+        let m = failed_reads_under_bus_setup_verdict(Some(Category::NoAcknowledge), Category::NoAcknowledge, &reads, &[53, 55]);
+        assert_eq!(m, vec!["step 54: TXERR & 0xFF expected 0x10 (mask 0xFF), seen 0x08".to_string()]);
+        let all = failed_reads_under_bus_setup_verdict(Some(Category::NoAcknowledge), Category::NoAcknowledge, &reads, &[53, 54, 55]);
+        assert!(all.is_empty(), "{all:?}");
+    }
+
+    #[test]
+    fn failed_reads_are_left_to_the_diagnosis_outside_an_expected_bus_setup_verdict() {
+        let reads = [expectation(55, false)];
+        // Another verdict than the expected one: check_expect reports that mismatch.
+        assert!(failed_reads_under_bus_setup_verdict(Some(Category::NoAcknowledge), Category::BitTimingMismatch, &reads, &[]).is_empty());
+        // A diagnosis category that is itself the finding (ExpectationFailed and the like).
+        assert!(failed_reads_under_bus_setup_verdict(Some(Category::ExpectationFailed), Category::ExpectationFailed, &reads, &[]).is_empty());
     }
 }

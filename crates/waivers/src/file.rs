@@ -93,6 +93,14 @@
 //! `WaiverReport::waived_expectations` as a consequence of the waiver
 //! (`Session::waive_consequence`). Otherwise, and for any expectation not
 //! listed, the failure stands.
+//!
+//! A listed expectation may also be on a read that itself diverged (waived
+//! by any waiver) where the model's value misses the expectation too: a
+//! waived deviation moved the host's read to a moment the scenario did not
+//! intend (e.g. a "wait for TBS" that ends a frame early). It is waived
+//! only if the listing waiver was hit BEFORE that read
+//! (`Session::waive_consequence_on_waived_read`), and listed with the
+//! model's value.
 
 use std::fmt;
 use std::str::FromStr;

@@ -164,6 +164,59 @@ impl Session {
         Some(id)
     }
 
+    /// A scenario expectation failed on a read that itself diverged and
+    /// whose divergence a waiver took (the last waived one, after the first
+    /// `waived_before`), and the model's value misses the expectation too:
+    /// the read came at a moment the scenario did not intend (a waived
+    /// deviation moved the host's wait), so neither the DUT's nor the
+    /// model's value can meet it. Waived only as for
+    /// [`Session::waive_consequence`]: the step is listed in a waiver's
+    /// `consequences`, and that waiver was hit BEFORE this read. Listed in
+    /// the report with the model's value. Otherwise `None`.
+    #[allow(clippy::too_many_arguments)]
+    pub fn waive_consequence_on_waived_read(
+        &mut self,
+        waived_before: usize,
+        scenario: &str,
+        step: usize,
+        what: &str,
+        mask: u8,
+        expected: u8,
+        seen: u8,
+    ) -> Option<String> {
+        if self.report.waived.len() <= waived_before || seen & mask == expected & mask {
+            return None;
+        }
+        let d = &self.report.waived.last()?.divergence;
+        if d.kind != diagnose::DivergenceKind::RegisterRead || d.seen & 0xFF != seen as u32 || d.expected > 0xFF {
+            return None;
+        }
+        let model = d.expected as u8;
+        // A model value that meets the expectation is the read's own
+        // deviation (`waive_expectation`), not a consequence.
+        if model & mask == expected & mask {
+            return None;
+        }
+        let of = ConsequenceOf::Step(step);
+        let earlier = &self.report.waived[..waived_before];
+        let id = self
+            .set
+            .waivers()
+            .iter()
+            .find(|w| w.consequences.iter().any(|c| c.scenario == scenario && c.of == of) && earlier.iter().any(|x| x.waiver_id == w.id))
+            .map(|w| w.id.clone())?;
+        self.report.waived_expectations.push(WaivedExpectation {
+            step,
+            what: what.into(),
+            expected: format!("0x{:02X} (mask 0x{mask:02X})", expected & mask),
+            seen: seen & mask,
+            model: model & mask,
+            waiver_id: id.clone(),
+            consequence: true,
+        });
+        Some(id)
+    }
+
     /// The scenario's count of frames received by model node `node` is
     /// `got`, not `want`: waived (and listed, as step 0) only as for
     /// [`Session::waive_consequence`], with `"<scenario>:received by <node>"`.
