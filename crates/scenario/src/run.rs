@@ -615,8 +615,18 @@ pub fn run(s: &Scenario, opts: &RunOptions) -> RunOutcome {
     // set-up category first (BitTimingMismatch, NoAcknowledge): there the DUT,
     // its host and the model agree, so a wrong read is the scenario's finding,
     // not a consequence (a scenario expecting BitTimingMismatch must still
-    // see its register reads judged).
-    let reads_trusted = matches!(diagnosis.category, diagnose::Category::BitTimingMismatch | diagnose::Category::NoAcknowledge);
+    // see its register reads judged). The same holds for writes the DUT and
+    // the model both ignore (ConfigWriteOutsideReset, TxBufferWriteWhileLocked):
+    // a scenario expecting them shows the write protection, and its reads are
+    // the check (tb/registers/*.toml); without this a wrong read hid behind
+    // the expected category.
+    let reads_trusted = matches!(
+        diagnosis.category,
+        diagnose::Category::BitTimingMismatch
+            | diagnose::Category::NoAcknowledge
+            | diagnose::Category::ConfigWriteOutsideReset
+            | diagnose::Category::TxBufferWriteWhileLocked
+    );
     if reads_trusted && s.expect.category == Some(diagnosis.category) {
         // Expectations a waiver took (a waived read, or a listed consequence)
         // are the waiver's, reported with it.
