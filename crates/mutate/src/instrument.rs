@@ -112,7 +112,8 @@ pub(crate) fn yosys(script: &str, cwd: &Path, step: &str) -> Result<String, Inst
 
 /// [`yosys`], with the whole log returned when `log` (the `sat` tables).
 pub(crate) fn yosys_logged(script: &str, cwd: &Path, step: &str, log: bool) -> Result<String, InstrumentError> {
-    let path = cwd.join(format!("{}.ys", step.replace(' ', "_")));
+    // absolute: yosys runs in `cwd`, so a relative `--out` would be joined twice
+    let path = std::path::absolute(cwd.join(format!("{}.ys", step.replace(' ', "_")))).map_err(io(format!("resolving {}", cwd.display())))?;
     std::fs::write(&path, script).map_err(io(format!("writing {}", path.display())))?;
     let o = match Command::new("yosys").args(if log { &[][..] } else { &["-q"][..] }).arg("-s").arg(&path).current_dir(cwd).output() {
         Ok(o) => o,
@@ -266,4 +267,25 @@ fn build(src: &CoreSources, files: &[PathBuf], from: &MutationSource, saved: Opt
     }
     std::fs::write(work.join("build_errors.json"), serde_json::to_string(&errors).expect("plain data")).map_err(io("writing build_errors.json"))?;
     Ok(())
+}
+
+#[cfg(test)]
+mod tests {
+    /// A relative work directory (`--out out/x` from the CLI) works: the
+    /// script path handed to yosys must not be relative to the directory
+    /// yosys runs in (the formal check failed with "Can't open script file").
+    #[test]
+    fn yosys_runs_in_a_relative_work_directory() {
+        // under the test's working directory (the crate), named relatively
+        let dir = tempfile::tempdir_in(".").unwrap();
+        let rel = std::path::PathBuf::from(dir.path().file_name().unwrap());
+        assert!(rel.is_relative() && rel.is_dir(), "{}", rel.display());
+        let out = super::yosys("log relative-ok\n", &rel, "rel step");
+        match out {
+            Err(super::InstrumentError::NoYosys) => eprintln!("yosys not installed: skipped"),
+            other => {
+                other.unwrap();
+            }
+        }
+    }
 }

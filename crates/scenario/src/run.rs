@@ -615,7 +615,11 @@ pub fn run(s: &Scenario, opts: &RunOptions) -> RunOutcome {
     // set-up category first (BitTimingMismatch, NoAcknowledge): there the DUT,
     // its host and the model agree, so a wrong read is the scenario's finding,
     // not a consequence (a scenario expecting BitTimingMismatch must still
-    // see its register reads judged).
+    // see its register reads judged). The same holds for writes the DUT and
+    // the model both ignore (ConfigWriteOutsideReset, TxBufferWriteWhileLocked):
+    // a scenario expecting them shows the write protection, and its reads are
+    // the check (tb/registers/*.toml); without this a wrong read hid behind
+    // the expected category.
     let waived: Vec<usize> = report.as_ref().map_or_else(Vec::new, |r| r.waived_expectations.iter().map(|w| w.step).collect());
     mismatches.extend(failed_reads_under_bus_setup_verdict(s.expect.category, diagnosis.category, &record.expectations, &waived));
     mismatches.extend(lost);
@@ -663,7 +667,13 @@ fn failed_reads_under_bus_setup_verdict(
     expectations: &[Expectation],
     waived_steps: &[usize],
 ) -> Vec<String> {
-    let reads_trusted = matches!(diagnosed, diagnose::Category::BitTimingMismatch | diagnose::Category::NoAcknowledge);
+    let reads_trusted = matches!(
+        diagnosed,
+        diagnose::Category::BitTimingMismatch
+            | diagnose::Category::NoAcknowledge
+            | diagnose::Category::ConfigWriteOutsideReset
+            | diagnose::Category::TxBufferWriteWhileLocked
+    );
     if !reads_trusted || expected != Some(diagnosed) {
         return Vec::new();
     }
