@@ -611,15 +611,7 @@ pub fn run(s: &Scenario, opts: &RunOptions) -> RunOutcome {
     }
     let diagnosis = diagnose(&record);
     let mut mismatches = check_expect(s, &diagnosis);
-    // A failed step expectation counts even when the diagnosis names a bus
-    // set-up category first (BitTimingMismatch, NoAcknowledge): there the DUT,
-    // its host and the model agree, so a wrong read is the scenario's finding,
-    // not a consequence (a scenario expecting BitTimingMismatch must still
-    // see its register reads judged). The same holds for writes the DUT and
-    // the model both ignore (ConfigWriteOutsideReset, TxBufferWriteWhileLocked):
-    // a scenario expecting them shows the write protection, and its reads are
-    // the check (tb/registers/*.toml); without this a wrong read hid behind
-    // the expected category.
+    // Reads still judged behind an expected set-up verdict (see the function).
     let waived: Vec<usize> = report.as_ref().map_or_else(Vec::new, |r| r.waived_expectations.iter().map(|w| w.step).collect());
     mismatches.extend(failed_reads_under_bus_setup_verdict(s.expect.category, diagnosis.category, &record.expectations, &waived));
     mismatches.extend(lost);
@@ -655,9 +647,12 @@ pub fn run(s: &Scenario, opts: &RunOptions) -> RunOutcome {
 }
 
 /// Failed step expectations that count although the diagnosis names the
-/// category the scenario expects, when that category is a bus set-up one
-/// (BitTimingMismatch, NoAcknowledge): there the DUT, its host and the model
-/// agree, so a wrong read is the scenario's finding, not a consequence.
+/// category the scenario expects, when that category is a set-up one: a bus
+/// set-up (BitTimingMismatch, NoAcknowledge), or writes the DUT and the model
+/// both ignore (ConfigWriteOutsideReset, TxBufferWriteWhileLocked, as in
+/// tb/registers/*.toml). There the DUT, its host and the model agree, so a
+/// wrong read is the scenario's finding, not a consequence; without this it
+/// hid behind the expected category.
 /// Expectations a waiver took (`waived_steps`: a waived read, or a listed
 /// consequence) are the waiver's, reported with it. For other categories the
 /// diagnosis itself is the finding and `check_expect` judges it.
