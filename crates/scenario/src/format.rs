@@ -192,6 +192,11 @@ pub struct RawFault {
     pub duration_bits: Option<i64>,
     /// "bus" (default), "dut-rx", or a node name.
     pub target: Option<String>,
+    /// Glitch only: first CAN clock of the pulse, counted from the start of
+    /// the bit (the bench's bit grid), instead of 1/4 into the bit.
+    pub offset_clocks: Option<i64>,
+    /// Glitch only: pulse length in CAN clocks (with `offset_clocks`).
+    pub width_clocks: Option<i64>,
 }
 
 /// `[expect]`: the expected outcome.

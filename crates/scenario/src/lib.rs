@@ -67,6 +67,10 @@
 //!                     # "bus": every model node and the DUT; "dut-rx": what the DUT (and
 //!                     # its shadow model) receive only; frames count SOFs on the bus from 1,
 //!                     # bits are wire bits from SOF = 0, stuff bits included
+//! offset_clocks = 0; width_clocks = 24   # glitch only: the pulse in CAN clocks
+//!                     # from the start of the bit (default: 1/8 bit, 1/4 into it);
+//!                     # it may cross the bench's sample point and must end in the bit;
+//!                     # target = "dut-rx" only (the grid is the DUT timing's)
 //!
 //! [expect]            # checked against the diagnosis
 //! category = "RxNotFollowingTx"  # diagnose::Category name
@@ -337,6 +341,10 @@ pub struct FaultSpec {
     pub duration_bits: u64,
     /// "bus", "dut-rx" or a node name.
     pub target: String,
+    /// Glitch only: `(offset, width)` of the pulse in CAN clocks from the
+    /// start of the bit (`offset_clocks`, `width_clocks`); `None`: 1/8 of a
+    /// bit starting 1/4 into it.
+    pub pulse_clocks: Option<(u32, u32)>,
 }
 
 /// The expected outcome.
@@ -907,7 +915,24 @@ fn build(ctx: &Ctx, raw: RawScenario, file: &Path) -> Result<Scenario, ScenarioE
         if target != "bus" && target != "dut-rx" && !nodes.iter().any(|n| n.name == target) {
             return Err(ctx.err_key(&span, "target", &format!("{p}.target"), format!("`{target}` is neither \"bus\", \"dut-rx\" nor a node name")));
         }
-        faults.push(FaultSpec { kind, at_bit: f.at_bit.map(|b| b.max(0) as u64), frame_bit, duration_bits: f.duration_bits.unwrap_or(1).max(1) as u64, target });
+        let pulse_clocks = match (f.offset_clocks, f.width_clocks) {
+            (None, None) => None,
+            (Some(_), Some(_)) if kind != FaultKind::Glitch => {
+                return Err(ctx.err_key(&span, "offset_clocks", &format!("{p}.offset_clocks"), "offset_clocks and width_clocks place a glitch's pulse; this fault is no glitch"));
+            }
+            (Some(_), Some(_)) if target != "dut-rx" => {
+                return Err(ctx.err_key(&span, "offset_clocks", &format!("{p}.offset_clocks"), "offset_clocks is counted on the DUT's bit grid: give target = \"dut-rx\""));
+            }
+            (Some(_), Some(_)) if frame_bit.is_none() => {
+                return Err(ctx.err_key(&span, "offset_clocks", &format!("{p}.offset_clocks"), "offset_clocks needs frame + bit_in_frame (the bit it is counted from)"));
+            }
+            (Some(o), Some(w)) if o >= 0 && w >= 1 && o <= i64::from(u16::MAX) && w <= i64::from(u16::MAX) => Some((o as u32, w as u32)),
+            (Some(_), Some(_)) => {
+                return Err(ctx.err_key(&span, "offset_clocks", &format!("{p}.offset_clocks"), "offset_clocks must be >= 0 and width_clocks >= 1 (CAN clocks)"));
+            }
+            _ => return Err(ctx.err_key(&span, "offset_clocks", &format!("{p}.offset_clocks"), "give offset_clocks and width_clocks together")),
+        };
+        faults.push(FaultSpec { kind, at_bit: f.at_bit.map(|b| b.max(0) as u64), frame_bit, duration_bits: f.duration_bits.unwrap_or(1).max(1) as u64, target, pulse_clocks });
     }
 
     // expect

@@ -168,3 +168,14 @@ fn new_bit_timings_fail_far_beyond_their_tolerance() {
     assert!(!passes_with("rx-7.7-max-sjw-short-tseg-drift.toml", &[("can_mhz = 24.408", "can_mhz = 25.2")]));
     assert!(!passes_with("rx-7.7-sam-max-sjw-drift.toml", &[("can_mhz = 23.64", "can_mhz = 22.8")]));
 }
+
+/// The sample point scenarios depend on where the pulse ends: the 6 tq
+/// pulse made 8 tq (past the sample point) fails rx-7.7.1; the spike over
+/// the last sample moved over two samples fails the SAM = 1 one.
+#[test]
+fn sample_point_scenarios_depend_on_the_pulse_position() {
+    assert!(passes_with("rx-7.7.1-sample-point.toml", &[]));
+    assert!(!passes_with("rx-7.7.1-sample-point.toml", &[("offset_clocks = 0\nwidth_clocks = 24", "offset_clocks = 0\nwidth_clocks = 32")]));
+    assert!(passes_with("rx-7.7.1-sam-spike.toml", &[]));
+    assert!(!passes_with("rx-7.7.1-sam-spike.toml", &[("offset_clocks = 24\nwidth_clocks = 8", "offset_clocks = 20\nwidth_clocks = 8")]));
+}
