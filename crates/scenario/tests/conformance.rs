@@ -179,3 +179,14 @@ fn sample_point_scenarios_depend_on_the_pulse_position() {
     assert!(passes_with("rx-7.7.1-sam-spike.toml", &[]));
     assert!(!passes_with("rx-7.7.1-sam-spike.toml", &[("offset_clocks = 24\nwidth_clocks = 8", "offset_clocks = 20\nwidth_clocks = 8")]));
 }
+
+/// 7.7.9 and 8.7.1 depend on the pulse length: the 5 tq idle-bus pulse made
+/// 8 tq is a start of frame (BEI where none is expected); the transmitter's
+/// 6 tq pulse made 8 tq is a bit error in its first frame.
+#[test]
+fn idle_pulse_and_transmitter_sample_point_depend_on_the_pulse_length() {
+    assert!(passes_with("rx-7.7.9-idle-pulse.toml", &[]));
+    assert!(!passes_with("rx-7.7.9-idle-pulse.toml", &[("offset_clocks = 0\nwidth_clocks = 20", "offset_clocks = 0\nwidth_clocks = 32")]));
+    assert!(passes_with("tx-8.7.1-sample-point.toml", &[]));
+    assert!(!passes_with("tx-8.7.1-sample-point.toml", &[("offset_clocks = 0\nwidth_clocks = 24", "offset_clocks = 0\nwidth_clocks = 32")]));
+}
