@@ -84,6 +84,7 @@ pub mod regress;
 pub mod replay;
 pub mod revdiff;
 pub mod run;
+pub mod xfail;
 
 pub use regress::{RegressOptions, RegressReport, regress};
 pub use run::{DutSpec, RunOptions, RunOutcome, run};

@@ -661,6 +661,9 @@ pub(crate) struct RawWaiver {
 pub(crate) struct RawFile {
     #[serde(default)]
     pub waiver: Vec<RawWaiver>,
+    /// `[[expected-failure]]` tables (crate::expected).
+    #[serde(default, rename = "expected-failure")]
+    pub expected_failure: Vec<crate::expected::RawExpectedFailure>,
 }
 
 /// Suggested entry, written by [`crate::suggest`] (same keys as the file).
