@@ -84,6 +84,9 @@ pub fn run(a: Args) -> anyhow::Result<i32> {
         .iter()
         .map(|d| if d == "model" { DutSpec::model() } else { DutSpec::rtl() })
         .collect();
+    // A bad waiver file (or [[expected-failure]] entry) is one error before
+    // any run (exit 2, file:line: key), not an error cell per scenario.
+    waivers::WaiverSet::load_all(&a.waivers.waivers)?;
     let common = a.profile.as_deref().map(cosim::Profile::find).transpose()?;
     if a.baseline.is_some() && a.externals.len() != 1 {
         anyhow::bail!("--baseline compares with exactly one --external (the new revision)");
@@ -181,7 +184,7 @@ pub fn run(a: Args) -> anyhow::Result<i32> {
     if let Some(p) = &a.record_expected_failures {
         let text = record_expected_failures(&report);
         std::fs::write(p, &text).with_context(|| format!("writing {}", p.display()))?;
-        let n = text.matches("[[expected-failure]]").count();
+        let n = text.lines().filter(|l| *l == "[[expected-failure]]").count();
         println!("expected-failure entries: {n} written to {} (paste into a waiver file after review; nothing was changed)", p.display());
     }
     if let Some(dir) = &a.html {
