@@ -335,3 +335,83 @@ pub fn to_toml(scenario: &str, dut: &str, host: &str, signature: &[String], like
     s += "]\n";
     s
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::WaiverSet;
+
+    const ENTRY: &str = r#"
+[[expected-failure]]
+id = "gts"
+scenario = "basic-sleep-wakeup"
+dut = ["opencores-can (*)"]
+host = ["wishbone", "avalon"]
+deviation = "D6"
+clause = "datasheet Table 4"
+reason = "GTS transmits"
+signature = [
+    "divergence tx-bit   at bit 17 (frame 1, BusIdle): model 1, DUT 0",
+    "verdict category: expected Pass, diagnosed DutDeviatesFromModel",
+]
+"#;
+
+    #[test]
+    fn an_entry_loads_with_its_hosts_dut_and_normalised_signature() {
+        let set = WaiverSet::parse(ENTRY, "w.toml").unwrap();
+        let e = &set.expected_failures()[0];
+        assert_eq!((e.id.as_str(), e.deviation.as_str(), e.line), ("gts", "D6", 3));
+        assert_eq!(e.signature[0], "divergence tx-bit at bit 17 (frame 1, BusIdle): model 1, DUT 0");
+        assert!(e.is_for("basic-sleep-wakeup", "avalon") && !e.is_for("basic-sleep-wakeup", "pio") && !e.is_for("basic-overrun-abort", "wishbone"));
+        assert!(e.applies_to(&DutInfo::new("opencores-can (/x)")) && !e.applies_to(&DutInfo::new("rtl")));
+        assert!(set.waivers().is_empty());
+        let one = WaiverSet::parse(&ENTRY.replace("host = [\"wishbone\", \"avalon\"]", "host = \"pio\""), "w.toml").unwrap();
+        assert_eq!(one.expected_failures()[0].hosts, ["pio"]);
+        let any = WaiverSet::parse(&ENTRY.replace("host = [\"wishbone\", \"avalon\"]\n", ""), "w.toml").unwrap();
+        assert!(any.expected_failures()[0].is_for("basic-sleep-wakeup", "i8051"));
+    }
+
+    #[test]
+    fn the_diff_is_a_set_difference() {
+        let e = WaiverSet::parse(ENTRY, "w.toml").unwrap().expected_failures()[0].clone();
+        let seen = |v: &[&str]| v.iter().map(|s| s.to_string()).collect::<Vec<_>>();
+        let exact = e.diff(&seen(&["verdict category: expected Pass, diagnosed DutDeviatesFromModel", "divergence tx-bit at bit 17 (frame 1, BusIdle): model 1, DUT 0"]));
+        assert!(exact.is_exact(), "{exact:?}");
+        let d = e.diff(&seen(&["divergence tx-bit at bit 18 (frame 1, BusIdle): model 1, DUT 0", "verdict category: expected Pass, diagnosed DutDeviatesFromModel"]));
+        assert_eq!(d.missing, ["divergence tx-bit at bit 17 (frame 1, BusIdle): model 1, DUT 0"]);
+        assert_eq!(d.extra, ["divergence tx-bit at bit 18 (frame 1, BusIdle): model 1, DUT 0"]);
+        assert_eq!(d.to_text(), "- divergence tx-bit at bit 17 (frame 1, BusIdle): model 1, DUT 0\n+ divergence tx-bit at bit 18 (frame 1, BusIdle): model 1, DUT 0\n");
+        assert!(!e.diff(&[]).is_exact());
+    }
+
+    #[test]
+    fn a_recorded_entry_loads_only_once_explained() {
+        let sig = vec!["divergence irq at bit 3 (Eof): model 0, DUT 1".to_string(), "verdict x".to_string()];
+        let fresh = to_toml("s", "opencores-can (/tmp/can)", "wishbone", &sig, None);
+        assert!(fresh.contains("dut = [\"opencores-can (*)\"]"), "{fresh}");
+        let err = WaiverSet::parse(&fresh, "rec.toml").unwrap_err().to_string();
+        assert!(err.starts_with("rec.toml:") && err.contains(": deviation: empty"), "{err}");
+        let old = WaiverSet::parse(ENTRY, "w.toml").unwrap().expected_failures()[0].clone();
+        let again = to_toml("basic-sleep-wakeup", "opencores-can (/x)", "avalon", &sig, Some(&old));
+        let e = WaiverSet::parse(&again, "w.toml").unwrap().expected_failures()[0].clone();
+        assert_eq!((e.id, e.deviation, e.clause, e.reason, e.hosts, e.signature), (old.id, old.deviation, old.clause, old.reason, vec!["avalon".to_string()], sig));
+    }
+
+    #[test]
+    fn signature_lines_name_kind_place_and_values() {
+        let d = Divergence { kind: DivergenceKind::RegisterRead, register: Some("IR".into()), bit: Some(66), field: Some(can_proto::Field::Intermission), expected: 0xF0, seen: 0xE2, time_ps: 5, context: "not in the line".into(), ..Default::default() };
+        assert_eq!(signature_line(&d), "divergence register-read IR at bit 66 (Intermission): model 0xF0, DUT 0xE2");
+        let t = Divergence { kind: DivergenceKind::TxBit, bit: Some(17), frame: Some(1), field: Some(can_proto::Field::BusIdle), expected: 1, seen: 0, ..Default::default() };
+        assert_eq!(signature_line(&t), "divergence tx-bit at bit 17 (frame 1, BusIdle): model 1, DUT 0");
+        let p = Divergence { kind: DivergenceKind::BusOff, time_ps: 1234, expected: 0, seen: 1, ..Default::default() };
+        assert_eq!(signature_line(&p), "divergence bus-off at 1234 ps: model 0, DUT 1");
+    }
+
+    #[test]
+    fn an_id_defined_in_two_files_is_an_error() {
+        let mut a = WaiverSet::parse(ENTRY, "a.toml").unwrap();
+        let b = WaiverSet::parse(ENTRY, "b.toml").unwrap();
+        let err = a.merge(b).unwrap_err().to_string();
+        assert_eq!(err, "b.toml:3: id: expected-failure id `gts` already defined at a.toml:3");
+    }
+}
