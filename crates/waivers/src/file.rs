@@ -1,5 +1,7 @@
 //! The waiver file: TOML read through serde, unknown keys rejected, every
-//! error located as `file:line: key: message`.
+//! error located as `file:line: key: message`. Besides `[[waiver]]` tables
+//! it may hold `[[expected-failure]]` tables (strict expected failures of
+//! whole scenarios, with their signature: [`crate::expected`]).
 //!
 //! ```toml
 //! [[waiver]]
