@@ -88,6 +88,7 @@ pub mod regress;
 pub mod replay;
 pub mod revdiff;
 pub mod run;
+pub mod xfail;
 
 pub use regress::{RegressOptions, RegressReport, regress};
 pub use run::{DutSpec, RunOptions, RunOutcome, run};

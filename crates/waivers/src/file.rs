@@ -1,5 +1,7 @@
 //! The waiver file: TOML read through serde, unknown keys rejected, every
-//! error located as `file:line: key: message`.
+//! error located as `file:line: key: message`. Besides `[[waiver]]` tables
+//! it may hold `[[expected-failure]]` tables (strict expected failures of
+//! whole scenarios, with their signature: [`crate::expected`]).
 //!
 //! ```toml
 //! [[waiver]]
@@ -661,6 +663,9 @@ pub(crate) struct RawWaiver {
 pub(crate) struct RawFile {
     #[serde(default)]
     pub waiver: Vec<RawWaiver>,
+    /// `[[expected-failure]]` tables (crate::expected).
+    #[serde(default, rename = "expected-failure")]
+    pub expected_failure: Vec<crate::expected::RawExpectedFailure>,
 }
 
 /// Suggested entry, written by [`crate::suggest`] (same keys as the file).

@@ -38,9 +38,21 @@ pub struct Args {
     /// Run only shard k of n (e.g. 2/4).
     #[arg(long, value_parser = parse_shard)]
     shard: Option<(usize, usize)>,
-    /// Write JUnit XML here.
+    /// Write JUnit XML here (an expected failure is a skipped testcase
+    /// whose message names its entry).
     #[arg(long)]
     junit: Option<PathBuf>,
+    /// Write the results as JSON here (counts, and per cell its status; an
+    /// expected failure with its entry and verdict).
+    #[arg(long, value_name = "FILE")]
+    json: Option<PathBuf>,
+    /// Run every scenario in collect mode and write, for each run that did
+    /// not pass (or did not fail as its [[expected-failure]] entry
+    /// records), an [[expected-failure]] entry with the signature it showed,
+    /// to paste into a waiver file after filling in deviation, clause and
+    /// reason. Never edits a waiver file.
+    #[arg(long, value_name = "FILE")]
+    record_expected_failures: Option<PathBuf>,
     /// Write a self-contained HTML report (DIR/index.html, files of failed runs in DIR/runs/).
     #[arg(long, value_name = "DIR")]
     html: Option<PathBuf>,
@@ -72,6 +84,9 @@ pub fn run(a: Args) -> anyhow::Result<i32> {
         .iter()
         .map(|d| if d == "model" { DutSpec::model() } else { DutSpec::rtl() })
         .collect();
+    // A bad waiver file (or [[expected-failure]] entry) is one error before
+    // any run (exit 2, file:line: key), not an error cell per scenario.
+    waivers::WaiverSet::load_all(&a.waivers.waivers)?;
     let common = a.profile.as_deref().map(cosim::Profile::find).transpose()?;
     if a.baseline.is_some() && a.externals.len() != 1 {
         anyhow::bail!("--baseline compares with exactly one --external (the new revision)");
@@ -120,7 +135,8 @@ pub fn run(a: Args) -> anyhow::Result<i32> {
         max_bits: a.max_bits,
         waivers: a.waivers.waivers.clone(),
         dut_revision: a.waivers.dut_revision.clone(),
-        collect: a.waivers.mode(),
+        // Recording judges whole scenarios, as expected failures are judged.
+        collect: if a.record_expected_failures.is_some() { waivers::CollectMode::Collect } else { a.waivers.mode() },
         host: a.host.bfm(),
         coverage_dir: a.coverage.clone(),
     };
@@ -161,6 +177,16 @@ pub fn run(a: Args) -> anyhow::Result<i32> {
         std::fs::write(p, report.to_junit()).with_context(|| format!("writing {}", p.display()))?;
         println!("JUnit: {}", p.display());
     }
+    if let Some(p) = &a.json {
+        std::fs::write(p, report.to_json()).with_context(|| format!("writing {}", p.display()))?;
+        println!("JSON: {}", p.display());
+    }
+    if let Some(p) = &a.record_expected_failures {
+        let text = record_expected_failures(&report);
+        std::fs::write(p, &text).with_context(|| format!("writing {}", p.display()))?;
+        let n = text.lines().filter(|l| *l == "[[expected-failure]]").count();
+        println!("expected-failure entries: {n} written to {} (paste into a waiver file after review; nothing was changed)", p.display());
+    }
     if let Some(dir) = &a.html {
         // The loadable scenarios again, for the detail runs of failed cells.
         let mut scenarios = Vec::new();
@@ -175,6 +201,25 @@ pub fn run(a: Args) -> anyhow::Result<i32> {
         println!("HTML report: {}", page.display());
     }
     Ok(report.exit_code())
+}
+
+/// `--record-expected-failures`: an entry per run that did not pass or did
+/// not fail as its entry records, with the signature it showed (collect mode).
+fn record_expected_failures(report: &scenario::regress::RegressReport) -> String {
+    use scenario::regress::Status;
+    let mut out = String::from(
+        "# [[expected-failure]] entries recorded by `cancosim regress --record-expected-failures`\n\
+         # (collect mode). Review each, fill in what is empty, paste into the waiver file.\n",
+    );
+    for c in &report.cells {
+        let record = matches!(c.status, Status::Diverged(_) | Status::Failed(_) | Status::WrongFailure { .. });
+        if !record || c.signature.is_empty() {
+            continue;
+        }
+        out += &format!("\n# {} on {} through {}: {} line(s)\n", c.scenario, c.dut, c.host, c.signature.len());
+        out += &waivers::expected::to_toml(&c.scenario, &c.waiver_dut, &c.host, &c.signature, c.xfail.as_ref().map(|r| &r.entry));
+    }
+    out
 }
 
 /// `--coverage DIR`: per Verilated DUT, merges its runs' `.dat` files into
