@@ -55,6 +55,19 @@ pub fn parse_shard(s: &str) -> Result<(usize, usize), String> {
     Ok((k, n))
 }
 
+/// Exit codes of `cancosim regress`, chosen for `git bisect run`, which
+/// reads 0 as good, 125 as "cannot be tested: skip", and 1..=127 otherwise
+/// as bad. Every scenario passed (or was skipped on purpose).
+pub const EXIT_PASSED: i32 = 0;
+/// A scenario failed, diverged or could not run on a core that built.
+pub const EXIT_FAILED: i32 = 1;
+/// The user's input is wrong (arguments, an unreadable list, a scenario file
+/// that does not load): not the revision's fault, so neither 0 nor 125.
+pub const EXIT_BAD_INPUT: i32 = 2;
+/// The core does not build (missing directory or sources, no top module,
+/// Verilator/GHDL/C++ errors): `git bisect run` skips the revision.
+pub const EXIT_UNBUILDABLE: i32 = 125;
+
 /// Verdict of one (scenario, DUT) pair.
 #[derive(Clone, Debug, PartialEq, Eq)]
 pub enum Status {
@@ -260,6 +273,9 @@ pub struct RegressReport {
     pub duts: Vec<String>,
     /// Cells that ran (a shard runs a subset).
     pub cells: Vec<Cell>,
+    /// Scenarios that could not be loaded (their error cells are in
+    /// `cells`): the user's input, so the exit code is [`EXIT_BAD_INPUT`].
+    pub unloadable: Vec<String>,
 }
 
 impl RegressReport {
@@ -283,9 +299,17 @@ impl RegressReport {
         self.cells.iter().all(|c| c.status.ok())
     }
 
-    /// Process exit code: 0 if all passed, 1 otherwise.
+    /// Process exit code: [`EXIT_BAD_INPUT`] if a scenario could not be
+    /// loaded (after the others ran), else [`EXIT_PASSED`] if all passed,
+    /// else [`EXIT_FAILED`].
     pub fn exit_code(&self) -> i32 {
-        if self.passed() { 0 } else { 1 }
+        if !self.unloadable.is_empty() {
+            EXIT_BAD_INPUT
+        } else if self.passed() {
+            EXIT_PASSED
+        } else {
+            EXIT_FAILED
+        }
     }
 
     /// The waivers that matched on `dut`, in order of first use, with hits
@@ -647,6 +671,7 @@ pub fn regress_with(
         scenarios: scenarios.iter().map(|s| s.name.clone()).collect(),
         duts: duts.iter().map(|d| d.name.clone()).collect(),
         cells: results.into_inner().unwrap_or_default().into_iter().flatten().collect(),
+        unloadable: Vec::new(),
     }
 }
 
@@ -659,7 +684,7 @@ fn unloadable(path: &std::path::Path, e: &ScenarioError) -> (String, String) {
 /// Loads every input (a `.toml` scenario or a regression list) and runs
 /// [`regress`]. A scenario that cannot be loaded (bad key, missing file)
 /// does not stop the others: it becomes an error cell on every DUT with its
-/// `file:line:col: key` message, and the exit code is non-zero. Only an
+/// `file:line:col: key` message, and the exit code is [`EXIT_BAD_INPUT`]. Only an
 /// unreadable list is an error. With a shard, those cells go to shard 1.
 pub fn regress_inputs(inputs: &[std::path::PathBuf], duts: &[DutSpec], opts: &RegressOptions) -> Result<RegressReport, ScenarioError> {
     let mut scenarios = Vec::new();
@@ -701,7 +726,8 @@ pub fn regress_inputs(inputs: &[std::path::PathBuf], duts: &[DutSpec], opts: &Re
                     host: String::new(),
                 });
             }
-            report.scenarios.push(name);
+            report.scenarios.push(name.clone());
+            report.unloadable.push(name);
         }
     }
     Ok(report)

@@ -152,7 +152,10 @@ fn a_bad_scenario_in_a_list_does_not_stop_the_others() {
     }
     let gone = rep.cells.iter().find(|c| c.scenario == "gone").unwrap();
     assert!(matches!(&gone.status, Status::Error(m) if m.contains("gone.toml")), "{:?}", gone.status);
-    assert_eq!(rep.exit_code(), 1);
+    // The user's input, not the core: exit 2 (neither 1 "failed" nor 125
+    // "does not build", which git bisect would read as bad / skip).
+    assert_eq!(rep.unloadable, ["typo", "gone"]);
+    assert_eq!(rep.exit_code(), scenario::regress::EXIT_BAD_INPUT);
     assert!(table.contains("typo") && table.contains("gone") && table.contains("first"), "{table}");
     let junit = rep.to_junit();
     assert!(junit.contains("valeu") && junit.contains("gone.toml"), "{junit}");
