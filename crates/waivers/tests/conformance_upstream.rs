@@ -97,7 +97,7 @@ fn ecc_overload_delimiter_freedom_takes_only_the_two_measured_pairs_once() {
 
 #[test]
 fn tec_decrement_at_bus_integration_is_exactly_one_below_on_txerr_twice() {
-    const ID: &str = "tec-decremented-by-bus-integration";
+    const ID: &str = "txerr-decremented-by-bus-integration";
     let mut set = shipped();
     assert_eq!(by(&mut set, &read("TXERR", 9, 8)).as_deref(), Some(ID));
     assert_eq!(by(&mut set, &read("TXERR", 0xC8, 0xC7)).as_deref(), Some(ID));
