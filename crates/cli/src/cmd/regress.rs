@@ -121,7 +121,7 @@ fn setup_duts(a: &Args) -> Result<Vec<DutSpec>, SetupError> {
         .collect();
     // A bad waiver file (or [[expected-failure]] entry) is one error before
     // any run (exit 2, file:line: key), not an error cell per scenario.
-    waivers::WaiverSet::load_all(&a.waivers.waivers)?;
+    waivers::WaiverSet::load_all(&a.waivers.waivers).map_err(|e| SetupError::Input(e.into()))?;
     let common = a.profile.as_deref().map(cosim::Profile::find).transpose()?;
     if a.baseline.is_some() && a.externals.len() != 1 {
         return Err(anyhow::anyhow!("--baseline compares with exactly one --external (the new revision)").into());
