@@ -64,6 +64,9 @@
 //! [[fault]]
 //! kind = "flip"       # | "stuck-dominant" | "stuck-recessive" | "glitch"
 //! frame = 1; bit_in_frame = 20   # or at_bit = N; duration_bits; target = "bus" | "dut-rx" | node
+//! offset_tq = 4; width_tq = 1     # glitch only: the pulse in the DUT's time quanta from the
+//!                     # bit's start (0 = SYNC_SEG); default: 1/8 bit from 1/4 bit. One
+//!                     # quantum wide it hits exactly one quantum end (e.g. one SAM sample)
 //!                     # "bus": every model node and the DUT; "dut-rx": what the DUT (and
 //!                     # its shadow model) receive only; frames count SOFs on the bus from 1,
 //!                     # bits are wire bits from SOF = 0, stuff bits included
@@ -335,6 +338,9 @@ pub struct FaultSpec {
     pub frame_bit: Option<(u32, u32)>,
     /// Bits it lasts.
     pub duration_bits: u64,
+    /// Glitch only: (first quantum within the bit, quanta) in the DUT's
+    /// time quanta; `None`: the default pulse (1/8 bit from 1/4 bit).
+    pub quanta: Option<(u32, u32)>,
     /// "bus", "dut-rx" or a node name.
     pub target: String,
 }
@@ -525,18 +531,7 @@ impl Scenario {
 
     /// The scenario's DUT node timing (from the first BTR0/BTR1 writes).
     pub fn dut_timing(&self) -> (u8, u8) {
-        let mut b = (0u8, 0u8);
-        for s in &self.steps {
-            if let Action::Write { addr, value, .. } = s.action {
-                // BTR0/BTR1 sit at 6/7 in both views.
-                if addr == 6 {
-                    b.0 = value;
-                } else if addr == 7 {
-                    b.1 = value;
-                }
-            }
-        }
-        b
+        btr_written(&self.steps)
     }
 
     /// The CTU-style header: purpose, verifies, sequence, numbered.
@@ -907,7 +902,22 @@ fn build(ctx: &Ctx, raw: RawScenario, file: &Path) -> Result<Scenario, ScenarioE
         if target != "bus" && target != "dut-rx" && !nodes.iter().any(|n| n.name == target) {
             return Err(ctx.err_key(&span, "target", &format!("{p}.target"), format!("`{target}` is neither \"bus\", \"dut-rx\" nor a node name")));
         }
-        faults.push(FaultSpec { kind, at_bit: f.at_bit.map(|b| b.max(0) as u64), frame_bit, duration_bits: f.duration_bits.unwrap_or(1).max(1) as u64, target });
+        let quanta = match (f.offset_tq, f.width_tq) {
+            (None, None) => None,
+            (Some(o), Some(w)) => {
+                if kind != FaultKind::Glitch || frame_bit.is_none() {
+                    return Err(ctx.err_key(&span, "offset_tq", &format!("{p}.offset_tq"), "offset_tq/width_tq place a glitch given by frame + bit_in_frame"));
+                }
+                let (btr0, btr1) = btr_written(&steps);
+                let per_bit = can_proto::timing::BusTiming::from_btr(btr0, btr1).clocks_per_bit() / (2 * (u32::from(btr0 & 0x3F) + 1));
+                if o < 0 || w < 1 || o + w > per_bit as i64 {
+                    return Err(ctx.err_key(&span, "offset_tq", &format!("{p}.offset_tq"), format!("offset_tq = {o}, width_tq = {w}: the pulse must be at least 1 quantum and end within the DUT's bit of {per_bit} quanta (BTR0 = {btr0:#04X}, BTR1 = {btr1:#04X})")));
+                }
+                Some((o as u32, w as u32))
+            }
+            _ => return Err(ctx.err_key(&span, "offset_tq", &format!("{p}.offset_tq"), "give offset_tq and width_tq together")),
+        };
+        faults.push(FaultSpec { kind, at_bit: f.at_bit.map(|b| b.max(0) as u64), frame_bit, duration_bits: f.duration_bits.unwrap_or(1).max(1) as u64, quanta, target });
     }
 
     // expect
@@ -977,6 +987,22 @@ fn build(ctx: &Ctx, raw: RawScenario, file: &Path) -> Result<Scenario, ScenarioE
             .collect(),
         warnings,
     })
+}
+
+/// The last BTR0/BTR1 values the steps write (0 where none).
+fn btr_written(steps: &[Step]) -> (u8, u8) {
+    let mut b = (0u8, 0u8);
+    for s in steps {
+        if let Action::Write { addr, value, .. } = s.action {
+            // BTR0/BTR1 sit at 6/7 in both views.
+            if addr == 6 {
+                b.0 = value;
+            } else if addr == 7 {
+                b.1 = value;
+            }
+        }
+    }
+    b
 }
 
 /// Span of the first `key =` in the text (for keys in untyped places).

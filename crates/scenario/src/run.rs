@@ -159,7 +159,8 @@ impl FaultInjector for StuckInFrame {
 }
 
 /// Frame and bit of a frame-relative fault (frames counted from 1 in files, from 0 on the bus).
-fn injector(f: &FaultSpec, target: Target, clocks_per_bit: u64) -> Box<dyn FaultInjector> {
+/// `clocks_per_tq`: the DUT's time quantum in CAN clocks (glitches placed in quanta).
+fn injector(f: &FaultSpec, target: Target, clocks_per_bit: u64, clocks_per_tq: u32) -> Box<dyn FaultInjector> {
     match (f.kind, f.frame_bit) {
         (FaultKind::StuckDominant | FaultKind::StuckRecessive, Some((fr, b))) => Box::new(StuckInFrame {
             level: f.kind == FaultKind::StuckRecessive,
@@ -175,6 +176,10 @@ fn injector(f: &FaultSpec, target: Target, clocks_per_bit: u64) -> Box<dyn Fault
             Box::new(sja1000::StuckAt { level, target, from, until: Some(from + f.duration_bits * clocks_per_bit) })
         }
         (FaultKind::Flip, Some((fr, b))) => Box::new(sja1000::FlipBit { frame: fr as u64 - 1, bit: b, target }),
+        (FaultKind::Glitch, Some((fr, b))) if f.quanta.is_some() => {
+            let (offset_tq, width_tq) = f.quanta.unwrap_or_default();
+            Box::new(sja1000::Glitch::in_quanta(fr as u64 - 1, b, offset_tq, width_tq, clocks_per_tq, target))
+        }
         (FaultKind::Glitch, Some((fr, b))) => Box::new(sja1000::Glitch {
             frame: fr as u64 - 1,
             bit: b,
@@ -281,6 +286,7 @@ pub fn tb_config(s: &Scenario, dut: &DutKind, opts: &RunOptions) -> Result<TbCon
     };
     let (btr0, btr1) = s.dut_timing();
     let cpb = can_proto::timing::BusTiming::from_btr(btr0, btr1).clocks_per_bit() as u64;
+    let cptq = 2 * (u32::from(btr0 & 0x3F) + 1);
     let mut faults = Vec::new();
     let mut dut_rx_faults = Vec::new();
     for f in &s.faults {
@@ -292,20 +298,20 @@ pub fn tb_config(s: &Scenario, dut: &DutKind, opts: &RunOptions) -> Result<TbCon
             // them from applying the fault twice).
             "bus" => {
                 for i in 0..s.nodes.len() {
-                    faults.push(injector(f, Target::Node(i), cpb));
+                    faults.push(injector(f, Target::Node(i), cpb, cptq));
                 }
-                dut_rx_faults.push(injector(f, Target::Node(s.nodes.len()), cpb));
+                dut_rx_faults.push(injector(f, Target::Node(s.nodes.len()), cpb, cptq));
                 continue;
             }
             // What the DUT (and its shadow model) receive: the bench applies
             // these on rx_i, the DUT being node index `nodes.len()` there.
             "dut-rx" => {
-                dut_rx_faults.push(injector(f, Target::Node(s.nodes.len()), cpb));
+                dut_rx_faults.push(injector(f, Target::Node(s.nodes.len()), cpb, cptq));
                 continue;
             }
             name => Target::Node(s.nodes.iter().position(|n| n.name == name).ok_or(format!("fault target `{name}` is not a node"))?),
         };
-        faults.push(injector(f, target, cpb));
+        faults.push(injector(f, target, cpb, cptq));
     }
     let profile = opts.dut.as_ref().and_then(|d| d.profile.clone());
     // The comparator's tolerances: the profile's, our RTL's rtl.toml, else the defaults.

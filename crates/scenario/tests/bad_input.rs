@@ -174,3 +174,26 @@ fn wrong_type_errors_name_their_key() {
     let e = err(&GOOD.replace("value = 1", "value = { a = 1 }"));
     assert_eq!(e.key(), "value", "{e}");
 }
+
+/// `offset_tq` / `width_tq` place a glitch in the DUT's time quanta: only
+/// on a glitch given by frame + bit_in_frame, both keys together, at least
+/// one quantum, inside the bit (BTR0 = 0x41, BTR1 = 0x25: 10 quanta).
+#[test]
+fn glitch_quanta_out_of_place() {
+    let with = |fault: &str| format!("{GOOD}[[step]]\nwrite = \"BTR0\"\nvalue = 0x41\n[[step]]\nwrite = \"BTR1\"\nvalue = 0x25\n[[fault]]\n{fault}\n");
+    let ok = Scenario::parse(&with("kind = \"glitch\"\nframe = 1\nbit_in_frame = 3\noffset_tq = 9\nwidth_tq = 1"), "x").unwrap();
+    assert_eq!(ok.faults[0].quanta, Some((9, 1)));
+    for (fault, says) in [
+        ("kind = \"flip\"\nframe = 1\nbit_in_frame = 3\noffset_tq = 4\nwidth_tq = 1", "place a glitch given by frame + bit_in_frame"),
+        ("kind = \"glitch\"\nat_bit = 30\noffset_tq = 4\nwidth_tq = 1", "place a glitch given by frame + bit_in_frame"),
+        ("kind = \"glitch\"\nframe = 1\nbit_in_frame = 3\noffset_tq = 4", "together"),
+        ("kind = \"glitch\"\nframe = 1\nbit_in_frame = 3\noffset_tq = 4\nwidth_tq = 0", "bit of 10 quanta"),
+        ("kind = \"glitch\"\nframe = 1\nbit_in_frame = 3\noffset_tq = 9\nwidth_tq = 2", "bit of 10 quanta"),
+        ("kind = \"glitch\"\nframe = 1\nbit_in_frame = 3\noffset_tq = -1\nwidth_tq = 1", "bit of 10 quanta"),
+    ] {
+        let e = err(&with(fault));
+        assert_eq!(e.key(), "fault[1].offset_tq", "{e}");
+        assert!(e.to_string().starts_with("tb/bad.toml:"), "{e}");
+        assert!(e.to_string().contains(says), "{fault}: {e}");
+    }
+}
