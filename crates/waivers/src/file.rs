@@ -148,6 +148,8 @@ pub enum KindName {
     Irq,
     /// `DivergenceKind::BusOff`.
     BusOff,
+    /// `DivergenceKind::Clkout`.
+    Clkout,
 }
 
 impl KindName {
@@ -158,6 +160,7 @@ impl KindName {
             KindName::RegisterRead => DivergenceKind::RegisterRead,
             KindName::Irq => DivergenceKind::Irq,
             KindName::BusOff => DivergenceKind::BusOff,
+            KindName::Clkout => DivergenceKind::Clkout,
         }
     }
 
@@ -168,6 +171,7 @@ impl KindName {
             DivergenceKind::RegisterRead => KindName::RegisterRead,
             DivergenceKind::Irq => KindName::Irq,
             DivergenceKind::BusOff => KindName::BusOff,
+            DivergenceKind::Clkout => KindName::Clkout,
         }
     }
 
@@ -178,6 +182,7 @@ impl KindName {
             KindName::RegisterRead => "register-read",
             KindName::Irq => "irq",
             KindName::BusOff => "bus-off",
+            KindName::Clkout => "clkout",
         }
     }
 }
