@@ -51,6 +51,9 @@ pub struct CompareConfig {
     /// the phase at which a node starts its SOF is its own (needs a
     /// reference that reports its field).
     pub sof_tolerance: u32,
+    /// Check clkout_o's period and enable against the reference's CDR
+    /// (`crate::clkout`).
+    pub compare_clkout: bool,
 }
 
 impl Default for CompareConfig {
@@ -62,6 +65,7 @@ impl Default for CompareConfig {
             compare_irq: true,
             compare_bus_off: true,
             sof_tolerance: 40,
+            compare_clkout: true,
         }
     }
 }
@@ -138,6 +142,8 @@ enum Latch {
     Irq,
     /// bus_off_on, until the pins agree.
     BusOff,
+    /// clkout_o: the CLKOUT check latches itself until the setting changes.
+    Clkout,
 }
 
 /// One distinct difference, as collect mode lists it once.
@@ -383,7 +389,7 @@ impl Comparator {
                 Some(Latch::Irq) => self.irq_latched = true,
                 Some(Latch::BusOff) => self.bus_latched = true,
                 Some(Latch::Read(key)) => self.listed.add(key),
-                None => {}
+                Some(Latch::Clkout) | None => {}
             }
         }
         self.irq_bad = 0;
@@ -419,6 +425,7 @@ impl Comparator {
         let latch = match kind {
             DivergenceKind::Irq => Some(Latch::Irq),
             DivergenceKind::BusOff => Some(Latch::BusOff),
+            DivergenceKind::Clkout => Some(Latch::Clkout),
             DivergenceKind::RegisterRead => None,
             _ => Some(Latch::Tx(
                 s.frame,
@@ -759,6 +766,13 @@ impl Comparator {
             } else {
                 self.bus_bad = 0;
             }
+        }
+    }
+
+    /// A CLKOUT difference found by `crate::clkout::ClkoutCheck`.
+    pub fn clkout_divergence(&mut self, stamp: Stamp, m: crate::clkout::ClkoutMismatch) {
+        if !self.halted {
+            self.diverge(DivergenceKind::Clkout, stamp, None, m.expected, m.seen, m.what);
         }
     }
 
@@ -1144,7 +1158,7 @@ mod before {
                     Some(Latch::Irq) => self.irq_latched = true,
                     Some(Latch::BusOff) => self.bus_latched = true,
                     Some(Latch::Read(key)) => self.listed.add(key),
-                    None => {}
+                    Some(Latch::Clkout) | None => {}
                 }
             }
             self.irq_bad = 0;
@@ -2068,6 +2082,7 @@ resync = ["skip-bits 1"]
                 compare_irq: rnd(4) != 0,
                 compare_bus_off: rnd(4) != 0,
                 sof_tolerance: sof_tol,
+                compare_clkout: true,
             };
             let mut new = Comparator::new(cfg);
             let mut old = before::OldComparator::new(cfg);

@@ -9,6 +9,7 @@
 
 mod batch_shim;
 pub mod bitclock;
+pub mod clkout;
 pub mod candump;
 pub mod compare;
 pub mod coverage;

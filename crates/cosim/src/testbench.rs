@@ -383,6 +383,8 @@ pub struct Testbench {
     dut_rx: bool,
     can_clocks: u64,
     sample_now: bool,
+    /// clkout_o against the reference's CDR (`crate::clkout`).
+    clkout_check: crate::clkout::ClkoutCheck,
     wave: Option<Wave>,
     tracing: bool,
     keep_bits: usize,
@@ -722,6 +724,7 @@ impl Testbench {
             dut_rx: RECESSIVE,
             can_clocks: 0,
             sample_now: false,
+            clkout_check: crate::clkout::ClkoutCheck::default(),
             wave,
             tracing: trace,
             keep_bits: cfg.keep_bits,
@@ -1508,6 +1511,12 @@ impl Testbench {
                 },
             };
             c.can_clock(stamp, sample, &v.pins, &pins, v.sr, v.ir);
+            if c.config().compare_clkout
+                && let Some(r) = &self.reference
+                && let Some(m) = self.clkout_check.clock(r.clkout_setting(), pins.clkout)
+            {
+                c.clkout_divergence(stamp, m);
+            }
             if c.halted() {
                 self.handle_divergences();
             }

@@ -158,49 +158,8 @@ impl FaultInjector for StuckInFrame {
     }
 }
 
-/// A glitch placed in CAN clocks from the start of a bit (`offset_clocks`,
-/// `width_clocks`). The bench's bit grid restarts at every recessive-to-
-/// dominant edge of the wire and numbers a bit from its sample point on as
-/// the next one, so the clocks after `sample_clock` carry bit number + 1.
-#[derive(Debug)]
-struct PulseInBit {
-    target: Target,
-    /// Frame index (0 = first SOF on the bus).
-    frame: u64,
-    /// Wire bit of that frame.
-    bit: u32,
-    /// First clock of the pulse, from the start of the bit.
-    offset: u32,
-    /// Pulse length in clocks.
-    width: u32,
-    /// The bench's sample clock within a bit.
-    sample_clock: u32,
-}
-
-impl FaultInjector for PulseInBit {
-    fn apply(&mut self, ctx: &sja1000::BusContext, node: usize, level: bool) -> bool {
-        let bit = if ctx.sub <= self.sample_clock { self.bit } else { self.bit + 1 };
-        let hits = match self.target {
-            Target::All => true,
-            Target::Node(n) => n == node,
-        };
-        let inside = ctx.frame == Some(self.frame)
-            && ctx.frame_bit == bit
-            && ctx.sub >= self.offset
-            && ctx.sub < self.offset + self.width;
-        if inside && hits { !level } else { level }
-    }
-
-    fn needs_clocks(&self) -> bool {
-        true
-    }
-}
-
 /// Frame and bit of a frame-relative fault (frames counted from 1 in files, from 0 on the bus).
-fn injector(f: &FaultSpec, target: Target, clocks_per_bit: u64, sample_clock: u32) -> Box<dyn FaultInjector> {
-    if let (FaultKind::Glitch, Some((fr, b)), Some((offset, width))) = (f.kind, f.frame_bit, f.pulse_clocks) {
-        return Box::new(PulseInBit { target, frame: fr as u64 - 1, bit: b, offset, width, sample_clock });
-    }
+fn injector(f: &FaultSpec, target: Target, clocks_per_bit: u64) -> Box<dyn FaultInjector> {
     match (f.kind, f.frame_bit) {
         (FaultKind::StuckDominant | FaultKind::StuckRecessive, Some((fr, b))) => Box::new(StuckInFrame {
             level: f.kind == FaultKind::StuckRecessive,
@@ -216,6 +175,13 @@ fn injector(f: &FaultSpec, target: Target, clocks_per_bit: u64, sample_clock: u3
             Box::new(sja1000::StuckAt { level, target, from, until: Some(from + f.duration_bits * clocks_per_bit) })
         }
         (FaultKind::Flip, Some((fr, b))) => Box::new(sja1000::FlipBit { frame: fr as u64 - 1, bit: b, target }),
+        // Placed in the bit (offset_clocks/offset_tq; dut-rx only, whose
+        // context numbers bits from boundary to boundary, so the pulse may
+        // cross the sample point and stay in its bit).
+        (FaultKind::Glitch, Some((fr, b))) if f.pulse_clocks.is_some() => {
+            let (offset, width) = f.pulse_clocks.unwrap_or_default();
+            Box::new(sja1000::Glitch { frame: fr as u64 - 1, bit: b, offset, width, target })
+        }
         (FaultKind::Glitch, Some((fr, b))) => Box::new(sja1000::Glitch {
             frame: fr as u64 - 1,
             bit: b,
@@ -321,17 +287,10 @@ pub fn tb_config(s: &Scenario, dut: &DutKind, opts: &RunOptions) -> Result<TbCon
         },
     };
     let (btr0, btr1) = s.dut_timing();
-    let timing = can_proto::timing::BusTiming::from_btr(btr0, btr1);
-    let cpb = timing.clocks_per_bit() as u64;
-    let sample_clock = cosim::bitclock::BitClock::new(timing).sample_clock();
+    let cpb = can_proto::timing::BusTiming::from_btr(btr0, btr1).clocks_per_bit() as u64;
     let mut faults = Vec::new();
     let mut dut_rx_faults = Vec::new();
     for f in &s.faults {
-        if let Some((offset, width)) = f.pulse_clocks
-            && u64::from(offset) + u64::from(width) > cpb
-        {
-            return Err(format!("glitch offset_clocks {offset} + width_clocks {width} run past the bit ({cpb} CAN clocks at BTR0 = {btr0:#04x}, BTR1 = {btr1:#04x})"));
-        }
         let target = match f.target.as_str() {
             // Everyone on the bus: each model node, and the DUT through the
             // bench's rx_i injectors (the bench gives the DUT the bus level
@@ -340,20 +299,20 @@ pub fn tb_config(s: &Scenario, dut: &DutKind, opts: &RunOptions) -> Result<TbCon
             // them from applying the fault twice).
             "bus" => {
                 for i in 0..s.nodes.len() {
-                    faults.push(injector(f, Target::Node(i), cpb, sample_clock));
+                    faults.push(injector(f, Target::Node(i), cpb));
                 }
-                dut_rx_faults.push(injector(f, Target::Node(s.nodes.len()), cpb, sample_clock));
+                dut_rx_faults.push(injector(f, Target::Node(s.nodes.len()), cpb));
                 continue;
             }
             // What the DUT (and its shadow model) receive: the bench applies
             // these on rx_i, the DUT being node index `nodes.len()` there.
             "dut-rx" => {
-                dut_rx_faults.push(injector(f, Target::Node(s.nodes.len()), cpb, sample_clock));
+                dut_rx_faults.push(injector(f, Target::Node(s.nodes.len()), cpb));
                 continue;
             }
             name => Target::Node(s.nodes.iter().position(|n| n.name == name).ok_or(format!("fault target `{name}` is not a node"))?),
         };
-        faults.push(injector(f, target, cpb, sample_clock));
+        faults.push(injector(f, target, cpb));
     }
     let profile = opts.dut.as_ref().and_then(|d| d.profile.clone());
     // The comparator's tolerances: the profile's, our RTL's rtl.toml, else the defaults.
@@ -981,39 +940,5 @@ mod judge_tests {
         assert!(failed_reads_under_bus_setup_verdict(Some(Category::NoAcknowledge), Category::BitTimingMismatch, &reads, &[]).is_empty());
         // A diagnosis category that is itself the finding (ExpectationFailed and the like).
         assert!(failed_reads_under_bus_setup_verdict(Some(Category::ExpectationFailed), Category::ExpectationFailed, &reads, &[]).is_empty());
-    }
-}
-
-#[cfg(test)]
-mod pulse_tests {
-    use super::{FaultInjector, PulseInBit, Target};
-    use sja1000::BusContext;
-
-    fn at(frame_bit: u32, sub: u32) -> BusContext {
-        BusContext { frame: Some(0), frame_bit, sub, clocks_per_bit: 40, ..Default::default() }
-    }
-
-    /// The bench numbers a bit from its sample point on as the next one: a
-    /// pulse over clocks 20-31 of bit 25 (sample clock 27) is bit 25 up to
-    /// clock 27 and "bit 26" from 28, and nowhere else (not in bit 24's tail,
-    /// not in bit 26's head).
-    #[test]
-    fn a_pulse_counts_its_clocks_from_the_start_of_the_bit_across_the_sample_point() {
-        let mut p = PulseInBit { target: Target::Node(1), frame: 0, bit: 25, offset: 20, width: 12, sample_clock: 27 };
-        let hit = |p: &mut PulseInBit, fb, sub| !p.apply(&at(fb, sub), 1, true);
-        for sub in 20..=27 {
-            assert!(hit(&mut p, 25, sub), "bit 25 clock {sub}");
-        }
-        for sub in 28..32 {
-            assert!(hit(&mut p, 26, sub), "bit 25 clock {sub}, numbered 26 after the sample point");
-            assert!(!hit(&mut p, 25, sub), "bit 24's tail (numbered 25) clock {sub}");
-        }
-        for sub in (0..20).chain(32..40) {
-            assert!(!hit(&mut p, 25, sub) && !hit(&mut p, 26, sub), "clock {sub} is outside the pulse");
-        }
-        // Other node, other frame: untouched.
-        assert!(p.apply(&at(25, 22), 0, true));
-        assert!(p.apply(&BusContext { frame: Some(1), ..at(25, 22) }, 1, true));
-        assert!(p.needs_clocks());
     }
 }

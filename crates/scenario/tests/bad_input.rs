@@ -178,39 +178,35 @@ fn wrong_type_errors_name_their_key() {
     assert_eq!(e.key(), "value", "{e}");
 }
 
-/// `offset_clocks` / `width_clocks` place a glitch's pulse on the DUT's bit
-/// grid: only on a glitch, frame-relative, on `dut-rx`, both given, in range;
-/// each mistake is a one-line error naming the key.
+/// A glitch's pulse is placed on the DUT's bit grid in CAN clocks
+/// (`offset_clocks`/`width_clocks`) or in its time quanta (`offset_tq`/
+/// `width_tq`; BTR0 = 0x41, BTR1 = 0x25: 10 quanta of 4 clocks, 40 clocks):
+/// only on a glitch given by frame + bit_in_frame, on `dut-rx`, one pair,
+/// both keys, at least 1 wide, inside the bit; each mistake is a one-line
+/// error naming the key.
 #[test]
 fn glitch_pulse_keys_are_checked() {
-    let fault = |body: &str| format!("{GOOD}[[fault]]\n{body}\n");
+    let with = |fault: &str| format!("{GOOD}[[step]]\nwrite = \"BTR0\"\nvalue = 0x41\n[[step]]\nwrite = \"BTR1\"\nvalue = 0x25\n[[fault]]\n{fault}\n");
     let ok = "kind = \"glitch\"\nframe = 1\nbit_in_frame = 25\noffset_clocks = 0\nwidth_clocks = 24\ntarget = \"dut-rx\"";
-    let s = Scenario::parse(&fault(ok), "tb/ok.toml").unwrap();
-    assert_eq!(s.faults[0].pulse_clocks, Some((0, 24)));
-    for (bad, says) in [
-        (ok.replace("kind = \"glitch\"", "kind = \"flip\""), "no glitch"),
-        (ok.replace("target = \"dut-rx\"", "target = \"bus\""), "dut-rx"),
-        (ok.replace("width_clocks = 24", ""), "together"),
-        (ok.replace("width_clocks = 24", "width_clocks = 0"), ">= 1"),
-        (ok.replace("offset_clocks = 0", "offset_clocks = -3"), ">= 0"),
-        (ok.replace("frame = 1\nbit_in_frame = 25", "at_bit = 100"), "frame + bit_in_frame"),
+    assert_eq!(Scenario::parse(&with(ok), "tb/ok.toml").unwrap().faults[0].pulse_clocks, Some((0, 24)));
+    let tq = "kind = \"glitch\"\nframe = 1\nbit_in_frame = 3\noffset_tq = 9\nwidth_tq = 1\ntarget = \"dut-rx\"";
+    assert_eq!(Scenario::parse(&with(tq), "tb/ok.toml").unwrap().faults[0].pulse_clocks, Some((36, 4)), "quanta are 4 CAN clocks");
+    for (bad, key, says) in [
+        (ok.replace("kind = \"glitch\"", "kind = \"flip\""), "offset_clocks", "no glitch"),
+        (ok.replace("target = \"dut-rx\"", "target = \"bus\""), "offset_clocks", "dut-rx"),
+        (ok.replace("width_clocks = 24", ""), "offset_clocks", "together"),
+        (ok.replace("width_clocks = 24", "width_clocks = 0"), "offset_clocks", "at least 1"),
+        (ok.replace("offset_clocks = 0", "offset_clocks = -3"), "offset_clocks", "at least 1"),
+        (ok.replace("offset_clocks = 0", "offset_clocks = 30").replace("width_clocks = 24", "width_clocks = 11"), "offset_clocks", "bit of 40 CAN clocks"),
+        (ok.replace("frame = 1\nbit_in_frame = 25", "at_bit = 100"), "offset_clocks", "frame + bit_in_frame"),
+        (tq.replace("width_tq = 1", ""), "offset_tq", "together"),
+        (tq.replace("width_tq = 1", "width_tq = 2"), "offset_tq", "10 quanta"),
+        (tq.replace("offset_tq = 9", "offset_tq = -1"), "offset_tq", "10 quanta"),
+        (format!("{tq}\noffset_clocks = 0\nwidth_clocks = 4"), "offset_tq", "not both"),
     ] {
-        let e = err(&fault(&bad));
-        assert_eq!(e.key(), "fault[1].offset_clocks", "{e}");
-        assert!(e.to_string().contains(says), "{e}");
+        let e = err(&with(&bad));
+        assert_eq!(e.key(), format!("fault[1].{key}"), "{e}");
+        assert!(e.to_string().starts_with("tb/bad.toml:"), "{e}");
+        assert!(e.to_string().contains(says), "{bad}: {e}");
     }
-}
-
-/// A pulse that runs past the end of its bit (40 CAN clocks at BTR0 = 0x41,
-/// BTR1 = 0x25) is a clear run error, not a silently shortened pulse.
-#[test]
-fn a_glitch_pulse_past_the_bit_is_a_run_error() {
-    let text = format!(
-        "{GOOD}[[step]]\nwrite = \"BTR0\"\nvalue = 0x41\n[[step]]\nwrite = \"BTR1\"\nvalue = 0x25\n[[fault]]\nkind = \"glitch\"\nframe = 1\nbit_in_frame = 25\noffset_clocks = 30\nwidth_clocks = 11\ntarget = \"dut-rx\"\n"
-    );
-    let s = Scenario::parse(&text, "tb/past.toml").unwrap();
-    let o = scenario::run(&s, &scenario::RunOptions { dut: Some(DutSpec::model()), ..Default::default() });
-    assert!(!o.passed);
-    let e = o.record.error.clone().unwrap_or_default();
-    assert!(e.contains("run past the bit") && e.contains("40 CAN clocks"), "{e:?}");
 }

@@ -150,6 +150,8 @@ pub enum KindName {
     Irq,
     /// `DivergenceKind::BusOff`.
     BusOff,
+    /// `DivergenceKind::Clkout`.
+    Clkout,
 }
 
 impl KindName {
@@ -160,6 +162,7 @@ impl KindName {
             KindName::RegisterRead => DivergenceKind::RegisterRead,
             KindName::Irq => DivergenceKind::Irq,
             KindName::BusOff => DivergenceKind::BusOff,
+            KindName::Clkout => DivergenceKind::Clkout,
         }
     }
 
@@ -170,6 +173,7 @@ impl KindName {
             DivergenceKind::RegisterRead => KindName::RegisterRead,
             DivergenceKind::Irq => KindName::Irq,
             DivergenceKind::BusOff => KindName::BusOff,
+            DivergenceKind::Clkout => KindName::Clkout,
         }
     }
 
@@ -180,6 +184,7 @@ impl KindName {
             KindName::RegisterRead => "register-read",
             KindName::Irq => "irq",
             KindName::BusOff => "bus-off",
+            KindName::Clkout => "clkout",
         }
     }
 }
