@@ -648,7 +648,7 @@ pub fn dut_deviates(r: &RunRecord) -> Option<Finding> {
         (DivergenceKind::RegisterRead, _) => format!("the RTL's {} read path or the state bits it reflects", d.register.as_deref().unwrap_or("register")),
         (DivergenceKind::Irq, _) => "the RTL's interrupt logic (IR/IER and irq_on)".into(),
         (DivergenceKind::BusOff, _) => "the RTL's fault confinement (TEC/REC rules, bus-off entry and recovery)".into(),
-        (DivergenceKind::Clkout, _) => "the RTL's clock divider (CDR.3..0, sleep) and clkout_o".into(),
+        (DivergenceKind::Clkout, _) => "the RTL's clock divider (CDR.2..0 divider, CDR.3 clock off, sleep) and clkout_o".into(),
         _ => "the RTL at that time".into(),
     };
     Some(finding(
