@@ -151,6 +151,21 @@ fn suspend_scenarios_fail_with_an_error_active_dut() {
     }
 }
 
+/// tx-8.6.4 needs an error-passive DUT: written TXERR 127 (what a core that
+/// decrements TEC at its first bus integration made of the written 128 when
+/// the write came before that integration, docs/opencores-deviations.md D14)
+/// fails it; the scenario now integrates once before it writes TXERR.
+#[test]
+fn passive_flag_scenario_fails_with_txerr_one_below_passive() {
+    let file = "tx-8.6.4-passive-flag-dominant.toml";
+    assert!(passes_with(file, &[]));
+    assert!(!passes_with(file, &[("{ write = \"TXERR\", value = 0x80,", "{ write = \"TXERR\", value = 0x7F,")]));
+    let text = std::fs::read_to_string(root().join("tb/conformance").join(file)).unwrap();
+    let integrate = text.find("{ wait_bits = 0xC").unwrap();
+    let write = text.find("{ write = \"TXERR\"").unwrap();
+    assert!(integrate < write, "tx-8.6.4 integrates once before it writes TXERR");
+}
+
 /// The last-bit-of-the-overload-delimiter scenarios hit that bit: one bit
 /// earlier is a form error (BEI, counters up) and fails them.
 #[test]

@@ -1,5 +1,5 @@
 //! The waivers added for tb/conformance on the opencores core (issue 19/15,
-//! docs/opencores-deviations.md D13-D15, the freedoms D16/D17, D11 on IR, D3 and D10f
+//! docs/opencores-deviations.md D13-D15 and D18, the freedoms D16/D17/D19, D11 on IR, D3 and D10f
 //! variants), read from the shipped file: each waives the divergence that
 //! was measured and still catches its near neighbours.
 
@@ -181,4 +181,42 @@ fn the_single_frame_bus_off_pin_waiver_is_bound_to_frame_1_in_operating_mode() {
     assert_eq!(v, None);
     assert_eq!(by_observed(&mut set, &pin(1, can_proto::Field::Data), &operating), None);
     assert_eq!(by_observed(&mut set, &pin(1, can_proto::Field::BusIdle), &reset), None);
+}
+
+#[test]
+fn ecc_in_the_error_delimiter_d18_takes_only_the_measured_pair_once() {
+    const ID: &str = "ecc-error-in-error-delimiter-coded-as-flag-bit-error-tx";
+    let mut set = shipped();
+    assert_eq!(by(&mut set, &read("ECC", 0x77, 0x16)).as_deref(), Some(ID));
+    // Bounded: once per scenario.
+    assert_eq!(by(&mut set, &read("ECC", 0x77, 0x16)), None);
+    let mut set = shipped();
+    // Still caught: the active flag's code for the same delimiter error (an
+    // error-active receiver, not measured), a form error coded in the flag
+    // with only the type differing (0x56), RX with the flag's code (0x36).
+    assert_eq!(by(&mut set, &read("ECC", 0x77, 0x11)), None);
+    assert_eq!(by(&mut set, &read("ECC", 0x77, 0x56)), None);
+    assert_eq!(by(&mut set, &read("ECC", 0x77, 0x36)), None);
+    // Still caught: 0x16 for another model code (an error in the passive
+    // flag itself would be the model's 0x36, not waived here).
+    assert_eq!(by(&mut set, &read("ECC", 0x36, 0x16)), None);
+    assert_eq!(by(&mut set, &read("ALC", 0x77, 0x16)), None);
+}
+
+#[test]
+fn ecc_cleared_by_a_read_d19_is_only_zero_for_the_held_stuff_error_twice() {
+    const ID: &str = "ecc-reads-zero-after-it-was-read";
+    let mut set = shipped();
+    assert_eq!(by(&mut set, &read("ECC", 0xAA, 0x00)).as_deref(), Some(ID));
+    assert_eq!(by(&mut set, &read("ECC", 0xAA, 0x00)).as_deref(), Some(ID));
+    // Bounded: a third read of 0 fails (a core that never captures reads 0
+    // on every ECC read of a scenario).
+    assert_eq!(by(&mut set, &read("ECC", 0xAA, 0x00)), None);
+    let mut set = shipped();
+    // Still caught: a held code other than the measured one read as 0, a
+    // wrong capture (not 0), 0 on another register.
+    assert_eq!(by(&mut set, &read("ECC", 0x77, 0x00)), None);
+    assert_eq!(by(&mut set, &read("ECC", 0x0A, 0x00)), None);
+    assert_eq!(by(&mut set, &read("ECC", 0xAA, 0x8A)), None);
+    assert_eq!(by(&mut set, &read("ALC", 0xAA, 0x00)), None);
 }
