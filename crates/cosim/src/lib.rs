@@ -7,6 +7,7 @@
 //! writer ([`wave`]) and the [`Testbench`] that ties them together.
 #![warn(missing_docs)]
 
+pub mod agents;
 mod batch_shim;
 pub mod bitclock;
 pub mod candump;

@@ -20,16 +20,13 @@ use bfm::{
     I8051Out, I8051Polarity, I8051Timing, OpHandle, OpResult, PioMaster, PioTiming, WbMasterOut,
     WbSlaveOut, WishboneMaster, WishboneMonitor, wiring::Wiring as AvWiring,
 };
-use can_proto::decode::{DecodeEvent, Decoder};
-use can_proto::timing::BusTiming;
-use can_proto::{Field, RECESSIVE};
+use can_proto::RECESSIVE;
 use diagnose::{
-    Access as RecAccess, BusBit, EngineEvent, Expectation, FinalRegs, HostBus, HostOp, RunRecord,
-    RxWiring, Side,
+    Access as RecAccess, Expectation, FinalRegs, HostBus, HostOp, RunRecord, RxWiring,
 };
 use sja1000::{Bus, BusContext, FaultInjector, Sja1000};
 
-use crate::bitclock::BitClock;
+use crate::agents::observer::Observer;
 use crate::bridge::{BridgeError, ExternalCore};
 use crate::compare::{Comparator, CompareConfig, IR_ADDR, SR_ADDR, Stamp};
 use crate::dut::{AnyDut, CanPins, EchoModel, HostPort, VerilatedDut};
@@ -371,10 +368,6 @@ pub struct Testbench {
     reset_left: u64,
     reference: Option<AnyRef>,
     comparator: Option<Comparator>,
-    bitclock: BitClock,
-    decoder: Decoder,
-    field: Option<Field>,
-    frame: u32,
     bus: Bus,
     dut_faults: Vec<Box<dyn FaultInjector>>,
     rx_wiring: RxWiring,
@@ -382,18 +375,10 @@ pub struct Testbench {
     bus_level: bool,
     dut_rx: bool,
     can_clocks: u64,
-    sample_now: bool,
-    wave: Option<Wave>,
     tracing: bool,
-    keep_bits: usize,
-    record: RunRecord,
-    events: Vec<diagnose::EventKind>,
+    /// Bit clock, decoder, VCD, run record, bus log.
+    obs: Observer,
     stopped: bool,
-    /// Time and bit of the last transmission request (CMR.TR / SRR).
-    last_tr: Option<(u64, u64)>,
-    attempts: u32,
-    /// Bit index (bit clock count) of the last SOF.
-    sof_bit: u64,
     waivers: Session,
     /// A waiver allowed adopting the DUT's TEC/REC whose value the
     /// comparator could not see: taken from the next TXERR/RXERR read.
@@ -426,8 +411,6 @@ pub struct Testbench {
     batch_out: Vec<u8>,
     /// Times of a batch's instants.
     batch_times: Vec<u64>,
-    /// Frames on the bus and the DUT's error frames, for `--candump`.
-    bus_log: crate::candump::BusLog,
 }
 
 /// Instants per batch (see `Testbench::run_batch`).
@@ -710,10 +693,6 @@ impl Testbench {
             reset_left: cfg.reset_cycles.max(1),
             reference,
             comparator,
-            bitclock: BitClock::new(BusTiming::from_btr(cfg.btr0, cfg.btr1)),
-            decoder: Decoder::new(),
-            field: None,
-            frame: 0,
             bus,
             dut_faults,
             rx_wiring: cfg.rx,
@@ -721,16 +700,9 @@ impl Testbench {
             bus_level: RECESSIVE,
             dut_rx: RECESSIVE,
             can_clocks: 0,
-            sample_now: false,
-            wave,
             tracing: trace,
-            keep_bits: cfg.keep_bits,
-            record,
-            events: Vec::new(),
+            obs: Observer::new(cfg.btr0, cfg.btr1, record, wave, cfg.keep_bits),
             stopped: false,
-            last_tr: None,
-            attempts: 0,
-            sof_bit: 0,
             waivers,
             adopt_tec_at_read: false,
             adopt_rec_at_read: false,
@@ -759,7 +731,6 @@ impl Testbench {
             batch_levels: Vec::new(),
             batch_out: Vec::new(),
             batch_times: Vec::new(),
-            bus_log: crate::candump::BusLog::new(),
         };
         tb.dut.set_reset(true);
         let idle = tb.applied_i8051;
@@ -784,7 +755,7 @@ impl Testbench {
     /// The run's bus log so far: frames completed on the bus and the error
     /// frames the DUT's Linux driver would raise (see [`crate::candump`]).
     pub fn bus_log(&self) -> &[crate::candump::LogEntry] {
-        self.bus_log.entries()
+        self.obs.bus_log()
     }
 
     /// The DUT's description.
@@ -816,7 +787,7 @@ impl Testbench {
     /// only if a waiver hit earlier in this run lists it as a consequence
     /// (`Session::waive_received_consequence`); returns that waiver's id.
     pub fn waive_received_consequence(&mut self, node: &str, want: u32, got: Option<u32>) -> Option<String> {
-        let scenario = self.record.scenario.clone();
+        let scenario = self.obs.record.scenario.clone();
         self.waivers.waive_received_consequence(&scenario, node, want, got)
     }
 
@@ -867,7 +838,7 @@ impl Testbench {
         let can_clock_ps = 1_000_000_000_000 / self.kernel.can().freq_hz().max(1);
         let mut observed = Observed::timed(
             self.kernel.now_ps(),
-            can_clock_ps * self.bitclock.clocks_per_bit() as u64,
+            can_clock_ps * self.obs.clocks_per_bit() as u64,
             can_clock_ps,
         );
         // The model's MOD (PeliCAN: address 0), for `model-mod-bits`.
@@ -925,13 +896,13 @@ impl Testbench {
                     if let Some((addr, value)) = c.taken_read() {
                         r.adopt_register(addr, value);
                     }
-                    self.record.divergence.get_or_insert(d);
+                    self.obs.record.divergence.get_or_insert(d);
                     c.resume(None, true);
                 }
                 Action::Stop => {
                     // The first unwaived one ends the comparison: later ones
                     // found at the same clock are not handed on.
-                    self.record.divergence = Some(d);
+                    self.obs.record.divergence = Some(d);
                     self.stopped = true;
                     break;
                 }
@@ -941,12 +912,12 @@ impl Testbench {
 
     /// Protocol violations seen so far.
     pub fn violations(&self) -> &[diagnose::Violation] {
-        &self.record.violations
+        &self.obs.record.violations
     }
 
     /// Bits sampled by the bit clock so far.
     pub fn bits(&self) -> u64 {
-        self.bitclock.bits()
+        self.obs.bits()
     }
 
     /// Host cycles so far.
@@ -1001,13 +972,7 @@ impl Testbench {
             RxWiring::Bus => {
                 let mut rx = level;
                 if !self.dut_faults.is_empty() {
-                    let ctx = BusContext {
-                        clock: self.can_clocks,
-                        frame: self.frame.checked_sub(1).map(u64::from),
-                        frame_bit: (self.bitclock.bits() - self.sof_bit) as u32,
-                        sub: self.bitclock.sub(),
-                        clocks_per_bit: self.bitclock.clocks_per_bit(),
-                    };
+                    let ctx = self.obs.bus_context(self.can_clocks);
                     let me = self.bus.len();
                     for f in &mut self.dut_faults {
                         rx = f.apply(&ctx, me, rx);
@@ -1036,7 +1001,7 @@ impl Testbench {
         if self.tracing {
             self.dut.trace_dump(t.t_ps);
         }
-        if self.wave.is_some() {
+        if self.obs.waving() {
             self.dump_wave(t.t_ps);
         }
     }
@@ -1052,7 +1017,7 @@ impl Testbench {
             || !matches!(self.dut, AnyDut::Verilated(_))
             || self.reset_left > 0
             || self.tracing
-            || self.wave.is_some()
+            || self.obs.waving()
             || !self.bus.is_empty()
             || !self.dut_faults.is_empty()
             || self.await_dut_sof
@@ -1246,13 +1211,12 @@ impl Testbench {
             bus: self.bus_level,
             model_tx,
             model_rx: self.dut_rx,
-            sample: self.sample_now && self.kernel.can().level(),
-            field: self.field,
+            // The observer's bit clock and decoder fill these in.
+            sample: false,
+            field: None,
             model_field,
         };
-        if let Some(w) = &mut self.wave {
-            let _ = w.dump(t_ps, &s);
-        }
+        self.obs.dump_wave(t_ps, s);
     }
 
     fn host_edge(&mut self) {
@@ -1355,115 +1319,25 @@ impl Testbench {
             self.req_wires = self.applied_wb;
         }
         for v in viol {
-            self.record.violations.push(diagnose::Violation {
+            self.obs.record.violations.push(diagnose::Violation {
                 cycle: v.cycle,
                 rule: rule_id("wb.", v.rule),
                 message: v.message,
             });
         }
         for v in av_viol {
-            self.record.violations.push(diagnose::Violation {
+            self.obs.record.violations.push(diagnose::Violation {
                 cycle: v.cycle,
                 rule: rule_id("avalon.", v.rule),
                 message: v.message,
             });
         }
         for v in i8051_viol {
-            self.record.violations.push(diagnose::Violation {
+            self.obs.record.violations.push(diagnose::Violation {
                 cycle: v.cycle,
                 rule: rule_id("i8051.", v.rule),
                 message: v.message,
             });
-        }
-    }
-
-    /// The sample-point part of [`Testbench::can_edge`]: the decoder and
-    /// the record. Out of line (once per bit), so the per-clock part stays small.
-    #[inline(never)]
-    fn sample_point(
-        &mut self,
-        t_ps: u64,
-        level: bool,
-        bit: u64,
-        pins: CanPins,
-        view: Option<crate::compare::RefView>,
-    ) {
-        for e in self.decoder.push(level) {
-            match e {
-                DecodeEvent::FieldStart { field, .. } => {
-                    self.field = Some(field);
-                    if field == Field::Sof {
-                        self.frame += 1;
-                        self.sof_bit = bit - 1;
-                    }
-                }
-                DecodeEvent::Frame(d) => self.bus_log.frame(t_ps, d.frame),
-                _ => {}
-            }
-        }
-        if !self.stopped {
-            let dut_tx = pins.tx;
-            let (model_tx, mfield) = match &view {
-                Some(v) => (v.pins.tx, v.field),
-                None => (dut_tx, None),
-            };
-            self.record.push_bit(
-                BusBit {
-                    bit,
-                    bus: level,
-                    dut_tx,
-                    model_tx,
-                    dut_rx: self.dut_rx,
-                    field: mfield.or(self.field),
-                    frame: if self.frame > 0 {
-                        Some(self.frame)
-                    } else {
-                        None
-                    },
-                },
-                self.keep_bits,
-            );
-        }
-    }
-
-    /// The reference's engine events of this clock into the record (part of
-    /// [`Testbench::can_edge`], out of line: rare).
-    #[inline(never)]
-    fn reference_events(&mut self, t_ps: u64, bit: u64) {
-        let Some(r) = &mut self.reference else {
-            return;
-        };
-        r.drain_events(&mut self.events);
-        if !self.events.is_empty() {
-            let counters = r.counters();
-            for k in self.events.drain(..) {
-                if matches!(
-                    k,
-                    diagnose::EventKind::TxComplete | diagnose::EventKind::BusError { .. }
-                ) && self.last_tr.is_some()
-                {
-                    self.attempts += 1;
-                    let (tec, _) = counters.unwrap_or((0, 0));
-                    self.record.tec_trace.push(diagnose::TecStep {
-                        node: Side::Model,
-                        attempt: self.attempts,
-                        bit,
-                        tec,
-                        bus_off: tec > 255,
-                    });
-                }
-                self.bus_log.event(t_ps, &k, counters);
-                let mut e = EngineEvent::new(bit, Side::Model, k);
-                if let Some((tec, rec)) = counters {
-                    e.tec = Some(tec);
-                    e.rec = Some(rec);
-                }
-                self.record.events.push(e);
-            }
-            // SR.ES (error warning) for the bus log's state frames: the
-            // reference's journal has no warning event of its own.
-            let es = r.peek(crate::compare::SR_ADDR) & 0x40 != 0;
-            self.bus_log.event(t_ps, &diagnose::EventKind::ErrorWarning(es), counters);
         }
     }
 
@@ -1475,8 +1349,7 @@ impl Testbench {
             self.req_edges = self.req_edges.saturating_add(1);
         }
         let level = self.bus_level;
-        let sample = self.bitclock.clock(level);
-        self.sample_now = sample;
+        let sample = self.obs.clock(level);
         if self.await_dut_sof {
             self.start_held_frame_at_dut_sof(pins.tx);
         }
@@ -1485,26 +1358,19 @@ impl Testbench {
             Some(r) => Some(r.step(self.dut_rx)),
             None => None,
         };
-        let bit = self.bitclock.bits();
+        let bit = self.obs.bits();
         if sample {
-            self.sample_point(t_ps, level, bit, pins, view);
+            self.obs.sample_point(t_ps, level, bit, pins, self.dut_rx, view, !self.stopped);
         }
-        if view.is_some_and(|v| v.events) {
-            self.reference_events(t_ps, bit);
+        if view.is_some_and(|v| v.events)
+            && let Some(r) = &mut self.reference
+        {
+            self.obs.reference_events(t_ps, bit, r);
         }
         if let (Some(c), Some(v)) = (&mut self.comparator, &view)
             && !self.stopped
         {
-            let stamp = Stamp {
-                t_ps,
-                bit,
-                field: v.field.or(self.field),
-                frame: if self.frame > 0 {
-                    Some(self.frame)
-                } else {
-                    None
-                },
-            };
+            let stamp = self.obs.stamp(t_ps, bit, v.field);
             c.can_clock(stamp, sample, &v.pins, &pins, v.sr, v.ir);
             if c.halted() {
                 self.handle_divergences();
@@ -1526,7 +1392,7 @@ impl Testbench {
     }
 
     fn check_stopped(&self) -> Result<(), TbError> {
-        match &self.record.divergence {
+        match &self.obs.record.divergence {
             Some(d) if self.stopped => Err(TbError::Diverged(format!(
                 "{:?} at {} ps (bit {:?}, field {:?}): expected {}, saw {}; {}",
                 d.kind, d.time_ps, d.bit, d.field, d.expected, d.seen, d.context
@@ -1559,12 +1425,12 @@ impl Testbench {
 
     /// Runs `n` bit times (sample points of the bit clock).
     pub fn run_bits(&mut self, n: u64) -> Result<(), TbError> {
-        let end = self.bitclock.bits() + n;
-        while self.bitclock.bits() < end {
+        let end = self.obs.bits() + n;
+        while self.obs.bits() < end {
             self.tick();
             self.check_stopped()?;
         }
-        self.record.bits_simulated = self.bitclock.bits();
+        self.obs.record.bits_simulated = self.obs.bits();
         Ok(())
     }
 
@@ -1575,8 +1441,8 @@ impl Testbench {
         max_bits: u64,
         mut done: impl FnMut(&Testbench) -> bool,
     ) -> Result<u64, TbError> {
-        let start = self.bitclock.bits();
-        let max_clocks = (max_bits + 1) * self.bitclock.clocks_per_bit() as u64;
+        let start = self.obs.bits();
+        let max_clocks = (max_bits + 1) * self.obs.clocks_per_bit() as u64;
         let end = self.can_clocks + max_clocks;
         while !done(self) {
             if self.can_clocks >= end {
@@ -1588,14 +1454,14 @@ impl Testbench {
             self.tick();
             self.check_stopped()?;
         }
-        Ok(self.bitclock.bits() - start)
+        Ok(self.obs.bits() - start)
     }
 
     /// Waits for `irq_on` to go low (interrupt pending). The same instants
     /// as `run_until` with that condition, in batches when it can.
     pub fn wait_irq(&mut self, max_bits: u64) -> Result<u64, TbError> {
-        let start = self.bitclock.bits();
-        let max_clocks = (max_bits + 1) * self.bitclock.clocks_per_bit() as u64;
+        let start = self.obs.bits();
+        let max_clocks = (max_bits + 1) * self.obs.clocks_per_bit() as u64;
         let end = self.can_clocks + max_clocks;
         while self.dut_pins.irq_n {
             if self.can_clocks >= end {
@@ -1609,27 +1475,27 @@ impl Testbench {
                 self.check_stopped()?;
             }
         }
-        Ok(self.bitclock.bits() - start)
+        Ok(self.obs.bits() - start)
     }
 
     /// Polls SR through the host BFM until `SR & mask == value`.
     pub fn wait_sr(&mut self, mask: u8, value: u8, max_bits: u64) -> Result<u8, TbError> {
-        let start = self.bitclock.bits();
+        let start = self.obs.bits();
         loop {
             let sr = self.read(SR_ADDR)?;
             if sr & mask == value {
                 return Ok(sr);
             }
-            if self.bitclock.bits() - start > max_bits {
-                if self.record.stuck.is_none() && mask & diagnose::sr::TBS != 0 {
+            if self.obs.bits() - start > max_bits {
+                if self.obs.record.stuck.is_none() && mask & diagnose::sr::TBS != 0 {
                     // A transmission that never completed: the diagnoser's case.
-                    let (requested_ps, requested_bit) = self.last_tr.unwrap_or((0, start));
-                    self.record.stuck = Some(diagnose::StuckTransfer {
+                    let (requested_ps, requested_bit) = self.obs.last_tr.unwrap_or((0, start));
+                    self.obs.record.stuck = Some(diagnose::StuckTransfer {
                         requested_ps,
                         requested_bit,
                         waited_bits: max_bits,
                         sr,
-                        attempts: self.frame,
+                        attempts: self.obs.frame(),
                     });
                 }
                 return Err(TbError::Timeout {
@@ -1656,7 +1522,7 @@ impl Testbench {
         let h: OpHandle = with_master!(&mut self.master, m => if write { m.start_write(addr, data) } else { m.start_read(addr) });
         let bound = with_master!(&mut self.master, m => m.drain_bound()) + 64;
         let start_cycle = self.host_cycle;
-        let viol_before = self.record.violations.len();
+        let viol_before = self.obs.record.violations.len();
         // The reference takes the access when the DUT's CAN side does, if
         // the bench knows when that is (see `RefTiming`); else at the ack.
         let timing = match &self.reference {
@@ -1823,8 +1689,8 @@ impl Testbench {
                 rec.data = r.data;
                 let stamp = Stamp {
                     t_ps: self.kernel.now_ps(),
-                    bit: self.bitclock.bits(),
-                    field: self.field,
+                    bit: self.obs.bits(),
+                    field: self.obs.field(),
                     frame: None,
                 };
                 if let Some(refm) = &mut self.reference {
@@ -1874,28 +1740,20 @@ impl Testbench {
                 }
                 if write && addr == 1 && data & 0x11 != 0 {
                     // CMR.TR (bit 0) or CMR.SRR (bit 4) in both views.
-                    self.last_tr = Some((t0, self.bitclock.bits()));
+                    self.obs.last_tr = Some((t0, self.obs.bits()));
                 }
                 if write
                     && (addr == 6 || addr == 7)
                     && rec.outcome.as_ref().is_none_or(|o| !o.is_ignored())
                 {
-                    let (mut b0, mut b1) = (self.record.timing.btr0, self.record.timing.btr1);
-                    if addr == 6 {
-                        b0 = data
-                    } else {
-                        b1 = data
-                    }
-                    self.record.timing.btr0 = b0;
-                    self.record.timing.btr1 = b1;
-                    self.bitclock.set_timing(BusTiming::from_btr(b0, b1));
+                    self.obs.set_btr(addr, data);
                 }
-                self.record.host_ops.push(rec);
+                self.obs.record.host_ops.push(rec);
                 self.check_stopped()?;
                 Ok(r)
             }
             Err(e) => {
-                let monitor: Vec<String> = self.record.violations[viol_before..]
+                let monitor: Vec<String> = self.obs.record.violations[viol_before..]
                     .iter()
                     .map(|v| format!("cycle {}: {} ({})", v.cycle, v.message, v.rule))
                     .collect();
@@ -1905,14 +1763,14 @@ impl Testbench {
                     format!("; the protocol monitor saw: {}", monitor.join("; "))
                 };
                 rec.error = Some(e.to_string());
-                self.record.host_ops.push(rec);
+                self.obs.record.host_ops.push(rec);
                 let err = TbError::Host {
                     op: if write { "write" } else { "read" },
                     addr,
                     error: e,
                     monitor,
                 };
-                self.record.error = Some(err.to_string());
+                self.obs.record.error = Some(err.to_string());
                 Err(err)
             }
         }
@@ -1979,7 +1837,7 @@ impl Testbench {
         if !passed
             && !read_waived
             && let Some(id) =
-                self.waivers.waive_consequence(&self.record.scenario, step, what, mask, expected, v)
+                self.waivers.waive_consequence(&self.obs.record.scenario, step, what, mask, expected, v)
         {
             passed = true;
             seen.push_str(&format!(" (waived: a consequence of {id})"));
@@ -1990,7 +1848,7 @@ impl Testbench {
             && read_waived
             && let Some(id) = self.waivers.waive_consequence_on_waived_read(
                 waived_before,
-                &self.record.scenario,
+                &self.obs.record.scenario,
                 step,
                 what,
                 mask,
@@ -2001,7 +1859,7 @@ impl Testbench {
             passed = true;
             seen.push_str(&format!(" (waived: a consequence of {id})"));
         }
-        self.record.expectations.push(Expectation {
+        self.obs.record.expectations.push(Expectation {
             step,
             what: what.into(),
             expected: format!("0x{:02X} (mask 0x{mask:02X})", expected & mask),
@@ -2019,12 +1877,12 @@ impl Testbench {
     pub fn record(&mut self) -> RunRecord {
         if let Err(e) = self.settle()
             && !matches!(e, TbError::Diverged(_))
-            && self.record.error.is_none()
+            && self.obs.record.error.is_none()
         {
-            self.record.error = Some(e.to_string());
+            self.obs.record.error = Some(e.to_string());
         }
-        let mut r = self.record.clone();
-        r.bits_simulated = self.bitclock.bits();
+        let mut r = self.obs.record.clone();
+        r.bits_simulated = self.obs.bits();
         r.dut = self.dut_name.clone();
         if let Some(refm) = &self.reference {
             let (tec, rec) = refm.counters().unwrap_or((0, 0));
@@ -2041,9 +1899,7 @@ impl Testbench {
                 r.mode = mode;
             }
         }
-        if let Some(w) = &mut self.wave {
-            let _ = w.flush();
-        }
+        let _ = self.obs.flush();
         r
     }
 
@@ -2074,7 +1930,7 @@ impl Testbench {
             }
         }
         if peli {
-            self.record.final_dut = Some(f);
+            self.obs.record.final_dut = Some(f);
         }
         Ok(f)
     }
@@ -2097,16 +1953,14 @@ impl Testbench {
         let n = self.comparator.as_ref().map_or(0, |c| c.open_clocks());
         if n > 0 {
             self.run_can_cycles(n as u64)?;
-            self.record.bits_simulated = self.bitclock.bits();
+            self.obs.record.bits_simulated = self.obs.bits();
         }
         Ok(())
     }
 
     /// Flushes the VCD files.
     pub fn flush(&mut self) -> Result<(), TbError> {
-        if let Some(w) = &mut self.wave {
-            w.flush()?;
-        }
+        self.obs.flush()?;
         Ok(())
     }
 }
