@@ -24,8 +24,10 @@ use can_proto::RECESSIVE;
 use diagnose::{
     Access as RecAccess, Expectation, FinalRegs, HostBus, HostOp, RunRecord, RxWiring,
 };
-use sja1000::{Bus, BusContext, FaultInjector, Sja1000};
+use sja1000::{Bus, FaultInjector};
 
+use crate::agents::bus::BusAgent;
+pub use crate::agents::bus::NodeConfig;
 use crate::agents::observer::Observer;
 use crate::bridge::{BridgeError, ExternalCore};
 use crate::compare::{Comparator, CompareConfig, IR_ADDR, SR_ADDR, Stamp};
@@ -153,15 +155,6 @@ enum RefTiming {
     /// clock after the bit timing finds it, so a TR taken at the 4th edge
     /// is in time for a sample point at the 5th, as for the model).
     CanEdges { read: u32, write: u32, command: u32 },
-}
-
-/// A golden-model node on the bus, configured by register writes at start.
-#[derive(Clone, Debug, Default)]
-pub struct NodeConfig {
-    /// Name for reports.
-    pub name: String,
-    /// Register writes applied right after its hardware reset.
-    pub init: Vec<(u8, u8)>,
 }
 
 /// Everything a test bench is built from.
@@ -319,19 +312,6 @@ macro_rules! with_master {
     };
 }
 
-/// Lets a boxed injector go to `sja1000::Bus::add_fault`.
-#[derive(Debug)]
-struct BoxedFault(Box<dyn FaultInjector>);
-
-impl FaultInjector for BoxedFault {
-    fn apply(&mut self, ctx: &BusContext, node: usize, level: bool) -> bool {
-        self.0.apply(ctx, node, level)
-    }
-    fn needs_clocks(&self) -> bool {
-        self.0.needs_clocks()
-    }
-}
-
 fn rule_id(prefix: &str, r: bfm::Rule) -> String {
     let dbg = format!("{r:?}");
     let mut s = String::from(prefix);
@@ -368,12 +348,8 @@ pub struct Testbench {
     reset_left: u64,
     reference: Option<AnyRef>,
     comparator: Option<Comparator>,
-    bus: Bus,
-    dut_faults: Vec<Box<dyn FaultInjector>>,
-    rx_wiring: RxWiring,
-    tx_on_bus: bool,
-    bus_level: bool,
-    dut_rx: bool,
+    /// Wired-AND bus, model nodes, faults, the DUT's rx wiring.
+    bus: BusAgent,
     can_clocks: u64,
     tracing: bool,
     /// Bit clock, decoder, VCD, run record, bus log.
@@ -563,20 +539,13 @@ impl Testbench {
             }
             _ => None,
         };
-        let mut bus = Bus::new();
-        bus.set_accounting(false);
-        for n in &cfg.nodes {
-            let mut s = Sja1000::new();
-            for &(a, d) in &n.init {
-                s.write(a, d);
-            }
-            bus.add_node(s);
-        }
-        let n_nodes = cfg.nodes.len();
-        for f in cfg.faults.drain(..) {
-            bus.add_fault(BoxedFault(f));
-        }
-        let dut_faults: Vec<Box<dyn FaultInjector>> = cfg.dut_rx_faults.drain(..).collect();
+        let bus = BusAgent::new(
+            &cfg.nodes,
+            cfg.faults.drain(..).collect(),
+            cfg.dut_rx_faults.drain(..).collect(),
+            cfg.rx,
+            cfg.tx_on_bus,
+        );
         let (reference, comparator) = match cfg.lockstep {
             None => (None, None),
             Some((ReferenceChoice::Model, c)) => (
@@ -639,7 +608,6 @@ impl Testbench {
             self_test: false,
             listen_only: false,
         };
-        let _ = n_nodes;
         // The seed 000 Avalon wiring (cyc from begintransfer) has no
         // well-defined launch; the golden model as DUT takes an access at
         // its launch edge; any other DUT as its profile says, else at the ack.
@@ -694,11 +662,6 @@ impl Testbench {
             reference,
             comparator,
             bus,
-            dut_faults,
-            rx_wiring: cfg.rx,
-            tx_on_bus: cfg.tx_on_bus,
-            bus_level: RECESSIVE,
-            dut_rx: RECESSIVE,
             can_clocks: 0,
             tracing: trace,
             obs: Observer::new(cfg.btr0, cfg.btr1, record, wave, cfg.keep_bits),
@@ -770,12 +733,12 @@ impl Testbench {
 
     /// The golden-model nodes.
     pub fn bus(&self) -> &Bus {
-        &self.bus
+        self.bus.bus()
     }
 
     /// Mutable access to the model nodes (to queue frames, change config).
     pub fn bus_mut(&mut self) -> &mut Bus {
-        &mut self.bus
+        self.bus.bus_mut()
     }
 
     /// The comparator, if lockstep.
@@ -952,39 +915,12 @@ impl Testbench {
         self.after_eval(t, pins);
     }
 
-    /// At a CAN rising edge, before the DUT's eval: the bus level (wired-AND
-    /// of the DUT's tx and the model nodes, which are clocked with it) and
-    /// the DUT's rx from it; both kept for `can_edge`.
+    /// At a CAN rising edge, before the DUT's eval: the bus level and the
+    /// DUT's rx from it (the bus agent keeps both for `can_edge`).
     #[inline]
     fn can_rise_rx(&mut self) -> bool {
-        let dut_tx = if self.tx_on_bus {
-            self.dut_pins.tx
-        } else {
-            RECESSIVE
-        };
-        let level = if self.bus.is_empty() {
-            dut_tx
-        } else {
-            self.bus.clock_with(dut_tx)
-        };
-        self.bus_level = level;
-        let rx = match self.rx_wiring {
-            RxWiring::Bus => {
-                let mut rx = level;
-                if !self.dut_faults.is_empty() {
-                    let ctx = self.obs.bus_context(self.can_clocks);
-                    let me = self.bus.len();
-                    for f in &mut self.dut_faults {
-                        rx = f.apply(&ctx, me, rx);
-                    }
-                }
-                rx
-            }
-            RxWiring::TiedRecessive => true,
-            RxWiring::TiedDominant => false,
-        };
-        self.dut_rx = rx;
-        rx
+        let (obs, clock) = (&self.obs, self.can_clocks);
+        self.bus.can_rise(self.dut_pins.tx, || obs.bus_context(clock))
     }
 
     /// The rest of an instant once the DUT was evaluated: its pins `pins`
@@ -1018,8 +954,6 @@ impl Testbench {
             || self.reset_left > 0
             || self.tracing
             || self.obs.waving()
-            || !self.bus.is_empty()
-            || !self.dut_faults.is_empty()
             || self.await_dut_sof
         {
             return None;
@@ -1029,12 +963,8 @@ impl Testbench {
             Master::Wb(m) if m.in_flight() == 0 && self.applied_wb == WbMasterOut::default() => {}
             _ => return None,
         }
-        Some(match self.rx_wiring {
-            RxWiring::Bus if self.tx_on_bus => None,
-            RxWiring::Bus => Some(RECESSIVE),
-            RxWiring::TiedRecessive => Some(true),
-            RxWiring::TiedDominant => Some(false),
-        })
+        // Nothing but the DUT's own tx on the bus (no nodes, no faults).
+        self.bus.loopback_rx()
     }
 
     /// Makes the next instants, up to the one with the `can_rises`-th CAN
@@ -1079,7 +1009,6 @@ impl Testbench {
         let s0 = self.dut.wb();
         let quiet_wires = !(s0.ack || s0.err || s0.rty);
         let mut quiet = quiet_wires && self.wb_mon_seen == Some((self.applied_wb, s0));
-        let tx_on_bus = self.tx_on_bus;
         // Instants made and replayed: all of them unless a divergence stops the run.
         let mut replayed = made;
         // An instant without a rising edge only changes the pins: `after_eval`
@@ -1098,9 +1027,7 @@ impl Testbench {
             if l & 4 != 0 {
                 // `can_rise_rx` without model nodes or faults (see
                 // `batch_rx`), with the DUT's tx of the instant before.
-                let level = if tx_on_bus { prev_tx } else { RECESSIVE };
-                self.bus_level = level;
-                self.dut_rx = rx.unwrap_or(level);
+                self.bus.replay_rise(prev_tx, rx);
             }
             prev_tx = o & 1 != 0;
             if last && let AnyDut::Verilated(d) = &mut self.dut {
@@ -1203,14 +1130,14 @@ impl Testbench {
             dat_i,
             dat_o,
             ack,
-            rx: self.dut_rx,
+            rx: self.bus.dut_rx(),
             tx: p.tx,
             irq_n: p.irq_n,
             bus_on: p.bus_on,
             clkout: p.clkout,
-            bus: self.bus_level,
+            bus: self.bus.level(),
             model_tx,
-            model_rx: self.dut_rx,
+            model_rx: self.bus.dut_rx(),
             // The observer's bit clock and decoder fill these in.
             sample: false,
             field: None,
@@ -1348,19 +1275,19 @@ impl Testbench {
         if self.applied_wb.cyc && self.applied_wb.stb {
             self.req_edges = self.req_edges.saturating_add(1);
         }
-        let level = self.bus_level;
+        let level = self.bus.level();
         let sample = self.obs.clock(level);
         if self.await_dut_sof {
             self.start_held_frame_at_dut_sof(pins.tx);
         }
         // Everything read from the reference this clock, in one call.
         let view = match &mut self.reference {
-            Some(r) => Some(r.step(self.dut_rx)),
+            Some(r) => Some(r.step(self.bus.dut_rx())),
             None => None,
         };
         let bit = self.obs.bits();
         if sample {
-            self.obs.sample_point(t_ps, level, bit, pins, self.dut_rx, view, !self.stopped);
+            self.obs.sample_point(t_ps, level, bit, pins, self.bus.dut_rx(), view, !self.stopped);
         }
         if view.is_some_and(|v| v.events)
             && let Some(r) = &mut self.reference

@@ -15,4 +15,5 @@
 //! - [`observer`]: the bit clock, the field decoder, our VCD, the run
 //!   record and the bus log: it watches and writes down, never drives.
 
+pub mod bus;
 pub mod observer;
