@@ -29,12 +29,14 @@ use sja1000::{Bus, FaultInjector};
 use crate::agents::bus::BusAgent;
 pub use crate::agents::bus::NodeConfig;
 use crate::agents::observer::Observer;
+use crate::agents::reference::{DutKind, HostKind, RefTiming, ReferenceAgent};
+pub use crate::agents::reference::ReferenceChoice;
 use crate::bridge::{BridgeError, ExternalCore};
 use crate::compare::{Comparator, CompareConfig, IR_ADDR, SR_ADDR, Stamp};
 use crate::dut::{AnyDut, CanPins, EchoModel, HostPort, VerilatedDut};
 use crate::kernel::{Kernel, KernelError, Tick};
-use crate::model::{AnyRef, ModelDut, ModelRef};
-use crate::profile::{AccessTiming, PhaseOrigin, PortMap, Profile};
+use crate::model::ModelDut;
+use crate::profile::{PhaseOrigin, PortMap, Profile};
 use crate::wave::{Wave, WaveSample};
 use waivers::{Action, CollectMode, DutInfo, Observed, Resync, Session, WaiverReport, WaiverSet};
 
@@ -122,39 +124,6 @@ pub fn i8051_timing_for_rtl(host_hz: u64, can_hz: u64) -> I8051Timing {
         recovery: d.recovery.max(host_cycles(6)),
         ..d
     }
-}
-
-/// The reference of a lockstep run.
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
-pub enum ReferenceChoice {
-    /// The golden model.
-    Model,
-    /// The Rust twin of the echo fixture.
-    Echo,
-}
-
-/// When the DUT's CAN-clock side takes a host access, counted from the
-/// host edge that first presents it (the launch edge). The reference takes
-/// the same access at the same CAN clock: the bit timing starts counting
-/// when reset mode is left, so a reference that left it a few CAN clocks
-/// apart from the DUT would place its time quanta (and see short glitches)
-/// differently.
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
-enum RefTiming {
-    /// Unknown: the reference takes the access when the BFM sees the ack.
-    AtAck,
-    /// At the launch edge itself, after any CAN clock at the same instant
-    /// (the golden model as a Wishbone slave, [`ModelDut`]).
-    LaunchEdge,
-    /// After the n-th CAN rising edge strictly after the launch edge: a
-    /// read sees the registers as of `read`, a write lands at `write`, a
-    /// command (CMR) at `command` (rtl/can_wb_cdc.v: a 2-flop synchroniser
-    /// and a registered strobe; can_regs captures read data and writes
-    /// registers at the 4th edge; its command pulses are registered once
-    /// more, but the bit stream processor also acts on a sample point one
-    /// clock after the bit timing finds it, so a TR taken at the 4th edge
-    /// is in time for a sample point at the 5th, as for the model).
-    CanEdges { read: u32, write: u32, command: u32 },
 }
 
 /// Everything a test bench is built from.
@@ -346,7 +315,8 @@ pub struct Testbench {
     av_mon: Option<AvalonMonitor>,
     host_cycle: u64,
     reset_left: u64,
-    reference: Option<AnyRef>,
+    /// The reference model and the DUT's declared timing.
+    reference: ReferenceAgent,
     comparator: Option<Comparator>,
     /// Wired-AND bus, model nodes, faults, the DUT's rx wiring.
     bus: BusAgent,
@@ -360,13 +330,6 @@ pub struct Testbench {
     /// comparator could not see: taken from the next TXERR/RXERR read.
     adopt_tec_at_read: bool,
     adopt_rec_at_read: bool,
-    /// A `model-waits-bus-free-after-bus-on` resync holds the model's next
-    /// frame: start it at the DUT's next tx falling edge (its SOF).
-    await_dut_sof: bool,
-    /// The DUT's tx at the last CAN edge, while `await_dut_sof`.
-    await_prev_dut_tx: bool,
-    /// When the reference takes a host access (Wishbone master only).
-    ref_timing: RefTiming,
     /// CAN edges since the Wishbone request on the wires (`req_wires`)
     /// appeared: the monitor is told when the DUT has latched it
     /// (counted only when the profile says when that is).
@@ -546,19 +509,7 @@ impl Testbench {
             cfg.rx,
             cfg.tx_on_bus,
         );
-        let (reference, comparator) = match cfg.lockstep {
-            None => (None, None),
-            Some((ReferenceChoice::Model, c)) => (
-                Some(AnyRef::Model(ModelRef::with_phase_origin(
-                    profile.as_ref().map_or(PhaseOrigin::ResetModeExit, |p| p.phase_origin),
-                ))),
-                Some(Comparator::new(c)),
-            ),
-            Some((ReferenceChoice::Echo, c)) => (
-                Some(AnyRef::Other(Box::new(EchoModel::new()))),
-                Some(Comparator::new(c)),
-            ),
-        };
+        let comparator = cfg.lockstep.map(|(_, c)| Comparator::new(c));
         let wave = match &cfg.vcd {
             Some(p) => Some(Wave::create(p)?),
             None => None,
@@ -608,42 +559,26 @@ impl Testbench {
             self_test: false,
             listen_only: false,
         };
-        // The seed 000 Avalon wiring (cyc from begintransfer) has no
-        // well-defined launch; the golden model as DUT takes an access at
-        // its launch edge; any other DUT as its profile says, else at the ack.
-        let seed000 = matches!(
-            cfg.host,
-            HostBfm::Avalon {
-                wiring: AvalonWiring::Seed000,
-                ..
-            }
+        // When the reference takes a host access: as the DUT's profile
+        // declares it, or as the bench knows our tops.
+        let dut_kind = match &cfg.dut {
+            DutChoice::Model => DutKind::Model,
+            DutChoice::Rtl => DutKind::Rtl,
+            DutChoice::External(_) => DutKind::External,
+            _ => DutKind::Other,
+        };
+        let host_kind = match cfg.host {
+            HostBfm::Wishbone => HostKind::Wishbone,
+            HostBfm::Avalon { wiring: AvalonWiring::Seed000, .. } => HostKind::AvalonSeed000,
+            HostBfm::Avalon { .. } => HostKind::Avalon,
+            HostBfm::Pio(_) => HostKind::Pio,
+            HostBfm::I8051(_) => HostKind::I8051,
+        };
+        let reference = ReferenceAgent::new(
+            cfg.lockstep.map(|(r, _)| r),
+            profile.as_ref(),
+            RefTiming::for_dut(dut_kind, host_kind, profile.as_ref()),
         );
-        let from_profile = |a: AccessTiming| match a {
-            AccessTiming::AtAck => RefTiming::AtAck,
-            AccessTiming::CanEdges { read, write, command } => {
-                RefTiming::CanEdges { read, write, command }
-            }
-        };
-        let ref_timing = match (&cfg.dut, cfg.host, &profile) {
-            _ if seed000 => RefTiming::AtAck,
-            (DutChoice::Model, ..) => RefTiming::LaunchEdge,
-            // can_top_8051 (rtl/can_top_8051.v), from the host edge that
-            // raises RD or releases WR: 2 sampling flops, the strobe edge
-            // registered, the Wishbone request registered (CAN edge 4),
-            // can_top's own launch at edge 5 (its wb_clk_i is clk_i), then
-            // can_top's 3 (read) or 4 (write, CMR) edges.
-            (DutChoice::Rtl, HostBfm::I8051(_), _) => RefTiming::CanEdges { read: 8, write: 9, command: 9 },
-            // An external 8051 core is taken to act at the first clk_i edge
-            // of the strobe, with the port as it is then (the opencores
-            // 8051 build: rd_i/wr_i registered once, the access on the
-            // rising edge of the strobe, writes included).
-            (DutChoice::External(_), HostBfm::I8051(_), Some(Profile { i8051: Some(a), .. })) => from_profile(*a),
-            (DutChoice::External(_), HostBfm::I8051(_), _) => RefTiming::CanEdges { read: 1, write: 1, command: 1 },
-            (_, HostBfm::Wishbone, Some(p)) => from_profile(p.wishbone),
-            (_, HostBfm::Avalon { .. }, Some(p)) => from_profile(p.avalon),
-            (_, HostBfm::Pio(_), Some(p)) => from_profile(p.pio),
-            _ => RefTiming::AtAck,
-        };
         let mut tb = Testbench {
             kernel,
             dut,
@@ -669,9 +604,6 @@ impl Testbench {
             waivers,
             adopt_tec_at_read: false,
             adopt_rec_at_read: false,
-            await_dut_sof: false,
-            await_prev_dut_tx: true,
-            ref_timing,
             req_edges: 0,
             req_wires: WbMasterOut::default(),
             latch_edges: profile.as_ref().and_then(|p| match cfg.host {
@@ -793,7 +725,7 @@ impl Testbench {
     /// Hands each new divergence to the waiver session and applies its
     /// verdict: resync and go on, go on (collect), or stop.
     fn handle_divergences(&mut self) {
-        let (Some(c), Some(r)) = (&mut self.comparator, &mut self.reference) else {
+        let (Some(c), Some(r)) = (&mut self.comparator, &self.reference.model) else {
             return;
         };
         // The DUT is seen through its pins and host reads only; the clock
@@ -819,8 +751,6 @@ impl Testbench {
                                 skip_to = bit.map(|b| b + n as u64);
                                 true
                             }
-                            Resync::AdoptTec(Some(v)) => r.adopt_counters(Some(v), None),
-                            Resync::AdoptRec(Some(v)) => r.adopt_counters(None, Some(v)),
                             Resync::AdoptTec(None) => {
                                 self.adopt_tec_at_read = true;
                                 true
@@ -829,21 +759,12 @@ impl Testbench {
                                 self.adopt_rec_at_read = true;
                                 true
                             }
-                            Resync::AdoptRegister { addr, value } => r.adopt_register(addr, value),
-                            Resync::ModelSkipsSleep => r.skip_sleep(),
-                            Resync::ModelWaitsBusFreeAfterBusOn => {
-                                let held = r.wait_bus_free_after_bus_on();
-                                if held {
-                                    self.await_dut_sof = true;
-                                    self.await_prev_dut_tx = self.dut_pins.tx;
-                                }
-                                held
-                            }
+                            _ => self.reference.resync(&step, self.dut_pins.tx).unwrap_or(false),
                         };
                         if !applied {
                             self.waivers.note(format!(
                                 "resync {step:?} could not be applied: {} cannot, it keeps its own state",
-                                r.name()
+                                self.reference.name()
                             ));
                         }
                     }
@@ -856,7 +777,9 @@ impl Testbench {
                     // reads show the next real difference, not this one's
                     // cascade (issue 19 item 4). Derived registers keep the
                     // model's value.
-                    if let Some((addr, value)) = c.taken_read() {
+                    if let Some((addr, value)) = c.taken_read()
+                        && let Some(r) = &mut self.reference.model
+                    {
                         r.adopt_register(addr, value);
                     }
                     self.obs.record.divergence.get_or_insert(d);
@@ -954,7 +877,7 @@ impl Testbench {
             || self.reset_left > 0
             || self.tracing
             || self.obs.waving()
-            || self.await_dut_sof
+            || self.reference.awaiting_dut_sof()
         {
             return None;
         }
@@ -1115,7 +1038,7 @@ impl Testbench {
                 (a.cs, a.rd || a.wr, a.wr, if a.ale { a.ad } else { 0 }, a.ad)
             }
         };
-        let (model_tx, model_field) = match &self.reference {
+        let (model_tx, model_field) = match &self.reference.model {
             Some(r) => (r.pins().tx, r.field()),
             None => (true, None),
         };
@@ -1153,7 +1076,7 @@ impl Testbench {
             self.reset_left -= 1;
             if self.reset_left == 0 {
                 self.dut.set_reset(false);
-                if let Some(r) = &mut self.reference {
+                if let Some(r) = &mut self.reference.model {
                     r.hard_reset();
                 }
             }
@@ -1163,7 +1086,7 @@ impl Testbench {
         let mut av_viol: Vec<bfm::Violation> = Vec::new();
         // Has the DUT latched the request on the wires (its profile says
         // after how many CAN edges)? A drop after that is no abandonment.
-        let latched = match (self.latch_edges, self.ref_timing) {
+        let latched = match (self.latch_edges, self.reference.declared_timing()) {
             (Some(n), _) => self.req_edges >= n,
             (None, RefTiming::CanEdges { read, write, command }) => {
                 let w = self.req_wires;
@@ -1277,20 +1200,15 @@ impl Testbench {
         }
         let level = self.bus.level();
         let sample = self.obs.clock(level);
-        if self.await_dut_sof {
-            self.start_held_frame_at_dut_sof(pins.tx);
-        }
-        // Everything read from the reference this clock, in one call.
-        let view = match &mut self.reference {
-            Some(r) => Some(r.step(self.bus.dut_rx())),
-            None => None,
-        };
+        // A frame held for the DUT's SOF, then everything read from the
+        // reference this clock, in one call.
+        let view = self.reference.can_edge(self.bus.dut_rx(), pins.tx);
         let bit = self.obs.bits();
         if sample {
             self.obs.sample_point(t_ps, level, bit, pins, self.bus.dut_rx(), view, !self.stopped);
         }
         if view.is_some_and(|v| v.events)
-            && let Some(r) = &mut self.reference
+            && let Some(r) = &mut self.reference.model
         {
             self.obs.reference_events(t_ps, bit, r);
         }
@@ -1303,19 +1221,6 @@ impl Testbench {
                 self.handle_divergences();
             }
         }
-    }
-
-    /// `model-waits-bus-free-after-bus-on`: at the DUT's first tx falling
-    /// edge after the resync, the model starts the frame it holds (if it
-    /// holds one: its hold is bounded, see the resync) in the same clock.
-    fn start_held_frame_at_dut_sof(&mut self, dut_tx: bool) {
-        if self.await_prev_dut_tx && !dut_tx {
-            self.await_dut_sof = false;
-            if let Some(r) = &mut self.reference {
-                r.start_held_tx_now();
-            }
-        }
-        self.await_prev_dut_tx = dut_tx;
     }
 
     fn check_stopped(&self) -> Result<(), TbError> {
@@ -1439,11 +1344,13 @@ impl Testbench {
         let t0 = self.kernel.now_ps();
         let (mode, reset_mode) = self
             .reference
+            .model
             .as_ref()
             .and_then(|r| r.mode())
             .unwrap_or_default();
         let reg = self
             .reference
+            .model
             .as_ref()
             .and_then(|r| r.reg_name(addr, write));
         let h: OpHandle = with_master!(&mut self.master, m => if write { m.start_write(addr, data) } else { m.start_read(addr) });
@@ -1452,27 +1359,9 @@ impl Testbench {
         let viol_before = self.obs.record.violations.len();
         // The reference takes the access when the DUT's CAN side does, if
         // the bench knows when that is (see `RefTiming`); else at the ack.
-        let timing = match &self.reference {
-            Some(_) => self.ref_timing,
-            None => RefTiming::AtAck,
-        };
+        let timing = self.reference.timing();
         let native_avalon = matches!(self.master, Master::Av(_, AvalonWiring::Native));
-        let due_edges = match timing {
-            RefTiming::CanEdges {
-                read,
-                write: w,
-                command,
-            } => {
-                if !write {
-                    read
-                } else if addr == 1 {
-                    command
-                } else {
-                    w
-                }
-            }
-            _ => 0,
-        };
+        let due_edges = timing.due_edges(write, addr);
         let mut launched = false;
         let mut i8051_wr_seen = false;
         let mut acks_seen = 0u32;
@@ -1506,7 +1395,7 @@ impl Testbench {
                     self.tick();
                     let ready_now = self.holdoff.as_ref().is_none_or(|h| h.ready());
                     if a.observe(presented, ready_before, ready_now, self.can_clocks != cc, due_edges)
-                        && let Some(refm) = &mut self.reference
+                        && let Some(refm) = &mut self.reference.model
                     {
                         repeats += 1;
                         taken = Some(if write {
@@ -1555,7 +1444,7 @@ impl Testbench {
                 }
                 let ready_now = self.holdoff.as_ref().is_none_or(|h| h.ready());
                 if launched && can_edges >= due_edges && (due_edges > 0 || ready_now) {
-                    if let Some(refm) = &mut self.reference {
+                    if let Some(refm) = &mut self.reference.model {
                         taken = Some(if write {
                             (refm.write(addr, data), 0)
                         } else {
@@ -1584,7 +1473,7 @@ impl Testbench {
         if let Some(a) = &again
             && taken.is_some()
             && a.committed(committed)
-            && let Some(refm) = &mut self.reference
+            && let Some(refm) = &mut self.reference.model
         {
             repeats += 1;
             if write {
@@ -1620,7 +1509,7 @@ impl Testbench {
                     field: self.obs.field(),
                     frame: None,
                 };
-                if let Some(refm) = &mut self.reference {
+                if let Some(refm) = &mut self.reference.model {
                     if write {
                         rec.outcome = match taken {
                             Some((o, _)) => o,
@@ -1811,7 +1700,7 @@ impl Testbench {
         let mut r = self.obs.record.clone();
         r.bits_simulated = self.obs.bits();
         r.dut = self.dut_name.clone();
-        if let Some(refm) = &self.reference {
+        if let Some(refm) = &self.reference.model {
             let (tec, rec) = refm.counters().unwrap_or((0, 0));
             r.final_model = Some(FinalRegs {
                 sr: refm.peek(SR_ADDR),
@@ -1838,6 +1727,7 @@ impl Testbench {
     pub fn capture_final(&mut self) -> Result<FinalRegs, TbError> {
         let peli = self
             .reference
+            .model
             .as_ref()
             .and_then(|r| r.mode())
             .map(|(m, _)| m == diagnose::CanMode::PeliCan)

@@ -17,3 +17,4 @@
 
 pub mod bus;
 pub mod observer;
+pub mod reference;
