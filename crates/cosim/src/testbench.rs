@@ -14,19 +14,16 @@
 
 use std::path::PathBuf;
 
-use bfm::{
-    AvMasterOut, AvalonMaster, AvalonMasterConfig, AvalonMonitor, AvalonMonitorConfig,
-    AvalonTiming, BfmError, HostMaster, I8051Config, I8051Master, I8051Monitor, I8051MonitorConfig,
-    I8051Out, I8051Polarity, I8051Timing, OpHandle, OpResult, PioMaster, PioTiming, WbMasterOut,
-    WbSlaveOut, WishboneMaster, WishboneMonitor, wiring::Wiring as AvWiring,
-};
+use bfm::{BfmError, OpHandle, OpResult};
 use can_proto::RECESSIVE;
 use diagnose::{
-    Access as RecAccess, Expectation, FinalRegs, HostBus, HostOp, RunRecord, RxWiring,
+    Access as RecAccess, Expectation, FinalRegs, HostOp, RunRecord, RxWiring,
 };
 use sja1000::{Bus, FaultInjector};
 
 use crate::agents::bus::BusAgent;
+use crate::agents::host::{Again, HostAgent, HostSetup};
+pub use crate::agents::host::{AvalonWiring, HostBfm, i8051_timing_for_rtl};
 pub use crate::agents::bus::NodeConfig;
 use crate::agents::observer::Observer;
 use crate::agents::reference::{DutKind, HostKind, RefTiming, ReferenceAgent};
@@ -74,55 +71,6 @@ pub struct CustomDut {
 impl std::fmt::Debug for CustomDut {
     fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
         write!(f, "CustomDut({})", self.name)
-    }
-}
-
-/// How the Avalon master reaches a Wishbone DUT.
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
-pub enum AvalonWiring {
-    /// The DUT has an Avalon port of its own (`can_avalon`).
-    Native,
-    /// Correct Avalon-to-Wishbone bridge (`waitrequest = !ack`).
-    Bridge,
-    /// The DE2 thesis wiring (seed 000, Tableau 3.2).
-    Seed000,
-}
-
-/// The host bus-functional model.
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
-pub enum HostBfm {
-    /// Wishbone classic master.
-    Wishbone,
-    /// Avalon-MM master.
-    Avalon {
-        /// Transfer timing.
-        timing: AvalonTiming,
-        /// How it reaches the DUT.
-        wiring: AvalonWiring,
-    },
-    /// Nios II bit-banging the Wishbone pins through PIO registers.
-    Pio(PioTiming),
-    /// Intel-mode (8051) multiplexed bus master (pins active high, as on
-    /// `can_top_8051` and the opencores 8051 build); drives a DUT with the
-    /// [`HostPort::I8051`] port list (`DutChoice::Rtl` becomes `can_top_8051`).
-    I8051(I8051Timing),
-}
-
-/// 8051-bus timing for our `can_top_8051` at the given clocks: the default
-/// [`I8051Timing`] with the RD strobe long enough for the wrapper's read
-/// latency (about 15 CAN clocks, see `rtl/can_top_8051.v`; 18 with margin)
-/// and at least 6 CAN clocks of recovery, so that a write, done after WR is
-/// released (about 14 CAN clocks), is over before the next access's RD
-/// (with 4 host cycles at 50/24 MHz a read waits behind the write and
-/// `pelican-error-kinds` diverges: measured).
-pub fn i8051_timing_for_rtl(host_hz: u64, can_hz: u64) -> I8051Timing {
-    // The phases in ns (bfm::I8051AcTiming), in cycles of this host clock.
-    let d = bfm::I8051AcTiming::default().cycles(host_hz);
-    let host_cycles = |can_clocks: u64| (can_clocks * host_hz).div_ceil(can_hz.max(1)) as u32;
-    I8051Timing {
-        rd: d.rd.max(host_cycles(18)),
-        recovery: d.recovery.max(host_cycles(6)),
-        ..d
     }
 }
 
@@ -263,58 +211,15 @@ pub enum TbError {
     Io(#[from] std::io::Error),
 }
 
-enum Master {
-    Wb(WishboneMaster),
-    Av(AvalonMaster, AvalonWiring),
-    Pio(PioMaster),
-    I8051(I8051Master, I8051Monitor),
-}
-
-macro_rules! with_master {
-    ($m:expr, $x:ident => $e:expr) => {
-        match $m {
-            Master::Wb($x) => $e,
-            Master::Av($x, _) => $e,
-            Master::Pio($x) => $e,
-            Master::I8051($x, _) => $e,
-        }
-    };
-}
-
-fn rule_id(prefix: &str, r: bfm::Rule) -> String {
-    let dbg = format!("{r:?}");
-    let mut s = String::from(prefix);
-    for (i, c) in dbg.chars().enumerate() {
-        if c.is_ascii_uppercase() {
-            if i > 0 {
-                s.push('_');
-            }
-            s.push(c.to_ascii_lowercase());
-        } else {
-            s.push(c);
-        }
-    }
-    s
-}
-
 /// The test bench.
 pub struct Testbench {
     kernel: Kernel,
     dut: AnyDut,
     dut_name: String,
-    master: Master,
-    host_bus: HostBus,
-    applied_wb: WbMasterOut,
-    applied_av: AvMasterOut,
-    applied_i8051: I8051Out,
-    wb_mon: WishboneMonitor,
-    /// Master pins and slave outputs the Wishbone monitor saw last.
-    wb_mon_seen: Option<(WbMasterOut, WbSlaveOut)>,
+    /// Host BFM, its wiring and monitors, the reset sequence.
+    host: HostAgent,
     /// The DUT's CAN-side pins as of its last eval (read once per tick).
     dut_pins: crate::dut::CanPins,
-    av_mon: Option<AvalonMonitor>,
-    host_cycle: u64,
-    reset_left: u64,
     /// The reference model and the DUT's declared timing.
     reference: ReferenceAgent,
     comparator: Option<Comparator>,
@@ -330,19 +235,6 @@ pub struct Testbench {
     /// comparator could not see: taken from the next TXERR/RXERR read.
     adopt_tec_at_read: bool,
     adopt_rec_at_read: bool,
-    /// CAN edges since the Wishbone request on the wires (`req_wires`)
-    /// appeared: the monitor is told when the DUT has latched it
-    /// (counted only when the profile says when that is).
-    req_edges: u32,
-    req_wires: WbMasterOut,
-    /// The profile's `latch` for the host bus in use, if it gives one.
-    latch_edges: Option<u32>,
-    /// The profile's `busy-after-ack` for the host bus in use: when the
-    /// core can see a new request after an ack.
-    holdoff: Option<crate::holdoff::AckHoldoff>,
-    /// 8051 host: the DUT takes a write when WR is released (our
-    /// `can_top_8051`), not when WR rises (an external core).
-    i8051_write_at_release: bool,
     /// Batches allowed (see [`Testbench::set_batching`]).
     batching: bool,
     /// Buffers of `run_batch` (clock levels in, pins out), kept between calls.
@@ -423,85 +315,18 @@ impl Testbench {
         if let Some(p) = &cfg.dut_trace {
             dut.trace_open(p)?;
         }
-        let (master, host_bus) = match cfg.host {
-            HostBfm::Wishbone => (
-                Master::Wb(WishboneMaster::new("host").with_timeout(cfg.op_timeout_cycles)),
-                HostBus::Wishbone,
-            ),
-            HostBfm::Avalon { timing, wiring } => {
-                let native = dut.host_port() == HostPort::Avalon;
-                if native != (wiring == AvalonWiring::Native) {
-                    return Err(TbError::Config(format!(
-                        "Avalon wiring {wiring:?} does not fit {} (its host port is {:?}); use Native for can_avalon, Bridge or Seed000 for a Wishbone DUT",
-                        dut.name(),
-                        dut.host_port()
-                    )));
-                }
-                let begintransfer = wiring == AvalonWiring::Seed000;
-                let m = AvalonMaster::new(
-                    "host",
-                    AvalonMasterConfig {
-                        timing,
-                        begintransfer,
-                        timeout_cycles: cfg.op_timeout_cycles,
-                    },
-                );
-                (Master::Av(m, wiring), HostBus::Avalon)
-            }
-            HostBfm::Pio(t) => {
-                let mut m = PioMaster::new("host", t);
-                m.set_timeout(cfg.op_timeout_cycles);
-                (Master::Pio(m), HostBus::Pio)
-            }
-            HostBfm::I8051(timing) => {
-                let polarity = I8051Polarity::ACTIVE_HIGH;
-                let m = I8051Master::new(
-                    "host",
-                    I8051Config {
-                        polarity,
-                        timing,
-                        timeout_cycles: cfg.op_timeout_cycles,
-                    },
-                );
-                let mon = I8051Monitor::new(
-                    "8051 monitor",
-                    I8051MonitorConfig::for_timing(polarity, &timing),
-                );
-                (Master::I8051(m, mon), HostBus::I8051)
-            }
-        };
-        if (dut.host_port() == HostPort::I8051) != i8051 {
-            return Err(TbError::Config(format!(
-                "{} has the {:?} port list: drive {} with the 8051 host",
-                dut.name(),
-                dut.host_port(),
-                if i8051 {
-                    "only a DUT with the 8051 port list"
-                } else {
-                    "it only"
-                }
-            )));
-        }
-        if dut.host_port() == HostPort::Avalon && !matches!(master, Master::Av(..)) {
-            return Err(TbError::Config(format!(
-                "{} has an Avalon port: drive it with the Avalon BFM (wiring Native)",
-                dut.name()
-            )));
-        }
-        let av_mon = match &master {
-            Master::Av(m, _) => {
-                let c = m.config();
-                Some(AvalonMonitor::new(
-                    "avalon monitor",
-                    AvalonMonitorConfig {
-                        timing: c.timing,
-                        begintransfer: c.begintransfer,
-                        timeout_cycles: cfg.monitor_ack_timeout,
-                    },
-                ))
-            }
-            _ => None,
-        };
+        let host = HostAgent::new(
+            HostSetup {
+                bfm: cfg.host,
+                op_timeout_cycles: cfg.op_timeout_cycles,
+                monitor_ack_timeout: cfg.monitor_ack_timeout,
+                reset_cycles: cfg.reset_cycles,
+                profile: profile.as_ref(),
+                external: matches!(cfg.dut, DutChoice::External(_)),
+            },
+            &dut,
+        )
+        .map_err(TbError::Config)?;
         let bus = BusAgent::new(
             &cfg.nodes,
             cfg.faults.drain(..).collect(),
@@ -537,7 +362,7 @@ impl Testbench {
             cfg.collect,
         );
         let mut record = RunRecord::new(&cfg.scenario, &dut_name);
-        record.host_bus = host_bus;
+        record.host_bus = host.host_bus();
         record.timing = diagnose::Timing {
             can_clock_hz: cfg.can_hz as f64,
             host_clock_hz: cfg.host_hz as f64,
@@ -583,17 +408,8 @@ impl Testbench {
             kernel,
             dut,
             dut_name,
-            master,
-            host_bus,
-            applied_wb: WbMasterOut::default(),
-            applied_av: AvMasterOut::default(),
-            applied_i8051: I8051Polarity::ACTIVE_HIGH.drive(false, false, false, false),
-            wb_mon: WishboneMonitor::new("wishbone monitor", cfg.monitor_ack_timeout),
-            wb_mon_seen: None,
+            host,
             dut_pins: crate::dut::CanPins::default(),
-            av_mon,
-            host_cycle: 0,
-            reset_left: cfg.reset_cycles.max(1),
             reference,
             comparator,
             bus,
@@ -604,35 +420,15 @@ impl Testbench {
             waivers,
             adopt_tec_at_read: false,
             adopt_rec_at_read: false,
-            req_edges: 0,
-            req_wires: WbMasterOut::default(),
-            latch_edges: profile.as_ref().and_then(|p| match cfg.host {
-                HostBfm::Wishbone => p.latch.wishbone,
-                HostBfm::Avalon { .. } => p.latch.avalon,
-                HostBfm::Pio(_) => p.latch.pio,
-                HostBfm::I8051(_) => None,
-            }),
-            holdoff: profile
-                .as_ref()
-                .and_then(|p| match cfg.host {
-                    HostBfm::Wishbone => p.holdoff.wishbone,
-                    HostBfm::Avalon { wiring: AvalonWiring::Bridge, .. } => p.holdoff.avalon,
-                    HostBfm::Pio(_) => p.holdoff.pio,
-                    _ => None,
-                })
-                .map(crate::holdoff::AckHoldoff::new),
-            i8051_write_at_release: !matches!(cfg.dut, DutChoice::External(_)),
             batching: true,
             batch_levels: Vec::new(),
             batch_out: Vec::new(),
             batch_times: Vec::new(),
         };
-        tb.dut.set_reset(true);
-        let idle = tb.applied_i8051;
-        tb.dut.set_i8051(&idle);
+        tb.host.hold_reset(&mut tb.dut);
         tb.dut.set_rx(RECESSIVE);
         tb.dut_pins = tb.dut.can();
-        while tb.reset_left > 0 {
+        while tb.host.in_reset() {
             tb.tick();
         }
         Ok(tb)
@@ -808,7 +604,7 @@ impl Testbench {
 
     /// Host cycles so far.
     pub fn host_cycles(&self) -> u64 {
-        self.host_cycle
+        self.host.cycles()
     }
 
     /// CAN clock cycles so far.
@@ -832,9 +628,7 @@ impl Testbench {
         let pins = self
             .dut
             .eval_pins(self.kernel.host().level(), self.kernel.can().level());
-        if let Some(h) = &mut self.holdoff {
-            h.on_tick(&t, self.dut.wb().ack);
-        }
+        self.host.on_tick(&t, &self.dut);
         self.after_eval(t, pins);
     }
 
@@ -874,7 +668,7 @@ impl Testbench {
     fn batch_rx(&self) -> Option<Option<bool>> {
         if !self.batching
             || !matches!(self.dut, AnyDut::Verilated(_))
-            || self.reset_left > 0
+            || self.host.in_reset()
             || self.tracing
             || self.obs.waving()
             || self.reference.awaiting_dut_sof()
@@ -882,9 +676,8 @@ impl Testbench {
             return None;
         }
         // The master starts nothing and drives idle wires (only `op` queues).
-        match &self.master {
-            Master::Wb(m) if m.in_flight() == 0 && self.applied_wb == WbMasterOut::default() => {}
-            _ => return None,
+        if !self.host.idle() {
+            return None;
         }
         // Nothing but the DUT's own tx on the bus (no nodes, no faults).
         self.bus.loopback_rx()
@@ -931,7 +724,7 @@ impl Testbench {
         // for its count (see `host_edge`).
         let s0 = self.dut.wb();
         let quiet_wires = !(s0.ack || s0.err || s0.rty);
-        let mut quiet = quiet_wires && self.wb_mon_seen == Some((self.applied_wb, s0));
+        let mut quiet = quiet_wires && self.host.monitor_saw(s0);
         // Instants made and replayed: all of them unless a divergence stops the run.
         let mut replayed = made;
         // An instant without a rising edge only changes the pins: `after_eval`
@@ -959,10 +752,10 @@ impl Testbench {
             }
             if l & 8 != 0 {
                 if quiet && !last {
-                    self.host_cycle += 1;
+                    self.host.quiet_edge();
                 } else {
                     self.host_edge();
-                    quiet = quiet_wires && self.wb_mon_seen == Some((self.applied_wb, s0));
+                    quiet = quiet_wires && self.host.monitor_saw(s0);
                 }
             }
             if l & 4 != 0 {
@@ -999,45 +792,7 @@ impl Testbench {
 
     fn dump_wave(&mut self, t_ps: u64) {
         let p = self.dut.can();
-        let (ack, dat_o) = match self.dut.host_port() {
-            HostPort::Wishbone => {
-                let s = self.dut.wb();
-                (s.ack, s.dat)
-            }
-            HostPort::Avalon => {
-                let s = self.dut.av();
-                (self.applied_av.chipselect && !s.waitrequest, s.readdata)
-            }
-            // The port as the DUT drives it; "ack" = it drives.
-            HostPort::I8051 => {
-                let s = self.dut.i8051();
-                (s.ad_oe, s.ad)
-            }
-        };
-        let (cyc, stb, we, adr, dat_i) = match self.dut.host_port() {
-            HostPort::Wishbone => (
-                self.applied_wb.cyc,
-                self.applied_wb.stb,
-                self.applied_wb.we,
-                self.applied_wb.adr,
-                self.applied_wb.dat,
-            ),
-            HostPort::Avalon => {
-                let a = self.applied_av;
-                (
-                    a.chipselect,
-                    a.read || a.write,
-                    a.write,
-                    a.address,
-                    a.writedata,
-                )
-            }
-            // cyc = CS, stb = RD or WR, adr = the port while ALE is high.
-            HostPort::I8051 => {
-                let a = self.applied_i8051;
-                (a.cs, a.rd || a.wr, a.wr, if a.ale { a.ad } else { 0 }, a.ad)
-            }
-        };
+        let (cyc, stb, we, adr, dat_i, dat_o, ack) = self.host.wave_pins(&self.dut);
         let (model_tx, model_field) = match &self.reference.model {
             Some(r) => (r.pins().tx, r.field()),
             None => (true, None),
@@ -1045,7 +800,7 @@ impl Testbench {
         let s = WaveSample {
             host_clk: self.kernel.host().level(),
             can_clk: self.kernel.can().level(),
-            rst: self.reset_left > 0,
+            rst: self.host.in_reset(),
             cyc,
             stb,
             we,
@@ -1069,125 +824,14 @@ impl Testbench {
         self.obs.dump_wave(t_ps, s);
     }
 
+    /// A host rising edge, after the DUT's eval: the host agent steps; the
+    /// reference takes its hardware reset when the DUT's reset ends.
     fn host_edge(&mut self) {
-        let cycle = self.host_cycle;
-        self.host_cycle += 1;
-        if self.reset_left > 0 {
-            self.reset_left -= 1;
-            if self.reset_left == 0 {
-                self.dut.set_reset(false);
-                if let Some(r) = &mut self.reference.model {
-                    r.hard_reset();
-                }
-            }
-            return;
-        }
-        let mut viol: Vec<bfm::Violation> = Vec::new();
-        let mut av_viol: Vec<bfm::Violation> = Vec::new();
-        // Has the DUT latched the request on the wires (its profile says
-        // after how many CAN edges)? A drop after that is no abandonment.
-        let latched = match (self.latch_edges, self.reference.declared_timing()) {
-            (Some(n), _) => self.req_edges >= n,
-            (None, RefTiming::CanEdges { read, write, command }) => {
-                let w = self.req_wires;
-                let due = if !w.we { read } else if w.adr == 1 { command } else { write };
-                self.req_edges >= due
-            }
-            _ => false,
-        };
-        self.wb_mon.set_latched(latched);
-        // A new request counts its edges afresh once the wires have let go
-        // (the monitor has now seen that). A request held on after its ack
-        // (a GPIO-polled master that saw the ack late) is still the access
-        // the core latched, not a new one.
-        if !(self.applied_wb.cyc && self.applied_wb.stb) {
-            self.req_edges = 0;
-        }
-        let mut i8051_viol: Vec<bfm::Violation> = Vec::new();
-        match &mut self.master {
-            Master::Wb(m) => {
-                let s = self.dut.wb();
-                let idle_wires =
-                    !(self.applied_wb.cyc || self.applied_wb.stb || s.ack || s.err || s.rty);
-                // The monitor would flag nothing and keep its state when
-                // the same idle wires come again: skip it.
-                if !(idle_wires && self.wb_mon_seen == Some((self.applied_wb, s))) {
-                    viol = self.wb_mon.observe(cycle, &self.applied_wb, &s);
-                    self.wb_mon_seen = Some((self.applied_wb, s));
-                }
-                // Nothing queued or in flight and idle outputs: its edge
-                // would start nothing and drive the same idle outputs.
-                if !(m.in_flight() == 0 && self.applied_wb == WbMasterOut::default()) {
-                    m.on_edge(&s);
-                    self.applied_wb = m.outputs();
-                    self.dut.set_wb(&self.applied_wb);
-                }
-            }
-            Master::Pio(m) => {
-                let s = self.dut.wb();
-                viol = self.wb_mon.observe(cycle, &self.applied_wb, &s);
-                m.on_edge(&s);
-                self.applied_wb = m.outputs();
-                self.dut.set_wb(&self.applied_wb);
-                self.dut.set_reset(m.rst());
-            }
-            Master::I8051(m, mon) => {
-                let s = self.dut.i8051();
-                i8051_viol = mon.observe(cycle, &self.applied_i8051, &s);
-                m.on_edge(&s);
-                self.applied_i8051 = m.outputs();
-                self.dut.set_i8051(&self.applied_i8051);
-            }
-            Master::Av(m, AvalonWiring::Native) => {
-                let s = self.dut.av();
-                if let Some(mon) = &mut self.av_mon {
-                    av_viol = mon.observe(cycle, &self.applied_av, &s);
-                }
-                m.on_edge(&s);
-                self.applied_av = m.outputs();
-                self.dut.set_av(&self.applied_av);
-            }
-            Master::Av(m, w) => {
-                let wiring = if *w == AvalonWiring::Seed000 {
-                    AvWiring::Seed000
-                } else {
-                    AvWiring::Bridge
-                };
-                let s_wb = self.dut.wb();
-                viol = self.wb_mon.observe(cycle, &self.applied_wb, &s_wb);
-                let s = wiring.to_avalon(&s_wb);
-                if let Some(mon) = &mut self.av_mon {
-                    av_viol = mon.observe(cycle, &self.applied_av, &s);
-                }
-                m.on_edge(&s);
-                self.applied_av = m.outputs();
-                self.applied_wb = wiring.to_wishbone(&self.applied_av);
-                self.dut.set_wb(&self.applied_wb);
-            }
-        }
-        if self.applied_wb.cyc && self.applied_wb.stb {
-            self.req_wires = self.applied_wb;
-        }
-        for v in viol {
-            self.obs.record.violations.push(diagnose::Violation {
-                cycle: v.cycle,
-                rule: rule_id("wb.", v.rule),
-                message: v.message,
-            });
-        }
-        for v in av_viol {
-            self.obs.record.violations.push(diagnose::Violation {
-                cycle: v.cycle,
-                rule: rule_id("avalon.", v.rule),
-                message: v.message,
-            });
-        }
-        for v in i8051_viol {
-            self.obs.record.violations.push(diagnose::Violation {
-                cycle: v.cycle,
-                rule: rule_id("i8051.", v.rule),
-                message: v.message,
-            });
+        let timing = self.reference.declared_timing();
+        if self.host.edge(&mut self.dut, timing, &mut self.obs.record.violations)
+            && let Some(r) = &mut self.reference.model
+        {
+            r.hard_reset();
         }
     }
 
@@ -1195,9 +839,7 @@ impl Testbench {
     /// (`dut_pins`, passed in registers).
     fn can_edge(&mut self, t_ps: u64, pins: CanPins) {
         self.can_clocks += 1;
-        if self.applied_wb.cyc && self.applied_wb.stb {
-            self.req_edges = self.req_edges.saturating_add(1);
-        }
+        self.host.on_can_edge();
         let level = self.bus.level();
         let sample = self.obs.clock(level);
         // A frame held for the DUT's SOF, then everything read from the
@@ -1235,8 +877,8 @@ impl Testbench {
 
     /// Runs `n` host clock cycles.
     pub fn run_host_cycles(&mut self, n: u64) -> Result<(), TbError> {
-        let end = self.host_cycle + n;
-        while self.host_cycle < end {
+        let end = self.host.cycles() + n;
+        while self.host.cycles() < end {
             self.tick();
             self.check_stopped()?;
         }
@@ -1353,14 +995,13 @@ impl Testbench {
             .model
             .as_ref()
             .and_then(|r| r.reg_name(addr, write));
-        let h: OpHandle = with_master!(&mut self.master, m => if write { m.start_write(addr, data) } else { m.start_read(addr) });
-        let bound = with_master!(&mut self.master, m => m.drain_bound()) + 64;
-        let start_cycle = self.host_cycle;
+        let h: OpHandle = self.host.start(write, addr, data);
+        let bound = self.host.op_bound();
+        let start_cycle = self.host.cycles();
         let viol_before = self.obs.record.violations.len();
         // The reference takes the access when the DUT's CAN side does, if
         // the bench knows when that is (see `RefTiming`); else at the ack.
         let timing = self.reference.timing();
-        let native_avalon = matches!(self.master, Master::Av(_, AvalonWiring::Native));
         let due_edges = timing.due_edges(write, addr);
         let mut launched = false;
         let mut i8051_wr_seen = false;
@@ -1374,26 +1015,26 @@ impl Testbench {
         // new one (Wishbone: stb held after ack is the next transfer), and
         // performs the access again: a GPIO-polled master that misses the
         // one-clock ack does that. The reference performs it as often.
-        let mut again = (!native_avalon && !matches!(self.master, Master::I8051(..)) && self.holdoff.is_some())
+        let mut again = (!self.host.native_avalon() && !self.host.is_i8051() && self.host.has_holdoff())
             .then_some(Again::default());
         let res = loop {
-            if let Some(r) = with_master!(&mut self.master, m => m.poll(h)) {
+            if let Some(r) = self.host.poll(h) {
                 break r;
             }
-            if self.host_cycle - start_cycle > bound {
+            if self.host.cycles() - start_cycle > bound {
                 break Err(BfmError::Stalled {
-                    cycles: self.host_cycle - start_cycle,
+                    cycles: self.host.cycles() - start_cycle,
                 });
             }
-            let c = self.host_cycle;
-            while self.host_cycle == c {
+            let c = self.host.cycles();
+            while self.host.cycles() == c {
                 if let (Some(a), Some(_)) = (&mut again, &taken)
                     && timing != RefTiming::AtAck
                 {
-                    let presented = self.applied_wb.cyc && self.applied_wb.stb;
-                    let (cc, ready_before) = (self.can_clocks, self.holdoff.as_ref().is_none_or(|h| h.ready()));
+                    let presented = self.host.wb_presented();
+                    let (cc, ready_before) = (self.can_clocks, self.host.ready());
                     self.tick();
-                    let ready_now = self.holdoff.as_ref().is_none_or(|h| h.ready());
+                    let ready_now = self.host.ready();
                     if a.observe(presented, ready_before, ready_now, self.can_clocks != cc, due_edges)
                         && let Some(refm) = &mut self.reference.model
                     {
@@ -1413,36 +1054,25 @@ impl Testbench {
                     self.tick();
                     continue;
                 }
-                let presented = if native_avalon {
-                    self.applied_av.chipselect && (self.applied_av.read || self.applied_av.write)
-                } else {
-                    self.applied_wb.cyc && self.applied_wb.stb
-                };
+                let presented = self.host.presented();
                 let cc = self.can_clocks;
                 // A CAN edge counts for the access only if the core could
                 // see the request at it (its hold-off after the last ack).
-                let ready_before = self.holdoff.as_ref().is_none_or(|h| h.ready());
+                let ready_before = self.host.ready();
                 self.tick();
                 if launched {
                     can_edges += (self.can_clocks != cc && ready_before) as u32;
-                } else if let Master::I8051(m, _) = &self.master {
+                } else if self.host.is_i8051() {
                     // No host clock in the DUT: it sees the pins from the
                     // host edge that sets them. A read launches there with
-                    // RD, a write with the release of WR.
-                    let (p, w) = (m.config().polarity, &self.applied_i8051);
-                    let (rd, wr) = (p.cs(w) && p.rd(w), p.cs(w) && p.wr(w));
-                    i8051_wr_seen |= wr;
-                    let write_launch = if self.i8051_write_at_release {
-                        i8051_wr_seen && !wr
-                    } else {
-                        wr
-                    };
-                    launched = self.host_cycle != c && if write { write_launch } else { rd };
+                    // RD, a write with the release of WR (or its rise).
+                    let launch = self.host.i8051_launch(write, &mut i8051_wr_seen);
+                    launched = self.host.cycles() != c && launch;
                 } else {
                     // The first host edge at which the DUT sees cyc & stb.
-                    launched = self.host_cycle != c && presented;
+                    launched = self.host.cycles() != c && presented;
                 }
-                let ready_now = self.holdoff.as_ref().is_none_or(|h| h.ready());
+                let ready_now = self.host.ready();
                 if launched && can_edges >= due_edges && (due_edges > 0 || ready_now) {
                     if let Some(refm) = &mut self.reference.model {
                         taken = Some(if write {
@@ -1457,19 +1087,12 @@ impl Testbench {
                 }
             }
             // For the diagnosis of a failed access: did the DUT answer at all?
-            let answered = if native_avalon {
-                self.applied_av.chipselect && !self.dut.av().waitrequest
-            } else if matches!(self.master, Master::I8051(..)) {
-                // No acknowledge on this bus: the DUT answered if it drove the port.
-                self.dut.i8051().ad_oe
-            } else {
-                self.dut.wb().ack
-            };
+            let answered = self.host.answered(&self.dut);
             acks_seen += answered as u32;
         };
         // The master let go while the core was already taking the access
         // once more (its profile's `latch`): performed all the same.
-        let committed = self.latch_edges.unwrap_or(due_edges).max(1);
+        let committed = self.host.latch_edges().unwrap_or(due_edges).max(1);
         if let Some(a) = &again
             && taken.is_some()
             && a.committed(committed)
@@ -1484,7 +1107,7 @@ impl Testbench {
         }
         let mut rec = HostOp {
             time_ps: t0,
-            bfm: self.host_bus,
+            bfm: self.host.host_bus(),
             access: if write {
                 RecAccess::Write
             } else {
@@ -1779,90 +1402,5 @@ impl Testbench {
     pub fn flush(&mut self) -> Result<(), TbError> {
         self.obs.flush()?;
         Ok(())
-    }
-}
-
-/// A request held past the core's ack (see `busy-after-ack`): the core sees
-/// it again once its handshake is idle, and takes it after as many CAN
-/// edges as a new one.
-#[derive(Clone, Copy, Debug, Default)]
-struct Again {
-    /// The core acknowledged the access last taken (its hold-off started).
-    acked: bool,
-    /// CAN edges since then at which the core could see the request.
-    edges: u32,
-}
-
-impl Again {
-    /// One instant of a held request: whether the core takes it again now.
-    fn observe(&mut self, presented: bool, ready_before: bool, ready_now: bool, can_edge: bool, due: u32) -> bool {
-        if !ready_before || !ready_now {
-            // Busy with the last access: its ack came, the hold-off runs.
-            self.acked = true;
-            self.edges = 0;
-            return false;
-        }
-        if !self.acked {
-            return false;
-        }
-        if !presented {
-            self.edges = 0;
-            return false;
-        }
-        self.edges += can_edge as u32;
-        if self.edges >= due && (due > 0 || can_edge) {
-            *self = Again::default();
-            return true;
-        }
-        false
-    }
-
-    /// The core has seen the held request at `latch` CAN edges: it is
-    /// committed to performing it.
-    fn committed(&self, latch: u32) -> bool {
-        self.acked && self.edges >= latch
-    }
-}
-
-#[cfg(test)]
-mod again_tests {
-    use super::Again;
-
-    /// (presented, ready_before, ready_now, can_edge) per instant.
-    fn run(a: &mut Again, steps: &[(bool, bool, bool, bool)], due: u32) -> Vec<usize> {
-        steps.iter().enumerate().filter(|(_, s)| a.observe(s.0, s.1, s.2, s.3, due)).map(|(i, _)| i).collect()
-    }
-
-    #[test]
-    fn a_request_held_past_the_hold_off_is_taken_again_after_due_edges() {
-        // Held throughout: busy (hold-off) for 2 instants, then ready; the
-        // 3rd CAN edge after that takes it again.
-        let held = [
-            (true, true, true, true),   // before the ack: nothing
-            (true, true, false, false), // the ack: hold-off starts
-            (true, false, true, true),  // hold-off ends
-            (true, true, true, true),
-            (true, true, true, false),
-            (true, true, true, true),
-            (true, true, true, true),
-        ];
-        assert_eq!(run(&mut Again::default(), &held, 3), vec![6]);
-        // A command (due 0): at the first CAN edge the core can see it.
-        assert_eq!(run(&mut Again::default(), &held, 0), vec![3]);
-        // Released during the hold-off (a Wishbone master): never again.
-        let released = [
-            (true, true, false, false),
-            (false, false, true, true),
-            (false, true, true, true),
-            (false, true, true, true),
-            (false, true, true, true),
-        ];
-        let mut a = Again::default();
-        assert!(run(&mut a, &released, 3).is_empty());
-        assert!(!a.committed(1));
-        // Dropped after the core saw it at one edge: committed (latch 1).
-        let mut a = Again::default();
-        assert!(run(&mut a, &held[..4], 3).is_empty());
-        assert!(a.committed(1) && !a.committed(2));
     }
 }

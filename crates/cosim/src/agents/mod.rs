@@ -16,5 +16,6 @@
 //!   record and the bus log: it watches and writes down, never drives.
 
 pub mod bus;
+pub mod host;
 pub mod observer;
 pub mod reference;
