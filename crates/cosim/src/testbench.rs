@@ -29,13 +29,13 @@ use crate::agents::observer::Observer;
 use crate::agents::reference::{DutKind, HostKind, RefTiming, ReferenceAgent};
 pub use crate::agents::reference::ReferenceChoice;
 use crate::bridge::{BridgeError, ExternalCore};
-use crate::compare::{Comparator, CompareConfig, IR_ADDR, SR_ADDR, Stamp};
+use crate::compare::{Comparator, ComparatorAgent, CompareConfig, IR_ADDR, Now, SR_ADDR, Stamp};
 use crate::dut::{AnyDut, CanPins, EchoModel, HostPort, VerilatedDut};
 use crate::kernel::{Kernel, KernelError, Tick};
 use crate::model::ModelDut;
 use crate::profile::{PhaseOrigin, PortMap, Profile};
 use crate::wave::{Wave, WaveSample};
-use waivers::{Action, CollectMode, DutInfo, Observed, Resync, Session, WaiverReport, WaiverSet};
+use waivers::{CollectMode, DutInfo, Session, WaiverReport, WaiverSet};
 
 /// Which device is under test.
 #[derive(Clone, Debug)]
@@ -222,19 +222,14 @@ pub struct Testbench {
     dut_pins: crate::dut::CanPins,
     /// The reference model and the DUT's declared timing.
     reference: ReferenceAgent,
-    comparator: Option<Comparator>,
+    /// The checkers and the waiver/resync policy.
+    checks: ComparatorAgent,
     /// Wired-AND bus, model nodes, faults, the DUT's rx wiring.
     bus: BusAgent,
     can_clocks: u64,
     tracing: bool,
     /// Bit clock, decoder, VCD, run record, bus log.
     obs: Observer,
-    stopped: bool,
-    waivers: Session,
-    /// A waiver allowed adopting the DUT's TEC/REC whose value the
-    /// comparator could not see: taken from the next TXERR/RXERR read.
-    adopt_tec_at_read: bool,
-    adopt_rec_at_read: bool,
     /// Batches allowed (see [`Testbench::set_batching`]).
     batching: bool,
     /// Buffers of `run_batch` (clock levels in, pins out), kept between calls.
@@ -334,7 +329,6 @@ impl Testbench {
             cfg.rx,
             cfg.tx_on_bus,
         );
-        let comparator = cfg.lockstep.map(|(_, c)| Comparator::new(c));
         let wave = match &cfg.vcd {
             Some(p) => Some(Wave::create(p)?),
             None => None,
@@ -411,15 +405,11 @@ impl Testbench {
             host,
             dut_pins: crate::dut::CanPins::default(),
             reference,
-            comparator,
+            checks: ComparatorAgent::new(cfg.lockstep.map(|(_, c)| c), waivers),
             bus,
             can_clocks: 0,
             tracing: trace,
             obs: Observer::new(cfg.btr0, cfg.btr1, record, wave, cfg.keep_bits),
-            stopped: false,
-            waivers,
-            adopt_tec_at_read: false,
-            adopt_rec_at_read: false,
             batching: true,
             batch_levels: Vec::new(),
             batch_out: Vec::new(),
@@ -471,7 +461,7 @@ impl Testbench {
 
     /// The comparator, if lockstep.
     pub fn comparator(&self) -> Option<&Comparator> {
-        self.comparator.as_ref()
+        self.checks.comparator()
     }
 
     /// The scenario's `received` count of model node `node` missed: waived
@@ -479,7 +469,7 @@ impl Testbench {
     /// (`Session::waive_received_consequence`); returns that waiver's id.
     pub fn waive_received_consequence(&mut self, node: &str, want: u32, got: Option<u32>) -> Option<String> {
         let scenario = self.obs.record.scenario.clone();
-        self.waivers.waive_received_consequence(&scenario, node, want, got)
+        self.checks.waivers().waive_received_consequence(&scenario, node, want, got)
     }
 
     /// Waived divergences, failures and stale waivers so far. In collect
@@ -487,109 +477,18 @@ impl Testbench {
     /// An `adopt-dut-tec`/`-rec` still waiting for a TXERR/RXERR read is
     /// noted: the model has not taken the DUT's counter yet.
     pub fn waiver_report(&self) -> WaiverReport {
-        let mut r = self.waivers.snapshot();
-        if let Some(c) = &self.comparator {
-            // Collect mode lists each difference once: say what came again.
-            let repeats = c.repeats();
-            if !repeats.is_empty() {
-                r.notes.push(format!(
-                    "{} later occurrence(s) of differences already listed are not listed again: {}",
-                    c.repeated,
-                    repeats.join("; ")
-                ));
-            }
-            if c.cascade > 0 {
-                r.notes.push(format!(
-                    "{} more mismatching sample point(s) in frames whose first tx difference is listed (or counted above) are not listed",
-                    c.cascade
-                ));
-            }
-        }
-        for (pending, reg) in [
-            (self.adopt_tec_at_read, "TXERR"),
-            (self.adopt_rec_at_read, "RXERR"),
-        ] {
-            if pending {
-                r.notes.push(format!(
-                    "resync adopt the DUT's {reg} not applied yet: no {reg} read since the waived divergence"
-                ));
-            }
-        }
-        r
+        self.checks.waiver_report()
     }
 
-    /// Hands each new divergence to the waiver session and applies its
-    /// verdict: resync and go on, go on (collect), or stop.
+    /// Hands each new divergence to the comparator agent's waiver and
+    /// resync policy.
     fn handle_divergences(&mut self) {
-        let (Some(c), Some(r)) = (&mut self.comparator, &self.reference.model) else {
-            return;
+        let now = Now {
+            t_ps: self.kernel.now_ps(),
+            can_hz: self.kernel.can().freq_hz(),
+            clocks_per_bit: self.obs.clocks_per_bit(),
         };
-        // The DUT is seen through its pins and host reads only; the clock
-        // lets a waiver bound how late a pin may be (`late-by`).
-        let can_clock_ps = 1_000_000_000_000 / self.kernel.can().freq_hz().max(1);
-        let mut observed = Observed::timed(
-            self.kernel.now_ps(),
-            can_clock_ps * self.obs.clocks_per_bit() as u64,
-            can_clock_ps,
-        );
-        // The model's MOD (PeliCAN: address 0), for `model-mod-bits`.
-        if let Some((diagnose::CanMode::PeliCan, _)) = r.mode() {
-            observed.model_mod = Some(r.peek(0));
-        }
-        while let Some(d) = c.take_divergence() {
-            let bit = d.bit;
-            match self.waivers.divergence_observed(d.clone(), &observed) {
-                Action::Resync(steps) => {
-                    let mut skip_to = None;
-                    for step in steps {
-                        let applied = match step {
-                            Resync::SkipBits(n) => {
-                                skip_to = bit.map(|b| b + n as u64);
-                                true
-                            }
-                            Resync::AdoptTec(None) => {
-                                self.adopt_tec_at_read = true;
-                                true
-                            }
-                            Resync::AdoptRec(None) => {
-                                self.adopt_rec_at_read = true;
-                                true
-                            }
-                            _ => self.reference.resync(&step, self.dut_pins.tx).unwrap_or(false),
-                        };
-                        if !applied {
-                            self.waivers.note(format!(
-                                "resync {step:?} could not be applied: {} cannot, it keeps its own state",
-                                self.reference.name()
-                            ));
-                        }
-                    }
-                    c.resume(skip_to, false);
-                }
-                Action::Continue => {
-                    // Collect mode: the difference is listed; the reference
-                    // then takes the DUT's value where it can (storage
-                    // registers, TXERR/RXERR, SR's latched flags), so later
-                    // reads show the next real difference, not this one's
-                    // cascade (issue 19 item 4). Derived registers keep the
-                    // model's value.
-                    if let Some((addr, value)) = c.taken_read()
-                        && let Some(r) = &mut self.reference.model
-                    {
-                        r.adopt_register(addr, value);
-                    }
-                    self.obs.record.divergence.get_or_insert(d);
-                    c.resume(None, true);
-                }
-                Action::Stop => {
-                    // The first unwaived one ends the comparison: later ones
-                    // found at the same clock are not handed on.
-                    self.obs.record.divergence = Some(d);
-                    self.stopped = true;
-                    break;
-                }
-            }
-        }
+        self.checks.handle_divergences(now, &mut self.reference, self.dut_pins.tx, &mut self.obs.record);
     }
 
     /// Protocol violations seen so far.
@@ -761,7 +660,7 @@ impl Testbench {
             if l & 4 != 0 {
                 self.can_edge(tm[i], VerilatedDut::batch_pins(o, active_high));
             }
-            if self.stopped
+            if self.checks.stopped()
                 && let Err(e) = self.check_stopped()
             {
                 result = Err(e);
@@ -847,19 +746,16 @@ impl Testbench {
         let view = self.reference.can_edge(self.bus.dut_rx(), pins.tx);
         let bit = self.obs.bits();
         if sample {
-            self.obs.sample_point(t_ps, level, bit, pins, self.bus.dut_rx(), view, !self.stopped);
+            self.obs.sample_point(t_ps, level, bit, pins, self.bus.dut_rx(), view, !self.checks.stopped());
         }
         if view.is_some_and(|v| v.events)
             && let Some(r) = &mut self.reference.model
         {
             self.obs.reference_events(t_ps, bit, r);
         }
-        if let (Some(c), Some(v)) = (&mut self.comparator, &view)
-            && !self.stopped
-        {
-            let stamp = self.obs.stamp(t_ps, bit, v.field);
-            c.can_clock(stamp, sample, &v.pins, &pins, v.sr, v.ir);
-            if c.halted() {
+        if let Some(v) = &view {
+            let obs = &self.obs;
+            if self.checks.can_clock(|| obs.stamp(t_ps, bit, v.field), sample, v, &pins) {
                 self.handle_divergences();
             }
         }
@@ -867,7 +763,7 @@ impl Testbench {
 
     fn check_stopped(&self) -> Result<(), TbError> {
         match &self.obs.record.divergence {
-            Some(d) if self.stopped => Err(TbError::Diverged(format!(
+            Some(d) if self.checks.stopped() => Err(TbError::Diverged(format!(
                 "{:?} at {} ps (bit {:?}, field {:?}): expected {}, saw {}; {}",
                 d.kind, d.time_ps, d.bit, d.field, d.expected, d.seen, d.context
             ))),
@@ -1042,9 +938,7 @@ impl Testbench {
                         taken = Some(if write {
                             (refm.write(addr, data), 0)
                         } else {
-                            if let Some(c) = &mut self.comparator {
-                                c.reference_read_taken();
-                            }
+                            self.checks.reference_read_taken();
                             (None, refm.read(addr))
                         });
                     }
@@ -1078,9 +972,7 @@ impl Testbench {
                         taken = Some(if write {
                             (refm.write(addr, data), 0)
                         } else {
-                            if let Some(c) = &mut self.comparator {
-                                c.reference_read_taken();
-                            }
+                            self.checks.reference_read_taken();
                             (None, refm.read(addr))
                         });
                     }
@@ -1140,40 +1032,15 @@ impl Testbench {
                         };
                     } else {
                         // A pending adopt-dut-tec/-rec takes the DUT's counter here.
-                        let (tried, adopt) = match reg.as_deref() {
-                            Some("TXERR") if self.adopt_tec_at_read => {
-                                self.adopt_tec_at_read = false;
-                                (true, refm.adopt_counters(Some(r.data), None))
-                            }
-                            Some("RXERR") if self.adopt_rec_at_read => {
-                                self.adopt_rec_at_read = false;
-                                (true, refm.adopt_counters(None, Some(r.data)))
-                            }
-                            _ => (false, false),
-                        };
-                        if tried && !adopt {
-                            // Never hidden: the waiver asked for it, the reference could not.
-                            self.waivers.note(format!(
-                                "{} cannot adopt the DUT's {} = {} read at {} ps: it keeps its own counter",
-                                refm.name(),
-                                reg.as_deref().unwrap_or("counter"),
-                                r.data,
-                                stamp.t_ps
-                            ));
-                        }
+                        let adopt = self.checks.adopt_at_read(reg.as_deref(), r.data, refm, stamp.t_ps);
                         let mv = match taken {
                             _ if adopt => r.data,
                             Some((_, v)) => v,
                             None => refm.read(addr),
                         };
                         rec.model_data = Some(mv);
-                        if let Some(c) = &mut self.comparator
-                            && !self.stopped
-                        {
-                            c.read(stamp, addr, r.data, mv, reg.clone());
-                            if c.halted() {
-                                self.handle_divergences();
-                            }
+                        if self.checks.read(stamp, addr, r.data, mv, reg.clone()) {
+                            self.handle_divergences();
                         }
                     }
                 }
@@ -1234,7 +1101,7 @@ impl Testbench {
         mask: u8,
         expected: u8,
     ) -> Result<bool, TbError> {
-        let waived_before = self.waivers.waived_count();
+        let waived_before = self.checks.waivers().waived_count();
         let v = self.read(addr)?;
         let mut passed = v & mask == expected & mask;
         let mut seen = format!("0x{:02X}", v & mask);
@@ -1242,8 +1109,8 @@ impl Testbench {
         // look-ahead window: decide it first (host idle for those CAN
         // clocks), so a waived divergence of this very read is known here.
         // Only on a miss: a met expectation changes no timing.
-        if !passed && !self.stopped {
-            let n = self.comparator.as_ref().map_or(0, |c| c.open_read_clocks());
+        if !passed {
+            let n = self.checks.open_read_clocks();
             if n > 0 {
                 self.run_can_cycles(n as u64)?;
             }
@@ -1251,41 +1118,13 @@ impl Testbench {
         // A miss the comparator let through only by its status tolerance,
         // where the model's value meets the expectation, is a difference
         // after all (see `Comparator::hold_tolerated_read`).
-        if !passed
-            && !self.stopped
-            && let Some(c) = &mut self.comparator
-            && c.hold_tolerated_read(addr, v, mask, expected)
-        {
+        if !passed && self.checks.hold_tolerated_read(addr, v, mask, expected) {
             self.handle_divergences();
         }
-        // A miss that is the read's own waived deviation (the model's value
-        // meets the expectation) is waived, and listed in the waiver report.
+        // A miss that is a waived deviation of this read, or a listed
+        // consequence of one waived earlier.
         if !passed
-            && let Some(id) = self.waivers.waive_expectation(waived_before, step, what, mask, expected, v)
-        {
-            passed = true;
-            seen.push_str(&format!(" (waived by {id})"));
-        }
-        // A miss on a read the model agrees with (no read diverged) may be a
-        // listed consequence of a deviation waived earlier in this run.
-        // Waived tx or pin divergences during the read do not count: a slow
-        // bus's read (the 8051's, about a bit time) overlaps them.
-        let read_waived = self.waivers.report().waived[waived_before..]
-            .iter()
-            .any(|w| w.divergence.kind == diagnose::DivergenceKind::RegisterRead);
-        if !passed
-            && !read_waived
-            && let Some(id) =
-                self.waivers.waive_consequence(&self.obs.record.scenario, step, what, mask, expected, v)
-        {
-            passed = true;
-            seen.push_str(&format!(" (waived: a consequence of {id})"));
-        }
-        // A miss on a read that diverged (waived) where the model misses too:
-        // a listed consequence of a deviation waived before this read.
-        if !passed
-            && read_waived
-            && let Some(id) = self.waivers.waive_consequence_on_waived_read(
+            && let Some(why) = self.checks.waive_missed_expectation(
                 waived_before,
                 &self.obs.record.scenario,
                 step,
@@ -1296,7 +1135,7 @@ impl Testbench {
             )
         {
             passed = true;
-            seen.push_str(&format!(" (waived: a consequence of {id})"));
+            seen.push_str(&why);
         }
         self.obs.record.expectations.push(Expectation {
             step,
@@ -1377,7 +1216,7 @@ impl Testbench {
 
     /// The comparator's tolerances in words (for reports), if lockstep.
     pub fn tolerances(&self) -> Option<String> {
-        self.comparator.as_ref().map(|c| c.config().describe())
+        self.checks.tolerances()
     }
 
     /// Runs the CAN clocks (host idle) that decide the comparisons still
@@ -1387,10 +1226,7 @@ impl Testbench {
     /// [`Testbench::record`]; a no-op when nothing is open or the
     /// comparison has stopped.
     pub fn settle(&mut self) -> Result<(), TbError> {
-        if self.stopped {
-            return Ok(());
-        }
-        let n = self.comparator.as_ref().map_or(0, |c| c.open_clocks());
+        let n = self.checks.open_clocks();
         if n > 0 {
             self.run_can_cycles(n as u64)?;
             self.obs.record.bits_simulated = self.obs.bits();

@@ -16,6 +16,7 @@
 //!   record and the bus log: it watches and writes down, never drives.
 
 pub mod bus;
+pub mod comparator;
 pub mod host;
 pub mod observer;
 pub mod reference;

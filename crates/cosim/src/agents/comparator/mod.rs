@@ -26,6 +26,9 @@
 
 use std::collections::VecDeque;
 
+mod policy;
+pub use policy::{ComparatorAgent, Now};
+
 use can_proto::Field;
 use diagnose::{Divergence, DivergenceKind};
 
