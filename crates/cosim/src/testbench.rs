@@ -1,6 +1,11 @@
-//! The test bench the scenario runner drives: one DUT, one host BFM, the
-//! CAN bus with golden-model nodes and faults, an optional lockstep
-//! reference, VCD output, and the run record for the diagnoser.
+//! The test bench the scenario runner drives: one DUT and one of each
+//! agent ([`crate::agents`]): the host agent (BFM, monitors, reset), the
+//! bus agent (model nodes, faults, rx wiring), the reference agent (the
+//! lockstep model and the DUT's declared timing), the comparator agent
+//! (checkers, waivers, resync) and the observer (bit clock, decoder, VCD,
+//! run record). `Testbench` builds them, wires them to the DUT and steps
+//! time; a host access (`op`) is the one sequence that runs through three
+//! of them and lives here.
 //!
 //! Order of work at each instant (see [`Kernel::advance`]):
 //! 1. on a CAN rising edge, the bus level is the wired-AND of the DUT's
@@ -725,6 +730,7 @@ impl Testbench {
 
     /// A host rising edge, after the DUT's eval: the host agent steps; the
     /// reference takes its hardware reset when the DUT's reset ends.
+    #[inline]
     fn host_edge(&mut self) {
         let timing = self.reference.declared_timing();
         if self.host.edge(&mut self.dut, timing, &mut self.obs.record.violations)

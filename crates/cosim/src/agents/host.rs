@@ -436,14 +436,16 @@ impl HostAgent {
         if self.applied_wb.cyc && self.applied_wb.stb {
             self.req_wires = self.applied_wb;
         }
-        for (prefix, vs) in [("wb.", viol), ("avalon.", av_viol), ("i8051.", i8051_viol)] {
-            for v in vs {
-                violations.push(diagnose::Violation {
-                    cycle: v.cycle,
-                    rule: rule_id(prefix, v.rule),
-                    message: v.message,
-                });
-            }
+        // Three plain loops: this runs at every host edge, mostly with
+        // nothing to push (an array of the three vectors costs measurably).
+        for v in viol {
+            violations.push(diagnose::Violation { cycle: v.cycle, rule: rule_id("wb.", v.rule), message: v.message });
+        }
+        for v in av_viol {
+            violations.push(diagnose::Violation { cycle: v.cycle, rule: rule_id("avalon.", v.rule), message: v.message });
+        }
+        for v in i8051_viol {
+            violations.push(diagnose::Violation { cycle: v.cycle, rule: rule_id("i8051.", v.rule), message: v.message });
         }
         false
     }

@@ -12,9 +12,8 @@ use sja1000::BusContext;
 
 use crate::bitclock::BitClock;
 use crate::candump::BusLog;
-use crate::compare::{RefView, SR_ADDR, Stamp};
 use crate::model::AnyRef;
-use crate::types::CanPins;
+use crate::types::{CanPins, RefView, SR_ADDR, Stamp};
 use crate::wave::{Wave, WaveSample};
 
 /// Bit clock, field decoder, VCD, run record and bus log of one run.

@@ -183,7 +183,7 @@ impl ReferenceAgent {
     /// frame starts if the DUT's tx (`dut_tx`, after the eval) just went
     /// dominant, then everything read from the reference this clock, in
     /// one call.
-    #[inline]
+    #[inline(always)]
     pub fn can_edge(&mut self, dut_rx: bool, dut_tx: bool) -> Option<RefView> {
         if self.await_dut_sof {
             self.start_held_frame_at_dut_sof(dut_tx);

@@ -40,7 +40,7 @@ use diagnose::{Divergence, DivergenceKind};
 
 use crate::types::CanPins;
 // The reference side lives in `types` (dut.rs implements it too).
-pub use crate::types::{IR_ADDR, RefView, Reference, SR_ADDR};
+pub use crate::types::{IR_ADDR, RefView, Reference, SR_ADDR, Stamp};
 
 /// Comparator tolerances.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -97,19 +97,6 @@ impl CompareConfig {
             self.pin_tolerance
         )
     }
-}
-
-/// Where in the run a comparison happens.
-#[derive(Clone, Copy, Debug, Default)]
-pub struct Stamp {
-    /// Time, ps.
-    pub t_ps: u64,
-    /// Bit index.
-    pub bit: u64,
-    /// Field (reference's, else decoder's).
-    pub field: Option<Field>,
-    /// Frame number.
-    pub frame: Option<u32>,
 }
 
 /// What a collect-mode [`Comparator::resume`] stops re-reporting after a
