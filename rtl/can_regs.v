@@ -332,7 +332,7 @@ module can_regs (
                         PC_BTR1: if (rm) btr1 <= acc_wdat;
                         PC_OCR:  if (rm) ocr <= acc_wdat;
                         PC_EWLR: if (rm) ewlr <= acc_wdat;
-                        PC_CDR:  cdr <= rm ? (acc_wdat & 8'hEF) : {cdr[7:4], acc_wdat[3:0]};
+                        PC_CDR:  cdr <= rm ? (acc_wdat & 8'hEF) : {cdr[7:3], acc_wdat[2:0]};
                         default: begin
                             if (rm && a >= PC_TXRAM && a < PC_TXRAM + PC_BUF_LEN)
                                 txb[a[3:0]] <= acc_wdat;
@@ -367,7 +367,7 @@ module can_regs (
                         BC_BTR0: if (rm) btr0 <= acc_wdat;
                         BC_BTR1: if (rm) btr1 <= acc_wdat;
                         BC_OCR:  if (rm) ocr <= acc_wdat;
-                        BC_CDR:  cdr <= rm ? (acc_wdat & 8'hEF) : {cdr[7:4], acc_wdat[3:0]};
+                        BC_CDR:  cdr <= rm ? (acc_wdat & 8'hEF) : {cdr[7:3], acc_wdat[2:0]};
                         BC_TEST: test <= acc_wdat;
                         default: begin
                             if (a >= BC_TXB && a < BC_TXB + BC_TXB_LEN && !rm && tbs)

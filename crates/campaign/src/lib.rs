@@ -661,6 +661,7 @@ fn disagreement_from_error(tb: &mut Testbench, e: TbError, seed: u64, segment_st
                     diagnose::DivergenceKind::Irq => "irq_on".into(),
                     diagnose::DivergenceKind::BusOff => "bus_off_on".into(),
                     diagnose::DivergenceKind::RegisterRead => "register".into(),
+                    diagnose::DivergenceKind::Clkout => "clkout_o".into(),
                 })
             });
             Disagreement {

@@ -15,7 +15,7 @@ mod cmd;
     version,
     about,
     long_about = None,
-    after_help = "Exit codes: 0 passed; 1 a check failed (a scenario failed or diverged, a setting has problems); 2 bad usage or input (arguments, files, an --external directory without the core), reported once before anything runs"
+    after_help = "Exit codes: 0 passed; 1 a check failed (a scenario failed or diverged, a setting has problems); 2 bad usage or input (arguments, files, an --external directory without the core), reported once before anything runs. regress: 125 when an external core does not build (its directory missing or without the core, Verilator/GHDL errors), so `git bisect run` skips that revision; a scenario that does not load is 2"
 )]
 struct Cli {
     #[command(subcommand)]

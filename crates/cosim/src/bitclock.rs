@@ -67,6 +67,18 @@ impl BitClock {
         self.bits
     }
 
+    /// Index (in `bits()` numbering) of the bit whose sync segment started
+    /// last, asked before [`BitClock::clock`] for the coming clock: unlike
+    /// `bits()` it advances at the bit boundary, not at the sample point.
+    /// Faults aimed at one bit use it, so a flipped bit spans the whole bit
+    /// time and every node whose sample point lies anywhere in that bit (a
+    /// DUT and a reference a few clocks apart) sees it in the same bit; a
+    /// window from sample point to sample point put its edge next to one
+    /// node's sample point and into another's previous bit.
+    pub fn bit_in_progress(&self) -> u64 {
+        self.bits - u64::from(self.count > self.sample_at)
+    }
+
     /// One CAN clock with bus `level`; true if this clock is a sample point.
     #[inline]
     pub fn clock(&mut self, level: bool) -> bool {
@@ -111,5 +123,28 @@ mod tests {
             "free-running, then re-synced at clock 100"
         );
         assert_eq!(c.bits(), 5);
+    }
+
+    #[test]
+    fn the_bit_in_progress_advances_at_the_bit_boundary_not_at_the_sample_point() {
+        // 40 clocks a bit, sample clock 27; a dominant edge (hard sync) at clock 100.
+        let t = BusTiming::from_btr(0x41, 0x25);
+        let mut c = BitClock::new(t);
+        let mut starts = Vec::new();
+        let mut last = c.bit_in_progress();
+        for k in 0..(100 + 120) {
+            let level = k < 100;
+            // Asked before the clock, as the bench's fault context is.
+            let now = c.bit_in_progress();
+            if now != last {
+                starts.push(k);
+                last = now;
+            }
+            c.clock(level);
+        }
+        // Bits start at 40 and 80; the hard sync at 100 restarts bit 2 (its
+        // sample point comes at 127), so the next starts at 140, then 180.
+        // Never at a sample point (27, 67, 127, 167), where bits() advances.
+        assert_eq!(starts, vec![40, 80, 140, 180]);
     }
 }

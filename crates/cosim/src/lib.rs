@@ -10,6 +10,8 @@
 pub mod agents;
 /// The lockstep comparator under its old path (now the comparator agent).
 pub use agents::comparator as compare;
+/// The CLKOUT checker under its path before the split (now in the comparator agent).
+pub use agents::comparator::clkout;
 mod batch_shim;
 pub mod bitclock;
 pub mod candump;

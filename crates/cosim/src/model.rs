@@ -358,6 +358,10 @@ impl Reference for ModelRef {
     fn mode(&self) -> Option<(CanMode, bool)> {
         Some((can_mode(&self.m), self.m.in_reset_mode()))
     }
+    fn clkout_setting(&self) -> crate::clkout::ClkoutSetting {
+        // CDR sits at 31 in both views.
+        if self.m.is_sleeping() { crate::clkout::ClkoutSetting::Unchecked } else { crate::clkout::ClkoutSetting::from_cdr(self.m.peek(31)) }
+    }
     fn reg_name(&self, addr: u8, write: bool) -> Option<String> {
         reg_name(&self.m, addr, write)
     }

@@ -760,8 +760,9 @@ impl Testbench {
             self.obs.reference_events(t_ps, bit, r);
         }
         if let Some(v) = &view {
-            let obs = &self.obs;
-            if self.checks.can_clock(|| obs.stamp(t_ps, bit, v.field), sample, v, &pins) {
+            let (obs, r) = (&self.obs, &self.reference.model);
+            let clkout = || r.as_ref().map_or(crate::clkout::ClkoutSetting::Unchecked, |r| r.clkout_setting());
+            if self.checks.can_clock(|| obs.stamp(t_ps, bit, v.field), sample, v, &pins, clkout) {
                 self.handle_divergences();
             }
         }

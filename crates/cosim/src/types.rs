@@ -99,6 +99,10 @@ pub trait Reference {
     fn mode(&self) -> Option<(CanMode, bool)> {
         None
     }
+    /// What its CLKOUT does now (the CDR divider), for the CLKOUT check.
+    fn clkout_setting(&self) -> crate::clkout::ClkoutSetting {
+        crate::clkout::ClkoutSetting::Unchecked
+    }
     /// Register name at `addr` in the view in force.
     fn reg_name(&self, _addr: u8, _write: bool) -> Option<String> {
         None

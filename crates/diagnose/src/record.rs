@@ -440,6 +440,8 @@ pub enum DivergenceKind {
     Irq,
     /// bus_off_on differs.
     BusOff,
+    /// clkout_o's period or enable differs from the reference's CDR setting.
+    Clkout,
 }
 
 /// The comparator's first divergence between DUT and golden model.

@@ -54,6 +54,7 @@ fn kind_name(k: DivergenceKind) -> &'static str {
         DivergenceKind::RegisterRead => "register read",
         DivergenceKind::Irq => "irq_on",
         DivergenceKind::BusOff => "bus_off_on",
+        DivergenceKind::Clkout => "clkout_o",
     }
 }
 
@@ -635,6 +636,11 @@ pub fn dut_deviates(r: &RunRecord) -> Option<Finding> {
             f.seen = Some(format!("bus_off_on = {}", d.seen));
             format!("bus_off_on differs from the model: model {}, DUT {}.", d.expected, d.seen)
         }
+        DivergenceKind::Clkout => {
+            f.expected = Some(format!("clkout_o {}", d.expected));
+            f.seen = Some(format!("clkout_o {}", d.seen));
+            "clkout_o does not follow the clock divider register (CDR) as the model's does.".into()
+        }
     };
     let ctx = if d.context.is_empty() { String::new() } else { format!(" Context: {}", d.context) };
     let where_ = match (d.kind, d.field) {
@@ -642,6 +648,7 @@ pub fn dut_deviates(r: &RunRecord) -> Option<Finding> {
         (DivergenceKind::RegisterRead, _) => format!("the RTL's {} read path or the state bits it reflects", d.register.as_deref().unwrap_or("register")),
         (DivergenceKind::Irq, _) => "the RTL's interrupt logic (IR/IER and irq_on)".into(),
         (DivergenceKind::BusOff, _) => "the RTL's fault confinement (TEC/REC rules, bus-off entry and recovery)".into(),
+        (DivergenceKind::Clkout, _) => "the RTL's clock divider (CDR.2..0 divider, CDR.3 clock off, sleep) and clkout_o".into(),
         _ => "the RTL at that time".into(),
     };
     Some(finding(

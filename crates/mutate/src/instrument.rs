@@ -143,7 +143,7 @@ fn sources(src: &CoreSources) -> Result<Vec<PathBuf>, InstrumentError> {
     Ok(v)
 }
 
-fn fnv1a(h: &mut u64, bytes: &[u8]) {
+pub(crate) fn fnv1a(h: &mut u64, bytes: &[u8]) {
     for b in bytes {
         *h ^= *b as u64;
         *h = h.wrapping_mul(0x100_0000_01b3);

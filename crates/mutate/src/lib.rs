@@ -103,10 +103,11 @@ pub fn mutate(cfg: &MutateConfig, log: &mut dyn FnMut(&str)) -> Result<Report, M
     }
     let t1 = Instant::now();
     let mut copts = cfg.campaign.clone();
-    // One journal per build of the mutants (sources, list): after an edit
-    // of the core, a mutation with the same options is a different mutant.
+    // One journal per build of the mutants (sources, list) and suite: after
+    // an edit of the core, a mutation with the same options is a different
+    // mutant; with other scenarios or waivers a survivor must run again.
     let key = inst.dir.file_name().map(|n| n.to_string_lossy().into_owned()).unwrap_or_default();
-    copts.journal.get_or_insert_with(|| cfg.out.join(format!("journal-{key}.jsonl")));
+    copts.journal.get_or_insert_with(|| cfg.out.join(journal_name(&key, &cfg.scenarios, &cfg.run)));
     let mutants = campaign::run_mutants(&suite, &base, &inst.mutations, &inst.build_errors, &copts).map_err(io("mutant loop"))?;
     let run_seconds = t1.elapsed().as_secs_f64();
     let mut report = Report {
@@ -127,6 +128,19 @@ pub fn mutate(cfg: &MutateConfig, log: &mut dyn FnMut(&str)) -> Result<Report, M
     std::fs::write(cfg.out.join("report.json"), report.to_json()).map_err(io("writing report.json"))?;
     std::fs::write(cfg.out.join("report.md"), report.to_markdown()).map_err(io("writing report.md"))?;
     Ok(report)
+}
+
+/// The journal's file name: the build of the mutants (`build_key`) and the
+/// suite the verdicts were reached with (the scenarios as loaded, the run
+/// options, the waiver files' text), so that a verdict is only resumed
+/// with the same scenarios and waivers.
+pub fn journal_name(build_key: &str, scenarios: &[scenario::Scenario], run: &scenario::RunOptions) -> String {
+    let mut h = 0xcbf2_9ce4_8422_2325u64;
+    instrument::fnv1a(&mut h, format!("{scenarios:?}{run:?}").as_bytes());
+    for w in scenarios.iter().flat_map(|s| &s.waivers).chain(&run.waivers) {
+        instrument::fnv1a(&mut h, &std::fs::read(w).unwrap_or_default());
+    }
+    format!("journal-{build_key}-{h:016x}.jsonl")
 }
 
 /// The formal check of every survivor; skeletons in `out/skeletons/`.

@@ -446,8 +446,9 @@
 /*
  * CDR: clock divider register (address 31).
  * read: both modes; write: both modes. Reset: hw 00000000, rm xxxxxxxx.
- * CAN mode, CBP and RXINTEN are writable in reset mode only; CDR.4 reads
- * 0. Hardware reset value 00H in Intel mode, 05H in Motorola mode.
+ * CAN mode, CBP, RXINTEN and clock off are writable in reset mode only;
+ * CDR.4 reads 0. Hardware reset value 00H in Intel mode, 05H in Motorola
+ * mode.
  */
 #define CAN_SJA_PELI_CDR_REG 31
 #define IOADDR_CAN_SJA_PELI_CDR(base) __IO_CALC_ADDRESS_DYNAMIC(base, CAN_SJA_PELI_CDR_REG)
@@ -767,7 +768,7 @@
 /*
  * CDR: clock divider register (address 31).
  * read: both modes; write: both modes. Reset: hw 00000000, rm xxxxxxxx.
- * CAN mode, CBP and RXINTEN are writable in reset mode only
+ * CAN mode, CBP, RXINTEN and clock off are writable in reset mode only
  */
 #define CAN_SJA_BASIC_CDR_REG 31
 #define IOADDR_CAN_SJA_BASIC_CDR(base) __IO_CALC_ADDRESS_DYNAMIC(base, CAN_SJA_BASIC_CDR_REG)

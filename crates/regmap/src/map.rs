@@ -303,7 +303,7 @@ view_map! {
 
     CDR / cdr @ 31 : "clock divider register",
         hw "0000_0000", rm "xxxx_xxxx",
-        note "CAN mode, CBP and RXINTEN are writable in reset mode only; CDR.4 reads 0. \
+        note "CAN mode, CBP, RXINTEN and clock off are writable in reset mode only; CDR.4 reads 0. \
               Hardware reset value 00H in Intel mode, 05H in Motorola mode."
     {
         CD @ 0 + 3 : "CLKOUT divider: fosc/2, /4, /6, /8, /10, /12, /14; 7 = fosc",
@@ -434,7 +434,7 @@ view_map! {
 
     CDR / cdr @ 31 : "clock divider register",
         hw "0000_0000", rm "xxxx_xxxx",
-        note "CAN mode, CBP and RXINTEN are writable in reset mode only"
+        note "CAN mode, CBP, RXINTEN and clock off are writable in reset mode only"
     { use crate::map::peli::cdr }
 }
 
@@ -514,7 +514,7 @@ pub(crate) static PELI_TABLE: &[AddrRow] = {
         row(24, 28, rd(&RXB), wr(&TXB, 0xFF), k(0x00), NOP),
         ro(29, 29, &RMC),
         cfg(30, 30, &RBSA),
-        row(31, 31, rd(&CDR), n(wr(&CDR, 0x0F), "CAN mode, CBP, RXINTEN unchanged in operating mode"),
+        row(31, 31, rd(&CDR), n(wr(&CDR, 0x07), "CAN mode, CBP, RXINTEN, clock off unchanged in operating mode"),
             rd(&CDR), wr(&CDR, 0xEF)),
         cfg(32, 95, &RXFIFO),
         cfg(96, 108, &TXBUF),
@@ -546,7 +546,7 @@ pub(crate) static BASIC_TABLE: &[AddrRow] = {
         ro(22, 29, &RXDATA),
         // Address 30 is unused in Table 1; this map defines it as reading 00H.
         rsv(30, 30, 0x00),
-        row(31, 31, rd(&CDR), n(wr(&CDR, 0x0F), "CAN mode, CBP, RXINTEN unchanged in operating mode"),
+        row(31, 31, rd(&CDR), n(wr(&CDR, 0x07), "CAN mode, CBP, RXINTEN, clock off unchanged in operating mode"),
             rd(&CDR), wr(&CDR, 0xEF)),
     ]
 };

@@ -190,8 +190,18 @@ pub struct RawFault {
     pub frame: Option<i64>,
     pub bit_in_frame: Option<i64>,
     pub duration_bits: Option<i64>,
+    /// Glitch only: first time quantum of the pulse within the bit
+    /// (0 = SYNC_SEG), in the DUT's quanta (2 * (BRP + 1) CAN clocks).
+    pub offset_tq: Option<i64>,
+    /// Glitch only: pulse length in time quanta (with `offset_tq`).
+    pub width_tq: Option<i64>,
     /// "bus" (default), "dut-rx", or a node name.
     pub target: Option<String>,
+    /// Glitch only: first CAN clock of the pulse, counted from the start of
+    /// the bit (the bench's bit grid), instead of 1/4 into the bit.
+    pub offset_clocks: Option<i64>,
+    /// Glitch only: pulse length in CAN clocks (with `offset_clocks`).
+    pub width_clocks: Option<i64>,
 }
 
 /// `[expect]`: the expected outcome.

@@ -61,7 +61,8 @@ pub fn rerun_failures(report: &RegressReport, scenarios: &[Scenario], duts: &[Du
             max_bits: opts.max_bits,
             waivers: opts.waivers.clone(),
             dut_revision: opts.dut_revision.clone(),
-            collect: opts.collect,
+            // A run an expected-failure entry named was judged in collect mode.
+            collect: if c.xfail.is_some() { waivers::CollectMode::Collect } else { opts.collect },
             host: opts.host,
             ..Default::default()
         };
@@ -109,6 +110,9 @@ fn verdict(c: &Cell) -> (&'static str, String) {
         Status::Failed(_) => ("failed", format!("failed ({})", c.category)),
         Status::Error(_) => ("error", "error".into()),
         Status::Skipped(_) => ("skipped", "skipped".into()),
+        Status::ExpectedFailure { id, deviation } => ("xfail", format!("expected failure ({deviation}: {id})")),
+        Status::UnexpectedPass { id } => ("failed", format!("UNEXPECTED PASS ({id})")),
+        Status::WrongFailure { id, .. } => ("failed", format!("failed, not as {id}")),
     }
 }
 
@@ -119,7 +123,7 @@ fn anchor(scenario: &str, dut: &str) -> String {
 const CSS: &str = "body{font-family:sans-serif;margin:1.5em;color:#222}table{border-collapse:collapse;margin:.5em 0 1.5em}\
 td,th{border:1px solid #bbb;padding:3px 8px;text-align:left;font-size:14px}th{background:#eee}\
 .pass{background:#d9f2d9}.waived{background:#fff3c4}.diverged{background:#f8c9c9}.failed{background:#f4a6a6}\
-.error{background:#e0b0e8}.skipped{background:#e6e6e6}pre{background:#f6f6f6;padding:8px;white-space:pre-wrap;font-size:13px}\
+.error{background:#e0b0e8}.xfail{background:#dde4f7}.skipped{background:#e6e6e6}pre{background:#f6f6f6;padding:8px;white-space:pre-wrap;font-size:13px}\
 section{border-top:2px solid #999;margin-top:1.5em}svg text{font-family:monospace}";
 
 /// The whole page.
@@ -136,20 +140,21 @@ pub fn render(report: &RegressReport, details: &[Detail], title: &str) -> String
         if report.passed() { "PASS" } else { "FAIL" }
     );
     // Per core: how many of each verdict.
-    h.push_str("<h2>Per core</h2>\n<table id=\"per-core\"><tr><th>core</th><th>pass</th><th>waived</th><th>diverged</th><th>failed</th><th>error</th><th>skipped</th></tr>\n");
+    h.push_str("<h2>Per core</h2>\n<table id=\"per-core\"><tr><th>core</th><th>pass</th><th>waived</th><th>diverged</th><th>failed</th><th>error</th><th>skipped</th><th>expected failure</th></tr>\n");
     for d in &report.duts {
         let cells: Vec<&Cell> = report.cells.iter().filter(|c| &c.dut == d).collect();
         let n = |k: &str| cells.iter().filter(|c| verdict(c).0 == k).count();
         let _ = writeln!(
             h,
-            "<tr data-core=\"{0}\"><td>{0}</td><td class=\"pass\">{1}</td><td class=\"waived\">{2}</td><td class=\"diverged\">{3}</td><td class=\"failed\">{4}</td><td class=\"error\">{5}</td><td class=\"skipped\">{6}</td></tr>",
+            "<tr data-core=\"{0}\"><td>{0}</td><td class=\"pass\">{1}</td><td class=\"waived\">{2}</td><td class=\"diverged\">{3}</td><td class=\"failed\">{4}</td><td class=\"error\">{5}</td><td class=\"skipped\">{6}</td><td class=\"xfail\">{7}</td></tr>",
             esc(d),
             n("pass"),
             n("waived"),
             n("diverged"),
             n("failed"),
             n("error"),
-            n("skipped")
+            n("skipped"),
+            n("xfail")
         );
     }
     h.push_str("</table>\n");
@@ -205,6 +210,29 @@ pub fn render(report: &RegressReport, details: &[Detail], title: &str) -> String
         h.push_str("</tr>\n");
     }
     h.push_str("</table>\n");
+    // Runs an [[expected-failure]] entry named: the entry, its verdict, and
+    // for a failure that is not the recorded one, the lines that differ.
+    let named: Vec<&Cell> = report.cells.iter().filter(|c| c.xfail.is_some()).collect();
+    if !named.is_empty() {
+        h.push_str("<h2>Expected failures</h2>\n<table id=\"expected-failures\"><tr><th>scenario</th><th>core</th><th>entry</th><th>deviation</th><th>clause</th><th>verdict</th><th>reason</th></tr>\n");
+        for c in &named {
+            let r = c.xfail.as_ref().expect("filtered");
+            let (class, text) = verdict(c);
+            let _ = writeln!(
+                h,
+                "<tr><td>{}</td><td>{}</td><td>{} ({})</td><td>{}</td><td>{}</td><td class=\"{class}\">{}</td><td>{}</td></tr>",
+                esc(&c.scenario),
+                esc(&c.dut),
+                esc(&r.entry.id),
+                esc(&r.entry.location()),
+                esc(&r.entry.deviation),
+                esc(&r.entry.clause),
+                esc(&text),
+                esc(&r.entry.reason)
+            );
+        }
+        h.push_str("</table>\n");
+    }
     for c in report.cells.iter().filter(|c| !c.status.ok()) {
         let (class, text) = verdict(c);
         let _ = writeln!(h, "<section id=\"{}\" class=\"detail\"><h2>{} on {} <span class=\"{class}\">{}</span></h2>", anchor(&c.scenario, &c.dut), esc(&c.scenario), esc(&c.dut), esc(&text));

@@ -64,9 +64,16 @@
 //! [[fault]]
 //! kind = "flip"       # | "stuck-dominant" | "stuck-recessive" | "glitch"
 //! frame = 1; bit_in_frame = 20   # or at_bit = N; duration_bits; target = "bus" | "dut-rx" | node
+//! offset_tq = 4; width_tq = 1     # glitch only: the pulse in the DUT's time quanta from the
+//!                     # bit's start (0 = SYNC_SEG); default: 1/8 bit from 1/4 bit. One
+//!                     # quantum wide it hits exactly one quantum end (e.g. one SAM sample)
 //!                     # "bus": every model node and the DUT; "dut-rx": what the DUT (and
 //!                     # its shadow model) receive only; frames count SOFs on the bus from 1,
 //!                     # bits are wire bits from SOF = 0, stuff bits included
+//! offset_clocks = 0; width_clocks = 24   # glitch only: the pulse in CAN clocks
+//!                     # from the start of the bit (default: 1/8 bit, 1/4 into it);
+//!                     # it may cross the bench's sample point and must end in the bit;
+//!                     # target = "dut-rx" only (the grid is the DUT timing's)
 //!
 //! [expect]            # checked against the diagnosis
 //! category = "RxNotFollowingTx"  # diagnose::Category name
@@ -84,6 +91,7 @@ pub mod regress;
 pub mod replay;
 pub mod revdiff;
 pub mod run;
+pub mod xfail;
 
 pub use regress::{RegressOptions, RegressReport, regress};
 pub use run::{DutSpec, RunOptions, RunOutcome, run};
@@ -337,6 +345,11 @@ pub struct FaultSpec {
     pub duration_bits: u64,
     /// "bus", "dut-rx" or a node name.
     pub target: String,
+    /// Glitch only: `(offset, width)` of the pulse in CAN clocks from the
+    /// start of the bit (`offset_clocks`/`width_clocks`, or `offset_tq`/
+    /// `width_tq` times the DUT's quantum); `None`: 1/8 of a bit starting
+    /// 1/4 into it.
+    pub pulse_clocks: Option<(u32, u32)>,
 }
 
 /// The expected outcome.
@@ -525,18 +538,7 @@ impl Scenario {
 
     /// The scenario's DUT node timing (from the first BTR0/BTR1 writes).
     pub fn dut_timing(&self) -> (u8, u8) {
-        let mut b = (0u8, 0u8);
-        for s in &self.steps {
-            if let Action::Write { addr, value, .. } = s.action {
-                // BTR0/BTR1 sit at 6/7 in both views.
-                if addr == 6 {
-                    b.0 = value;
-                } else if addr == 7 {
-                    b.1 = value;
-                }
-            }
-        }
-        b
+        btr_written(&self.steps)
     }
 
     /// The CTU-style header: purpose, verifies, sequence, numbered.
@@ -907,7 +909,36 @@ fn build(ctx: &Ctx, raw: RawScenario, file: &Path) -> Result<Scenario, ScenarioE
         if target != "bus" && target != "dut-rx" && !nodes.iter().any(|n| n.name == target) {
             return Err(ctx.err_key(&span, "target", &format!("{p}.target"), format!("`{target}` is neither \"bus\", \"dut-rx\" nor a node name")));
         }
-        faults.push(FaultSpec { kind, at_bit: f.at_bit.map(|b| b.max(0) as u64), frame_bit, duration_bits: f.duration_bits.unwrap_or(1).max(1) as u64, target });
+        // A glitch's pulse placed in the bit (the DUT's bit grid, dut-rx
+        // only): in CAN clocks or in the DUT's time quanta, one representation.
+        let (btr0, btr1) = btr_written(&steps);
+        let clocks_per_tq = 2 * (u32::from(btr0 & 0x3F) + 1);
+        let per_bit = can_proto::timing::BusTiming::from_btr(btr0, btr1).clocks_per_bit();
+        let (key, unit, placed) = match (f.offset_clocks, f.width_clocks, f.offset_tq, f.width_tq) {
+            (None, None, None, None) => ("", 1, None),
+            (Some(o), Some(w), None, None) => ("offset_clocks", 1, Some((o, w))),
+            (None, None, Some(o), Some(w)) => ("offset_tq", clocks_per_tq, Some((o, w))),
+            (None, None, _, _) => return Err(ctx.err_key(&span, "offset_tq", &format!("{p}.offset_tq"), "give offset_tq and width_tq together")),
+            (_, _, None, None) => return Err(ctx.err_key(&span, "offset_clocks", &format!("{p}.offset_clocks"), "give offset_clocks and width_clocks together")),
+            _ => return Err(ctx.err_key(&span, "offset_tq", &format!("{p}.offset_tq"), "place the pulse in clocks (offset_clocks, width_clocks) or in quanta (offset_tq, width_tq), not both")),
+        };
+        let pulse_clocks = match placed {
+            None => None,
+            Some(_) if kind != FaultKind::Glitch => {
+                return Err(ctx.err_key(&span, key, &format!("{p}.{key}"), format!("{key} places a glitch's pulse; this fault is no glitch")));
+            }
+            Some(_) if target != "dut-rx" => {
+                return Err(ctx.err_key(&span, key, &format!("{p}.{key}"), format!("{key} is counted on the DUT's bit grid: give target = \"dut-rx\"")));
+            }
+            Some(_) if frame_bit.is_none() => {
+                return Err(ctx.err_key(&span, key, &format!("{p}.{key}"), format!("{key} needs frame + bit_in_frame (the bit it is counted from)")));
+            }
+            Some((o, w)) if o >= 0 && w >= 1 && (o + w) * i64::from(unit) <= i64::from(per_bit) => Some((o as u32 * unit, w as u32 * unit)),
+            Some((o, w)) => {
+                return Err(ctx.err_key(&span, key, &format!("{p}.{key}"), format!("{key} = {o}, width = {w}: the pulse must be at least 1 wide and end within the DUT's bit of {per_bit} CAN clocks, {} quanta (BTR0 = {btr0:#04X}, BTR1 = {btr1:#04X})", per_bit / clocks_per_tq)));
+            }
+        };
+        faults.push(FaultSpec { kind, at_bit: f.at_bit.map(|b| b.max(0) as u64), frame_bit, duration_bits: f.duration_bits.unwrap_or(1).max(1) as u64, target, pulse_clocks });
     }
 
     // expect
@@ -977,6 +1008,22 @@ fn build(ctx: &Ctx, raw: RawScenario, file: &Path) -> Result<Scenario, ScenarioE
             .collect(),
         warnings,
     })
+}
+
+/// The last BTR0/BTR1 values the steps write (0 where none).
+fn btr_written(steps: &[Step]) -> (u8, u8) {
+    let mut b = (0u8, 0u8);
+    for s in steps {
+        if let Action::Write { addr, value, .. } = s.action {
+            // BTR0/BTR1 sit at 6/7 in both views.
+            if addr == 6 {
+                b.0 = value;
+            } else if addr == 7 {
+                b.1 = value;
+            }
+        }
+    }
+    b
 }
 
 /// Span of the first `key =` in the text (for keys in untyped places).

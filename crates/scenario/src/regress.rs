@@ -55,6 +55,19 @@ pub fn parse_shard(s: &str) -> Result<(usize, usize), String> {
     Ok((k, n))
 }
 
+/// Exit codes of `cancosim regress`, chosen for `git bisect run`, which
+/// reads 0 as good, 125 as "cannot be tested: skip", and 1..=127 otherwise
+/// as bad. Every scenario passed (or was skipped on purpose).
+pub const EXIT_PASSED: i32 = 0;
+/// A scenario failed, diverged or could not run on a core that built.
+pub const EXIT_FAILED: i32 = 1;
+/// The user's input is wrong (arguments, an unreadable list, a scenario file
+/// that does not load): not the revision's fault, so neither 0 nor 125.
+pub const EXIT_BAD_INPUT: i32 = 2;
+/// The core does not build (missing directory or sources, no top module,
+/// Verilator/GHDL/C++ errors): `git bisect run` skips the revision.
+pub const EXIT_UNBUILDABLE: i32 = 125;
+
 /// Verdict of one (scenario, DUT) pair.
 #[derive(Clone, Debug, PartialEq, Eq)]
 pub enum Status {
@@ -69,12 +82,34 @@ pub enum Status {
     /// Not run, and why (a host override on a scenario whose point is its
     /// host wiring). Not a failure.
     Skipped(String),
+    /// Failed with exactly the signature of the `[[expected-failure]]`
+    /// entry `id` (deviation `deviation`, e.g. D6). Not a failure.
+    ExpectedFailure {
+        /// Entry id.
+        id: String,
+        /// The deviation it documents.
+        deviation: String,
+    },
+    /// Passed although the entry `id` expects a failure: the entry is stale
+    /// (the core changed). A failure of the regression.
+    UnexpectedPass {
+        /// Entry id.
+        id: String,
+    },
+    /// Failed, but not with the signature of the entry `id`: the lines it
+    /// did not show (missing) and those it showed besides (extra).
+    WrongFailure {
+        /// Entry id.
+        id: String,
+        /// The difference.
+        diff: waivers::SignatureDiff,
+    },
 }
 
 impl Status {
-    /// Passed, or skipped on purpose.
+    /// Passed, skipped on purpose, or failed exactly as expected.
     pub fn ok(&self) -> bool {
-        matches!(self, Status::Pass | Status::Skipped(_))
+        matches!(self, Status::Pass | Status::Skipped(_) | Status::ExpectedFailure { .. })
     }
 }
 
@@ -109,6 +144,14 @@ pub struct Cell {
     /// What the run exercised, seen from the golden model's side (None: no
     /// run, or skipped).
     pub funcov: Option<funcov::Coverage>,
+    /// The expected-failure entry that named this run, and its verdict.
+    pub xfail: Option<crate::xfail::XfailResult>,
+    /// The run's failure signature (`crate::xfail::signature`; empty if it passed).
+    pub signature: Vec<String>,
+    /// The DUT's name as waivers and expected failures match it.
+    pub waiver_dut: String,
+    /// The host the run went through (its own or the override).
+    pub host: String,
 }
 
 impl Cell {
@@ -164,7 +207,36 @@ impl Cell {
             stopped_early: o.waivers.as_ref().is_some_and(|r| r.stopped_early),
             deviations: o.waivers.as_ref().map(|r| r.deviations.clone()).unwrap_or_default(),
             funcov: o.skipped.is_none().then(|| run_funcov(o)),
+            xfail: None,
+            signature: if o.passed || o.skipped.is_some() { Vec::new() } else { crate::xfail::signature(o) },
+            waiver_dut: o.waivers.as_ref().map(|r| r.dut.clone()).unwrap_or_else(|| o.dut.clone()),
+            host: String::new(),
         }
+    }
+
+    /// Applies the verdict of an expected-failure entry (or the error of
+    /// two entries naming one run) to a cell made from the run.
+    fn judged(mut self, x: Result<Option<crate::xfail::XfailResult>, String>) -> Cell {
+        use crate::xfail::XfailVerdict;
+        match x {
+            Ok(None) => {}
+            Err(e) => {
+                self.report = format!("{e}\n{}", self.report);
+                self.status = Status::Error(e);
+            }
+            Ok(Some(r)) => {
+                let id = r.entry.id.clone();
+                // A run that was not made stays an error (judge gives no verdict then).
+                self.status = match &r.verdict {
+                    XfailVerdict::Exact => Status::ExpectedFailure { id, deviation: r.entry.deviation.clone() },
+                    XfailVerdict::UnexpectedPass => Status::UnexpectedPass { id },
+                    XfailVerdict::Different(d) => Status::WrongFailure { id, diff: d.clone() },
+                };
+                self.report = format!("{}\n{}", crate::xfail::describe(&self.scenario, &self.dut, &r), self.report);
+                self.xfail = Some(r);
+            }
+        }
+        self
     }
 }
 
@@ -201,6 +273,9 @@ pub struct RegressReport {
     pub duts: Vec<String>,
     /// Cells that ran (a shard runs a subset).
     pub cells: Vec<Cell>,
+    /// Scenarios that could not be loaded (their error cells are in
+    /// `cells`): the user's input, so the exit code is [`EXIT_BAD_INPUT`].
+    pub unloadable: Vec<String>,
 }
 
 impl RegressReport {
@@ -213,14 +288,28 @@ impl RegressReport {
         c
     }
 
-    /// True if every cell passed.
+    /// Cells that failed exactly as an `[[expected-failure]]` entry records.
+    pub fn expected_failures(&self) -> usize {
+        self.cells.iter().filter(|c| matches!(c.status, Status::ExpectedFailure { .. })).count()
+    }
+
+    /// True if every cell passed, was skipped on purpose, or failed exactly
+    /// as expected (no unexpected pass, no other failure).
     pub fn passed(&self) -> bool {
         self.cells.iter().all(|c| c.status.ok())
     }
 
-    /// Process exit code: 0 if all passed, 1 otherwise.
+    /// Process exit code: [`EXIT_BAD_INPUT`] if a scenario could not be
+    /// loaded (after the others ran), else [`EXIT_PASSED`] if all passed,
+    /// else [`EXIT_FAILED`].
     pub fn exit_code(&self) -> i32 {
-        if self.passed() { 0 } else { 1 }
+        if !self.unloadable.is_empty() {
+            EXIT_BAD_INPUT
+        } else if self.passed() {
+            EXIT_PASSED
+        } else {
+            EXIT_FAILED
+        }
     }
 
     /// The waivers that matched on `dut`, in order of first use, with hits
@@ -312,6 +401,9 @@ impl RegressReport {
                 Status::Failed(_) => format!("FAIL ({})", c.category),
                 Status::Error(e) => format!("error ({})", e.chars().take(40).collect::<String>()),
                 Status::Skipped(_) => "skipped (host fixed)".to_string(),
+                Status::ExpectedFailure { id, deviation } => format!("xfail ({deviation}: {id})"),
+                Status::UnexpectedPass { id } => format!("UNEXPECTED PASS ({id})"),
+                Status::WrongFailure { id, diff } => format!("FAIL (not as {id}: -{} +{})", diff.missing.len(), diff.extra.len()),
             },
         };
         let mut rows: Vec<Vec<String>> = vec![std::iter::once("scenario".to_string()).chain(self.duts.iter().cloned()).collect()];
@@ -332,13 +424,21 @@ impl RegressReport {
         }
         let failed = self.cells.iter().filter(|c| !c.status.ok()).count();
         let skipped: Vec<&Cell> = self.cells.iter().filter(|c| matches!(c.status, Status::Skipped(_))).collect();
+        let xfails = self.expected_failures();
         out += &format!(
-            "{} run, {} passed, {} not passed{}\n",
+            "{} run, {} passed, {}{} not passed{}\n",
             self.cells.len() - skipped.len(),
-            self.cells.len() - failed - skipped.len(),
+            self.cells.len() - failed - skipped.len() - xfails,
+            if xfails == 0 { String::new() } else { format!("{xfails} expected failure(s), ") },
             failed,
             if skipped.is_empty() { String::new() } else { format!(", {} skipped", skipped.len()) }
         );
+        for c in &self.cells {
+            if let Some(r) = &c.xfail {
+                out += &crate::xfail::describe(&c.scenario, &c.dut, r);
+                out.push('\n');
+            }
+        }
         for c in &skipped {
             if let Status::Skipped(why) = &c.status {
                 out += &format!("skipped {} on {}: {why}\n", c.scenario, c.dut);
@@ -358,6 +458,60 @@ impl RegressReport {
             out += &format!("WARNING {w}\n");
         }
         out
+    }
+
+    /// JSON: the counts and one object per cell (scenario, DUT, host,
+    /// status, detail, waived divergences; for a run an expected-failure
+    /// entry named, the entry and its verdict with the missing / extra
+    /// signature lines). Exit code and `passed` as for the table.
+    pub fn to_json(&self) -> String {
+        use serde_json::json;
+        let cells: Vec<serde_json::Value> = self
+            .cells
+            .iter()
+            .map(|c| {
+                let (status, detail) = match &c.status {
+                    Status::Pass => ("pass", String::new()),
+                    Status::Diverged(x) => ("diverged", x.clone()),
+                    Status::Failed(x) => ("failed", x.clone()),
+                    Status::Error(x) => ("error", x.clone()),
+                    Status::Skipped(x) => ("skipped", x.clone()),
+                    Status::ExpectedFailure { .. } => ("expected-failure", String::new()),
+                    Status::UnexpectedPass { .. } => ("unexpected-pass", String::new()),
+                    Status::WrongFailure { .. } => ("wrong-failure", String::new()),
+                };
+                let xfail = c.xfail.as_ref().map(|r| {
+                    let (verdict, missing, extra) = match &r.verdict {
+                        crate::xfail::XfailVerdict::Exact => ("exact", Vec::new(), Vec::new()),
+                        crate::xfail::XfailVerdict::UnexpectedPass => ("unexpected-pass", Vec::new(), Vec::new()),
+                        crate::xfail::XfailVerdict::Different(d) => ("different", d.missing.clone(), d.extra.clone()),
+                    };
+                    json!({
+                        "id": r.entry.id, "deviation": r.entry.deviation, "clause": r.entry.clause,
+                        "reason": r.entry.reason, "location": r.entry.location(), "verdict": verdict,
+                        "missing": missing, "extra": extra,
+                    })
+                });
+                json!({
+                    "scenario": c.scenario, "dut": c.dut, "waiver_dut": c.waiver_dut, "host": c.host,
+                    "status": status, "ok": c.status.ok(), "detail": detail, "category": c.category.name(),
+                    "waived": c.waived.len(), "signature": c.signature, "expected_failure": xfail,
+                })
+            })
+            .collect();
+        let skipped = self.cells.iter().filter(|c| matches!(c.status, Status::Skipped(_))).count();
+        let not_passed = self.cells.iter().filter(|c| !c.status.ok()).count();
+        let xfails = self.expected_failures();
+        let out = json!({
+            "run": self.cells.len() - skipped,
+            "passed": self.cells.len() - skipped - not_passed - xfails,
+            "expected_failures": xfails,
+            "not_passed": not_passed,
+            "skipped": skipped,
+            "ok": self.passed(),
+            "cells": cells,
+        });
+        serde_json::to_string_pretty(&out).expect("a JSON value always serialises")
     }
 
     /// JUnit XML: one testsuite per DUT, one testcase per scenario.
@@ -395,11 +549,26 @@ impl RegressReport {
                         s.set_message(why.as_str());
                         s
                     }
-                    Status::Diverged(_) | Status::Failed(_) | Status::Error(_) => {
+                    // JUnit has no expected-failure state: skipped with the
+                    // entry named in the message (as pytest's junitxml does
+                    // for xfail), so CI counts it as not failing yet shows it
+                    // apart from passes; the signature goes to system-out.
+                    Status::ExpectedFailure { id, deviation } => {
+                        let mut s = TestCaseStatus::skipped();
+                        let reason = c.xfail.as_ref().map(|r| r.entry.reason.as_str()).unwrap_or("");
+                        s.set_message(format!("expected failure {id} ({deviation}): {reason}")).set_type("xfail");
+                        s
+                    }
+                    Status::Diverged(_) | Status::Failed(_) | Status::Error(_) | Status::UnexpectedPass { .. } | Status::WrongFailure { .. } => {
                         let (kind, msg) = match &c.status {
                             Status::Diverged(x) => (NonSuccessKind::Failure, format!("diverged from the golden model: {x}")),
                             Status::Failed(x) => (NonSuccessKind::Failure, x.clone()),
                             Status::Error(x) => (NonSuccessKind::Error, x.clone()),
+                            Status::UnexpectedPass { id } => (NonSuccessKind::Failure, format!("unexpected pass: expected-failure {id} is stale")),
+                            Status::WrongFailure { id, diff } => (
+                                NonSuccessKind::Failure,
+                                format!("not the failure expected-failure {id} records: {} line(s) missing, {} extra", diff.missing.len(), diff.extra.len()),
+                            ),
                             _ => unreachable!(),
                         };
                         let mut s = TestCaseStatus::non_success(kind);
@@ -409,6 +578,9 @@ impl RegressReport {
                 };
                 let mut tc = TestCase::new(c.scenario.as_str(), status);
                 tc.set_classname(c.dut.as_str()).set_time(secs(c));
+                if let Some(r) = &c.xfail {
+                    tc.set_system_out(format!("{}\nsignature of the run:\n{}", crate::xfail::describe(&c.scenario, &c.dut, r), c.signature.join("\n")));
+                }
                 suite.add_test_case(tc);
             }
             if !hit.is_empty() {
@@ -484,8 +656,9 @@ pub fn regress_with(
                         // A failure shows as a missing .dat, which the merge reports.
                         let _ = std::fs::create_dir_all(dir);
                     }
-                    let out = runner(s, &o);
-                    let cell = Cell::from_outcome(&s.name, &out);
+                    let (out, xfail) = crate::xfail::run_judged(s, &o, &runner);
+                    let mut cell = Cell::from_outcome(&s.name, &out).judged(xfail);
+                    cell.host = crate::xfail::run_host(s, &o);
                     bar.set_message(format!("{} on {}", s.name, duts[di].name));
                     bar.inc(1);
                     results.lock().expect("no worker panics while holding the lock")[i] = Some(cell);
@@ -498,6 +671,7 @@ pub fn regress_with(
         scenarios: scenarios.iter().map(|s| s.name.clone()).collect(),
         duts: duts.iter().map(|d| d.name.clone()).collect(),
         cells: results.into_inner().unwrap_or_default().into_iter().flatten().collect(),
+        unloadable: Vec::new(),
     }
 }
 
@@ -510,7 +684,7 @@ fn unloadable(path: &std::path::Path, e: &ScenarioError) -> (String, String) {
 /// Loads every input (a `.toml` scenario or a regression list) and runs
 /// [`regress`]. A scenario that cannot be loaded (bad key, missing file)
 /// does not stop the others: it becomes an error cell on every DUT with its
-/// `file:line:col: key` message, and the exit code is non-zero. Only an
+/// `file:line:col: key` message, and the exit code is [`EXIT_BAD_INPUT`]. Only an
 /// unreadable list is an error. With a shard, those cells go to shard 1.
 pub fn regress_inputs(inputs: &[std::path::PathBuf], duts: &[DutSpec], opts: &RegressOptions) -> Result<RegressReport, ScenarioError> {
     let mut scenarios = Vec::new();
@@ -546,9 +720,14 @@ pub fn regress_inputs(inputs: &[std::path::PathBuf], duts: &[DutSpec], opts: &Re
                     stopped_early: false,
                     deviations: Vec::new(),
                     funcov: None,
+                    xfail: None,
+                    signature: Vec::new(),
+                    waiver_dut: d.name.clone(),
+                    host: String::new(),
                 });
             }
-            report.scenarios.push(name);
+            report.scenarios.push(name.clone());
+            report.unloadable.push(name);
         }
     }
     Ok(report)

@@ -81,6 +81,9 @@ fn status_words(s: &Status) -> String {
         Status::Failed(w) => format!("failed: {w}"),
         Status::Error(w) => format!("error: {}", w.lines().next().unwrap_or("")),
         Status::Skipped(_) => "skipped".into(),
+        Status::ExpectedFailure { id, deviation } => format!("expected failure ({deviation}: {id})"),
+        Status::UnexpectedPass { id } => format!("unexpected pass ({id})"),
+        Status::WrongFailure { id, .. } => format!("failed, not as {id}"),
     }
 }
 

@@ -175,6 +175,13 @@ fn injector(f: &FaultSpec, target: Target, clocks_per_bit: u64) -> Box<dyn Fault
             Box::new(sja1000::StuckAt { level, target, from, until: Some(from + f.duration_bits * clocks_per_bit) })
         }
         (FaultKind::Flip, Some((fr, b))) => Box::new(sja1000::FlipBit { frame: fr as u64 - 1, bit: b, target }),
+        // Placed in the bit (offset_clocks/offset_tq; dut-rx only, whose
+        // context numbers bits from boundary to boundary, so the pulse may
+        // cross the sample point and stay in its bit).
+        (FaultKind::Glitch, Some((fr, b))) if f.pulse_clocks.is_some() => {
+            let (offset, width) = f.pulse_clocks.unwrap_or_default();
+            Box::new(sja1000::Glitch { frame: fr as u64 - 1, bit: b, offset, width, target })
+        }
         (FaultKind::Glitch, Some((fr, b))) => Box::new(sja1000::Glitch {
             frame: fr as u64 - 1,
             bit: b,

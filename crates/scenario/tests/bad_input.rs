@@ -152,7 +152,10 @@ fn a_bad_scenario_in_a_list_does_not_stop_the_others() {
     }
     let gone = rep.cells.iter().find(|c| c.scenario == "gone").unwrap();
     assert!(matches!(&gone.status, Status::Error(m) if m.contains("gone.toml")), "{:?}", gone.status);
-    assert_eq!(rep.exit_code(), 1);
+    // The user's input, not the core: exit 2 (neither 1 "failed" nor 125
+    // "does not build", which git bisect would read as bad / skip).
+    assert_eq!(rep.unloadable, ["typo", "gone"]);
+    assert_eq!(rep.exit_code(), scenario::regress::EXIT_BAD_INPUT);
     assert!(table.contains("typo") && table.contains("gone") && table.contains("first"), "{table}");
     let junit = rep.to_junit();
     assert!(junit.contains("valeu") && junit.contains("gone.toml"), "{junit}");
@@ -173,4 +176,37 @@ fn wrong_type_errors_name_their_key() {
     assert_eq!(e.key(), "id", "{e}");
     let e = err(&GOOD.replace("value = 1", "value = { a = 1 }"));
     assert_eq!(e.key(), "value", "{e}");
+}
+
+/// A glitch's pulse is placed on the DUT's bit grid in CAN clocks
+/// (`offset_clocks`/`width_clocks`) or in its time quanta (`offset_tq`/
+/// `width_tq`; BTR0 = 0x41, BTR1 = 0x25: 10 quanta of 4 clocks, 40 clocks):
+/// only on a glitch given by frame + bit_in_frame, on `dut-rx`, one pair,
+/// both keys, at least 1 wide, inside the bit; each mistake is a one-line
+/// error naming the key.
+#[test]
+fn glitch_pulse_keys_are_checked() {
+    let with = |fault: &str| format!("{GOOD}[[step]]\nwrite = \"BTR0\"\nvalue = 0x41\n[[step]]\nwrite = \"BTR1\"\nvalue = 0x25\n[[fault]]\n{fault}\n");
+    let ok = "kind = \"glitch\"\nframe = 1\nbit_in_frame = 25\noffset_clocks = 0\nwidth_clocks = 24\ntarget = \"dut-rx\"";
+    assert_eq!(Scenario::parse(&with(ok), "tb/ok.toml").unwrap().faults[0].pulse_clocks, Some((0, 24)));
+    let tq = "kind = \"glitch\"\nframe = 1\nbit_in_frame = 3\noffset_tq = 9\nwidth_tq = 1\ntarget = \"dut-rx\"";
+    assert_eq!(Scenario::parse(&with(tq), "tb/ok.toml").unwrap().faults[0].pulse_clocks, Some((36, 4)), "quanta are 4 CAN clocks");
+    for (bad, key, says) in [
+        (ok.replace("kind = \"glitch\"", "kind = \"flip\""), "offset_clocks", "no glitch"),
+        (ok.replace("target = \"dut-rx\"", "target = \"bus\""), "offset_clocks", "dut-rx"),
+        (ok.replace("width_clocks = 24", ""), "offset_clocks", "together"),
+        (ok.replace("width_clocks = 24", "width_clocks = 0"), "offset_clocks", "at least 1"),
+        (ok.replace("offset_clocks = 0", "offset_clocks = -3"), "offset_clocks", "at least 1"),
+        (ok.replace("offset_clocks = 0", "offset_clocks = 30").replace("width_clocks = 24", "width_clocks = 11"), "offset_clocks", "bit of 40 CAN clocks"),
+        (ok.replace("frame = 1\nbit_in_frame = 25", "at_bit = 100"), "offset_clocks", "frame + bit_in_frame"),
+        (tq.replace("width_tq = 1", ""), "offset_tq", "together"),
+        (tq.replace("width_tq = 1", "width_tq = 2"), "offset_tq", "10 quanta"),
+        (tq.replace("offset_tq = 9", "offset_tq = -1"), "offset_tq", "10 quanta"),
+        (format!("{tq}\noffset_clocks = 0\nwidth_clocks = 4"), "offset_tq", "not both"),
+    ] {
+        let e = err(&with(&bad));
+        assert_eq!(e.key(), format!("fault[1].{key}"), "{e}");
+        assert!(e.to_string().starts_with("tb/bad.toml:"), "{e}");
+        assert!(e.to_string().contains(says), "{bad}: {e}");
+    }
 }

@@ -24,7 +24,7 @@ fn load(file: &str) -> Scenario {
 #[test]
 fn conformance_list_passes_on_model_and_rtl_without_divergence() {
     let s = suite();
-    assert!(s.len() >= 45, "the suite shrank to {} scenarios", s.len());
+    assert!(s.len() >= 66, "the suite shrank to {} scenarios", s.len());
     let opts = RegressOptions { jobs: 2, collect: waivers::CollectMode::Collect, ..Default::default() };
     let rep = regress(&s, &[DutSpec::model(), DutSpec::rtl()], &opts);
     assert_eq!(rep.cells.len(), 2 * s.len());
@@ -99,4 +99,94 @@ fn reads_are_judged_behind_an_expected_bit_timing_mismatch() {
     let o = run(&s, &RunOptions { dut: Some(DutSpec::model()), ..Default::default() });
     assert_eq!(o.diagnosis.category, diagnose::Category::BitTimingMismatch);
     assert!(!o.passed, "a wrong RMC expectation hid behind the expected BitTimingMismatch");
+}
+
+/// Runs `file` on the model with `from` replaced by `to` (each must occur):
+/// true if the scenario still passes.
+fn passes_with(file: &str, edits: &[(&str, &str)]) -> bool {
+    let path = root().join("tb/conformance").join(file);
+    let mut text = std::fs::read_to_string(&path).unwrap();
+    for (from, to) in edits {
+        assert!(text.contains(from), "{file}: the mutation point `{from}` moved");
+        text = text.replacen(from, to, 1);
+    }
+    let s = Scenario::parse(&text, &path).unwrap();
+    run(&s, &RunOptions { dut: Some(DutSpec::model()), ..Default::default() }).passed
+}
+
+/// docs/conformance.md states the suite's size; it must be the list's.
+#[test]
+fn the_docs_state_the_suite_size() {
+    let doc = std::fs::read_to_string(root().join("docs/conformance.md")).unwrap();
+    let n = suite().len();
+    assert!(doc.contains(&format!("**{n} scenarios**")), "docs/conformance.md does not say **{n} scenarios**");
+}
+
+/// The rule 6 scenarios sit on the boundary: 13 dominant bits from the
+/// overload flag's start change nothing, 14 cost +8. One bit less in
+/// frame 2 of rx-7.6.4 (13 instead of 14) fails, as does one more in
+/// frame 1 (14 instead of 13); likewise after the passive flag (tx-8.6.4).
+#[test]
+fn dominant_bit_rules_are_checked_at_their_boundary() {
+    assert!(passes_with("rx-7.6.4-overload-flag-dominant.toml", &[]));
+    assert!(!passes_with("rx-7.6.4-overload-flag-dominant.toml", &[("duration_bits = 7", "duration_bits = 6")]));
+    assert!(!passes_with("rx-7.6.4-overload-flag-dominant.toml", &[("duration_bits = 6", "duration_bits = 7")]));
+    assert!(passes_with("tx-8.6.4-passive-flag-dominant.toml", &[]));
+    assert!(!passes_with("tx-8.6.4-passive-flag-dominant.toml", &[("duration_bits = 13", "duration_bits = 14")]));
+    assert!(!passes_with("tx-8.6.4-passive-flag-dominant.toml", &[("duration_bits = 14", "duration_bits = 13")]));
+}
+
+/// The suspend transmission scenarios race the DUT against a node that
+/// requested later: with the DUT error active (no suspend) they fail, so
+/// they really see the 8 bits of suspend.
+#[test]
+fn suspend_scenarios_fail_with_an_error_active_dut() {
+    for file in ["tx-8.5.7-passive-suspend-after-frame.toml", "tx-8.5.6-passive-suspend-after-overload.toml"] {
+        assert!(passes_with(file, &[]), "{file}");
+        let active = [
+            ("{ write = \"TXERR\", value = 0xC8,", "{ write = \"TXERR\", value = 0x10,"),
+            ("{ read = \"TXERR\", expect = 0xC7,", "{ read = \"TXERR\", expect = 0xF,"),
+        ];
+        assert!(!passes_with(file, &active), "{file} passed with an error-active DUT");
+    }
+}
+
+/// The last-bit-of-the-overload-delimiter scenarios hit that bit: one bit
+/// earlier is a form error (BEI, counters up) and fails them.
+#[test]
+fn overload_delimiter_last_bit_is_hit_exactly() {
+    assert!(passes_with("rx-7.6.20-overload-delimiter-last-bit.toml", &[]));
+    assert!(!passes_with("rx-7.6.20-overload-delimiter-last-bit.toml", &[("bit_in_frame = 70", "bit_in_frame = 69")]));
+    assert!(passes_with("tx-8.6.15-overload-delimiter-last-bit.toml", &[]));
+    assert!(!passes_with("tx-8.6.15-overload-delimiter-last-bit.toml", &[("bit_in_frame = 69", "bit_in_frame = 68")]));
+}
+
+/// The new within-tolerance bit timings depend on the drifting node: at
+/// 5 % off (beyond 2 x their tolerance) the same scenarios fail.
+#[test]
+fn new_bit_timings_fail_far_beyond_their_tolerance() {
+    assert!(!passes_with("rx-7.7-max-sjw-short-tseg-drift.toml", &[("can_mhz = 24.408", "can_mhz = 25.2")]));
+    assert!(!passes_with("rx-7.7-sam-max-sjw-drift.toml", &[("can_mhz = 23.64", "can_mhz = 22.8")]));
+}
+
+/// The sample point scenarios depend on where the pulse ends: the 6 tq
+/// pulse made 8 tq (past the sample point) fails rx-7.7.1; the spike over
+/// the last sample moved over two samples fails the SAM = 1 one.
+#[test]
+fn sample_point_scenarios_depend_on_the_pulse_position() {
+    assert!(passes_with("rx-7.7.1-sample-point.toml", &[]));
+    assert!(!passes_with("rx-7.7.1-sample-point.toml", &[("offset_clocks = 0\nwidth_clocks = 24", "offset_clocks = 0\nwidth_clocks = 32")]));
+    assert!(passes_with("rx-7.7.1-sam-spike.toml", &[]));
+    assert!(!passes_with("rx-7.7.1-sam-spike.toml", &[("offset_clocks = 24\nwidth_clocks = 8", "offset_clocks = 20\nwidth_clocks = 8")]));
+}
+
+/// 7.7.9 and 8.7.1 depend on the pulse length: the 5 tq idle-bus pulse made
+/// 8 tq is a start of frame (BEI where none is expected); the transmitter's
+/// 6 tq pulse made 8 tq is a bit error in its first frame.
+#[test]
+fn idle_pulse_and_transmitter_sample_point_depend_on_the_pulse_length() {
+    assert!(passes_with("rx-7.7.9-idle-pulse.toml", &[]));
+    assert!(!passes_with("rx-7.7.9-idle-pulse.toml", &[("offset_clocks = 0\nwidth_clocks = 20", "offset_clocks = 0\nwidth_clocks = 32")]));
+    assert!(passes_with("tx-8.7.1-sample-point.toml", &[]));
+    assert!(!passes_with("tx-8.7.1-sample-point.toml", &[("offset_clocks = 0\nwidth_clocks = 24", "offset_clocks = 0\nwidth_clocks = 32")]));
 }

@@ -44,3 +44,33 @@ fn off_by_one_counter_expectations_fail() {
         assert!(!o.passed, "{file}: a wrong expectation passed");
     }
 }
+
+/// The glitches placed in time quanta (`offset_tq`, `width_tq`) sit where
+/// the scenarios say: on the model, a pulse two quanta wide on two of the
+/// three SAM samples is a bus error (the one-quantum pulses are not), and
+/// the dominant pulse late in PHASE_SEG2 (2 quanta before the bit's end,
+/// shortening the bit by 2 tq only) no longer breaks reception.
+#[test]
+fn quantum_placed_glitches_hit_what_they_aim_at() {
+    for (file, from, to) in [
+        (
+            "sam-glitch-one-sample.toml",
+            "bit_in_frame = 4\noffset_tq = 5\nwidth_tq = 1",
+            "bit_in_frame = 4\noffset_tq = 5\nwidth_tq = 2",
+        ),
+        (
+            "resync-after-sample-point.toml",
+            "bit_in_frame = 5\noffset_tq = 4",
+            "bit_in_frame = 5\noffset_tq = 10",
+        ),
+    ] {
+        let path = root().join("tb/mutation-holes").join(file);
+        let text = std::fs::read_to_string(&path).unwrap();
+        assert!(text.contains(from), "{file}: the glitch moved");
+        let s = Scenario::parse(&text, &path).unwrap();
+        assert!(run(&s, &RunOptions { dut: Some(DutSpec::model()), ..Default::default() }).passed, "{file} as shipped");
+        let s = Scenario::parse(&text.replacen(from, to, 1), &path).unwrap();
+        let o = run(&s, &RunOptions { dut: Some(DutSpec::model()), ..Default::default() });
+        assert!(!o.passed, "{file}: the moved glitch changed nothing");
+    }
+}

@@ -169,6 +169,32 @@ impl Glitch {
     }
 }
 
+impl Glitch {
+    /// A glitch placed in time quanta: `width_tq` quanta from quantum
+    /// `offset_tq` of bit `bit` (quantum 0 is SYNC_SEG, counted from the
+    /// bit's start on the bus), a quantum being `clocks_per_tq` CAN clocks
+    /// (2 * (BRP + 1), SJA1000 datasheet BTR0). A pulse exactly one quantum
+    /// wide covers exactly one quantum boundary of a receiver whose quanta
+    /// are offset from the bus's by less than a quantum, so it can hit one
+    /// of the three samples of SAM = 1 and no other.
+    pub fn in_quanta(
+        frame: u64,
+        bit: u32,
+        offset_tq: u32,
+        width_tq: u32,
+        clocks_per_tq: u32,
+        target: Target,
+    ) -> Self {
+        Glitch {
+            frame,
+            bit,
+            offset: offset_tq * clocks_per_tq,
+            width: width_tq * clocks_per_tq,
+            target,
+        }
+    }
+}
+
 impl FaultInjector for Glitch {
     fn apply(&mut self, ctx: &BusContext, node: usize, level: bool) -> bool {
         let inside = ctx.frame == Some(self.frame)

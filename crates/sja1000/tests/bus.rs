@@ -723,6 +723,51 @@ fn glitch_inside_a_bit() {
     bus.check_accounting().unwrap();
 }
 
+/// `Glitch::in_quanta` inverts exactly the clocks of its quanta, in its
+/// frame and bit only.
+#[test]
+fn glitch_in_quanta_covers_exactly_its_quanta() {
+    use sja1000::bus::{BusContext, FaultInjector};
+    // quanta 3 and 4 of bit 5, 4 clocks a quantum: clocks 12..20 of the bit
+    let mut g = Glitch::in_quanta(0, 5, 3, 2, 4, Target::All);
+    let at = |frame: u64, bit: u32, sub: u32| BusContext {
+        clock: 0,
+        frame: Some(frame),
+        frame_bit: bit,
+        sub,
+        clocks_per_bit: 40,
+    };
+    let hit: Vec<u32> = (0..40).filter(|&s| !g.apply(&at(0, 5, s), 0, RECESSIVE)).collect();
+    assert_eq!(hit, (12..20).collect::<Vec<_>>());
+    assert!(g.apply(&at(0, 6, 12), 0, RECESSIVE), "another bit");
+    assert!(g.apply(&at(1, 5, 12), 0, RECESSIVE), "another frame");
+    assert!(g.apply(&at(0, 5, 12), 0, !RECESSIVE) == RECESSIVE, "a dominant bit turns recessive");
+}
+
+/// SAM = 1 (BTR1 = 0xA5: sample point after quantum 6 of 10, samples at
+/// the ends of quanta 4, 5, 6): a dominant pulse one quantum wide on any
+/// one of the three samples of a recessive bit is voted away; two quanta
+/// wide (two samples) it is a bit error. The bit is wire bit 2 of ID
+/// 0x2AA (recessive after a dominant bit: the pulse's edge does not
+/// resynchronise, CAN 2.0B 10.4.2).
+#[test]
+fn glitch_in_quanta_on_one_sam_sample_is_voted_away() {
+    let cfg = Config { btr1: 0xA5, ..Config::pelican() };
+    let frames_with = |offset_tq: u32, width_tq: u32| {
+        let mut bus = bus_of(&[cfg, cfg]);
+        bus.add_fault(Glitch::in_quanta(0, 2, offset_tq, width_tq, 4, Target::Node(1)));
+        host::transmit(bus.node_mut(0), &std_frame(0x2AA, &[0x55; 4]), peli::cmr::TR).unwrap();
+        settle(&mut bus, 600);
+        assert_eq!(drain(bus.node_mut(1)).len(), 1);
+        bus.check_accounting().unwrap();
+        bus.frames_seen()
+    };
+    for q in 4..=6 {
+        assert_eq!(frames_with(q, 1), 1, "one quantum at quantum {q}: no error frame");
+    }
+    assert!(frames_with(5, 2) >= 2, "two samples dominant: error frame and retransmission");
+}
+
 /// Seeded random traffic between two nodes with random bit flips: the
 /// accounting check holds.
 #[test]

@@ -1,5 +1,7 @@
 //! The waiver file: TOML read through serde, unknown keys rejected, every
-//! error located as `file:line: key: message`.
+//! error located as `file:line: key: message`. Besides `[[waiver]]` tables
+//! it may hold `[[expected-failure]]` tables (strict expected failures of
+//! whole scenarios, with their signature: [`crate::expected`]).
 //!
 //! ```toml
 //! [[waiver]]
@@ -148,6 +150,8 @@ pub enum KindName {
     Irq,
     /// `DivergenceKind::BusOff`.
     BusOff,
+    /// `DivergenceKind::Clkout`.
+    Clkout,
 }
 
 impl KindName {
@@ -158,6 +162,7 @@ impl KindName {
             KindName::RegisterRead => DivergenceKind::RegisterRead,
             KindName::Irq => DivergenceKind::Irq,
             KindName::BusOff => DivergenceKind::BusOff,
+            KindName::Clkout => DivergenceKind::Clkout,
         }
     }
 
@@ -168,6 +173,7 @@ impl KindName {
             DivergenceKind::RegisterRead => KindName::RegisterRead,
             DivergenceKind::Irq => KindName::Irq,
             DivergenceKind::BusOff => KindName::BusOff,
+            DivergenceKind::Clkout => KindName::Clkout,
         }
     }
 
@@ -178,6 +184,7 @@ impl KindName {
             KindName::RegisterRead => "register-read",
             KindName::Irq => "irq",
             KindName::BusOff => "bus-off",
+            KindName::Clkout => "clkout",
         }
     }
 }
@@ -661,6 +668,9 @@ pub(crate) struct RawWaiver {
 pub(crate) struct RawFile {
     #[serde(default)]
     pub waiver: Vec<RawWaiver>,
+    /// `[[expected-failure]]` tables (crate::expected).
+    #[serde(default, rename = "expected-failure")]
+    pub expected_failure: Vec<crate::expected::RawExpectedFailure>,
 }
 
 /// Suggested entry, written by [`crate::suggest`] (same keys as the file).

@@ -9,6 +9,8 @@
 //! divergences apart from failures and warns about waivers that never
 //! matched, so nothing is silently hidden. [`suggest`] writes candidate
 //! entries for a run's divergences, which are never applied by themselves.
+//! An [`expected`] failure (`[[expected-failure]]`) declares a scenario that
+//! must fail on a DUT with exactly the recorded signature (strict xfail).
 //!
 //! ```
 //! use diagnose::{Divergence, DivergenceKind};
@@ -38,12 +40,14 @@
 //! ```
 #![warn(missing_docs)]
 
+pub mod expected;
 pub mod file;
 pub mod report;
 pub mod run;
 pub mod set;
 pub mod suggest;
 
+pub use expected::{ExpectedFailure, SignatureDiff, signature_line};
 pub use file::{BitPattern, Consequence, ConsequenceOf, KindName, Lateness, ResyncSpec, RevRange, Revision, WaiverError};
 pub use report::{Counts, Stale, WaivedExpectation, Waived, WaiverReport, describe};
 pub use run::{Action, CollectMode, Session};

@@ -92,8 +92,8 @@ impl Session {
     }
 
     /// A scenario expectation `value & mask == expected & mask` failed on a
-    /// register read. If that read's divergence was waived (it is the last
-    /// waived one and came after the first `waived_before` of them) and the
+    /// register read. If that read's divergence was waived (the latest waived
+    /// read with the DUT's value after the first `waived_before`) and the
     /// model's value meets the expectation, the failure is the waived
     /// deviation itself: it is listed in the report as a waived expectation
     /// and the id of the waiver is returned. Otherwise `None`: the
@@ -111,15 +111,19 @@ impl Session {
         if self.report.waived.len() <= waived_before || seen & mask == expected & mask {
             return None;
         }
-        let last = self.report.waived.last()?;
-        let d = &last.divergence;
-        if d.kind != diagnose::DivergenceKind::RegisterRead || d.seen & 0xFF != seen as u32 {
-            return None;
-        }
-        let model = d.expected as u8;
-        if d.expected > 0xFF || model & mask != expected & mask {
-            return None;
-        }
+        // The read's own divergence, the latest waived register read since
+        // `waived_before` with the DUT's value and a model value that meets
+        // the expectation: not only the last waived entry, since an earlier
+        // step's SR read still in its status window may be decided (and
+        // waived) in the same clocks, after this read's own divergence.
+        let last = self.report.waived[waived_before..].iter().rev().find(|w| {
+            let d = &w.divergence;
+            d.kind == diagnose::DivergenceKind::RegisterRead
+                && d.seen & 0xFF == seen as u32
+                && d.expected <= 0xFF
+                && (d.expected as u8) & mask == expected & mask
+        })?;
+        let model = last.divergence.expected as u8;
         let id = last.waiver_id.clone();
         self.report.waived_expectations.push(WaivedExpectation {
             step,

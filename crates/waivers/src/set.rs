@@ -370,6 +370,7 @@ pub struct WaiverSet {
     /// File name (for messages).
     pub name: String,
     waivers: Vec<Waiver>,
+    expected_failures: Vec<crate::expected::ExpectedFailure>,
 }
 
 impl WaiverSet {
@@ -408,7 +409,15 @@ impl WaiverSet {
             }
             waivers.push(validate(name, src, w)?);
         }
-        Ok(WaiverSet { name: name.into(), waivers })
+        let mut expected_failures: Vec<crate::expected::ExpectedFailure> = Vec::with_capacity(raw.expected_failure.len());
+        for x in raw.expected_failure {
+            let e = crate::expected::validate(name, src, x)?;
+            if let Some(old) = expected_failures.iter().find(|o| o.id == e.id) {
+                return Err(invalid(name, e.line, "id", format!("duplicate expected-failure id `{}` (first at line {})", e.id, old.line)));
+            }
+            expected_failures.push(e);
+        }
+        Ok(WaiverSet { name: name.into(), waivers, expected_failures })
     }
 
     /// Adds the waivers of another file after these (`--waivers a --waivers b`).
@@ -424,12 +433,28 @@ impl WaiverSet {
             }
             self.waivers.push(w);
         }
+        for e in other.expected_failures {
+            if let Some(old) = self.expected_failures.iter().find(|o| o.id == e.id) {
+                return Err(invalid(
+                    &e.file,
+                    e.line,
+                    "id",
+                    format!("expected-failure id `{}` already defined at {}", e.id, old.location()),
+                ));
+            }
+            self.expected_failures.push(e);
+        }
         if self.name.is_empty() {
             self.name = other.name;
         } else if !other.name.is_empty() {
             self.name = format!("{}, {}", self.name, other.name);
         }
         Ok(())
+    }
+
+    /// The `[[expected-failure]]` entries, in file order.
+    pub fn expected_failures(&self) -> &[crate::expected::ExpectedFailure] {
+        &self.expected_failures
     }
 
     /// The waivers, in file order.

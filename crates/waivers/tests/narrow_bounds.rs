@@ -280,3 +280,48 @@ fn model_skips_sleep_is_only_for_a_read_of_mod() {
         assert!(e.starts_with("w.toml:") && e.contains("resync") && e.contains("model-skips-sleep needs"), "{e}");
     }
 }
+
+/// A waived read whose expectation failed, followed in the same clocks by
+/// another waived read that an earlier step left in the status window
+/// (tb/conformance tx-8.5.11 on the opencores core: TXERR 0x80 for 0x7F at
+/// bus-off, then the SR read before it decided 40 CAN clocks late). The
+/// expectation is the TXERR read's and is waived by its waiver; before, only
+/// the last waived entry (the SR read) was looked at and it failed.
+#[test]
+fn an_expectation_is_waived_by_its_own_read_even_when_another_waived_read_follows() {
+    const TWO: &str = r#"
+[[waiver]]
+id = "txerr-plus-one"
+kind = "register-read"
+register = "TXERR"
+seen-offset = 1
+dut = ["opencores-can*"]
+explanation = "the core sets TXERR one above the model at bus-off"
+max-hits = 2
+resync = ["none"]
+
+[[waiver]]
+id = "ts-clear"
+kind = "register-read"
+register = "SR"
+bits = [5]
+dut = ["opencores-can*"]
+explanation = "the core shows TS clear in reset mode after bus-off"
+max-hits = 2
+resync = ["none"]
+"#;
+    let txerr = |model: u32, seen: u32| Divergence { register: Some("TXERR".into()), ..sr(model, seen) };
+    let mut s = Session::new(WaiverSet::parse(TWO, "p.toml").unwrap(), dut(), CollectMode::StopAtFirst);
+    let before = s.waived_count();
+    assert!(matches!(s.divergence(txerr(0x7F, 0x80)), Action::Resync(_)));
+    assert!(matches!(s.divergence(sr(0xF4, 0xD4)), Action::Resync(_)));
+    let id = s.waive_expectation(before, 29, "TXERR & 0xFF", 0xFF, 0x7F, 0x80);
+    assert_eq!(id.as_deref(), Some("txerr-plus-one"));
+    // Still caught: a DUT value no waived read returned.
+    assert_eq!(s.waive_expectation(before, 30, "TXERR & 0xFF", 0xFF, 0x7F, 0x81), None);
+    // Still caught: the model misses the expectation too (0x7F is not 0x00).
+    assert_eq!(s.waive_expectation(before, 31, "TXERR & 0xFF", 0xFF, 0x00, 0x80), None);
+    // Still caught: waived reads before `waived_before` do not count.
+    let later = s.waived_count();
+    assert_eq!(s.waive_expectation(later, 32, "TXERR & 0xFF", 0xFF, 0x7F, 0x80), None);
+}

@@ -45,10 +45,17 @@ pub fn export(spec: &str) -> anyhow::Result<PathBuf> {
         None => entry.dir,
     };
     if !out.is_dir() {
-        bail!("{spec}: {} is not a directory of {rev}", sub.unwrap_or("."));
+        return Err(NotInRevision(format!("{spec}: {} is not a directory of {rev}", sub.unwrap_or("."))).into());
     }
     Ok(out)
 }
+
+/// The revision exists but holds no such directory: the revision's
+/// content, not the user's input (`regress` exits 125 on it, so `git
+/// bisect run` skips the revision).
+#[derive(Debug, thiserror::Error)]
+#[error("{0}")]
+pub struct NotInRevision(pub String);
 
 #[cfg(test)]
 mod tests {

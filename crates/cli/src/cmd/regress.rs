@@ -38,9 +38,21 @@ pub struct Args {
     /// Run only shard k of n (e.g. 2/4).
     #[arg(long, value_parser = parse_shard)]
     shard: Option<(usize, usize)>,
-    /// Write JUnit XML here.
+    /// Write JUnit XML here (an expected failure is a skipped testcase
+    /// whose message names its entry).
     #[arg(long)]
     junit: Option<PathBuf>,
+    /// Write the results as JSON here (counts, and per cell its status; an
+    /// expected failure with its entry and verdict).
+    #[arg(long, value_name = "FILE")]
+    json: Option<PathBuf>,
+    /// Run every scenario in collect mode and write, for each run that did
+    /// not pass (or did not fail as its [[expected-failure]] entry
+    /// records), an [[expected-failure]] entry with the signature it showed,
+    /// to paste into a waiver file after filling in deviation, clause and
+    /// reason. Never edits a waiver file.
+    #[arg(long, value_name = "FILE")]
+    record_expected_failures: Option<PathBuf>,
     /// Write a self-contained HTML report (DIR/index.html, files of failed runs in DIR/runs/).
     #[arg(long, value_name = "DIR")]
     html: Option<PathBuf>,
@@ -65,22 +77,66 @@ pub struct Args {
     waivers: super::run::WaiverArgs,
 }
 
-/// Runs the subcommand: exit 0 only when every pair passed.
+/// Why the DUTs could not be set up: the user's input (an `Err` of the
+/// command: exit 2) or the core itself (exit 125, `git bisect run` skips).
+enum SetupError {
+    Input(anyhow::Error),
+    Unbuildable(anyhow::Error),
+}
+
+impl From<anyhow::Error> for SetupError {
+    fn from(e: anyhow::Error) -> Self {
+        SetupError::Input(e)
+    }
+}
+
+impl From<cosim::ProfileError> for SetupError {
+    fn from(e: cosim::ProfileError) -> Self {
+        SetupError::Input(e.into())
+    }
+}
+
+/// Runs the subcommand: exit 0 only when every pair passed; the codes are
+/// `scenario::regress::EXIT_*` (0 passed, 1 failed, 2 bad input, 125 the
+/// core does not build).
 pub fn run(a: Args) -> anyhow::Result<i32> {
+    let duts = match setup_duts(&a) {
+        Ok(d) => d,
+        Err(SetupError::Input(e)) => return Err(e),
+        Err(SetupError::Unbuildable(e)) => {
+            eprintln!("cancosim: the core does not build (exit 125): {e:#}");
+            return Ok(scenario::regress::EXIT_UNBUILDABLE);
+        }
+    };
+    run_on(a, duts)
+}
+
+/// The DUTs of the command line, each external core checked and built.
+fn setup_duts(a: &Args) -> Result<Vec<DutSpec>, SetupError> {
+    let unbuildable = SetupError::Unbuildable;
     let mut duts: Vec<DutSpec> = a
         .duts
         .iter()
         .map(|d| if d == "model" { DutSpec::model() } else { DutSpec::rtl() })
         .collect();
+    // A bad waiver file (or [[expected-failure]] entry) is one error before
+    // any run (exit 2, file:line: key), not an error cell per scenario.
+    waivers::WaiverSet::load_all(&a.waivers.waivers).map_err(|e| SetupError::Input(e.into()))?;
     let common = a.profile.as_deref().map(cosim::Profile::find).transpose()?;
     if a.baseline.is_some() && a.externals.len() != 1 {
-        anyhow::bail!("--baseline compares with exactly one --external (the new revision)");
+        return Err(anyhow::anyhow!("--baseline compares with exactly one --external (the new revision)").into());
     }
     for e in a.baseline.iter().chain(&a.externals) {
         let (name, spec) = e.split_once('=').with_context(|| format!("--external {e}: expected NAME=DIR[@PROFILE]"))?;
         let (dir, own): (String, Option<cosim::Profile>) = if super::gitcore::parse(spec).is_some() {
-            // A git name takes --profile (its @ is the revision's).
-            (super::gitcore::export(spec).with_context(|| format!("--external {e}"))?.display().to_string(), None)
+            // A git name takes --profile (its @ is the revision's). A
+            // revision without the SUBDIR cannot be tested (125); a
+            // revision that does not exist is the user's input (2).
+            match super::gitcore::export(spec) {
+                Ok(d) => (d.display().to_string(), None),
+                Err(x) if x.is::<super::gitcore::NotInRevision>() => return Err(unbuildable(x.context(format!("--external {e}")))),
+                Err(x) => return Err(x.context(format!("--external {e}")).into()),
+            }
         } else {
             match spec.rsplit_once('@') {
                 Some((d, p)) => (d.to_string(), Some(cosim::Profile::find(p).with_context(|| format!("--external {e}"))?)),
@@ -88,11 +144,13 @@ pub fn run(a: Args) -> anyhow::Result<i32> {
             }
         };
         let dir = dir.as_str();
-        // The directory first: a path that holds no core is the first thing to say.
+        // The directory first: a path that holds no core is the first thing
+        // to say. Missing, empty or without the top, the revision's core
+        // cannot be tested (125), as when it does not build.
         let probe = cosim::ExternalCore { dir: dir.into(), top: a.top.clone(), ..Default::default() };
-        probe.check().with_context(|| format!("--external {name}={dir}"))?;
+        probe.check().with_context(|| format!("--external {name}={dir}")).map_err(unbuildable)?;
         let Some(profile) = own.or_else(|| common.clone()) else {
-            anyhow::bail!("--external {e}: {}", cosim::profile::missing_profile_message(std::path::Path::new(dir), &a.top));
+            return Err(anyhow::anyhow!("--external {e}: {}", cosim::profile::missing_profile_message(std::path::Path::new(dir), &a.top)).into());
         };
         println!("{} ({dir}): {}", profile.name, profile.describe());
         println!("  tolerances: {}", profile.tolerances.describe());
@@ -113,6 +171,11 @@ pub fn run(a: Args) -> anyhow::Result<i32> {
         duts.push(DutSpec::rtl());
     }
     check_externals(&duts, a.host.bfm(), a.coverage.is_some())?;
+    Ok(duts)
+}
+
+/// Runs the regression on `duts` (set up and built) and reports it.
+fn run_on(a: Args, duts: Vec<DutSpec>) -> anyhow::Result<i32> {
     let opts = RegressOptions {
         jobs: a.jobs,
         shard: a.shard,
@@ -120,7 +183,8 @@ pub fn run(a: Args) -> anyhow::Result<i32> {
         max_bits: a.max_bits,
         waivers: a.waivers.waivers.clone(),
         dut_revision: a.waivers.dut_revision.clone(),
-        collect: a.waivers.mode(),
+        // Recording judges whole scenarios, as expected failures are judged.
+        collect: if a.record_expected_failures.is_some() { waivers::CollectMode::Collect } else { a.waivers.mode() },
         host: a.host.bfm(),
         coverage_dir: a.coverage.clone(),
     };
@@ -161,6 +225,16 @@ pub fn run(a: Args) -> anyhow::Result<i32> {
         std::fs::write(p, report.to_junit()).with_context(|| format!("writing {}", p.display()))?;
         println!("JUnit: {}", p.display());
     }
+    if let Some(p) = &a.json {
+        std::fs::write(p, report.to_json()).with_context(|| format!("writing {}", p.display()))?;
+        println!("JSON: {}", p.display());
+    }
+    if let Some(p) = &a.record_expected_failures {
+        let text = record_expected_failures(&report);
+        std::fs::write(p, &text).with_context(|| format!("writing {}", p.display()))?;
+        let n = text.lines().filter(|l| *l == "[[expected-failure]]").count();
+        println!("expected-failure entries: {n} written to {} (paste into a waiver file after review; nothing was changed)", p.display());
+    }
     if let Some(dir) = &a.html {
         // The loadable scenarios again, for the detail runs of failed cells.
         let mut scenarios = Vec::new();
@@ -175,6 +249,25 @@ pub fn run(a: Args) -> anyhow::Result<i32> {
         println!("HTML report: {}", page.display());
     }
     Ok(report.exit_code())
+}
+
+/// `--record-expected-failures`: an entry per run that did not pass or did
+/// not fail as its entry records, with the signature it showed (collect mode).
+fn record_expected_failures(report: &scenario::regress::RegressReport) -> String {
+    use scenario::regress::Status;
+    let mut out = String::from(
+        "# [[expected-failure]] entries recorded by `cancosim regress --record-expected-failures`\n\
+         # (collect mode). Review each, fill in what is empty, paste into the waiver file.\n",
+    );
+    for c in &report.cells {
+        let record = matches!(c.status, Status::Diverged(_) | Status::Failed(_) | Status::WrongFailure { .. });
+        if !record || c.signature.is_empty() {
+            continue;
+        }
+        out += &format!("\n# {} on {} through {}: {} line(s)\n", c.scenario, c.dut, c.host, c.signature.len());
+        out += &waivers::expected::to_toml(&c.scenario, &c.waiver_dut, &c.host, &c.signature, c.xfail.as_ref().map(|r| &r.entry));
+    }
+    out
 }
 
 /// `--coverage DIR`: per Verilated DUT, merges its runs' `.dat` files into
@@ -201,17 +294,20 @@ fn code_coverage(dir: &std::path::Path, report: &scenario::regress::RegressRepor
     Ok(())
 }
 
-/// Bad `--external` input fails here, once, before the first scenario (an
-/// error: exit 2), not once per scenario. Building the core here also hands
-/// every worker a warm cache instead of one build per worker (the coverage
-/// build under `--coverage`, the one the runs use).
-fn check_externals(duts: &[DutSpec], host: Option<scenario::HostBfm>, coverage: bool) -> anyhow::Result<()> {
+/// An external core that does not build fails here, once, before the first
+/// scenario (exit 125, so `git bisect run` skips the revision), not once
+/// per scenario. Building the core here also hands every worker a warm
+/// cache instead of one build per worker (the coverage build under
+/// `--coverage`, the one the runs use).
+fn check_externals(duts: &[DutSpec], host: Option<scenario::HostBfm>, coverage: bool) -> Result<(), SetupError> {
     for d in duts {
-        if let Some(mut core) = scenario::run::external_core(d, host).map_err(anyhow::Error::msg)? {
+        // The 8051 shell is generated from the core's own ports.
+        let core = scenario::run::external_core(d, host).map_err(|m| SetupError::Unbuildable(anyhow::anyhow!("--external {}: {m}", d.name)))?;
+        if let Some(mut core) = core {
             core.coverage = coverage;
             let what = || format!("--external {}={}", d.name, core.dir.display());
-            core.check().with_context(what)?;
-            cosim::build_external(&core).with_context(what)?;
+            core.check().with_context(what).map_err(SetupError::Unbuildable)?;
+            cosim::build_external(&core).with_context(what).map_err(SetupError::Unbuildable)?;
         }
     }
     Ok(())

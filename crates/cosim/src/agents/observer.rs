@@ -119,7 +119,9 @@ impl Observer {
         BusContext {
             clock: can_clock,
             frame: self.frame.checked_sub(1).map(u64::from),
-            frame_bit: (self.bitclock.bits() - self.sof_bit) as u32,
+            // Bit-boundary aligned (bitclock::bit_in_progress): a one-bit
+            // fault covers the whole bit for the DUT and the reference.
+            frame_bit: self.bitclock.bit_in_progress().saturating_sub(self.sof_bit) as u32,
             sub: self.bitclock.sub(),
             clocks_per_bit: self.bitclock.clocks_per_bit(),
         }

@@ -170,7 +170,7 @@ impl OldComparator {
                 Some(Latch::Irq) => self.irq_latched = true,
                 Some(Latch::BusOff) => self.bus_latched = true,
                 Some(Latch::Read(key)) => self.listed.add(key),
-                None => {}
+                Some(Latch::Clkout) | None => {}
             }
         }
         self.irq_bad = 0;

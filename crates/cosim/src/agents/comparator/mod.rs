@@ -26,6 +26,7 @@
 
 use std::collections::VecDeque;
 
+pub mod clkout;
 mod pins;
 mod policy;
 mod reads;
@@ -60,6 +61,9 @@ pub struct CompareConfig {
     /// the phase at which a node starts its SOF is its own (needs a
     /// reference that reports its field).
     pub sof_tolerance: u32,
+    /// Check clkout_o's period and enable against the reference's CDR
+    /// (`clkout`).
+    pub compare_clkout: bool,
 }
 
 impl Default for CompareConfig {
@@ -71,6 +75,7 @@ impl Default for CompareConfig {
             compare_irq: true,
             compare_bus_off: true,
             sof_tolerance: 40,
+            compare_clkout: true,
         }
     }
 }
@@ -112,6 +117,8 @@ enum Latch {
     Irq,
     /// bus_off_on, until the pins agree.
     BusOff,
+    /// clkout_o: the CLKOUT check latches itself until the setting changes.
+    Clkout,
 }
 
 /// One distinct difference, as collect mode lists it once.
@@ -178,6 +185,8 @@ pub struct Comparator {
     tx: TxChecker,
     reads: ReadChecker,
     pins: PinChecker,
+    /// clkout_o against the reference's CDR.
+    clkout: clkout::ClkoutCheck,
     /// Reads whose window closed this clock (kept to reuse its buffer).
     expired: Vec<PendingRead>,
     divergence: Option<Divergence>,
@@ -213,6 +222,7 @@ impl Comparator {
             tx: TxChecker::new(&cfg),
             reads: ReadChecker::new(cfg.status_tolerance),
             pins: PinChecker::new(&cfg),
+            clkout: clkout::ClkoutCheck::default(),
             expired: Vec::new(),
             divergence: None,
             found: VecDeque::new(),
@@ -295,7 +305,7 @@ impl Comparator {
                 Some(Latch::Irq) => self.pins.latch_irq(),
                 Some(Latch::BusOff) => self.pins.latch_bus_off(),
                 Some(Latch::Read(key)) => self.listed.add(key),
-                None => {}
+                Some(Latch::Clkout) | None => {}
             }
         }
         self.pins.restart();
@@ -330,6 +340,7 @@ impl Comparator {
         let latch = match kind {
             DivergenceKind::Irq => Some(Latch::Irq),
             DivergenceKind::BusOff => Some(Latch::BusOff),
+            DivergenceKind::Clkout => Some(Latch::Clkout),
             DivergenceKind::RegisterRead => None,
             _ => Some(Latch::Tx(
                 s.frame,
@@ -468,6 +479,25 @@ impl Comparator {
                     lvl(mid.dut_tx)
                 ),
             );
+        }
+    }
+
+    /// One CAN clock of the CLKOUT checker ([`clkout::ClkoutCheck`], after
+    /// [`Comparator::can_clock`] at the same clock, if `compare_clkout`):
+    /// the reference's setting now and the DUT's `clkout_o`.
+    #[inline]
+    pub fn clkout_clock(&mut self, stamp: Stamp, setting: clkout::ClkoutSetting, dut_level: bool) {
+        if self.cfg.compare_clkout
+            && let Some(m) = self.clkout.clock(setting, dut_level)
+        {
+            self.clkout_divergence(stamp, m);
+        }
+    }
+
+    /// A CLKOUT difference found by [`clkout::ClkoutCheck`].
+    pub fn clkout_divergence(&mut self, stamp: Stamp, m: clkout::ClkoutMismatch) {
+        if !self.halted {
+            self.diverge(DivergenceKind::Clkout, stamp, None, m.expected, m.seen, m.what);
         }
     }
 

@@ -70,13 +70,26 @@ impl ComparatorAgent {
         self.comparator.as_ref().map(|c| c.config().describe())
     }
 
-    /// One CAN clock compared (lockstep and not stopped; else nothing):
-    /// true when a divergence waits for [`ComparatorAgent::handle_divergences`].
+    /// One CAN clock compared (lockstep and not stopped; else nothing),
+    /// CLKOUT included (`clkout`: the reference's setting, asked only when
+    /// checked): true when a divergence waits for
+    /// [`ComparatorAgent::handle_divergences`].
     #[inline]
-    pub fn can_clock(&mut self, stamp: impl FnOnce() -> Stamp, sample: bool, v: &RefView, dut: &CanPins) -> bool {
+    pub fn can_clock(
+        &mut self,
+        stamp: impl FnOnce() -> Stamp,
+        sample: bool,
+        v: &RefView,
+        dut: &CanPins,
+        clkout: impl FnOnce() -> super::clkout::ClkoutSetting,
+    ) -> bool {
         match &mut self.comparator {
             Some(c) if !self.stopped => {
-                c.can_clock(stamp(), sample, &v.pins, dut, v.sr, v.ir);
+                let stamp = stamp();
+                c.can_clock(stamp, sample, &v.pins, dut, v.sr, v.ir);
+                if c.config().compare_clkout {
+                    c.clkout_clock(stamp, clkout(), dut.clkout);
+                }
                 c.halted()
             }
             _ => false,
@@ -350,7 +363,7 @@ resync = ["adopt-dut-rec"]
         let mut found = 0;
         for k in 0..n {
             let stamp = || Stamp { t_ps: k, bit: k / 10, field: None, frame: None };
-            if a.can_clock(stamp, k % 10 == 7, &view, &dut) {
+            if a.can_clock(stamp, k % 10 == 7, &view, &dut, || super::super::clkout::ClkoutSetting::Unchecked) {
                 found += 1;
                 a.handle_divergences(NOW, r, true, rec);
             }

@@ -590,6 +590,7 @@ fn same_verdicts_as_the_per_clock_deque_comparator() {
             compare_irq: rnd(4) != 0,
             compare_bus_off: rnd(4) != 0,
             sof_tolerance: sof_tol,
+            compare_clkout: true,
         };
         let mut new = Comparator::new(cfg);
         let mut old = before::OldComparator::new(cfg);
