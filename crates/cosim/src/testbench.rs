@@ -1,6 +1,11 @@
-//! The test bench the scenario runner drives: one DUT, one host BFM, the
-//! CAN bus with golden-model nodes and faults, an optional lockstep
-//! reference, VCD output, and the run record for the diagnoser.
+//! The test bench the scenario runner drives: one DUT and one of each
+//! agent ([`crate::agents`]): the host agent (BFM, monitors, reset), the
+//! bus agent (model nodes, faults, rx wiring), the reference agent (the
+//! lockstep model and the DUT's declared timing), the comparator agent
+//! (checkers, waivers, resync) and the observer (bit clock, decoder, VCD,
+//! run record). `Testbench` builds them, wires them to the DUT and steps
+//! time; a host access (`op`) is the one sequence that runs through three
+//! of them and lives here.
 //!
 //! Order of work at each instant (see [`Kernel::advance`]):
 //! 1. on a CAN rising edge, the bus level is the wired-AND of the DUT's
@@ -14,30 +19,28 @@
 
 use std::path::PathBuf;
 
-use bfm::{
-    AvMasterOut, AvalonMaster, AvalonMasterConfig, AvalonMonitor, AvalonMonitorConfig,
-    AvalonTiming, BfmError, HostMaster, I8051Config, I8051Master, I8051Monitor, I8051MonitorConfig,
-    I8051Out, I8051Polarity, I8051Timing, OpHandle, OpResult, PioMaster, PioTiming, WbMasterOut,
-    WbSlaveOut, WishboneMaster, WishboneMonitor, wiring::Wiring as AvWiring,
-};
-use can_proto::decode::{DecodeEvent, Decoder};
-use can_proto::timing::BusTiming;
-use can_proto::{Field, RECESSIVE};
+use bfm::{BfmError, OpHandle, OpResult};
+use can_proto::RECESSIVE;
 use diagnose::{
-    Access as RecAccess, BusBit, EngineEvent, Expectation, FinalRegs, HostBus, HostOp, RunRecord,
-    RxWiring, Side,
+    Access as RecAccess, Expectation, FinalRegs, HostOp, RunRecord, RxWiring,
 };
-use sja1000::{Bus, BusContext, FaultInjector, Sja1000};
+use sja1000::{Bus, FaultInjector};
 
-use crate::bitclock::BitClock;
+use crate::agents::bus::BusAgent;
+use crate::agents::host::{Again, HostAgent, HostSetup};
+pub use crate::agents::host::{AvalonWiring, HostBfm, i8051_timing_for_rtl};
+pub use crate::agents::bus::NodeConfig;
+use crate::agents::observer::Observer;
+use crate::agents::reference::{DutKind, HostKind, RefTiming, ReferenceAgent};
+pub use crate::agents::reference::ReferenceChoice;
 use crate::bridge::{BridgeError, ExternalCore};
-use crate::compare::{Comparator, CompareConfig, IR_ADDR, SR_ADDR, Stamp};
+use crate::compare::{Comparator, ComparatorAgent, CompareConfig, IR_ADDR, Now, SR_ADDR, Stamp};
 use crate::dut::{AnyDut, CanPins, EchoModel, HostPort, VerilatedDut};
 use crate::kernel::{Kernel, KernelError, Tick};
-use crate::model::{AnyRef, ModelDut, ModelRef};
-use crate::profile::{AccessTiming, PhaseOrigin, PortMap, Profile};
+use crate::model::ModelDut;
+use crate::profile::{PhaseOrigin, PortMap, Profile};
 use crate::wave::{Wave, WaveSample};
-use waivers::{Action, CollectMode, DutInfo, Observed, Resync, Session, WaiverReport, WaiverSet};
+use waivers::{CollectMode, DutInfo, Session, WaiverReport, WaiverSet};
 
 /// Which device is under test.
 #[derive(Clone, Debug)]
@@ -74,97 +77,6 @@ impl std::fmt::Debug for CustomDut {
     fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
         write!(f, "CustomDut({})", self.name)
     }
-}
-
-/// How the Avalon master reaches a Wishbone DUT.
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
-pub enum AvalonWiring {
-    /// The DUT has an Avalon port of its own (`can_avalon`).
-    Native,
-    /// Correct Avalon-to-Wishbone bridge (`waitrequest = !ack`).
-    Bridge,
-    /// The DE2 thesis wiring (seed 000, Tableau 3.2).
-    Seed000,
-}
-
-/// The host bus-functional model.
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
-pub enum HostBfm {
-    /// Wishbone classic master.
-    Wishbone,
-    /// Avalon-MM master.
-    Avalon {
-        /// Transfer timing.
-        timing: AvalonTiming,
-        /// How it reaches the DUT.
-        wiring: AvalonWiring,
-    },
-    /// Nios II bit-banging the Wishbone pins through PIO registers.
-    Pio(PioTiming),
-    /// Intel-mode (8051) multiplexed bus master (pins active high, as on
-    /// `can_top_8051` and the opencores 8051 build); drives a DUT with the
-    /// [`HostPort::I8051`] port list (`DutChoice::Rtl` becomes `can_top_8051`).
-    I8051(I8051Timing),
-}
-
-/// 8051-bus timing for our `can_top_8051` at the given clocks: the default
-/// [`I8051Timing`] with the RD strobe long enough for the wrapper's read
-/// latency (about 15 CAN clocks, see `rtl/can_top_8051.v`; 18 with margin)
-/// and at least 6 CAN clocks of recovery, so that a write, done after WR is
-/// released (about 14 CAN clocks), is over before the next access's RD
-/// (with 4 host cycles at 50/24 MHz a read waits behind the write and
-/// `pelican-error-kinds` diverges: measured).
-pub fn i8051_timing_for_rtl(host_hz: u64, can_hz: u64) -> I8051Timing {
-    // The phases in ns (bfm::I8051AcTiming), in cycles of this host clock.
-    let d = bfm::I8051AcTiming::default().cycles(host_hz);
-    let host_cycles = |can_clocks: u64| (can_clocks * host_hz).div_ceil(can_hz.max(1)) as u32;
-    I8051Timing {
-        rd: d.rd.max(host_cycles(18)),
-        recovery: d.recovery.max(host_cycles(6)),
-        ..d
-    }
-}
-
-/// The reference of a lockstep run.
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
-pub enum ReferenceChoice {
-    /// The golden model.
-    Model,
-    /// The Rust twin of the echo fixture.
-    Echo,
-}
-
-/// When the DUT's CAN-clock side takes a host access, counted from the
-/// host edge that first presents it (the launch edge). The reference takes
-/// the same access at the same CAN clock: the bit timing starts counting
-/// when reset mode is left, so a reference that left it a few CAN clocks
-/// apart from the DUT would place its time quanta (and see short glitches)
-/// differently.
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
-enum RefTiming {
-    /// Unknown: the reference takes the access when the BFM sees the ack.
-    AtAck,
-    /// At the launch edge itself, after any CAN clock at the same instant
-    /// (the golden model as a Wishbone slave, [`ModelDut`]).
-    LaunchEdge,
-    /// After the n-th CAN rising edge strictly after the launch edge: a
-    /// read sees the registers as of `read`, a write lands at `write`, a
-    /// command (CMR) at `command` (rtl/can_wb_cdc.v: a 2-flop synchroniser
-    /// and a registered strobe; can_regs captures read data and writes
-    /// registers at the 4th edge; its command pulses are registered once
-    /// more, but the bit stream processor also acts on a sample point one
-    /// clock after the bit timing finds it, so a TR taken at the 4th edge
-    /// is in time for a sample point at the 5th, as for the model).
-    CanEdges { read: u32, write: u32, command: u32 },
-}
-
-/// A golden-model node on the bus, configured by register writes at start.
-#[derive(Clone, Debug, Default)]
-pub struct NodeConfig {
-    /// Name for reports.
-    pub name: String,
-    /// Register writes applied right after its hardware reset.
-    pub init: Vec<(u8, u8)>,
 }
 
 /// Everything a test bench is built from.
@@ -304,123 +216,25 @@ pub enum TbError {
     Io(#[from] std::io::Error),
 }
 
-enum Master {
-    Wb(WishboneMaster),
-    Av(AvalonMaster, AvalonWiring),
-    Pio(PioMaster),
-    I8051(I8051Master, I8051Monitor),
-}
-
-macro_rules! with_master {
-    ($m:expr, $x:ident => $e:expr) => {
-        match $m {
-            Master::Wb($x) => $e,
-            Master::Av($x, _) => $e,
-            Master::Pio($x) => $e,
-            Master::I8051($x, _) => $e,
-        }
-    };
-}
-
-/// Lets a boxed injector go to `sja1000::Bus::add_fault`.
-#[derive(Debug)]
-struct BoxedFault(Box<dyn FaultInjector>);
-
-impl FaultInjector for BoxedFault {
-    fn apply(&mut self, ctx: &BusContext, node: usize, level: bool) -> bool {
-        self.0.apply(ctx, node, level)
-    }
-    fn needs_clocks(&self) -> bool {
-        self.0.needs_clocks()
-    }
-}
-
-fn rule_id(prefix: &str, r: bfm::Rule) -> String {
-    let dbg = format!("{r:?}");
-    let mut s = String::from(prefix);
-    for (i, c) in dbg.chars().enumerate() {
-        if c.is_ascii_uppercase() {
-            if i > 0 {
-                s.push('_');
-            }
-            s.push(c.to_ascii_lowercase());
-        } else {
-            s.push(c);
-        }
-    }
-    s
-}
-
 /// The test bench.
 pub struct Testbench {
     kernel: Kernel,
     dut: AnyDut,
     dut_name: String,
-    master: Master,
-    host_bus: HostBus,
-    applied_wb: WbMasterOut,
-    applied_av: AvMasterOut,
-    applied_i8051: I8051Out,
-    wb_mon: WishboneMonitor,
-    /// Master pins and slave outputs the Wishbone monitor saw last.
-    wb_mon_seen: Option<(WbMasterOut, WbSlaveOut)>,
+    /// Host BFM, its wiring and monitors, the reset sequence.
+    host: HostAgent,
     /// The DUT's CAN-side pins as of its last eval (read once per tick).
     dut_pins: crate::dut::CanPins,
-    av_mon: Option<AvalonMonitor>,
-    host_cycle: u64,
-    reset_left: u64,
-    reference: Option<AnyRef>,
-    comparator: Option<Comparator>,
-    bitclock: BitClock,
-    decoder: Decoder,
-    field: Option<Field>,
-    frame: u32,
-    bus: Bus,
-    dut_faults: Vec<Box<dyn FaultInjector>>,
-    rx_wiring: RxWiring,
-    tx_on_bus: bool,
-    bus_level: bool,
-    dut_rx: bool,
+    /// The reference model and the DUT's declared timing.
+    reference: ReferenceAgent,
+    /// The checkers and the waiver/resync policy.
+    checks: ComparatorAgent,
+    /// Wired-AND bus, model nodes, faults, the DUT's rx wiring.
+    bus: BusAgent,
     can_clocks: u64,
-    sample_now: bool,
-    /// clkout_o against the reference's CDR (`crate::clkout`).
-    clkout_check: crate::clkout::ClkoutCheck,
-    wave: Option<Wave>,
     tracing: bool,
-    keep_bits: usize,
-    record: RunRecord,
-    events: Vec<diagnose::EventKind>,
-    stopped: bool,
-    /// Time and bit of the last transmission request (CMR.TR / SRR).
-    last_tr: Option<(u64, u64)>,
-    attempts: u32,
-    /// Bit index (bit clock count) of the last SOF.
-    sof_bit: u64,
-    waivers: Session,
-    /// A waiver allowed adopting the DUT's TEC/REC whose value the
-    /// comparator could not see: taken from the next TXERR/RXERR read.
-    adopt_tec_at_read: bool,
-    adopt_rec_at_read: bool,
-    /// A `model-waits-bus-free-after-bus-on` resync holds the model's next
-    /// frame: start it at the DUT's next tx falling edge (its SOF).
-    await_dut_sof: bool,
-    /// The DUT's tx at the last CAN edge, while `await_dut_sof`.
-    await_prev_dut_tx: bool,
-    /// When the reference takes a host access (Wishbone master only).
-    ref_timing: RefTiming,
-    /// CAN edges since the Wishbone request on the wires (`req_wires`)
-    /// appeared: the monitor is told when the DUT has latched it
-    /// (counted only when the profile says when that is).
-    req_edges: u32,
-    req_wires: WbMasterOut,
-    /// The profile's `latch` for the host bus in use, if it gives one.
-    latch_edges: Option<u32>,
-    /// The profile's `busy-after-ack` for the host bus in use: when the
-    /// core can see a new request after an ack.
-    holdoff: Option<crate::holdoff::AckHoldoff>,
-    /// 8051 host: the DUT takes a write when WR is released (our
-    /// `can_top_8051`), not when WR rises (an external core).
-    i8051_write_at_release: bool,
+    /// Bit clock, decoder, VCD, run record, bus log.
+    obs: Observer,
     /// Batches allowed (see [`Testbench::set_batching`]).
     batching: bool,
     /// Buffers of `run_batch` (clock levels in, pins out), kept between calls.
@@ -428,8 +242,6 @@ pub struct Testbench {
     batch_out: Vec<u8>,
     /// Times of a batch's instants.
     batch_times: Vec<u64>,
-    /// Frames on the bus and the DUT's error frames, for `--candump`.
-    bus_log: crate::candump::BusLog,
 }
 
 /// Instants per batch (see `Testbench::run_batch`).
@@ -503,112 +315,25 @@ impl Testbench {
         if let Some(p) = &cfg.dut_trace {
             dut.trace_open(p)?;
         }
-        let (master, host_bus) = match cfg.host {
-            HostBfm::Wishbone => (
-                Master::Wb(WishboneMaster::new("host").with_timeout(cfg.op_timeout_cycles)),
-                HostBus::Wishbone,
-            ),
-            HostBfm::Avalon { timing, wiring } => {
-                let native = dut.host_port() == HostPort::Avalon;
-                if native != (wiring == AvalonWiring::Native) {
-                    return Err(TbError::Config(format!(
-                        "Avalon wiring {wiring:?} does not fit {} (its host port is {:?}); use Native for can_avalon, Bridge or Seed000 for a Wishbone DUT",
-                        dut.name(),
-                        dut.host_port()
-                    )));
-                }
-                let begintransfer = wiring == AvalonWiring::Seed000;
-                let m = AvalonMaster::new(
-                    "host",
-                    AvalonMasterConfig {
-                        timing,
-                        begintransfer,
-                        timeout_cycles: cfg.op_timeout_cycles,
-                    },
-                );
-                (Master::Av(m, wiring), HostBus::Avalon)
-            }
-            HostBfm::Pio(t) => {
-                let mut m = PioMaster::new("host", t);
-                m.set_timeout(cfg.op_timeout_cycles);
-                (Master::Pio(m), HostBus::Pio)
-            }
-            HostBfm::I8051(timing) => {
-                let polarity = I8051Polarity::ACTIVE_HIGH;
-                let m = I8051Master::new(
-                    "host",
-                    I8051Config {
-                        polarity,
-                        timing,
-                        timeout_cycles: cfg.op_timeout_cycles,
-                    },
-                );
-                let mon = I8051Monitor::new(
-                    "8051 monitor",
-                    I8051MonitorConfig::for_timing(polarity, &timing),
-                );
-                (Master::I8051(m, mon), HostBus::I8051)
-            }
-        };
-        if (dut.host_port() == HostPort::I8051) != i8051 {
-            return Err(TbError::Config(format!(
-                "{} has the {:?} port list: drive {} with the 8051 host",
-                dut.name(),
-                dut.host_port(),
-                if i8051 {
-                    "only a DUT with the 8051 port list"
-                } else {
-                    "it only"
-                }
-            )));
-        }
-        if dut.host_port() == HostPort::Avalon && !matches!(master, Master::Av(..)) {
-            return Err(TbError::Config(format!(
-                "{} has an Avalon port: drive it with the Avalon BFM (wiring Native)",
-                dut.name()
-            )));
-        }
-        let av_mon = match &master {
-            Master::Av(m, _) => {
-                let c = m.config();
-                Some(AvalonMonitor::new(
-                    "avalon monitor",
-                    AvalonMonitorConfig {
-                        timing: c.timing,
-                        begintransfer: c.begintransfer,
-                        timeout_cycles: cfg.monitor_ack_timeout,
-                    },
-                ))
-            }
-            _ => None,
-        };
-        let mut bus = Bus::new();
-        bus.set_accounting(false);
-        for n in &cfg.nodes {
-            let mut s = Sja1000::new();
-            for &(a, d) in &n.init {
-                s.write(a, d);
-            }
-            bus.add_node(s);
-        }
-        let n_nodes = cfg.nodes.len();
-        for f in cfg.faults.drain(..) {
-            bus.add_fault(BoxedFault(f));
-        }
-        let dut_faults: Vec<Box<dyn FaultInjector>> = cfg.dut_rx_faults.drain(..).collect();
-        let (reference, comparator) = match cfg.lockstep {
-            None => (None, None),
-            Some((ReferenceChoice::Model, c)) => (
-                Some(AnyRef::Model(ModelRef::with_phase_origin(
-                    profile.as_ref().map_or(PhaseOrigin::ResetModeExit, |p| p.phase_origin),
-                ))),
-                Some(Comparator::new(c)),
-            ),
-            Some((ReferenceChoice::Echo, c)) => (
-                Some(AnyRef::Other(Box::new(EchoModel::new()))),
-                Some(Comparator::new(c)),
-            ),
-        };
+        let host = HostAgent::new(
+            HostSetup {
+                bfm: cfg.host,
+                op_timeout_cycles: cfg.op_timeout_cycles,
+                monitor_ack_timeout: cfg.monitor_ack_timeout,
+                reset_cycles: cfg.reset_cycles,
+                profile: profile.as_ref(),
+                external: matches!(cfg.dut, DutChoice::External(_)),
+            },
+            &dut,
+        )
+        .map_err(TbError::Config)?;
+        let bus = BusAgent::new(
+            &cfg.nodes,
+            cfg.faults.drain(..).collect(),
+            cfg.dut_rx_faults.drain(..).collect(),
+            cfg.rx,
+            cfg.tx_on_bus,
+        );
         let wave = match &cfg.vcd {
             Some(p) => Some(Wave::create(p)?),
             None => None,
@@ -636,7 +361,7 @@ impl Testbench {
             cfg.collect,
         );
         let mut record = RunRecord::new(&cfg.scenario, &dut_name);
-        record.host_bus = host_bus;
+        record.host_bus = host.host_bus();
         record.timing = diagnose::Timing {
             can_clock_hz: cfg.can_hz as f64,
             host_clock_hz: cfg.host_hz as f64,
@@ -658,118 +383,47 @@ impl Testbench {
             self_test: false,
             listen_only: false,
         };
-        let _ = n_nodes;
-        // The seed 000 Avalon wiring (cyc from begintransfer) has no
-        // well-defined launch; the golden model as DUT takes an access at
-        // its launch edge; any other DUT as its profile says, else at the ack.
-        let seed000 = matches!(
-            cfg.host,
-            HostBfm::Avalon {
-                wiring: AvalonWiring::Seed000,
-                ..
-            }
+        // When the reference takes a host access: as the DUT's profile
+        // declares it, or as the bench knows our tops.
+        let dut_kind = match &cfg.dut {
+            DutChoice::Model => DutKind::Model,
+            DutChoice::Rtl => DutKind::Rtl,
+            DutChoice::External(_) => DutKind::External,
+            _ => DutKind::Other,
+        };
+        let host_kind = match cfg.host {
+            HostBfm::Wishbone => HostKind::Wishbone,
+            HostBfm::Avalon { wiring: AvalonWiring::Seed000, .. } => HostKind::AvalonSeed000,
+            HostBfm::Avalon { .. } => HostKind::Avalon,
+            HostBfm::Pio(_) => HostKind::Pio,
+            HostBfm::I8051(_) => HostKind::I8051,
+        };
+        let reference = ReferenceAgent::new(
+            cfg.lockstep.map(|(r, _)| r),
+            profile.as_ref(),
+            RefTiming::for_dut(dut_kind, host_kind, profile.as_ref()),
         );
-        let from_profile = |a: AccessTiming| match a {
-            AccessTiming::AtAck => RefTiming::AtAck,
-            AccessTiming::CanEdges { read, write, command } => {
-                RefTiming::CanEdges { read, write, command }
-            }
-        };
-        let ref_timing = match (&cfg.dut, cfg.host, &profile) {
-            _ if seed000 => RefTiming::AtAck,
-            (DutChoice::Model, ..) => RefTiming::LaunchEdge,
-            // can_top_8051 (rtl/can_top_8051.v), from the host edge that
-            // raises RD or releases WR: 2 sampling flops, the strobe edge
-            // registered, the Wishbone request registered (CAN edge 4),
-            // can_top's own launch at edge 5 (its wb_clk_i is clk_i), then
-            // can_top's 3 (read) or 4 (write, CMR) edges.
-            (DutChoice::Rtl, HostBfm::I8051(_), _) => RefTiming::CanEdges { read: 8, write: 9, command: 9 },
-            // An external 8051 core is taken to act at the first clk_i edge
-            // of the strobe, with the port as it is then (the opencores
-            // 8051 build: rd_i/wr_i registered once, the access on the
-            // rising edge of the strobe, writes included).
-            (DutChoice::External(_), HostBfm::I8051(_), Some(Profile { i8051: Some(a), .. })) => from_profile(*a),
-            (DutChoice::External(_), HostBfm::I8051(_), _) => RefTiming::CanEdges { read: 1, write: 1, command: 1 },
-            (_, HostBfm::Wishbone, Some(p)) => from_profile(p.wishbone),
-            (_, HostBfm::Avalon { .. }, Some(p)) => from_profile(p.avalon),
-            (_, HostBfm::Pio(_), Some(p)) => from_profile(p.pio),
-            _ => RefTiming::AtAck,
-        };
         let mut tb = Testbench {
             kernel,
             dut,
             dut_name,
-            master,
-            host_bus,
-            applied_wb: WbMasterOut::default(),
-            applied_av: AvMasterOut::default(),
-            applied_i8051: I8051Polarity::ACTIVE_HIGH.drive(false, false, false, false),
-            wb_mon: WishboneMonitor::new("wishbone monitor", cfg.monitor_ack_timeout),
-            wb_mon_seen: None,
+            host,
             dut_pins: crate::dut::CanPins::default(),
-            av_mon,
-            host_cycle: 0,
-            reset_left: cfg.reset_cycles.max(1),
             reference,
-            comparator,
-            bitclock: BitClock::new(BusTiming::from_btr(cfg.btr0, cfg.btr1)),
-            decoder: Decoder::new(),
-            field: None,
-            frame: 0,
+            checks: ComparatorAgent::new(cfg.lockstep.map(|(_, c)| c), waivers),
             bus,
-            dut_faults,
-            rx_wiring: cfg.rx,
-            tx_on_bus: cfg.tx_on_bus,
-            bus_level: RECESSIVE,
-            dut_rx: RECESSIVE,
             can_clocks: 0,
-            sample_now: false,
-            clkout_check: crate::clkout::ClkoutCheck::default(),
-            wave,
             tracing: trace,
-            keep_bits: cfg.keep_bits,
-            record,
-            events: Vec::new(),
-            stopped: false,
-            last_tr: None,
-            attempts: 0,
-            sof_bit: 0,
-            waivers,
-            adopt_tec_at_read: false,
-            adopt_rec_at_read: false,
-            await_dut_sof: false,
-            await_prev_dut_tx: true,
-            ref_timing,
-            req_edges: 0,
-            req_wires: WbMasterOut::default(),
-            latch_edges: profile.as_ref().and_then(|p| match cfg.host {
-                HostBfm::Wishbone => p.latch.wishbone,
-                HostBfm::Avalon { .. } => p.latch.avalon,
-                HostBfm::Pio(_) => p.latch.pio,
-                HostBfm::I8051(_) => None,
-            }),
-            holdoff: profile
-                .as_ref()
-                .and_then(|p| match cfg.host {
-                    HostBfm::Wishbone => p.holdoff.wishbone,
-                    HostBfm::Avalon { wiring: AvalonWiring::Bridge, .. } => p.holdoff.avalon,
-                    HostBfm::Pio(_) => p.holdoff.pio,
-                    _ => None,
-                })
-                .map(crate::holdoff::AckHoldoff::new),
-            i8051_write_at_release: !matches!(cfg.dut, DutChoice::External(_)),
+            obs: Observer::new(cfg.btr0, cfg.btr1, record, wave, cfg.keep_bits),
             batching: true,
             batch_levels: Vec::new(),
             batch_out: Vec::new(),
             batch_times: Vec::new(),
-            bus_log: crate::candump::BusLog::new(),
         };
-        tb.dut.set_reset(true);
-        let idle = tb.applied_i8051;
-        tb.dut.set_i8051(&idle);
+        tb.host.hold_reset(&mut tb.dut);
         tb.dut.set_rx(RECESSIVE);
         tb.dut_pins = tb.dut.can();
-        while tb.reset_left > 0 {
+        while tb.host.in_reset() {
             tb.tick();
         }
         Ok(tb)
@@ -787,7 +441,7 @@ impl Testbench {
     /// The run's bus log so far: frames completed on the bus and the error
     /// frames the DUT's Linux driver would raise (see [`crate::candump`]).
     pub fn bus_log(&self) -> &[crate::candump::LogEntry] {
-        self.bus_log.entries()
+        self.obs.bus_log()
     }
 
     /// The DUT's description.
@@ -802,25 +456,25 @@ impl Testbench {
 
     /// The golden-model nodes.
     pub fn bus(&self) -> &Bus {
-        &self.bus
+        self.bus.bus()
     }
 
     /// Mutable access to the model nodes (to queue frames, change config).
     pub fn bus_mut(&mut self) -> &mut Bus {
-        &mut self.bus
+        self.bus.bus_mut()
     }
 
     /// The comparator, if lockstep.
     pub fn comparator(&self) -> Option<&Comparator> {
-        self.comparator.as_ref()
+        self.checks.comparator()
     }
 
     /// The scenario's `received` count of model node `node` missed: waived
     /// only if a waiver hit earlier in this run lists it as a consequence
     /// (`Session::waive_received_consequence`); returns that waiver's id.
     pub fn waive_received_consequence(&mut self, node: &str, want: u32, got: Option<u32>) -> Option<String> {
-        let scenario = self.record.scenario.clone();
-        self.waivers.waive_received_consequence(&scenario, node, want, got)
+        let scenario = self.obs.record.scenario.clone();
+        self.checks.waivers().waive_received_consequence(&scenario, node, want, got)
     }
 
     /// Waived divergences, failures and stale waivers so far. In collect
@@ -828,133 +482,33 @@ impl Testbench {
     /// An `adopt-dut-tec`/`-rec` still waiting for a TXERR/RXERR read is
     /// noted: the model has not taken the DUT's counter yet.
     pub fn waiver_report(&self) -> WaiverReport {
-        let mut r = self.waivers.snapshot();
-        if let Some(c) = &self.comparator {
-            // Collect mode lists each difference once: say what came again.
-            let repeats = c.repeats();
-            if !repeats.is_empty() {
-                r.notes.push(format!(
-                    "{} later occurrence(s) of differences already listed are not listed again: {}",
-                    c.repeated,
-                    repeats.join("; ")
-                ));
-            }
-            if c.cascade > 0 {
-                r.notes.push(format!(
-                    "{} more mismatching sample point(s) in frames whose first tx difference is listed (or counted above) are not listed",
-                    c.cascade
-                ));
-            }
-        }
-        for (pending, reg) in [
-            (self.adopt_tec_at_read, "TXERR"),
-            (self.adopt_rec_at_read, "RXERR"),
-        ] {
-            if pending {
-                r.notes.push(format!(
-                    "resync adopt the DUT's {reg} not applied yet: no {reg} read since the waived divergence"
-                ));
-            }
-        }
-        r
+        self.checks.waiver_report()
     }
 
-    /// Hands each new divergence to the waiver session and applies its
-    /// verdict: resync and go on, go on (collect), or stop.
+    /// Hands each new divergence to the comparator agent's waiver and
+    /// resync policy.
     fn handle_divergences(&mut self) {
-        let (Some(c), Some(r)) = (&mut self.comparator, &mut self.reference) else {
-            return;
+        let now = Now {
+            t_ps: self.kernel.now_ps(),
+            can_hz: self.kernel.can().freq_hz(),
+            clocks_per_bit: self.obs.clocks_per_bit(),
         };
-        // The DUT is seen through its pins and host reads only; the clock
-        // lets a waiver bound how late a pin may be (`late-by`).
-        let can_clock_ps = 1_000_000_000_000 / self.kernel.can().freq_hz().max(1);
-        let mut observed = Observed::timed(
-            self.kernel.now_ps(),
-            can_clock_ps * self.bitclock.clocks_per_bit() as u64,
-            can_clock_ps,
-        );
-        // The model's MOD (PeliCAN: address 0), for `model-mod-bits`.
-        if let Some((diagnose::CanMode::PeliCan, _)) = r.mode() {
-            observed.model_mod = Some(r.peek(0));
-        }
-        while let Some(d) = c.take_divergence() {
-            let bit = d.bit;
-            match self.waivers.divergence_observed(d.clone(), &observed) {
-                Action::Resync(steps) => {
-                    let mut skip_to = None;
-                    for step in steps {
-                        let applied = match step {
-                            Resync::SkipBits(n) => {
-                                skip_to = bit.map(|b| b + n as u64);
-                                true
-                            }
-                            Resync::AdoptTec(Some(v)) => r.adopt_counters(Some(v), None),
-                            Resync::AdoptRec(Some(v)) => r.adopt_counters(None, Some(v)),
-                            Resync::AdoptTec(None) => {
-                                self.adopt_tec_at_read = true;
-                                true
-                            }
-                            Resync::AdoptRec(None) => {
-                                self.adopt_rec_at_read = true;
-                                true
-                            }
-                            Resync::AdoptRegister { addr, value } => r.adopt_register(addr, value),
-                            Resync::ModelSkipsSleep => r.skip_sleep(),
-                            Resync::ModelWaitsBusFreeAfterBusOn => {
-                                let held = r.wait_bus_free_after_bus_on();
-                                if held {
-                                    self.await_dut_sof = true;
-                                    self.await_prev_dut_tx = self.dut_pins.tx;
-                                }
-                                held
-                            }
-                        };
-                        if !applied {
-                            self.waivers.note(format!(
-                                "resync {step:?} could not be applied: {} cannot, it keeps its own state",
-                                r.name()
-                            ));
-                        }
-                    }
-                    c.resume(skip_to, false);
-                }
-                Action::Continue => {
-                    // Collect mode: the difference is listed; the reference
-                    // then takes the DUT's value where it can (storage
-                    // registers, TXERR/RXERR, SR's latched flags), so later
-                    // reads show the next real difference, not this one's
-                    // cascade (issue 19 item 4). Derived registers keep the
-                    // model's value.
-                    if let Some((addr, value)) = c.taken_read() {
-                        r.adopt_register(addr, value);
-                    }
-                    self.record.divergence.get_or_insert(d);
-                    c.resume(None, true);
-                }
-                Action::Stop => {
-                    // The first unwaived one ends the comparison: later ones
-                    // found at the same clock are not handed on.
-                    self.record.divergence = Some(d);
-                    self.stopped = true;
-                    break;
-                }
-            }
-        }
+        self.checks.handle_divergences(now, &mut self.reference, self.dut_pins.tx, &mut self.obs.record);
     }
 
     /// Protocol violations seen so far.
     pub fn violations(&self) -> &[diagnose::Violation] {
-        &self.record.violations
+        &self.obs.record.violations
     }
 
     /// Bits sampled by the bit clock so far.
     pub fn bits(&self) -> u64 {
-        self.bitclock.bits()
+        self.obs.bits()
     }
 
     /// Host cycles so far.
     pub fn host_cycles(&self) -> u64 {
-        self.host_cycle
+        self.host.cycles()
     }
 
     /// CAN clock cycles so far.
@@ -978,53 +532,16 @@ impl Testbench {
         let pins = self
             .dut
             .eval_pins(self.kernel.host().level(), self.kernel.can().level());
-        if let Some(h) = &mut self.holdoff {
-            h.on_tick(&t, self.dut.wb().ack);
-        }
+        self.host.on_tick(&t, &self.dut);
         self.after_eval(t, pins);
     }
 
-    /// At a CAN rising edge, before the DUT's eval: the bus level (wired-AND
-    /// of the DUT's tx and the model nodes, which are clocked with it) and
-    /// the DUT's rx from it; both kept for `can_edge`.
+    /// At a CAN rising edge, before the DUT's eval: the bus level and the
+    /// DUT's rx from it (the bus agent keeps both for `can_edge`).
     #[inline]
     fn can_rise_rx(&mut self) -> bool {
-        let dut_tx = if self.tx_on_bus {
-            self.dut_pins.tx
-        } else {
-            RECESSIVE
-        };
-        let level = if self.bus.is_empty() {
-            dut_tx
-        } else {
-            self.bus.clock_with(dut_tx)
-        };
-        self.bus_level = level;
-        let rx = match self.rx_wiring {
-            RxWiring::Bus => {
-                let mut rx = level;
-                if !self.dut_faults.is_empty() {
-                    let ctx = BusContext {
-                        clock: self.can_clocks,
-                        frame: self.frame.checked_sub(1).map(u64::from),
-                        // Bit-boundary aligned (bitclock::bit_in_progress): a one-bit
-                        // fault covers the whole bit for the DUT and the reference.
-                        frame_bit: self.bitclock.bit_in_progress().saturating_sub(self.sof_bit) as u32,
-                        sub: self.bitclock.sub(),
-                        clocks_per_bit: self.bitclock.clocks_per_bit(),
-                    };
-                    let me = self.bus.len();
-                    for f in &mut self.dut_faults {
-                        rx = f.apply(&ctx, me, rx);
-                    }
-                }
-                rx
-            }
-            RxWiring::TiedRecessive => true,
-            RxWiring::TiedDominant => false,
-        };
-        self.dut_rx = rx;
-        rx
+        let (obs, clock) = (&self.obs, self.can_clocks);
+        self.bus.can_rise(self.dut_pins.tx, || obs.bus_context(clock))
     }
 
     /// The rest of an instant once the DUT was evaluated: its pins `pins`
@@ -1041,7 +558,7 @@ impl Testbench {
         if self.tracing {
             self.dut.trace_dump(t.t_ps);
         }
-        if self.wave.is_some() {
+        if self.obs.waving() {
             self.dump_wave(t.t_ps);
         }
     }
@@ -1055,26 +572,19 @@ impl Testbench {
     fn batch_rx(&self) -> Option<Option<bool>> {
         if !self.batching
             || !matches!(self.dut, AnyDut::Verilated(_))
-            || self.reset_left > 0
+            || self.host.in_reset()
             || self.tracing
-            || self.wave.is_some()
-            || !self.bus.is_empty()
-            || !self.dut_faults.is_empty()
-            || self.await_dut_sof
+            || self.obs.waving()
+            || self.reference.awaiting_dut_sof()
         {
             return None;
         }
         // The master starts nothing and drives idle wires (only `op` queues).
-        match &self.master {
-            Master::Wb(m) if m.in_flight() == 0 && self.applied_wb == WbMasterOut::default() => {}
-            _ => return None,
+        if !self.host.idle() {
+            return None;
         }
-        Some(match self.rx_wiring {
-            RxWiring::Bus if self.tx_on_bus => None,
-            RxWiring::Bus => Some(RECESSIVE),
-            RxWiring::TiedRecessive => Some(true),
-            RxWiring::TiedDominant => Some(false),
-        })
+        // Nothing but the DUT's own tx on the bus (no nodes, no faults).
+        self.bus.loopback_rx()
     }
 
     /// Makes the next instants, up to the one with the `can_rises`-th CAN
@@ -1118,8 +628,7 @@ impl Testbench {
         // for its count (see `host_edge`).
         let s0 = self.dut.wb();
         let quiet_wires = !(s0.ack || s0.err || s0.rty);
-        let mut quiet = quiet_wires && self.wb_mon_seen == Some((self.applied_wb, s0));
-        let tx_on_bus = self.tx_on_bus;
+        let mut quiet = quiet_wires && self.host.monitor_saw(s0);
         // Instants made and replayed: all of them unless a divergence stops the run.
         let mut replayed = made;
         // An instant without a rising edge only changes the pins: `after_eval`
@@ -1138,9 +647,7 @@ impl Testbench {
             if l & 4 != 0 {
                 // `can_rise_rx` without model nodes or faults (see
                 // `batch_rx`), with the DUT's tx of the instant before.
-                let level = if tx_on_bus { prev_tx } else { RECESSIVE };
-                self.bus_level = level;
-                self.dut_rx = rx.unwrap_or(level);
+                self.bus.replay_rise(prev_tx, rx);
             }
             prev_tx = o & 1 != 0;
             if last && let AnyDut::Verilated(d) = &mut self.dut {
@@ -1149,16 +656,16 @@ impl Testbench {
             }
             if l & 8 != 0 {
                 if quiet && !last {
-                    self.host_cycle += 1;
+                    self.host.quiet_edge();
                 } else {
                     self.host_edge();
-                    quiet = quiet_wires && self.wb_mon_seen == Some((self.applied_wb, s0));
+                    quiet = quiet_wires && self.host.monitor_saw(s0);
                 }
             }
             if l & 4 != 0 {
                 self.can_edge(tm[i], VerilatedDut::batch_pins(o, active_high));
             }
-            if self.stopped
+            if self.checks.stopped()
                 && let Err(e) = self.check_stopped()
             {
                 result = Err(e);
@@ -1189,53 +696,15 @@ impl Testbench {
 
     fn dump_wave(&mut self, t_ps: u64) {
         let p = self.dut.can();
-        let (ack, dat_o) = match self.dut.host_port() {
-            HostPort::Wishbone => {
-                let s = self.dut.wb();
-                (s.ack, s.dat)
-            }
-            HostPort::Avalon => {
-                let s = self.dut.av();
-                (self.applied_av.chipselect && !s.waitrequest, s.readdata)
-            }
-            // The port as the DUT drives it; "ack" = it drives.
-            HostPort::I8051 => {
-                let s = self.dut.i8051();
-                (s.ad_oe, s.ad)
-            }
-        };
-        let (cyc, stb, we, adr, dat_i) = match self.dut.host_port() {
-            HostPort::Wishbone => (
-                self.applied_wb.cyc,
-                self.applied_wb.stb,
-                self.applied_wb.we,
-                self.applied_wb.adr,
-                self.applied_wb.dat,
-            ),
-            HostPort::Avalon => {
-                let a = self.applied_av;
-                (
-                    a.chipselect,
-                    a.read || a.write,
-                    a.write,
-                    a.address,
-                    a.writedata,
-                )
-            }
-            // cyc = CS, stb = RD or WR, adr = the port while ALE is high.
-            HostPort::I8051 => {
-                let a = self.applied_i8051;
-                (a.cs, a.rd || a.wr, a.wr, if a.ale { a.ad } else { 0 }, a.ad)
-            }
-        };
-        let (model_tx, model_field) = match &self.reference {
+        let (cyc, stb, we, adr, dat_i, dat_o, ack) = self.host.wave_pins(&self.dut);
+        let (model_tx, model_field) = match &self.reference.model {
             Some(r) => (r.pins().tx, r.field()),
             None => (true, None),
         };
         let s = WaveSample {
             host_clk: self.kernel.host().level(),
             can_clk: self.kernel.can().level(),
-            rst: self.reset_left > 0,
+            rst: self.host.in_reset(),
             cyc,
             stb,
             we,
@@ -1243,232 +712,31 @@ impl Testbench {
             dat_i,
             dat_o,
             ack,
-            rx: self.dut_rx,
+            rx: self.bus.dut_rx(),
             tx: p.tx,
             irq_n: p.irq_n,
             bus_on: p.bus_on,
             clkout: p.clkout,
-            bus: self.bus_level,
+            bus: self.bus.level(),
             model_tx,
-            model_rx: self.dut_rx,
-            sample: self.sample_now && self.kernel.can().level(),
-            field: self.field,
+            model_rx: self.bus.dut_rx(),
+            // The observer's bit clock and decoder fill these in.
+            sample: false,
+            field: None,
             model_field,
         };
-        if let Some(w) = &mut self.wave {
-            let _ = w.dump(t_ps, &s);
-        }
+        self.obs.dump_wave(t_ps, s);
     }
 
+    /// A host rising edge, after the DUT's eval: the host agent steps; the
+    /// reference takes its hardware reset when the DUT's reset ends.
+    #[inline]
     fn host_edge(&mut self) {
-        let cycle = self.host_cycle;
-        self.host_cycle += 1;
-        if self.reset_left > 0 {
-            self.reset_left -= 1;
-            if self.reset_left == 0 {
-                self.dut.set_reset(false);
-                if let Some(r) = &mut self.reference {
-                    r.hard_reset();
-                }
-            }
-            return;
-        }
-        let mut viol: Vec<bfm::Violation> = Vec::new();
-        let mut av_viol: Vec<bfm::Violation> = Vec::new();
-        // Has the DUT latched the request on the wires (its profile says
-        // after how many CAN edges)? A drop after that is no abandonment.
-        let latched = match (self.latch_edges, self.ref_timing) {
-            (Some(n), _) => self.req_edges >= n,
-            (None, RefTiming::CanEdges { read, write, command }) => {
-                let w = self.req_wires;
-                let due = if !w.we { read } else if w.adr == 1 { command } else { write };
-                self.req_edges >= due
-            }
-            _ => false,
-        };
-        self.wb_mon.set_latched(latched);
-        // A new request counts its edges afresh once the wires have let go
-        // (the monitor has now seen that). A request held on after its ack
-        // (a GPIO-polled master that saw the ack late) is still the access
-        // the core latched, not a new one.
-        if !(self.applied_wb.cyc && self.applied_wb.stb) {
-            self.req_edges = 0;
-        }
-        let mut i8051_viol: Vec<bfm::Violation> = Vec::new();
-        match &mut self.master {
-            Master::Wb(m) => {
-                let s = self.dut.wb();
-                let idle_wires =
-                    !(self.applied_wb.cyc || self.applied_wb.stb || s.ack || s.err || s.rty);
-                // The monitor would flag nothing and keep its state when
-                // the same idle wires come again: skip it.
-                if !(idle_wires && self.wb_mon_seen == Some((self.applied_wb, s))) {
-                    viol = self.wb_mon.observe(cycle, &self.applied_wb, &s);
-                    self.wb_mon_seen = Some((self.applied_wb, s));
-                }
-                // Nothing queued or in flight and idle outputs: its edge
-                // would start nothing and drive the same idle outputs.
-                if !(m.in_flight() == 0 && self.applied_wb == WbMasterOut::default()) {
-                    m.on_edge(&s);
-                    self.applied_wb = m.outputs();
-                    self.dut.set_wb(&self.applied_wb);
-                }
-            }
-            Master::Pio(m) => {
-                let s = self.dut.wb();
-                viol = self.wb_mon.observe(cycle, &self.applied_wb, &s);
-                m.on_edge(&s);
-                self.applied_wb = m.outputs();
-                self.dut.set_wb(&self.applied_wb);
-                self.dut.set_reset(m.rst());
-            }
-            Master::I8051(m, mon) => {
-                let s = self.dut.i8051();
-                i8051_viol = mon.observe(cycle, &self.applied_i8051, &s);
-                m.on_edge(&s);
-                self.applied_i8051 = m.outputs();
-                self.dut.set_i8051(&self.applied_i8051);
-            }
-            Master::Av(m, AvalonWiring::Native) => {
-                let s = self.dut.av();
-                if let Some(mon) = &mut self.av_mon {
-                    av_viol = mon.observe(cycle, &self.applied_av, &s);
-                }
-                m.on_edge(&s);
-                self.applied_av = m.outputs();
-                self.dut.set_av(&self.applied_av);
-            }
-            Master::Av(m, w) => {
-                let wiring = if *w == AvalonWiring::Seed000 {
-                    AvWiring::Seed000
-                } else {
-                    AvWiring::Bridge
-                };
-                let s_wb = self.dut.wb();
-                viol = self.wb_mon.observe(cycle, &self.applied_wb, &s_wb);
-                let s = wiring.to_avalon(&s_wb);
-                if let Some(mon) = &mut self.av_mon {
-                    av_viol = mon.observe(cycle, &self.applied_av, &s);
-                }
-                m.on_edge(&s);
-                self.applied_av = m.outputs();
-                self.applied_wb = wiring.to_wishbone(&self.applied_av);
-                self.dut.set_wb(&self.applied_wb);
-            }
-        }
-        if self.applied_wb.cyc && self.applied_wb.stb {
-            self.req_wires = self.applied_wb;
-        }
-        for v in viol {
-            self.record.violations.push(diagnose::Violation {
-                cycle: v.cycle,
-                rule: rule_id("wb.", v.rule),
-                message: v.message,
-            });
-        }
-        for v in av_viol {
-            self.record.violations.push(diagnose::Violation {
-                cycle: v.cycle,
-                rule: rule_id("avalon.", v.rule),
-                message: v.message,
-            });
-        }
-        for v in i8051_viol {
-            self.record.violations.push(diagnose::Violation {
-                cycle: v.cycle,
-                rule: rule_id("i8051.", v.rule),
-                message: v.message,
-            });
-        }
-    }
-
-    /// The sample-point part of [`Testbench::can_edge`]: the decoder and
-    /// the record. Out of line (once per bit), so the per-clock part stays small.
-    #[inline(never)]
-    fn sample_point(
-        &mut self,
-        t_ps: u64,
-        level: bool,
-        bit: u64,
-        pins: CanPins,
-        view: Option<crate::compare::RefView>,
-    ) {
-        for e in self.decoder.push(level) {
-            match e {
-                DecodeEvent::FieldStart { field, .. } => {
-                    self.field = Some(field);
-                    if field == Field::Sof {
-                        self.frame += 1;
-                        self.sof_bit = bit - 1;
-                    }
-                }
-                DecodeEvent::Frame(d) => self.bus_log.frame(t_ps, d.frame),
-                _ => {}
-            }
-        }
-        if !self.stopped {
-            let dut_tx = pins.tx;
-            let (model_tx, mfield) = match &view {
-                Some(v) => (v.pins.tx, v.field),
-                None => (dut_tx, None),
-            };
-            self.record.push_bit(
-                BusBit {
-                    bit,
-                    bus: level,
-                    dut_tx,
-                    model_tx,
-                    dut_rx: self.dut_rx,
-                    field: mfield.or(self.field),
-                    frame: if self.frame > 0 {
-                        Some(self.frame)
-                    } else {
-                        None
-                    },
-                },
-                self.keep_bits,
-            );
-        }
-    }
-
-    /// The reference's engine events of this clock into the record (part of
-    /// [`Testbench::can_edge`], out of line: rare).
-    #[inline(never)]
-    fn reference_events(&mut self, t_ps: u64, bit: u64) {
-        let Some(r) = &mut self.reference else {
-            return;
-        };
-        r.drain_events(&mut self.events);
-        if !self.events.is_empty() {
-            let counters = r.counters();
-            for k in self.events.drain(..) {
-                if matches!(
-                    k,
-                    diagnose::EventKind::TxComplete | diagnose::EventKind::BusError { .. }
-                ) && self.last_tr.is_some()
-                {
-                    self.attempts += 1;
-                    let (tec, _) = counters.unwrap_or((0, 0));
-                    self.record.tec_trace.push(diagnose::TecStep {
-                        node: Side::Model,
-                        attempt: self.attempts,
-                        bit,
-                        tec,
-                        bus_off: tec > 255,
-                    });
-                }
-                self.bus_log.event(t_ps, &k, counters);
-                let mut e = EngineEvent::new(bit, Side::Model, k);
-                if let Some((tec, rec)) = counters {
-                    e.tec = Some(tec);
-                    e.rec = Some(rec);
-                }
-                self.record.events.push(e);
-            }
-            // SR.ES (error warning) for the bus log's state frames: the
-            // reference's journal has no warning event of its own.
-            let es = r.peek(crate::compare::SR_ADDR) & 0x40 != 0;
-            self.bus_log.event(t_ps, &diagnose::EventKind::ErrorWarning(es), counters);
+        let timing = self.reference.declared_timing();
+        if self.host.edge(&mut self.dut, timing, &mut self.obs.record.violations)
+            && let Some(r) = &mut self.reference.model
+        {
+            r.hard_reset();
         }
     }
 
@@ -1476,69 +744,33 @@ impl Testbench {
     /// (`dut_pins`, passed in registers).
     fn can_edge(&mut self, t_ps: u64, pins: CanPins) {
         self.can_clocks += 1;
-        if self.applied_wb.cyc && self.applied_wb.stb {
-            self.req_edges = self.req_edges.saturating_add(1);
-        }
-        let level = self.bus_level;
-        let sample = self.bitclock.clock(level);
-        self.sample_now = sample;
-        if self.await_dut_sof {
-            self.start_held_frame_at_dut_sof(pins.tx);
-        }
-        // Everything read from the reference this clock, in one call.
-        let view = match &mut self.reference {
-            Some(r) => Some(r.step(self.dut_rx)),
-            None => None,
-        };
-        let bit = self.bitclock.bits();
+        self.host.on_can_edge();
+        let level = self.bus.level();
+        let sample = self.obs.clock(level);
+        // A frame held for the DUT's SOF, then everything read from the
+        // reference this clock, in one call.
+        let view = self.reference.can_edge(self.bus.dut_rx(), pins.tx);
+        let bit = self.obs.bits();
         if sample {
-            self.sample_point(t_ps, level, bit, pins, view);
+            self.obs.sample_point(t_ps, level, bit, pins, self.bus.dut_rx(), view, !self.checks.stopped());
         }
-        if view.is_some_and(|v| v.events) {
-            self.reference_events(t_ps, bit);
-        }
-        if let (Some(c), Some(v)) = (&mut self.comparator, &view)
-            && !self.stopped
+        if view.is_some_and(|v| v.events)
+            && let Some(r) = &mut self.reference.model
         {
-            let stamp = Stamp {
-                t_ps,
-                bit,
-                field: v.field.or(self.field),
-                frame: if self.frame > 0 {
-                    Some(self.frame)
-                } else {
-                    None
-                },
-            };
-            c.can_clock(stamp, sample, &v.pins, &pins, v.sr, v.ir);
-            if c.config().compare_clkout
-                && let Some(r) = &self.reference
-                && let Some(m) = self.clkout_check.clock(r.clkout_setting(), pins.clkout)
-            {
-                c.clkout_divergence(stamp, m);
-            }
-            if c.halted() {
+            self.obs.reference_events(t_ps, bit, r);
+        }
+        if let Some(v) = &view {
+            let (obs, r) = (&self.obs, &self.reference.model);
+            let clkout = || r.as_ref().map_or(crate::clkout::ClkoutSetting::Unchecked, |r| r.clkout_setting());
+            if self.checks.can_clock(|| obs.stamp(t_ps, bit, v.field), sample, v, &pins, clkout) {
                 self.handle_divergences();
             }
         }
     }
 
-    /// `model-waits-bus-free-after-bus-on`: at the DUT's first tx falling
-    /// edge after the resync, the model starts the frame it holds (if it
-    /// holds one: its hold is bounded, see the resync) in the same clock.
-    fn start_held_frame_at_dut_sof(&mut self, dut_tx: bool) {
-        if self.await_prev_dut_tx && !dut_tx {
-            self.await_dut_sof = false;
-            if let Some(r) = &mut self.reference {
-                r.start_held_tx_now();
-            }
-        }
-        self.await_prev_dut_tx = dut_tx;
-    }
-
     fn check_stopped(&self) -> Result<(), TbError> {
-        match &self.record.divergence {
-            Some(d) if self.stopped => Err(TbError::Diverged(format!(
+        match &self.obs.record.divergence {
+            Some(d) if self.checks.stopped() => Err(TbError::Diverged(format!(
                 "{:?} at {} ps (bit {:?}, field {:?}): expected {}, saw {}; {}",
                 d.kind, d.time_ps, d.bit, d.field, d.expected, d.seen, d.context
             ))),
@@ -1548,8 +780,8 @@ impl Testbench {
 
     /// Runs `n` host clock cycles.
     pub fn run_host_cycles(&mut self, n: u64) -> Result<(), TbError> {
-        let end = self.host_cycle + n;
-        while self.host_cycle < end {
+        let end = self.host.cycles() + n;
+        while self.host.cycles() < end {
             self.tick();
             self.check_stopped()?;
         }
@@ -1570,12 +802,12 @@ impl Testbench {
 
     /// Runs `n` bit times (sample points of the bit clock).
     pub fn run_bits(&mut self, n: u64) -> Result<(), TbError> {
-        let end = self.bitclock.bits() + n;
-        while self.bitclock.bits() < end {
+        let end = self.obs.bits() + n;
+        while self.obs.bits() < end {
             self.tick();
             self.check_stopped()?;
         }
-        self.record.bits_simulated = self.bitclock.bits();
+        self.obs.record.bits_simulated = self.obs.bits();
         Ok(())
     }
 
@@ -1586,8 +818,8 @@ impl Testbench {
         max_bits: u64,
         mut done: impl FnMut(&Testbench) -> bool,
     ) -> Result<u64, TbError> {
-        let start = self.bitclock.bits();
-        let max_clocks = (max_bits + 1) * self.bitclock.clocks_per_bit() as u64;
+        let start = self.obs.bits();
+        let max_clocks = (max_bits + 1) * self.obs.clocks_per_bit() as u64;
         let end = self.can_clocks + max_clocks;
         while !done(self) {
             if self.can_clocks >= end {
@@ -1599,14 +831,14 @@ impl Testbench {
             self.tick();
             self.check_stopped()?;
         }
-        Ok(self.bitclock.bits() - start)
+        Ok(self.obs.bits() - start)
     }
 
     /// Waits for `irq_on` to go low (interrupt pending). The same instants
     /// as `run_until` with that condition, in batches when it can.
     pub fn wait_irq(&mut self, max_bits: u64) -> Result<u64, TbError> {
-        let start = self.bitclock.bits();
-        let max_clocks = (max_bits + 1) * self.bitclock.clocks_per_bit() as u64;
+        let start = self.obs.bits();
+        let max_clocks = (max_bits + 1) * self.obs.clocks_per_bit() as u64;
         let end = self.can_clocks + max_clocks;
         while self.dut_pins.irq_n {
             if self.can_clocks >= end {
@@ -1620,27 +852,27 @@ impl Testbench {
                 self.check_stopped()?;
             }
         }
-        Ok(self.bitclock.bits() - start)
+        Ok(self.obs.bits() - start)
     }
 
     /// Polls SR through the host BFM until `SR & mask == value`.
     pub fn wait_sr(&mut self, mask: u8, value: u8, max_bits: u64) -> Result<u8, TbError> {
-        let start = self.bitclock.bits();
+        let start = self.obs.bits();
         loop {
             let sr = self.read(SR_ADDR)?;
             if sr & mask == value {
                 return Ok(sr);
             }
-            if self.bitclock.bits() - start > max_bits {
-                if self.record.stuck.is_none() && mask & diagnose::sr::TBS != 0 {
+            if self.obs.bits() - start > max_bits {
+                if self.obs.record.stuck.is_none() && mask & diagnose::sr::TBS != 0 {
                     // A transmission that never completed: the diagnoser's case.
-                    let (requested_ps, requested_bit) = self.last_tr.unwrap_or((0, start));
-                    self.record.stuck = Some(diagnose::StuckTransfer {
+                    let (requested_ps, requested_bit) = self.obs.last_tr.unwrap_or((0, start));
+                    self.obs.record.stuck = Some(diagnose::StuckTransfer {
                         requested_ps,
                         requested_bit,
                         waited_bits: max_bits,
                         sr,
-                        attempts: self.frame,
+                        attempts: self.obs.frame(),
                     });
                 }
                 return Err(TbError::Timeout {
@@ -1657,40 +889,23 @@ impl Testbench {
         let t0 = self.kernel.now_ps();
         let (mode, reset_mode) = self
             .reference
+            .model
             .as_ref()
             .and_then(|r| r.mode())
             .unwrap_or_default();
         let reg = self
             .reference
+            .model
             .as_ref()
             .and_then(|r| r.reg_name(addr, write));
-        let h: OpHandle = with_master!(&mut self.master, m => if write { m.start_write(addr, data) } else { m.start_read(addr) });
-        let bound = with_master!(&mut self.master, m => m.drain_bound()) + 64;
-        let start_cycle = self.host_cycle;
-        let viol_before = self.record.violations.len();
+        let h: OpHandle = self.host.start(write, addr, data);
+        let bound = self.host.op_bound();
+        let start_cycle = self.host.cycles();
+        let viol_before = self.obs.record.violations.len();
         // The reference takes the access when the DUT's CAN side does, if
         // the bench knows when that is (see `RefTiming`); else at the ack.
-        let timing = match &self.reference {
-            Some(_) => self.ref_timing,
-            None => RefTiming::AtAck,
-        };
-        let native_avalon = matches!(self.master, Master::Av(_, AvalonWiring::Native));
-        let due_edges = match timing {
-            RefTiming::CanEdges {
-                read,
-                write: w,
-                command,
-            } => {
-                if !write {
-                    read
-                } else if addr == 1 {
-                    command
-                } else {
-                    w
-                }
-            }
-            _ => 0,
-        };
+        let timing = self.reference.timing();
+        let due_edges = timing.due_edges(write, addr);
         let mut launched = false;
         let mut i8051_wr_seen = false;
         let mut acks_seen = 0u32;
@@ -1703,36 +918,34 @@ impl Testbench {
         // new one (Wishbone: stb held after ack is the next transfer), and
         // performs the access again: a GPIO-polled master that misses the
         // one-clock ack does that. The reference performs it as often.
-        let mut again = (!native_avalon && !matches!(self.master, Master::I8051(..)) && self.holdoff.is_some())
+        let mut again = (!self.host.native_avalon() && !self.host.is_i8051() && self.host.has_holdoff())
             .then_some(Again::default());
         let res = loop {
-            if let Some(r) = with_master!(&mut self.master, m => m.poll(h)) {
+            if let Some(r) = self.host.poll(h) {
                 break r;
             }
-            if self.host_cycle - start_cycle > bound {
+            if self.host.cycles() - start_cycle > bound {
                 break Err(BfmError::Stalled {
-                    cycles: self.host_cycle - start_cycle,
+                    cycles: self.host.cycles() - start_cycle,
                 });
             }
-            let c = self.host_cycle;
-            while self.host_cycle == c {
+            let c = self.host.cycles();
+            while self.host.cycles() == c {
                 if let (Some(a), Some(_)) = (&mut again, &taken)
                     && timing != RefTiming::AtAck
                 {
-                    let presented = self.applied_wb.cyc && self.applied_wb.stb;
-                    let (cc, ready_before) = (self.can_clocks, self.holdoff.as_ref().is_none_or(|h| h.ready()));
+                    let presented = self.host.wb_presented();
+                    let (cc, ready_before) = (self.can_clocks, self.host.ready());
                     self.tick();
-                    let ready_now = self.holdoff.as_ref().is_none_or(|h| h.ready());
+                    let ready_now = self.host.ready();
                     if a.observe(presented, ready_before, ready_now, self.can_clocks != cc, due_edges)
-                        && let Some(refm) = &mut self.reference
+                        && let Some(refm) = &mut self.reference.model
                     {
                         repeats += 1;
                         taken = Some(if write {
                             (refm.write(addr, data), 0)
                         } else {
-                            if let Some(c) = &mut self.comparator {
-                                c.reference_read_taken();
-                            }
+                            self.checks.reference_read_taken();
                             (None, refm.read(addr))
                         });
                     }
@@ -1742,67 +955,47 @@ impl Testbench {
                     self.tick();
                     continue;
                 }
-                let presented = if native_avalon {
-                    self.applied_av.chipselect && (self.applied_av.read || self.applied_av.write)
-                } else {
-                    self.applied_wb.cyc && self.applied_wb.stb
-                };
+                let presented = self.host.presented();
                 let cc = self.can_clocks;
                 // A CAN edge counts for the access only if the core could
                 // see the request at it (its hold-off after the last ack).
-                let ready_before = self.holdoff.as_ref().is_none_or(|h| h.ready());
+                let ready_before = self.host.ready();
                 self.tick();
                 if launched {
                     can_edges += (self.can_clocks != cc && ready_before) as u32;
-                } else if let Master::I8051(m, _) = &self.master {
+                } else if self.host.is_i8051() {
                     // No host clock in the DUT: it sees the pins from the
                     // host edge that sets them. A read launches there with
-                    // RD, a write with the release of WR.
-                    let (p, w) = (m.config().polarity, &self.applied_i8051);
-                    let (rd, wr) = (p.cs(w) && p.rd(w), p.cs(w) && p.wr(w));
-                    i8051_wr_seen |= wr;
-                    let write_launch = if self.i8051_write_at_release {
-                        i8051_wr_seen && !wr
-                    } else {
-                        wr
-                    };
-                    launched = self.host_cycle != c && if write { write_launch } else { rd };
+                    // RD, a write with the release of WR (or its rise).
+                    let launch = self.host.i8051_launch(write, &mut i8051_wr_seen);
+                    launched = self.host.cycles() != c && launch;
                 } else {
                     // The first host edge at which the DUT sees cyc & stb.
-                    launched = self.host_cycle != c && presented;
+                    launched = self.host.cycles() != c && presented;
                 }
-                let ready_now = self.holdoff.as_ref().is_none_or(|h| h.ready());
+                let ready_now = self.host.ready();
                 if launched && can_edges >= due_edges && (due_edges > 0 || ready_now) {
-                    if let Some(refm) = &mut self.reference {
+                    if let Some(refm) = &mut self.reference.model {
                         taken = Some(if write {
                             (refm.write(addr, data), 0)
                         } else {
-                            if let Some(c) = &mut self.comparator {
-                                c.reference_read_taken();
-                            }
+                            self.checks.reference_read_taken();
                             (None, refm.read(addr))
                         });
                     }
                 }
             }
             // For the diagnosis of a failed access: did the DUT answer at all?
-            let answered = if native_avalon {
-                self.applied_av.chipselect && !self.dut.av().waitrequest
-            } else if matches!(self.master, Master::I8051(..)) {
-                // No acknowledge on this bus: the DUT answered if it drove the port.
-                self.dut.i8051().ad_oe
-            } else {
-                self.dut.wb().ack
-            };
+            let answered = self.host.answered(&self.dut);
             acks_seen += answered as u32;
         };
         // The master let go while the core was already taking the access
         // once more (its profile's `latch`): performed all the same.
-        let committed = self.latch_edges.unwrap_or(due_edges).max(1);
+        let committed = self.host.latch_edges().unwrap_or(due_edges).max(1);
         if let Some(a) = &again
             && taken.is_some()
             && a.committed(committed)
-            && let Some(refm) = &mut self.reference
+            && let Some(refm) = &mut self.reference.model
         {
             repeats += 1;
             if write {
@@ -1813,7 +1006,7 @@ impl Testbench {
         }
         let mut rec = HostOp {
             time_ps: t0,
-            bfm: self.host_bus,
+            bfm: self.host.host_bus(),
             access: if write {
                 RecAccess::Write
             } else {
@@ -1834,11 +1027,11 @@ impl Testbench {
                 rec.data = r.data;
                 let stamp = Stamp {
                     t_ps: self.kernel.now_ps(),
-                    bit: self.bitclock.bits(),
-                    field: self.field,
+                    bit: self.obs.bits(),
+                    field: self.obs.field(),
                     frame: None,
                 };
-                if let Some(refm) = &mut self.reference {
+                if let Some(refm) = &mut self.reference.model {
                     if write {
                         rec.outcome = match taken {
                             Some((o, _)) => o,
@@ -1846,67 +1039,34 @@ impl Testbench {
                         };
                     } else {
                         // A pending adopt-dut-tec/-rec takes the DUT's counter here.
-                        let (tried, adopt) = match reg.as_deref() {
-                            Some("TXERR") if self.adopt_tec_at_read => {
-                                self.adopt_tec_at_read = false;
-                                (true, refm.adopt_counters(Some(r.data), None))
-                            }
-                            Some("RXERR") if self.adopt_rec_at_read => {
-                                self.adopt_rec_at_read = false;
-                                (true, refm.adopt_counters(None, Some(r.data)))
-                            }
-                            _ => (false, false),
-                        };
-                        if tried && !adopt {
-                            // Never hidden: the waiver asked for it, the reference could not.
-                            self.waivers.note(format!(
-                                "{} cannot adopt the DUT's {} = {} read at {} ps: it keeps its own counter",
-                                refm.name(),
-                                reg.as_deref().unwrap_or("counter"),
-                                r.data,
-                                stamp.t_ps
-                            ));
-                        }
+                        let adopt = self.checks.adopt_at_read(reg.as_deref(), r.data, refm, stamp.t_ps);
                         let mv = match taken {
                             _ if adopt => r.data,
                             Some((_, v)) => v,
                             None => refm.read(addr),
                         };
                         rec.model_data = Some(mv);
-                        if let Some(c) = &mut self.comparator
-                            && !self.stopped
-                        {
-                            c.read(stamp, addr, r.data, mv, reg.clone());
-                            if c.halted() {
-                                self.handle_divergences();
-                            }
+                        if self.checks.read(stamp, addr, r.data, mv, reg.clone()) {
+                            self.handle_divergences();
                         }
                     }
                 }
                 if write && addr == 1 && data & 0x11 != 0 {
                     // CMR.TR (bit 0) or CMR.SRR (bit 4) in both views.
-                    self.last_tr = Some((t0, self.bitclock.bits()));
+                    self.obs.last_tr = Some((t0, self.obs.bits()));
                 }
                 if write
                     && (addr == 6 || addr == 7)
                     && rec.outcome.as_ref().is_none_or(|o| !o.is_ignored())
                 {
-                    let (mut b0, mut b1) = (self.record.timing.btr0, self.record.timing.btr1);
-                    if addr == 6 {
-                        b0 = data
-                    } else {
-                        b1 = data
-                    }
-                    self.record.timing.btr0 = b0;
-                    self.record.timing.btr1 = b1;
-                    self.bitclock.set_timing(BusTiming::from_btr(b0, b1));
+                    self.obs.set_btr(addr, data);
                 }
-                self.record.host_ops.push(rec);
+                self.obs.record.host_ops.push(rec);
                 self.check_stopped()?;
                 Ok(r)
             }
             Err(e) => {
-                let monitor: Vec<String> = self.record.violations[viol_before..]
+                let monitor: Vec<String> = self.obs.record.violations[viol_before..]
                     .iter()
                     .map(|v| format!("cycle {}: {} ({})", v.cycle, v.message, v.rule))
                     .collect();
@@ -1916,14 +1076,14 @@ impl Testbench {
                     format!("; the protocol monitor saw: {}", monitor.join("; "))
                 };
                 rec.error = Some(e.to_string());
-                self.record.host_ops.push(rec);
+                self.obs.record.host_ops.push(rec);
                 let err = TbError::Host {
                     op: if write { "write" } else { "read" },
                     addr,
                     error: e,
                     monitor,
                 };
-                self.record.error = Some(err.to_string());
+                self.obs.record.error = Some(err.to_string());
                 Err(err)
             }
         }
@@ -1948,7 +1108,7 @@ impl Testbench {
         mask: u8,
         expected: u8,
     ) -> Result<bool, TbError> {
-        let waived_before = self.waivers.waived_count();
+        let waived_before = self.checks.waivers().waived_count();
         let v = self.read(addr)?;
         let mut passed = v & mask == expected & mask;
         let mut seen = format!("0x{:02X}", v & mask);
@@ -1956,8 +1116,8 @@ impl Testbench {
         // look-ahead window: decide it first (host idle for those CAN
         // clocks), so a waived divergence of this very read is known here.
         // Only on a miss: a met expectation changes no timing.
-        if !passed && !self.stopped {
-            let n = self.comparator.as_ref().map_or(0, |c| c.open_read_clocks());
+        if !passed {
+            let n = self.checks.open_read_clocks();
             if n > 0 {
                 self.run_can_cycles(n as u64)?;
             }
@@ -1965,43 +1125,15 @@ impl Testbench {
         // A miss the comparator let through only by its status tolerance,
         // where the model's value meets the expectation, is a difference
         // after all (see `Comparator::hold_tolerated_read`).
-        if !passed
-            && !self.stopped
-            && let Some(c) = &mut self.comparator
-            && c.hold_tolerated_read(addr, v, mask, expected)
-        {
+        if !passed && self.checks.hold_tolerated_read(addr, v, mask, expected) {
             self.handle_divergences();
         }
-        // A miss that is the read's own waived deviation (the model's value
-        // meets the expectation) is waived, and listed in the waiver report.
+        // A miss that is a waived deviation of this read, or a listed
+        // consequence of one waived earlier.
         if !passed
-            && let Some(id) = self.waivers.waive_expectation(waived_before, step, what, mask, expected, v)
-        {
-            passed = true;
-            seen.push_str(&format!(" (waived by {id})"));
-        }
-        // A miss on a read the model agrees with (no read diverged) may be a
-        // listed consequence of a deviation waived earlier in this run.
-        // Waived tx or pin divergences during the read do not count: a slow
-        // bus's read (the 8051's, about a bit time) overlaps them.
-        let read_waived = self.waivers.report().waived[waived_before..]
-            .iter()
-            .any(|w| w.divergence.kind == diagnose::DivergenceKind::RegisterRead);
-        if !passed
-            && !read_waived
-            && let Some(id) =
-                self.waivers.waive_consequence(&self.record.scenario, step, what, mask, expected, v)
-        {
-            passed = true;
-            seen.push_str(&format!(" (waived: a consequence of {id})"));
-        }
-        // A miss on a read that diverged (waived) where the model misses too:
-        // a listed consequence of a deviation waived before this read.
-        if !passed
-            && read_waived
-            && let Some(id) = self.waivers.waive_consequence_on_waived_read(
+            && let Some(why) = self.checks.waive_missed_expectation(
                 waived_before,
-                &self.record.scenario,
+                &self.obs.record.scenario,
                 step,
                 what,
                 mask,
@@ -2010,9 +1142,9 @@ impl Testbench {
             )
         {
             passed = true;
-            seen.push_str(&format!(" (waived: a consequence of {id})"));
+            seen.push_str(&why);
         }
-        self.record.expectations.push(Expectation {
+        self.obs.record.expectations.push(Expectation {
             step,
             what: what.into(),
             expected: format!("0x{:02X} (mask 0x{mask:02X})", expected & mask),
@@ -2030,14 +1162,14 @@ impl Testbench {
     pub fn record(&mut self) -> RunRecord {
         if let Err(e) = self.settle()
             && !matches!(e, TbError::Diverged(_))
-            && self.record.error.is_none()
+            && self.obs.record.error.is_none()
         {
-            self.record.error = Some(e.to_string());
+            self.obs.record.error = Some(e.to_string());
         }
-        let mut r = self.record.clone();
-        r.bits_simulated = self.bitclock.bits();
+        let mut r = self.obs.record.clone();
+        r.bits_simulated = self.obs.bits();
         r.dut = self.dut_name.clone();
-        if let Some(refm) = &self.reference {
+        if let Some(refm) = &self.reference.model {
             let (tec, rec) = refm.counters().unwrap_or((0, 0));
             r.final_model = Some(FinalRegs {
                 sr: refm.peek(SR_ADDR),
@@ -2052,9 +1184,7 @@ impl Testbench {
                 r.mode = mode;
             }
         }
-        if let Some(w) = &mut self.wave {
-            let _ = w.flush();
-        }
+        let _ = self.obs.flush();
         r
     }
 
@@ -2066,6 +1196,7 @@ impl Testbench {
     pub fn capture_final(&mut self) -> Result<FinalRegs, TbError> {
         let peli = self
             .reference
+            .model
             .as_ref()
             .and_then(|r| r.mode())
             .map(|(m, _)| m == diagnose::CanMode::PeliCan)
@@ -2085,14 +1216,14 @@ impl Testbench {
             }
         }
         if peli {
-            self.record.final_dut = Some(f);
+            self.obs.record.final_dut = Some(f);
         }
         Ok(f)
     }
 
     /// The comparator's tolerances in words (for reports), if lockstep.
     pub fn tolerances(&self) -> Option<String> {
-        self.comparator.as_ref().map(|c| c.config().describe())
+        self.checks.tolerances()
     }
 
     /// Runs the CAN clocks (host idle) that decide the comparisons still
@@ -2102,107 +1233,17 @@ impl Testbench {
     /// [`Testbench::record`]; a no-op when nothing is open or the
     /// comparison has stopped.
     pub fn settle(&mut self) -> Result<(), TbError> {
-        if self.stopped {
-            return Ok(());
-        }
-        let n = self.comparator.as_ref().map_or(0, |c| c.open_clocks());
+        let n = self.checks.open_clocks();
         if n > 0 {
             self.run_can_cycles(n as u64)?;
-            self.record.bits_simulated = self.bitclock.bits();
+            self.obs.record.bits_simulated = self.obs.bits();
         }
         Ok(())
     }
 
     /// Flushes the VCD files.
     pub fn flush(&mut self) -> Result<(), TbError> {
-        if let Some(w) = &mut self.wave {
-            w.flush()?;
-        }
+        self.obs.flush()?;
         Ok(())
-    }
-}
-
-/// A request held past the core's ack (see `busy-after-ack`): the core sees
-/// it again once its handshake is idle, and takes it after as many CAN
-/// edges as a new one.
-#[derive(Clone, Copy, Debug, Default)]
-struct Again {
-    /// The core acknowledged the access last taken (its hold-off started).
-    acked: bool,
-    /// CAN edges since then at which the core could see the request.
-    edges: u32,
-}
-
-impl Again {
-    /// One instant of a held request: whether the core takes it again now.
-    fn observe(&mut self, presented: bool, ready_before: bool, ready_now: bool, can_edge: bool, due: u32) -> bool {
-        if !ready_before || !ready_now {
-            // Busy with the last access: its ack came, the hold-off runs.
-            self.acked = true;
-            self.edges = 0;
-            return false;
-        }
-        if !self.acked {
-            return false;
-        }
-        if !presented {
-            self.edges = 0;
-            return false;
-        }
-        self.edges += can_edge as u32;
-        if self.edges >= due && (due > 0 || can_edge) {
-            *self = Again::default();
-            return true;
-        }
-        false
-    }
-
-    /// The core has seen the held request at `latch` CAN edges: it is
-    /// committed to performing it.
-    fn committed(&self, latch: u32) -> bool {
-        self.acked && self.edges >= latch
-    }
-}
-
-#[cfg(test)]
-mod again_tests {
-    use super::Again;
-
-    /// (presented, ready_before, ready_now, can_edge) per instant.
-    fn run(a: &mut Again, steps: &[(bool, bool, bool, bool)], due: u32) -> Vec<usize> {
-        steps.iter().enumerate().filter(|(_, s)| a.observe(s.0, s.1, s.2, s.3, due)).map(|(i, _)| i).collect()
-    }
-
-    #[test]
-    fn a_request_held_past_the_hold_off_is_taken_again_after_due_edges() {
-        // Held throughout: busy (hold-off) for 2 instants, then ready; the
-        // 3rd CAN edge after that takes it again.
-        let held = [
-            (true, true, true, true),   // before the ack: nothing
-            (true, true, false, false), // the ack: hold-off starts
-            (true, false, true, true),  // hold-off ends
-            (true, true, true, true),
-            (true, true, true, false),
-            (true, true, true, true),
-            (true, true, true, true),
-        ];
-        assert_eq!(run(&mut Again::default(), &held, 3), vec![6]);
-        // A command (due 0): at the first CAN edge the core can see it.
-        assert_eq!(run(&mut Again::default(), &held, 0), vec![3]);
-        // Released during the hold-off (a Wishbone master): never again.
-        let released = [
-            (true, true, false, false),
-            (false, false, true, true),
-            (false, true, true, true),
-            (false, true, true, true),
-            (false, true, true, true),
-        ];
-        let mut a = Again::default();
-        assert!(run(&mut a, &released, 3).is_empty());
-        assert!(!a.committed(1));
-        // Dropped after the core saw it at one edge: committed (latch 1).
-        let mut a = Again::default();
-        assert!(run(&mut a, &held[..4], 3).is_empty());
-        assert!(a.committed(1) && !a.committed(2));
     }
 }

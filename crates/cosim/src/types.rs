@@ -1,5 +1,6 @@
 //! The types both sides of the comparison use: the DUT's CAN-side pins
-//! (`dut` produces them, `compare` checks them) and the [`Reference`] a DUT
+//! (`dut` produces them, `compare` checks them), the [`Stamp`] of a
+//! comparison (the observer makes it) and the [`Reference`] a DUT
 //! is compared with (`model` and `dut` implement it, `compare` and
 //! `testbench` drive it). Here so that neither `dut` nor `compare` imports
 //! the other.
@@ -18,6 +19,20 @@ pub struct CanPins {
     pub bus_on: bool,
     /// `clkout_o`.
     pub clkout: bool,
+}
+
+/// Where in the run something is compared or recorded (the observer
+/// stamps, the comparator reports with it).
+#[derive(Clone, Copy, Debug, Default)]
+pub struct Stamp {
+    /// Time, ps.
+    pub t_ps: u64,
+    /// Bit index.
+    pub bit: u64,
+    /// Field (reference's, else decoder's).
+    pub field: Option<Field>,
+    /// Frame number.
+    pub frame: Option<u32>,
 }
 
 /// SR address (both register views).

@@ -1,0 +1,188 @@
+//! The bus agent: the CAN bus the DUT sits on. The wired-AND of the DUT's
+//! `tx_o` and the golden-model nodes (`sja1000::Bus`, clocked with it), the
+//! faults on what those nodes receive (inside that bus) and on what the DUT
+//! receives, and how the DUT's `rx_i` is wired (bus, tied recessive, tied
+//! dominant).
+
+use can_proto::RECESSIVE;
+use diagnose::RxWiring;
+use sja1000::{Bus, BusContext, FaultInjector, Sja1000};
+
+/// A golden-model node on the bus, configured by register writes at start.
+#[derive(Clone, Debug, Default)]
+pub struct NodeConfig {
+    /// Name for reports.
+    pub name: String,
+    /// Register writes applied right after its hardware reset.
+    pub init: Vec<(u8, u8)>,
+}
+
+/// The bus, its model nodes and faults, and the DUT's rx wiring.
+pub struct BusAgent {
+    bus: Bus,
+    /// Faults on what the DUT receives (it is node `bus.len()` to them).
+    dut_faults: Vec<Box<dyn FaultInjector>>,
+    rx_wiring: RxWiring,
+    /// The DUT's `tx_o` drives the bus.
+    tx_on_bus: bool,
+    /// The bus level at the last CAN edge.
+    level: bool,
+    /// The DUT's `rx_i` from the last CAN edge.
+    dut_rx: bool,
+}
+
+impl BusAgent {
+    /// A bus with `nodes` (each reset, then its `init` writes), `faults` on
+    /// what the nodes receive, `dut_faults` on what the DUT receives.
+    pub fn new(
+        nodes: &[NodeConfig],
+        faults: Vec<Box<dyn FaultInjector>>,
+        dut_faults: Vec<Box<dyn FaultInjector>>,
+        rx_wiring: RxWiring,
+        tx_on_bus: bool,
+    ) -> BusAgent {
+        let mut bus = Bus::new();
+        bus.set_accounting(false);
+        for n in nodes {
+            let mut s = Sja1000::new();
+            for &(a, d) in &n.init {
+                s.write(a, d);
+            }
+            bus.add_node(s);
+        }
+        for f in faults {
+            bus.add_fault_boxed(f);
+        }
+        BusAgent { bus, dut_faults, rx_wiring, tx_on_bus, level: RECESSIVE, dut_rx: RECESSIVE }
+    }
+
+    /// The model nodes.
+    pub fn bus(&self) -> &Bus {
+        &self.bus
+    }
+
+    /// The model nodes, to queue frames or change their configuration.
+    pub fn bus_mut(&mut self) -> &mut Bus {
+        &mut self.bus
+    }
+
+    /// The bus level at the last CAN edge.
+    #[inline]
+    pub fn level(&self) -> bool {
+        self.level
+    }
+
+    /// The DUT's rx from the last CAN edge.
+    #[inline]
+    pub fn dut_rx(&self) -> bool {
+        self.dut_rx
+    }
+
+    /// A CAN rising edge, before the DUT's eval: the bus level (wired-AND of
+    /// the DUT's tx, if on the bus, and the model nodes, which are clocked
+    /// with it) and the DUT's rx from it, through its faults, whose context
+    /// `ctx` gives (asked only when there are some). Both are kept.
+    #[inline]
+    pub fn can_rise(&mut self, dut_tx: bool, ctx: impl FnOnce() -> BusContext) -> bool {
+        let dut_tx = if self.tx_on_bus { dut_tx } else { RECESSIVE };
+        let level = if self.bus.is_empty() { dut_tx } else { self.bus.clock_with(dut_tx) };
+        self.level = level;
+        let rx = match self.rx_wiring {
+            RxWiring::Bus => {
+                let mut rx = level;
+                if !self.dut_faults.is_empty() {
+                    let ctx = ctx();
+                    let me = self.bus.len();
+                    for f in &mut self.dut_faults {
+                        rx = f.apply(&ctx, me, rx);
+                    }
+                }
+                rx
+            }
+            RxWiring::TiedRecessive => true,
+            RxWiring::TiedDominant => false,
+        };
+        self.dut_rx = rx;
+        rx
+    }
+
+    /// How the DUT's rx is driven if nothing but its own tx drives the bus
+    /// (no model nodes, no faults): `Some(None)` its own tx, looped back;
+    /// `Some(Some(level))` tied; `None` when nodes or faults are there.
+    pub fn loopback_rx(&self) -> Option<Option<bool>> {
+        if !self.bus.is_empty() || !self.dut_faults.is_empty() {
+            return None;
+        }
+        Some(match self.rx_wiring {
+            RxWiring::Bus if self.tx_on_bus => None,
+            RxWiring::Bus => Some(RECESSIVE),
+            RxWiring::TiedRecessive => Some(true),
+            RxWiring::TiedDominant => Some(false),
+        })
+    }
+
+    /// [`BusAgent::can_rise`] for an instant replayed from a batch (see
+    /// [`BusAgent::loopback_rx`]): the DUT's tx of the instant before,
+    /// the rx the batch drove.
+    #[inline]
+    pub fn replay_rise(&mut self, prev_tx: bool, rx: Option<bool>) {
+        let level = if self.tx_on_bus { prev_tx } else { RECESSIVE };
+        self.level = level;
+        self.dut_rx = rx.unwrap_or(level);
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use can_proto::DOMINANT;
+    use sja1000::{StuckAt, Target};
+
+    fn ctx() -> BusContext {
+        BusContext { clock: 0, frame: None, frame_bit: 0, sub: 0, clocks_per_bit: 10 }
+    }
+
+    #[test]
+    fn without_nodes_the_bus_is_the_dut_tx_and_rx_follows_the_wiring() {
+        let mut b = BusAgent::new(&[], Vec::new(), Vec::new(), RxWiring::Bus, true);
+        assert_eq!(b.can_rise(DOMINANT, ctx), DOMINANT);
+        assert_eq!((b.level(), b.dut_rx()), (DOMINANT, DOMINANT));
+        assert_eq!(b.loopback_rx(), Some(None), "its own tx looped back");
+        // tx not on the bus: the bus stays recessive.
+        let mut b = BusAgent::new(&[], Vec::new(), Vec::new(), RxWiring::Bus, false);
+        assert_eq!(b.can_rise(DOMINANT, ctx), RECESSIVE);
+        assert_eq!(b.loopback_rx(), Some(Some(RECESSIVE)));
+        // Tied rx: the bus level is still the DUT's tx.
+        let mut b = BusAgent::new(&[], Vec::new(), Vec::new(), RxWiring::TiedDominant, true);
+        assert_eq!(b.can_rise(RECESSIVE, ctx), DOMINANT);
+        assert_eq!(b.level(), RECESSIVE);
+        b.replay_rise(DOMINANT, Some(false));
+        assert_eq!((b.level(), b.dut_rx()), (DOMINANT, DOMINANT));
+    }
+
+    #[test]
+    fn a_fault_on_the_dut_rx_reaches_only_the_dut_and_stops_batching() {
+        let stuck: Box<dyn FaultInjector> = Box::new(StuckAt::forever(DOMINANT, Target::All));
+        let mut b = BusAgent::new(&[], Vec::new(), vec![stuck], RxWiring::Bus, true);
+        let mut asked = 0;
+        let rx = b.can_rise(RECESSIVE, || {
+            asked += 1;
+            ctx()
+        });
+        assert_eq!((rx, b.level()), (DOMINANT, RECESSIVE), "the DUT sees the fault, the bus does not");
+        assert_eq!(asked, 1, "the fault's context is asked for");
+        assert_eq!(b.loopback_rx(), None);
+    }
+
+    #[test]
+    fn model_nodes_are_configured_and_wired_and_with_the_dut() {
+        // A node in reset mode (MOD.RM after its hardware reset) drives recessive.
+        let nodes = vec![NodeConfig { name: "n".into(), init: vec![(6, 0x41)] }];
+        let mut b = BusAgent::new(&nodes, Vec::new(), Vec::new(), RxWiring::Bus, true);
+        assert_eq!(b.bus().len(), 1);
+        assert_eq!(b.loopback_rx(), None, "nodes on the bus: no batch");
+        assert_eq!(b.can_rise(DOMINANT, ctx), DOMINANT, "wired-AND: the DUT's dominant wins");
+        assert_eq!(b.can_rise(RECESSIVE, ctx), RECESSIVE);
+        assert_eq!(b.bus_mut().node(0).peek(6), 0x41, "its init writes applied");
+    }
+}

@@ -1,0 +1,248 @@
+//! The register-read checker: every read is compared exactly, except SR
+//! and IR, whose bits change at implementation-defined instants. A read of
+//! those matches if the reference held the same value at some CAN clock
+//! within `status_tolerance` clocks before it (IR: only before the
+//! reference took the read, which clears its flags); an SR read that
+//! matches nothing yet waits up to as many clocks for the reference to take
+//! that value. The coordinator ([`super::Comparator`]) judges what it
+//! reports (collect-mode repeats, divergences).
+
+use std::collections::VecDeque;
+
+use super::{IR_ADDR, SR_ADDR, Stamp};
+
+/// A read the checker has not accepted (yet).
+#[derive(Clone, Debug)]
+pub(super) struct PendingRead {
+    pub(super) addr: u8,
+    pub(super) dut: u8,
+    pub(super) model: u8,
+    clocks_left: u32,
+    pub(super) stamp: Stamp,
+}
+
+/// What a read comes to, for the coordinator.
+pub(super) enum ReadVerdict {
+    /// The reference held the DUT's value within the window.
+    Tolerated,
+    /// An SR read waiting for the reference to take the DUT's value.
+    Waiting,
+    /// A difference.
+    Differs,
+}
+
+/// The status histories, the reads waiting for their window, the last
+/// tolerated read.
+pub(super) struct ReadChecker {
+    status_tolerance: u32,
+    /// Status history for tolerant reads: the last `status_tolerance + 1`
+    /// values of SR and IR, kept as runs (value, index of its first clock
+    /// in `status_pushed`).
+    status_pushed: u64,
+    sr_hist: VecDeque<(u8, u64)>,
+    ir_hist: VecDeque<(u8, u64)>,
+    /// The newest SR and IR of the histories (256: none yet).
+    sr_last: u16,
+    ir_last: u16,
+    pending: Vec<PendingRead>,
+    /// `status_pushed` when the reference took the read now under way, if
+    /// it took it before the DUT's ack ([`ReadChecker::reference_read_taken`]).
+    read_taken_at: Option<u64>,
+    /// The last read, if the status tolerance accepted it (DUT and model
+    /// differed at the read): see [`super::Comparator::hold_tolerated_read`].
+    tolerated_read: Option<PendingRead>,
+}
+
+impl ReadChecker {
+    pub(super) fn new(status_tolerance: u32) -> ReadChecker {
+        ReadChecker {
+            status_tolerance,
+            status_pushed: 0,
+            sr_hist: VecDeque::new(),
+            ir_hist: VecDeque::new(),
+            sr_last: 256,
+            ir_last: 256,
+            pending: Vec::new(),
+            read_taken_at: None,
+            tolerated_read: None,
+        }
+    }
+
+    /// Nothing to do this clock but count it: no read waiting, the same SR
+    /// and IR as the last clock.
+    #[inline]
+    pub(super) fn quiet(&self, sr: u8, ir: u8) -> bool {
+        self.pending.is_empty() && sr as u16 == self.sr_last && ir as u16 == self.ir_last
+    }
+
+    /// A [`ReadChecker::quiet`] clock.
+    #[inline]
+    pub(super) fn quiet_clock(&mut self) {
+        self.status_pushed += 1;
+    }
+
+    /// Any other clock: the reference's SR and IR into the histories; the
+    /// waiting SR reads look forward. Reads whose window closed go to
+    /// `expired` (in order); returns how many were accepted this clock.
+    pub(super) fn clock(&mut self, sr: u8, ir: u8, expired: &mut Vec<PendingRead>) -> u64 {
+        // Status history for tolerant reads (runs of equal values).
+        let at = self.status_pushed;
+        self.status_pushed += 1;
+        if sr as u16 != self.sr_last {
+            self.sr_last = sr as u16;
+            self.sr_hist.push_back((sr, at));
+            prune_runs(&mut self.sr_hist, self.status_pushed, self.status_tolerance);
+        }
+        if ir as u16 != self.ir_last {
+            self.ir_last = ir as u16;
+            self.ir_hist.push_back((ir, at));
+            prune_runs(&mut self.ir_hist, self.status_pushed, self.status_tolerance);
+        }
+        // Pending SR reads: look forward.
+        let mut tolerated = 0;
+        let mut k = 0;
+        while k < self.pending.len() {
+            let p = &mut self.pending[k];
+            if p.addr == SR_ADDR && sr == p.dut {
+                tolerated += 1;
+                let p = self.pending.swap_remove(k);
+                self.tolerated_read = Some(p);
+                continue;
+            }
+            if p.clocks_left == 0 {
+                expired.push(self.pending.swap_remove(k));
+                continue;
+            }
+            p.clocks_left -= 1;
+            k += 1;
+        }
+        tolerated
+    }
+
+    /// A read completes: forgets the last tolerated one and returns when the
+    /// reference took it, if before the ack. First, halted or not.
+    pub(super) fn begin_read(&mut self) -> Option<u64> {
+        self.tolerated_read = None;
+        self.read_taken_at.take()
+    }
+
+    /// A read that differs (`dut` != `model`): accepted by the status
+    /// window, waiting for it (SR), or a difference. `taken_at`: from
+    /// [`ReadChecker::begin_read`].
+    pub(super) fn judge(&mut self, stamp: Stamp, addr: u8, dut: u8, model: u8, taken_at: Option<u64>) -> ReadVerdict {
+        let (pushed, tol) = (self.status_pushed, self.status_tolerance);
+        let hist = match addr {
+            SR_ADDR => Some(&mut self.sr_hist),
+            IR_ADDR => Some(&mut self.ir_hist),
+            _ => None,
+        };
+        // Reading IR clears its flags: once the reference has taken this
+        // read, its IR is the value after the read, which the DUT's read
+        // cannot return. Only values the reference held before it count.
+        let before = match taken_at {
+            Some(t) if addr == IR_ADDR => t,
+            _ => u64::MAX,
+        };
+        if let Some(h) = hist {
+            prune_runs(h, pushed, tol);
+            if h.iter().any(|v| v.0 == dut && v.1 < before) {
+                self.tolerated_read = Some(PendingRead { addr, dut, model, clocks_left: 0, stamp });
+                return ReadVerdict::Tolerated;
+            }
+            if addr == SR_ADDR && tol > 0 {
+                self.pending.push(PendingRead { addr, dut, model, clocks_left: tol, stamp });
+                return ReadVerdict::Waiting;
+            }
+        }
+        ReadVerdict::Differs
+    }
+
+    /// The reference has just taken the read the DUT completes next.
+    pub(super) fn reference_read_taken(&mut self) {
+        self.read_taken_at = Some(self.status_pushed);
+    }
+
+    /// The last read, if the status window accepted it (taken: asked once).
+    pub(super) fn take_tolerated(&mut self) -> Option<PendingRead> {
+        self.tolerated_read.take()
+    }
+
+    /// Reads still waiting for their window to close.
+    pub(super) fn pending(&self) -> usize {
+        self.pending.len()
+    }
+
+    /// CAN clocks until every waiting read is decided (0: none).
+    pub(super) fn open_clocks(&self) -> u32 {
+        self.pending.iter().map(|p| p.clocks_left + 1).max().unwrap_or(0)
+    }
+}
+
+/// Drops the runs that ended before the last `tolerance + 1` of `pushed`
+/// clocks (a run ends where the next one starts; the last one is current).
+#[inline]
+fn prune_runs(h: &mut VecDeque<(u8, u64)>, pushed: u64, tolerance: u32) {
+    let first = pushed.saturating_sub(tolerance as u64 + 1);
+    while h.len() >= 2 && h[1].1 <= first {
+        h.pop_front();
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn clock(c: &mut ReadChecker, sr: u8, ir: u8, expired: &mut Vec<PendingRead>) -> u64 {
+        if c.quiet(sr, ir) {
+            c.quiet_clock();
+            0
+        } else {
+            c.clock(sr, ir, expired)
+        }
+    }
+
+    #[test]
+    fn a_status_read_matches_what_the_reference_held_within_the_window() {
+        let mut c = ReadChecker::new(3);
+        let mut ex = Vec::new();
+        for sr in [0x0C, 0x0C, 0x1C, 0x1C] {
+            clock(&mut c, sr, 0, &mut ex);
+        }
+        let s = Stamp::default();
+        assert!(matches!(c.judge(s, SR_ADDR, 0x0C, 0x1C, None), ReadVerdict::Tolerated));
+        assert!(c.take_tolerated().is_some() && c.take_tolerated().is_none());
+        // Any other register is exact.
+        assert!(matches!(c.judge(s, 4, 0x0C, 0x1C, None), ReadVerdict::Differs));
+        // Out of the window: 4 more clocks of 0x1C.
+        for _ in 0..4 {
+            clock(&mut c, 0x1C, 0, &mut ex);
+        }
+        assert!(matches!(c.judge(s, IR_ADDR, 0x01, 0x00, None), ReadVerdict::Differs));
+        // An SR value the reference never held waits for it ...
+        assert!(matches!(c.judge(s, SR_ADDR, 0x3C, 0x1C, None), ReadVerdict::Waiting));
+        assert_eq!((c.pending(), c.open_clocks()), (1, 4));
+        assert_eq!(clock(&mut c, 0x3C, 0, &mut ex), 1, "taken within the window: accepted");
+        assert_eq!(c.pending(), 0);
+        // ... and expires after the window.
+        assert!(matches!(c.judge(s, SR_ADDR, 0x7C, 0x3C, None), ReadVerdict::Waiting));
+        for _ in 0..4 {
+            clock(&mut c, 0x3C, 0, &mut ex);
+        }
+        assert_eq!(ex.len(), 1);
+        assert_eq!((ex[0].addr, ex[0].dut, ex[0].model), (SR_ADDR, 0x7C, 0x3C));
+    }
+
+    #[test]
+    fn an_ir_read_is_not_matched_by_what_the_reference_read_left_behind() {
+        let mut c = ReadChecker::new(10);
+        let mut ex = Vec::new();
+        clock(&mut c, 0, 0x01, &mut ex);
+        c.reference_read_taken();
+        clock(&mut c, 0, 0x00, &mut ex);
+        let taken = c.begin_read();
+        // The DUT reads 0x00 (its IR after the read) where the model read 0x01.
+        assert!(matches!(c.judge(Stamp::default(), IR_ADDR, 0x00, 0x01, taken), ReadVerdict::Differs));
+        // Untaken, the same value would be held within the window.
+        assert!(matches!(c.judge(Stamp::default(), IR_ADDR, 0x00, 0x01, None), ReadVerdict::Tolerated));
+    }
+}
