@@ -4,13 +4,10 @@
 //! names its ISO class and item, and the suite fails when an expectation or
 //! the clock-tolerance set-up is wrong.
 
-use scenario::regress::Status;
-use scenario::{DutSpec, RegressOptions, RunOptions, Scenario, load_list, regress, run};
-use std::path::PathBuf;
+use scenario::{DutSpec, RunOptions, Scenario, load_list, run};
 
-fn root() -> PathBuf {
-    PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("../..")
-}
+mod common;
+use common::root;
 
 fn suite() -> Vec<Scenario> {
     load_list(root().join("tb/conformance/list")).expect("tb/conformance/list loads")
@@ -25,14 +22,7 @@ fn load(file: &str) -> Scenario {
 fn conformance_list_passes_on_model_and_rtl_without_divergence() {
     let s = suite();
     assert!(s.len() >= 66, "the suite shrank to {} scenarios", s.len());
-    let opts = RegressOptions { jobs: 2, collect: waivers::CollectMode::Collect, ..Default::default() };
-    let rep = regress(&s, &[DutSpec::model(), DutSpec::rtl()], &opts);
-    assert_eq!(rep.cells.len(), 2 * s.len());
-    for c in &rep.cells {
-        assert_eq!(c.status, Status::Pass, "{} on {}: {}", c.scenario, c.dut, c.report);
-        assert!(c.waived.is_empty(), "{} on {}: waived divergences {:?}", c.scenario, c.dut, c.waived);
-    }
-    assert!(rep.passed());
+    common::assert_passes_on_model_and_rtl_without_divergence(&s);
 }
 
 /// Names start with the ISO 16845-1 item (7.x receiver, 8.x transmitter),

@@ -3,27 +3,17 @@
 //! every one passes on the golden model and on our RTL (lockstep, zero
 //! divergences), and their key counter checks are live.
 
-use scenario::regress::Status;
-use scenario::{DutSpec, RegressOptions, RunOptions, Scenario, load_list, regress, run};
-use std::path::PathBuf;
+use scenario::{DutSpec, RunOptions, Scenario, load_list, run};
 
-fn root() -> PathBuf {
-    PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("../..")
-}
+mod common;
+use common::root;
 
 /// The whole list on the model and on our RTL (well under a second).
 #[test]
 fn mutation_holes_list_passes_on_model_and_rtl_without_divergence() {
     let s = load_list(root().join("tb/mutation-holes.list")).expect("tb/mutation-holes.list loads");
     assert!(s.len() >= 6, "the list shrank to {} scenarios", s.len());
-    let opts = RegressOptions { jobs: 2, collect: waivers::CollectMode::Collect, ..Default::default() };
-    let rep = regress(&s, &[DutSpec::model(), DutSpec::rtl()], &opts);
-    assert_eq!(rep.cells.len(), 2 * s.len());
-    for c in &rep.cells {
-        assert_eq!(c.status, Status::Pass, "{} on {}: {}", c.scenario, c.dut, c.report);
-        assert!(c.waived.is_empty(), "{} on {}: waived divergences {:?}", c.scenario, c.dut, c.waived);
-    }
-    assert!(rep.passed());
+    common::assert_passes_on_model_and_rtl_without_divergence(&s);
 }
 
 /// An off-by-one expectation fails on the model: the checks that killed the

@@ -3,13 +3,10 @@
 //! on our RTL (Verilated, in lockstep, zero divergences), each cites the
 //! datasheet, and a wrong expected value fails.
 
-use scenario::regress::Status;
-use scenario::{DutSpec, RegressOptions, RunOptions, Scenario, load_list, regress, run};
-use std::path::PathBuf;
+use scenario::{DutSpec, RunOptions, Scenario, load_list, run};
 
-fn root() -> PathBuf {
-    PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("../..")
-}
+mod common;
+use common::root;
 
 fn suite() -> Vec<Scenario> {
     load_list(root().join("tb/registers.list")).expect("tb/registers.list loads")
@@ -20,14 +17,7 @@ fn suite() -> Vec<Scenario> {
 fn register_list_passes_on_model_and_rtl_without_divergence() {
     let s = suite();
     assert!(s.len() >= 4, "the register list shrank to {} scenarios", s.len());
-    let opts = RegressOptions { jobs: 2, collect: waivers::CollectMode::Collect, ..Default::default() };
-    let rep = regress(&s, &[DutSpec::model(), DutSpec::rtl()], &opts);
-    assert_eq!(rep.cells.len(), 2 * s.len());
-    for c in &rep.cells {
-        assert_eq!(c.status, Status::Pass, "{} on {}: {}", c.scenario, c.dut, c.report);
-        assert!(c.waived.is_empty(), "{} on {}: waived divergences {:?}", c.scenario, c.dut, c.waived);
-    }
-    assert!(rep.passed());
+    common::assert_passes_on_model_and_rtl_without_divergence(&s);
 }
 
 /// Every scenario states what it verifies and cites the datasheet.
