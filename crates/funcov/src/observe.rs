@@ -160,10 +160,13 @@ fn events(c: &mut Coverage, r: &RunRecord, frames: &[BusFrame]) {
             // ACK error shows up in the error flag); the ECC says where the
             // error was detected, as the SJA1000 reports it.
             // The SJA1000 has one ECC segment for the error and the
-            // overload delimiter: there the engine's field tells which.
+            // overload delimiter: the field the model was in at the bit
+            // before the report (where the error was) tells which.
             EventKind::BusError { kind, field, ecc } => {
                 let f = match diagnose::field_from_ecc(*ecc) {
-                    Some(Field::ErrorDelimiter) if *field == Field::OverloadDelimiter => *field,
+                    Some(Field::ErrorDelimiter) if *field == Field::OverloadDelimiter || field_at(r, e.bit.wrapping_sub(1)) == Some(Field::OverloadDelimiter) => {
+                        Field::OverloadDelimiter
+                    }
                     Some(f) => f,
                     None => *field,
                 };
@@ -191,4 +194,10 @@ fn events(c: &mut Coverage, r: &RunRecord, frames: &[BusFrame]) {
             _ => {}
         }
     }
+}
+
+/// The field the model was in at `bit`, if the record kept that bit.
+fn field_at(r: &RunRecord, bit: u64) -> Option<Field> {
+    let k = r.bus_bits.binary_search_by_key(&bit, |b| b.bit).ok()?;
+    r.bus_bits[k].field
 }

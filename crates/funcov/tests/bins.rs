@@ -204,8 +204,12 @@ fn a_form_error_in_the_overload_delimiter_has_its_own_bin() {
     use can_engine::ErrorKind;
     use can_proto::Field;
     let mut r = RunRecord::new("t", "model");
-    r.events.push(EngineEvent::new(1, Side::Model, EventKind::BusError { kind: ErrorKind::Form, ecc: 0x57, field: Field::OverloadDelimiter }));
-    r.events.push(EngineEvent::new(2, Side::Model, EventKind::BusError { kind: ErrorKind::Form, ecc: 0x77, field: Field::ErrorDelimiter }));
+    // Reported at the first bit of the error flag: the bit before is where it was.
+    for (bit, field) in [(9, Field::OverloadDelimiter), (10, Field::ActiveErrorFlag), (19, Field::ErrorDelimiter), (20, Field::ActiveErrorFlag)] {
+        r.bus_bits.push(diagnose::BusBit { bit, bus: true, dut_tx: true, model_tx: true, dut_rx: true, field: Some(field), frame: Some(1) });
+    }
+    r.events.push(EngineEvent::new(10, Side::Model, EventKind::BusError { kind: ErrorKind::Form, ecc: 0x77, field: Field::ActiveErrorFlag }));
+    r.events.push(EngineEvent::new(20, Side::Model, EventKind::BusError { kind: ErrorKind::Form, ecc: 0x77, field: Field::ActiveErrorFlag }));
     let mut c = Coverage::new();
     c.observe(&r, &[]);
     assert_eq!(c.hits("error kinds x field", "form error in overload delimiter"), Some(1));
