@@ -5,10 +5,9 @@
 
 use crate::Bin;
 
-/// A bin of `group`: the register bin `reg bit n=v`, or every bin of a register.
+/// A bin of `group`: the register bin `reg bit n=v`.
 enum Which {
     Bit(&'static str, u8, bool),
-    Register(&'static str),
 }
 
 const RM_IS_THE_MODE: &str = "MOD.RM / CR.RR is the mode: it reads 1 in reset mode and 0 in operating mode";
@@ -17,9 +16,9 @@ const RESET_EMPTIES_FIFO: &str =
 const RESET_TBS: &str = "TBS reads 1 in reset mode (reset-mode value): reset mode takes no transmission request";
 const RESET_IR: &str = "RI, TI, DOI and WUI are 0 on entering reset mode (reset-mode values) and reset mode neither receives, transmits, overruns nor wakes up";
 const PELI_RESET_TS_RS: &str = "PeliCAN reset mode sets TS and RS (reset-mode value xx11_x100: waiting for bus-free)";
+const BASIC_RESET_TS_RS: &str = "BasicCAN reset mode clears TS and RS (datasheet Table 2, reset-mode value xx00_x100), also when bus-off set it";
 const RESET_SM: &str = "entering reset mode clears MOD.SM, and SM cannot be set in reset mode (datasheet, MOD)";
 const VIEW_IS_CDR7: &str = "CDR.7 selects the register view: a read in the PeliCAN view sees 1, in the BasicCAN view 0";
-const TEST_REG: &str = "TEST is for production test only; the datasheet warns that using it in normal operation may cause undesired behaviour: no function to cover";
 
 fn entries() -> Vec<(String, Which, &'static str)> {
     use Which::*;
@@ -37,11 +36,10 @@ fn entries() -> Vec<(String, Which, &'static str)> {
         let peli = view == "PeliCAN";
         for op in ["reset", "operating"] {
             v.push((g(op, "read"), Bit("CDR", 7, !peli), VIEW_IS_CDR7));
-            for a in ["read", "write"] {
-                v.push((g(op, a), Register("TEST"), TEST_REG));
-            }
         }
     }
+    v.push(("registers BasicCAN reset read".to_string(), Which::Bit("SR", 4, true), BASIC_RESET_TS_RS));
+    v.push(("registers BasicCAN reset read".to_string(), Which::Bit("SR", 5, true), BASIC_RESET_TS_RS));
     let g = |op: &str, a: &str| format!("registers PeliCAN {op} {a}");
     v.push((g("reset", "read"), Which::Bit("SR", 4, false), PELI_RESET_TS_RS));
     v.push((g("reset", "read"), Which::Bit("SR", 5, false), PELI_RESET_TS_RS));
@@ -53,11 +51,8 @@ fn entries() -> Vec<(String, Which, &'static str)> {
 }
 
 fn matches(b: &Bin, group: &str, w: &Which) -> bool {
-    b.group == group
-        && match w {
-            Which::Bit(reg, bit, value) => b.name == crate::bins::register_bit(reg, *bit, *value),
-            Which::Register(reg) => b.name.strip_prefix(reg).is_some_and(|rest| rest.starts_with(" bit ")),
-        }
+    let Which::Bit(reg, bit, value) = w;
+    b.group == group && b.name == crate::bins::register_bit(reg, *bit, *value)
 }
 
 /// Marks the unreachable bins; returns the entries that named no bin (a
@@ -71,10 +66,8 @@ pub(crate) fn mark(bins: &mut [Bin]) -> Vec<String> {
             n += 1;
         }
         if n == 0 {
-            unmatched.push(match which {
-                Which::Bit(r, bit, v) => format!("{group}: {}", crate::bins::register_bit(r, bit, v)),
-                Which::Register(r) => format!("{group}: {r}"),
-            });
+            let Which::Bit(r, bit, v) = which;
+            unmatched.push(format!("{group}: {}", crate::bins::register_bit(r, bit, v)));
         }
     }
     unmatched
