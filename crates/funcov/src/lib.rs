@@ -9,7 +9,10 @@
 //! The bins are fixed in advance ([`Coverage::new`]): a bin nobody hit is a
 //! hole, listed first. An observation outside the bins (e.g. an error kind
 //! in a field CAN 2.0B does not allow for it) is kept as an `unlisted` bin,
-//! so the model of the bins cannot silently hide anything.
+//! so the model of the bins cannot silently hide anything. A bin the
+//! protocol or the SJA1000 cannot reach is marked unreachable with the
+//! reason ([`Bin::unreachable`]): not a hole, not in the totals, printed
+//! with its reason.
 //!
 //! It reads only what the test bench already records ([`diagnose::RunRecord`]:
 //! the reference's engine events, the host accesses) and the frames its bus
@@ -18,6 +21,7 @@
 mod bins;
 mod observe;
 mod table;
+mod unreachable;
 
 use serde::{Deserialize, Serialize};
 use std::collections::HashMap;
@@ -36,6 +40,17 @@ pub struct Bin {
     /// Not part of the bin model: seen, but outside what the bins list.
     #[serde(default, skip_serializing_if = "std::ops::Not::not")]
     pub unlisted: bool,
+    /// Why no run can hit it (the protocol or the SJA1000 rules it out):
+    /// then it is no hole and not counted in the totals.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub unreachable: Option<String>,
+}
+
+impl Bin {
+    /// Counted in hit/total: listed and reachable.
+    fn counted(&self) -> bool {
+        !self.unlisted && self.unreachable.is_none()
+    }
 }
 
 /// A set of bins with their hits: one run's, or merged over a suite.
@@ -84,13 +99,24 @@ impl Coverage {
         for (group, name) in bins::all() {
             c.push(group, name, false);
         }
+        let unmatched = unreachable::mark(&mut c.bins);
+        debug_assert!(unmatched.is_empty(), "unreachable entries that name no bin: {unmatched:?}");
         c
+    }
+
+    /// Unreachable-list entries that name no bin (kept empty by a test).
+    pub fn unmatched_unreachable_entries() -> Vec<String> {
+        let mut c = Coverage { bins: Vec::new(), index: HashMap::new() };
+        for (group, name) in bins::all() {
+            c.push(group, name, false);
+        }
+        unreachable::mark(&mut c.bins)
     }
 
     fn push(&mut self, group: String, name: String, unlisted: bool) -> usize {
         let k = self.bins.len();
         self.index.insert((group.clone(), name.clone()), k);
-        self.bins.push(Bin { group, name, hits: 0, unlisted });
+        self.bins.push(Bin { group, name, hits: 0, unlisted, unreachable: None });
         k
     }
 
@@ -126,12 +152,20 @@ impl Coverage {
                 None => self.push(key.0, key.1, b.unlisted),
             };
             self.bins[k].hits += b.hits;
+            if self.bins[k].unreachable.is_none() {
+                self.bins[k].unreachable = b.unreachable.clone();
+            }
         }
     }
 
-    /// The listed bins nobody hit.
+    /// The listed, reachable bins nobody hit.
     pub fn holes(&self) -> impl Iterator<Item = &Bin> {
-        self.bins.iter().filter(|b| b.hits == 0 && !b.unlisted)
+        self.bins.iter().filter(|b| b.hits == 0 && b.counted())
+    }
+
+    /// The bins marked unreachable (each with its reason).
+    pub fn unreachable(&self) -> impl Iterator<Item = &Bin> {
+        self.bins.iter().filter(|b| b.unreachable.is_some())
     }
 
     /// Observations outside the bin model.
@@ -139,10 +173,10 @@ impl Coverage {
         self.bins.iter().filter(|b| b.unlisted)
     }
 
-    /// Per group, in the model's order: hit and total listed bins.
+    /// Per group, in the model's order: hit and total listed, reachable bins.
     pub fn summary(&self) -> Vec<GroupSummary> {
         let mut out: Vec<GroupSummary> = Vec::new();
-        for b in self.bins.iter().filter(|b| !b.unlisted) {
+        for b in self.bins.iter().filter(|b| b.counted()) {
             if out.last().is_none_or(|g| g.group != b.group) {
                 out.push(GroupSummary { group: b.group.clone(), hit: 0, total: 0 });
             }
@@ -153,9 +187,9 @@ impl Coverage {
         out
     }
 
-    /// All listed bins: hit and total.
+    /// All listed, reachable bins: hit and total.
     pub fn totals(&self) -> GroupSummary {
-        let listed = self.bins.iter().filter(|b| !b.unlisted);
+        let listed = self.bins.iter().filter(|b| b.counted());
         GroupSummary { group: "all".into(), hit: listed.clone().filter(|b| b.hits > 0).count(), total: listed.count() }
     }
 

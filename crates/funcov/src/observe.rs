@@ -3,6 +3,7 @@
 use crate::Coverage;
 use crate::bins;
 use can_engine::FaultState;
+use can_proto::Field;
 use can_proto::CanFrame;
 use diagnose::{Access as OpAccess, CanMode, EventKind, HostOp, RunRecord, Side, WriteOutcome};
 use embedded_can::Frame as _;
@@ -158,8 +159,18 @@ fn events(c: &mut Coverage, r: &RunRecord, frames: &[BusFrame]) {
             // The event's field is where the engine is when it reports (an
             // ACK error shows up in the error flag); the ECC says where the
             // error was detected, as the SJA1000 reports it.
+            // The SJA1000 has one ECC segment for the error and the
+            // overload delimiter: the field the model was in at the bit
+            // before the report (where the error was) tells which.
             EventKind::BusError { kind, field, ecc } => {
-                c.hit(bins::ERRORS, &bins::error(*kind, diagnose::field_from_ecc(*ecc).unwrap_or(*field)))
+                let f = match diagnose::field_from_ecc(*ecc) {
+                    Some(Field::ErrorDelimiter) if *field == Field::OverloadDelimiter || field_at(r, e.bit.wrapping_sub(1)) == Some(Field::OverloadDelimiter) => {
+                        Field::OverloadDelimiter
+                    }
+                    Some(f) => f,
+                    None => *field,
+                };
+                c.hit(bins::ERRORS, &bins::error(*kind, f))
             }
             EventKind::ArbitrationLost { alc } => c.hit(bins::ARBITRATION, &bins::arbitration(*alc)),
             EventKind::FaultState(s) if *s != state => {
@@ -183,4 +194,10 @@ fn events(c: &mut Coverage, r: &RunRecord, frames: &[BusFrame]) {
             _ => {}
         }
     }
+}
+
+/// The field the model was in at `bit`, if the record kept that bit.
+fn field_at(r: &RunRecord, bit: u64) -> Option<Field> {
+    let k = r.bus_bits.binary_search_by_key(&bit, |b| b.bit).ok()?;
+    r.bus_bits[k].field
 }

@@ -1,6 +1,6 @@
 //! The text report: groups with holes first, then the holes by name.
 
-use crate::Coverage;
+use crate::{Bin, Coverage};
 use std::fmt::Write as _;
 
 pub(crate) fn render(c: &Coverage) -> String {
@@ -18,6 +18,26 @@ pub(crate) fn render(c: &Coverage) -> String {
     for g in groups.iter().filter(|g| g.hit < g.total) {
         let _ = writeln!(s, "holes in {} ({}): {}", g.group, g.total - g.hit, compact_holes(c, &g.group).join(", "));
     }
+    // Unreachable bins: not counted, each group's with its reason.
+    let mut by_reason: Vec<((&str, &str), Vec<&Bin>)> = Vec::new();
+    for b in c.unreachable() {
+        let key = (b.group.as_str(), b.unreachable.as_deref().unwrap_or(""));
+        match by_reason.iter_mut().find(|(k, _)| *k == key) {
+            Some((_, v)) => v.push(b),
+            None => by_reason.push((key, vec![b])),
+        }
+    }
+    let n: usize = by_reason.iter().map(|(_, v)| v.len()).sum();
+    if n > 0 {
+        let _ = writeln!(s, "unreachable, not counted ({n} bins):");
+        for ((group, reason), bins) in &by_reason {
+            let _ = writeln!(s, "  {group} ({}): {}: {reason}", bins.len(), compact(bins.iter().copied()).join(", "));
+        }
+    }
+    let hit: Vec<String> = c.unreachable().filter(|b| b.hits > 0).map(|b| format!("{}: {} (x{})", b.group, b.name, b.hits)).collect();
+    if !hit.is_empty() {
+        let _ = writeln!(s, "HIT ALTHOUGH MARKED UNREACHABLE ({}; the reason or the model is wrong): {}", hit.len(), hit.join("; "));
+    }
     let unlisted: Vec<String> = c.unlisted().map(|b| format!("{}: {} (x{})", b.group, b.name, b.hits)).collect();
     if !unlisted.is_empty() {
         let _ = writeln!(s, "seen outside the bin model ({}): {}", unlisted.len(), unlisted.join("; "));
@@ -28,10 +48,15 @@ pub(crate) fn render(c: &Coverage) -> String {
 /// The holes of a group by name; register bits folded per register and
 /// value: `ACR0 =1 bits 7-0`, `IER =0 bits 3,1`.
 pub(crate) fn compact_holes(c: &Coverage, group: &str) -> Vec<String> {
+    compact(c.holes().filter(|b| b.group == group))
+}
+
+/// Bin names, register bits folded per register and value.
+fn compact<'a>(bins: impl Iterator<Item = &'a Bin>) -> Vec<String> {
     let mut out: Vec<String> = Vec::new();
     // (register, value) -> bits, in first-seen order.
     let mut regs: Vec<((String, char), Vec<u8>)> = Vec::new();
-    for b in c.holes().filter(|b| b.group == group) {
+    for b in bins {
         let parsed = b.name.split_once(" bit ").and_then(|(reg, rest)| {
             let (bit, v) = rest.split_once('=')?;
             Some((reg.to_string(), bit.parse::<u8>().ok()?, v.chars().next()?))

@@ -160,3 +160,58 @@ fn reads_count_the_golden_models_value_not_the_duts() {
     assert_eq!(c.hits("registers PeliCAN operating read", "IR bit 0=1"), Some(1));
     assert_eq!(c.hits("registers PeliCAN operating read", "IR bit 1=1"), Some(0));
 }
+
+/// Every unreachable entry names a bin of the model (a typo or a changed
+/// register map would otherwise mark nothing, silently).
+#[test]
+fn every_unreachable_entry_names_a_bin() {
+    assert_eq!(Coverage::unmatched_unreachable_entries(), Vec::<String>::new());
+}
+
+/// An unreachable bin is no hole and not in the totals; the table prints it
+/// with its reason; a run that hits one anyway is printed as a contradiction.
+#[test]
+fn unreachable_bins_are_printed_with_their_reason_not_counted() {
+    let mut c = Coverage::new();
+    let un: Vec<_> = c.unreachable().collect();
+    assert!(!un.is_empty());
+    assert!(un.iter().all(|b| b.unreachable.as_deref().is_some_and(|r| r.len() > 20)), "each has a reason");
+    let rm0 = un.iter().find(|b| b.group == "registers PeliCAN reset read" && b.name == "MOD bit 0=0").expect("MOD.RM = 0 in reset mode is unreachable");
+    assert!(rm0.unreachable.as_deref().unwrap().contains("is the mode"));
+    let n_un = un.len();
+    assert!(!c.holes().any(|b| b.unreachable.is_some()));
+    let all = c.bins.iter().filter(|b| !b.unlisted).count();
+    assert_eq!(c.totals().total, all - n_un);
+    let table = c.to_table();
+    assert!(table.contains(&format!("unreachable, not counted ({n_un} bins):")), "{table}");
+    assert!(
+        table.lines().any(|l| l.contains("registers PeliCAN reset read (") && l.contains("MOD =0 bit 0") && l.contains("is the mode")),
+        "the bin with its reason: {table}"
+    );
+    assert!(!table.contains("HIT ALTHOUGH"), "{table}");
+    // A reachable bin still counts as a hole: MOD.RM read 1 in reset mode.
+    assert!(c.holes().any(|b| b.group == "registers PeliCAN reset read" && b.name == "MOD bit 0=1"));
+    c.hit("registers PeliCAN reset read", "MOD bit 0=0");
+    assert_eq!(c.totals().hit, 0, "an unreachable hit is not counted as coverage");
+    assert!(c.to_table().contains("HIT ALTHOUGH MARKED UNREACHABLE (1"), "{}", c.to_table());
+}
+
+/// The SJA1000 reports the error and the overload delimiter with one ECC
+/// segment (10111): the engine's field tells a form error in the overload
+/// delimiter from one in the error delimiter.
+#[test]
+fn a_form_error_in_the_overload_delimiter_has_its_own_bin() {
+    use can_engine::ErrorKind;
+    use can_proto::Field;
+    let mut r = RunRecord::new("t", "model");
+    // Reported at the first bit of the error flag: the bit before is where it was.
+    for (bit, field) in [(9, Field::OverloadDelimiter), (10, Field::ActiveErrorFlag), (19, Field::ErrorDelimiter), (20, Field::ActiveErrorFlag)] {
+        r.bus_bits.push(diagnose::BusBit { bit, bus: true, dut_tx: true, model_tx: true, dut_rx: true, field: Some(field), frame: Some(1) });
+    }
+    r.events.push(EngineEvent::new(10, Side::Model, EventKind::BusError { kind: ErrorKind::Form, ecc: 0x77, field: Field::ActiveErrorFlag }));
+    r.events.push(EngineEvent::new(20, Side::Model, EventKind::BusError { kind: ErrorKind::Form, ecc: 0x77, field: Field::ActiveErrorFlag }));
+    let mut c = Coverage::new();
+    c.observe(&r, &[]);
+    assert_eq!(c.hits("error kinds x field", "form error in overload delimiter"), Some(1));
+    assert_eq!(c.hits("error kinds x field", "form error in error delimiter"), Some(1));
+}

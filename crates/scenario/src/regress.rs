@@ -597,6 +597,10 @@ impl RegressReport {
             for g in fc.summary().iter().filter(|g| g.hit < g.total) {
                 suite.add_property(quick_junit::Property::new(format!("funcov holes {}", g.group), fc.holes_in(&g.group).join(", ")));
             }
+            // Bins marked unreachable (not counted above), each with its reason.
+            for b in fc.unreachable() {
+                suite.add_property(quick_junit::Property::new(format!("funcov unreachable {}: {}", b.group, b.name), b.unreachable.clone().unwrap_or_default()));
+            }
             if !warnings.is_empty() {
                 suite.set_system_err(warnings.join("\n"));
             }
