@@ -1,8 +1,8 @@
 // Acceptance filter (SJA1000 datasheet 6.3.9 and 6.4.15). Combinational.
 // Mask bit 1 = "don't care". BasicCAN: ACR/AMR against ID.10..ID.3 of
-// standard and extended frames (the 11 base ID bits of an extended frame).
-// (Extended frames are stored in BasicCAN mode with their 11 base ID bits,
-// and filtered on ID.28..ID.21, like the golden model.)
+// standard frames. An extended frame is never accepted in BasicCAN mode: the
+// SJA1000 is "extended frame passive in PCA82C200 compatible mode" (datasheet
+// features list): it checks and acknowledges the frame but does not store it.
 // PeliCAN single filter (AFM = 1) and dual filter (AFM = 0), for standard and
 // extended frames; data-byte bits are compared only for bytes the frame
 // actually carries (remote frames and short frames pass those bits).
@@ -30,7 +30,7 @@ module can_acf (
     endfunction
 
     // BasicCAN
-    wire basic_ok = m8(id[28:21], acr0, amr0);
+    wire basic_ok = !ide && m8(id[28:21], acr0, amr0);
 
     // PeliCAN single filter
     wire s_std = m8(id[28:21], acr0, amr0) &&
