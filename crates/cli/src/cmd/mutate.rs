@@ -54,6 +54,10 @@ pub struct Args {
     /// Host of every scenario (default wishbone: the mutated core is the can_top port list).
     #[arg(long, default_value = "wishbone", value_parser = ["wishbone", "avalon", "pio", "i8051"])]
     host: String,
+    /// A mutant times out when its scenarios take longer than this many times
+    /// the baseline's total (raise it on a loaded machine).
+    #[arg(long, default_value_t = 4.0, value_name = "X")]
+    budget_factor: f64,
     /// Waiver file (repeatable), added to the scenarios' own.
     #[arg(long = "waivers", value_name = "FILE")]
     waivers: Vec<PathBuf>,
@@ -112,6 +116,7 @@ pub fn run(a: Args) -> anyhow::Result<i32> {
             jobs: a.jobs,
             shard: a.shard,
             progress: std::io::IsTerminal::is_terminal(&std::io::stderr()),
+            budget_factor: a.budget_factor,
             ..Default::default()
         },
         formal: (!a.no_formal).then_some(mutate::FormalOptions { steps: a.formal_steps, induction: a.formal_steps, ..Default::default() }),
@@ -124,7 +129,10 @@ pub fn run(a: Args) -> anyhow::Result<i32> {
     if !surv.is_empty() {
         println!("survivors:");
         for m in &surv {
-            let f = report.formal_of(m.id).map(|f| f.describe()).unwrap_or_else(|| "not checked".into());
+            let f = match report.hidden_by(m.id) {
+                Some(h) => h.describe(),
+                None => report.formal_of(m.id).map(|f| f.describe()).unwrap_or_else(|| "not checked".into()),
+            };
             println!("  {:>4} {:<18} {}  [{f}]", m.id, m.location, m.description);
         }
     }
