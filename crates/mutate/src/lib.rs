@@ -112,7 +112,7 @@ pub fn mutate(cfg: &MutateConfig, log: &mut dyn FnMut(&str)) -> Result<Report, M
     let key = inst.dir.file_name().map(|n| n.to_string_lossy().into_owned()).unwrap_or_default();
     copts.journal.get_or_insert_with(|| cfg.out.join(journal_name(&key, &cfg.scenarios, &cfg.run)));
     let mutants = campaign::run_mutants(&suite, &base, &inst.mutations, &inst.build_errors, &copts).map_err(io("mutant loop"))?;
-    let hidden = waiver_audit::audit(&suite, &base, &mutants, log);
+    let (hidden, audit) = waiver_audit::audit(&suite, &base, &mutants, log);
     let run_seconds = t1.elapsed().as_secs_f64();
     let mut report = Report {
         core: format!("{} ({})", inst.top, cfg.sources.dir.display()),
@@ -124,6 +124,7 @@ pub fn mutate(cfg: &MutateConfig, log: &mut dyn FnMut(&str)) -> Result<Report, M
         mutants,
         formal: Vec::new(),
         hidden,
+        audit,
         build_seconds,
         run_seconds,
     };

@@ -3,7 +3,7 @@
 
 use crate::campaign::{Baseline, MutantResult, Verdict};
 use crate::formal::FormalVerdict;
-use crate::waiver_audit::HiddenByWaiver;
+use crate::waiver_audit::{AuditSummary, HiddenByWaiver};
 use serde::{Deserialize, Serialize};
 
 /// A whole run.
@@ -22,6 +22,9 @@ pub struct Report {
     /// Survivors the waiver audit found masked by a waiver (not killed).
     #[serde(default)]
     pub hidden: Vec<HiddenByWaiver>,
+    /// What the waiver audit compared (None: no scenario ran with waivers).
+    #[serde(default)]
+    pub audit: Option<AuditSummary>,
     /// Wall time of the build (yosys + Verilator), seconds.
     pub build_seconds: f64,
     /// Wall time of the mutants' simulations, seconds.
@@ -121,7 +124,11 @@ impl Report {
         if sims > 0 {
             s += &format!(" ({:.2} s per mutant)", self.mutants.iter().map(|m| m.seconds).sum::<f64>() / sims as f64);
         }
-        s += "\n\n";
+        s += "\n";
+        if let Some(a) = &self.audit {
+            s += &format!("- {}\n", a.describe());
+        }
+        s += "\n";
         let unused: Vec<&Baseline> = self.baseline.iter().filter(|b| !b.passed).collect();
         if !unused.is_empty() {
             s += "Tests not used (they do not pass on the original, so cannot kill):\n\n";

@@ -177,6 +177,31 @@ impl HiddenByWaiver {
     }
 }
 
+/// What the audit compared, for the report.
+#[derive(Clone, Debug, Default, PartialEq, Eq, Serialize, Deserialize)]
+pub struct AuditSummary {
+    /// Survivors re-judged.
+    pub survivors: usize,
+    /// Used scenarios run with a waiver file (the baseline's hits recorded).
+    pub scenarios_with_waivers: usize,
+    /// Of those, the ones whose baseline run hits at least one waiver.
+    pub scenarios_with_hits: usize,
+    /// Waiver hits in the whole baseline.
+    pub baseline_hits: usize,
+    /// Survivors found hidden by a waiver.
+    pub hidden: usize,
+}
+
+impl AuditSummary {
+    /// One line.
+    pub fn describe(&self) -> String {
+        format!(
+            "waiver audit: {} survivor(s) compared with the unmutated core's waiver hits in {} scenario(s) run with waivers ({} of them hit a waiver, {} hits in all): {} hidden by a waiver",
+            self.survivors, self.scenarios_with_waivers, self.scenarios_with_hits, self.baseline_hits, self.hidden
+        )
+    }
+}
+
 /// A [`ScenarioSuite`] that records the waiver hits of every passing run,
 /// by (test, select); the runs themselves are unchanged.
 pub struct AuditedSuite<'a> {
@@ -206,7 +231,9 @@ impl Suite for AuditedSuite<'_> {
         let out = self.inner.outcome(index, select);
         let r = result_of(&out);
         if r == TestResult::Pass {
-            self.hits.lock().expect("no panics under the lock").insert((index, select), out.waivers.as_ref().map(hits_of));
+            // A run without a waiver file has an empty report: nothing to audit.
+            let with_waivers = out.waivers.as_ref().filter(|w| !w.waiver_file.is_empty());
+            self.hits.lock().expect("no panics under the lock").insert((index, select), with_waivers.map(hits_of));
         }
         r
     }
@@ -216,11 +243,14 @@ impl Suite for AuditedSuite<'_> {
 /// waiver hits differ from the baseline's makes it hidden. Survivors resumed
 /// from a journal have no recorded hits: their scenarios run again here.
 /// Scenarios run without waivers are not audited (nothing to mask).
-pub fn audit(suite: &AuditedSuite, base: &[Baseline], mutants: &[MutantResult], log: &mut dyn FnMut(&str)) -> Vec<HiddenByWaiver> {
+/// None when no used scenario ran with waivers.
+pub fn audit(suite: &AuditedSuite, base: &[Baseline], mutants: &[MutantResult], log: &mut dyn FnMut(&str)) -> (Vec<HiddenByWaiver>, Option<AuditSummary>) {
     let usable: Vec<usize> = (0..base.len()).filter(|&i| base[i].passed).collect();
     let names = suite.tests();
     let mut hidden = Vec::new();
-    for m in mutants.iter().filter(|m| m.verdict == Verdict::Survived) {
+    let baselines: Vec<Vec<WaiverHit>> = usable.iter().filter_map(|&t| suite.recorded(t, 0).flatten()).collect();
+    let survivors: Vec<&MutantResult> = mutants.iter().filter(|m| m.verdict == Verdict::Survived).collect();
+    for m in &survivors {
         for &t in &usable {
             let Some(Some(b)) = suite.recorded(t, 0) else { continue };
             let mh = match suite.recorded(t, m.id as u64) {
@@ -242,7 +272,17 @@ pub fn audit(suite: &AuditedSuite, base: &[Baseline], mutants: &[MutantResult], 
             }
         }
     }
-    hidden
+    let summary = (!baselines.is_empty()).then(|| AuditSummary {
+        survivors: survivors.len(),
+        scenarios_with_waivers: baselines.len(),
+        scenarios_with_hits: baselines.iter().filter(|b| !b.is_empty()).count(),
+        baseline_hits: baselines.iter().map(Vec::len).sum(),
+        hidden: hidden.len(),
+    });
+    if let Some(s) = &summary {
+        log(&s.describe());
+    }
+    (hidden, summary)
 }
 
 #[cfg(test)]

@@ -97,6 +97,7 @@ fn a_survivor_a_waiver_masks_is_hidden_and_not_killed() {
     let plain = mutate::mutate(&config(work.path(), &list, Vec::new(), "plain"), &mut log).unwrap();
     assert!(matches!(&plain.mutants[0].verdict, Verdict::Killed { why, .. } if why.contains("OCR")), "{:?}", plain.mutants[0].verdict);
     assert!(plain.hidden.is_empty());
+    assert_eq!(plain.audit, None, "no waivers: nothing to audit");
 
     // With it the mutant passes; the audit finds the waiver hit the
     // original's run does not have.
@@ -120,6 +121,8 @@ fn a_survivor_a_waiver_masks_is_hidden_and_not_killed() {
     assert_eq!((c.killed, c.survived, c.hidden_by_waiver), (0, 0, 1));
     assert_eq!(r.score(), Some(0.0), "hidden by a waiver is not killed");
     assert!(r.summary().contains("1 hidden by a waiver"), "{}", r.summary());
+    let a = r.audit.as_ref().expect("audited");
+    assert_eq!((a.survivors, a.scenarios_with_waivers, a.scenarios_with_hits, a.baseline_hits, a.hidden), (1, 1, 0, 0, 1));
     let md = std::fs::read_to_string(work.path().join("waived/report.md")).unwrap();
     assert!(md.contains("## Hidden by a waiver") && md.contains("crafted-ocr-bit1") && md.contains("model 0xFF, DUT 0xFD"), "{md}");
     let json: serde_json::Value = serde_json::from_str(&std::fs::read_to_string(work.path().join("waived/report.json")).unwrap()).unwrap();

@@ -68,6 +68,7 @@ pub const RTL_FILES: [&str; 8] = ["can_top.v", "can_wb_cdc.v", "can_regs.v", "ca
 
 /// Runs the subcommand: exit 0 when no mutant survived (or timed out), 1 otherwise.
 pub fn run(a: Args) -> anyhow::Result<i32> {
+    anyhow::ensure!(a.budget_factor.is_finite() && a.budget_factor > 0.0, "--budget-factor {}: must be a number above 0", a.budget_factor);
     let (sources, profile) = match &a.external {
         None => {
             let dir = PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("../../rtl");
