@@ -373,3 +373,12 @@ fn a_failed_scenario_is_exit_1_and_bad_input_exit_2() {
     let out = cancosim(&["run", "tb/no-such-scenario.toml"], Duration::from_secs(20));
     assert_eq!(out.status.code(), Some(2));
 }
+
+#[test]
+fn mutate_rejects_a_time_budget_that_is_not_above_zero() {
+    for bad in ["0", "-1", "NaN"] {
+        let arg = format!("--budget-factor={bad}");
+        let (_, stderr) = fails_cleanly(&["mutate", &arg, "--count", "1", "--no-formal"], Duration::from_secs(20));
+        assert!(stderr.contains("--budget-factor") && stderr.contains("above 0"), "{bad}: {stderr}");
+    }
+}

@@ -27,8 +27,19 @@ fn mutants_of_the_upstream_core_are_judged_only_by_scenarios_that_pass_it() {
     let c = &r["counts"];
     let n = count.parse::<u64>().unwrap();
     assert_eq!(c["mutants"], n);
-    let sum: u64 = ["killed", "survived", "equivalent", "timed_out", "build_errors"].iter().map(|k| c[k].as_u64().unwrap()).sum();
+    let sum: u64 = ["killed", "survived", "hidden_by_waiver", "equivalent", "timed_out", "build_errors"].iter().map(|k| c[k].as_u64().unwrap()).sum();
     assert_eq!(sum, n, "every mutant has one verdict");
+    // The waiver audit: a survivor a waiver masks is named with the
+    // scenario, the waiver and the values, and is not killed.
+    let hidden = r["hidden"].as_array().unwrap();
+    assert_eq!(hidden.len() as u64, c["hidden_by_waiver"].as_u64().unwrap());
+    for h in hidden {
+        let m = r["mutants"].as_array().unwrap().iter().find(|m| m["id"] == h["id"]).expect("a mutant of the run");
+        assert_eq!(m["verdict"]["verdict"], "survived", "hidden mutant {}", h["id"]);
+        let d = &h["differences"][0];
+        assert!(d["how"].is_string(), "{h}");
+        println!("hidden by a waiver: mutant {} in {}: {d}", h["id"], h["test"]);
+    }
     // A kill counts only from a scenario that passes the unmutated core
     // with its waivers: a scenario failing there is not used.
     let passing: Vec<&str> = r["baseline"].as_array().unwrap().iter().filter(|b| b["passed"] == true).map(|b| b["test"].as_str().unwrap()).collect();

@@ -15,6 +15,7 @@ pub mod instrument;
 pub mod mutation;
 pub mod report;
 pub mod suite;
+pub mod waiver_audit;
 
 pub use campaign::{Baseline, CampaignOptions, MutantResult, Suite, TestInfo, TestResult, Verdict};
 pub use formal::{FormalOptions, FormalVerdict};
@@ -93,7 +94,9 @@ pub fn mutate(cfg: &MutateConfig, log: &mut dyn FnMut(&str)) -> Result<Report, M
     .with_profile(cfg.profile.clone());
     let mut run = cfg.run.clone();
     run.dut = Some(dut);
-    let suite = suite::ScenarioSuite { scenarios: cfg.scenarios.clone(), options: run };
+    let scenarios = suite::ScenarioSuite { scenarios: cfg.scenarios.clone(), options: run };
+    // Every passing run's waiver hits are recorded for the waiver audit.
+    let suite = waiver_audit::AuditedSuite::new(&scenarios);
     let base = campaign::baseline(&suite, cfg.campaign.jobs);
     for b in base.iter().filter(|b| !b.passed) {
         log(&format!("not used: {}: {}", b.test, b.note.as_deref().unwrap_or("")));
@@ -109,6 +112,7 @@ pub fn mutate(cfg: &MutateConfig, log: &mut dyn FnMut(&str)) -> Result<Report, M
     let key = inst.dir.file_name().map(|n| n.to_string_lossy().into_owned()).unwrap_or_default();
     copts.journal.get_or_insert_with(|| cfg.out.join(journal_name(&key, &cfg.scenarios, &cfg.run)));
     let mutants = campaign::run_mutants(&suite, &base, &inst.mutations, &inst.build_errors, &copts).map_err(io("mutant loop"))?;
+    let (hidden, audit) = waiver_audit::audit(&suite, &base, &mutants, log);
     let run_seconds = t1.elapsed().as_secs_f64();
     let mut report = Report {
         core: format!("{} ({})", inst.top, cfg.sources.dir.display()),
@@ -119,6 +123,8 @@ pub fn mutate(cfg: &MutateConfig, log: &mut dyn FnMut(&str)) -> Result<Report, M
         baseline: base,
         mutants,
         formal: Vec::new(),
+        hidden,
+        audit,
         build_seconds,
         run_seconds,
     };
@@ -145,7 +151,8 @@ pub fn journal_name(build_key: &str, scenarios: &[scenario::Scenario], run: &sce
 
 /// The formal check of every survivor; skeletons in `out/skeletons/`.
 pub fn check_survivors(report: &mut Report, inst: &Instrumented, f: &FormalOptions, out: &std::path::Path, log: &mut dyn FnMut(&str)) -> Result<(), MutateError> {
-    let ids: Vec<u32> = report.mutants.iter().filter(|m| m.verdict == Verdict::Survived).map(|m| m.id).collect();
+    // A survivor hidden by a waiver behaves differently: no proof to seek.
+    let ids: Vec<u32> = report.mutants.iter().filter(|m| m.verdict == Verdict::Survived && report.hidden_by(m.id).is_none()).map(|m| m.id).collect();
     for id in ids {
         let v = formal::check(inst, id, f, &out.join("formal"))?;
         if let FormalVerdict::Differs { trace, .. } = &v {

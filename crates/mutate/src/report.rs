@@ -3,6 +3,7 @@
 
 use crate::campaign::{Baseline, MutantResult, Verdict};
 use crate::formal::FormalVerdict;
+use crate::waiver_audit::{AuditSummary, HiddenByWaiver};
 use serde::{Deserialize, Serialize};
 
 /// A whole run.
@@ -18,6 +19,12 @@ pub struct Report {
     pub mutants: Vec<MutantResult>,
     /// Formal verdicts of survivors, by id.
     pub formal: Vec<(u32, FormalVerdict)>,
+    /// Survivors the waiver audit found masked by a waiver (not killed).
+    #[serde(default)]
+    pub hidden: Vec<HiddenByWaiver>,
+    /// What the waiver audit compared (None: no scenario ran with waivers).
+    #[serde(default)]
+    pub audit: Option<AuditSummary>,
     /// Wall time of the build (yosys + Verilator), seconds.
     pub build_seconds: f64,
     /// Wall time of the mutants' simulations, seconds.
@@ -33,6 +40,10 @@ pub struct Counts {
     pub killed: usize,
     /// Every test passed, and no proof of equivalence.
     pub survived: usize,
+    /// Every test passed only because a waiver masked the mutant (the
+    /// waiver audit): not killed, not in `survived`.
+    #[serde(default)]
+    pub hidden_by_waiver: usize,
     /// Proved equivalent to the original (not in the score).
     pub equivalent: usize,
     /// Over the time budget.
@@ -42,6 +53,11 @@ pub struct Counts {
 }
 
 impl Report {
+    /// The waiver audit's finding on a mutant, if a waiver hides it.
+    pub fn hidden_by(&self, id: u32) -> Option<&HiddenByWaiver> {
+        self.hidden.iter().find(|h| h.id == id)
+    }
+
     /// The formal verdict of a mutant, if it was checked.
     pub fn formal_of(&self, id: u32) -> Option<&FormalVerdict> {
         self.formal.iter().find(|(i, _)| *i == id).map(|(_, f)| f)
@@ -55,6 +71,7 @@ impl Report {
                 Verdict::Killed { .. } => c.killed += 1,
                 Verdict::TimedOut { .. } => c.timed_out += 1,
                 Verdict::BuildError { .. } => c.build_errors += 1,
+                Verdict::Survived if self.hidden_by(m.id).is_some() => c.hidden_by_waiver += 1,
                 Verdict::Survived if matches!(self.formal_of(m.id), Some(FormalVerdict::Equivalent { .. })) => c.equivalent += 1,
                 Verdict::Survived => c.survived += 1,
             }
@@ -74,7 +91,7 @@ impl Report {
         self.mutants
             .iter()
             .filter(|m| match m.verdict {
-                Verdict::Survived => !matches!(self.formal_of(m.id), Some(FormalVerdict::Equivalent { .. })),
+                Verdict::Survived => self.hidden_by(m.id).is_some() || !matches!(self.formal_of(m.id), Some(FormalVerdict::Equivalent { .. })),
                 Verdict::TimedOut { .. } => true,
                 _ => false,
             })
@@ -94,8 +111,8 @@ impl Report {
         let c = self.counts();
         let score = self.score().map(|s| format!("{:.1}%", s * 100.0)).unwrap_or_else(|| "n/a".into());
         format!(
-            "mutation score {score} = {} killed / ({} mutants - {} equivalent - {} build errors); {} survived, {} timed out",
-            c.killed, c.mutants, c.equivalent, c.build_errors, c.survived, c.timed_out
+            "mutation score {score} = {} killed / ({} mutants - {} equivalent - {} build errors); {} survived, {} hidden by a waiver, {} timed out",
+            c.killed, c.mutants, c.equivalent, c.build_errors, c.survived, c.hidden_by_waiver, c.timed_out
         )
     }
 
@@ -107,7 +124,11 @@ impl Report {
         if sims > 0 {
             s += &format!(" ({:.2} s per mutant)", self.mutants.iter().map(|m| m.seconds).sum::<f64>() / sims as f64);
         }
-        s += "\n\n";
+        s += "\n";
+        if let Some(a) = &self.audit {
+            s += &format!("- {}\n", a.describe());
+        }
+        s += "\n";
         let unused: Vec<&Baseline> = self.baseline.iter().filter(|b| !b.passed).collect();
         if !unused.is_empty() {
             s += "Tests not used (they do not pass on the original, so cannot kill):\n\n";
@@ -122,10 +143,21 @@ impl Report {
             for m in surv {
                 let f = match (&m.verdict, self.formal_of(m.id)) {
                     (Verdict::TimedOut { tests_run }, _) => format!("timed out after {tests_run} tests"),
+                    (_, _) if self.hidden_by(m.id).is_some() => self.hidden_by(m.id).map(HiddenByWaiver::describe).unwrap_or_default(),
                     (_, Some(f)) => f.describe(),
                     (_, None) => "not checked".into(),
                 };
                 s += &format!("| {} | {} | {} | {} |\n", m.id, m.location, m.description.replace('|', "\\|"), f.replace('|', "\\|"));
+            }
+            s += "\n";
+        }
+        if !self.hidden.is_empty() {
+            s += "## Hidden by a waiver (survivors the waivers mask: not killed)\n\n| id | where | scenario | waiver | difference from the original's run |\n|---|---|---|---|---|\n";
+            for h in &self.hidden {
+                let loc = self.mutants.iter().find(|m| m.id == h.id).map(|m| m.location.clone()).unwrap_or_default();
+                for d in &h.differences {
+                    s += &format!("| {} | {} | {} | {} | {} |\n", h.id, loc, h.test, d.waiver_id(), d.describe().replace('|', "\\|"));
+                }
             }
             s += "\n";
         }
@@ -159,6 +191,7 @@ impl Report {
             let v = match &m.verdict {
                 Verdict::Killed { test, why, .. } => format!("killed by {test}: {why}"),
                 Verdict::Survived => match self.formal_of(m.id) {
+                    _ if self.hidden_by(m.id).is_some() => format!("SURVIVED, {}", self.hidden_by(m.id).map(HiddenByWaiver::describe).unwrap_or_default()),
                     Some(FormalVerdict::Equivalent { .. }) => "equivalent".into(),
                     _ => "SURVIVED".into(),
                 },

@@ -20,11 +20,25 @@ impl Suite for ScenarioSuite {
     }
 
     fn run(&self, index: usize, select: u64) -> TestResult {
+        result_of(&self.outcome(index, select))
+    }
+}
+
+impl ScenarioSuite {
+    /// The whole outcome of test `index` with the select at `select` (the
+    /// waiver audit reads its waiver hits).
+    pub fn outcome(&self, index: usize, select: u64) -> scenario::RunOutcome {
         let mut o = self.options.clone();
         o.held_inputs.push((SELECT.into(), select));
-        let out = scenario::run(&self.scenarios[index], &o);
-        if let Some(why) = out.skipped {
-            return TestResult::Skipped(why);
+        scenario::run(&self.scenarios[index], &o)
+    }
+}
+
+/// A run's outcome as a test result: pass, skipped, or the first failure in words.
+pub fn result_of(out: &scenario::RunOutcome) -> TestResult {
+    {
+        if let Some(why) = &out.skipped {
+            return TestResult::Skipped(why.clone());
         }
         if out.passed {
             return TestResult::Pass;

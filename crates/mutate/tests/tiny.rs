@@ -123,7 +123,7 @@ fn the_fixture_s_mutants_end_as_its_logic_says() {
     let opts = CampaignOptions { jobs: 2, ..Default::default() };
     let results = mutate::campaign::run_mutants(&suite, &base, &inst.mutations, &inst.build_errors, &opts).unwrap();
     assert_eq!(results.len(), 60);
-    let mut report = mutate::Report { core: "tiny".into(), source: "test".into(), baseline: base.clone(), mutants: results, formal: Vec::new(), build_seconds: 0.0, run_seconds: 0.0 };
+    let mut report = mutate::Report { core: "tiny".into(), source: "test".into(), baseline: base.clone(), mutants: results, formal: Vec::new(), hidden: Vec::new(), audit: None, build_seconds: 0.0, run_seconds: 0.0 };
     let work = tempfile::tempdir().unwrap();
     mutate::check_survivors(&mut report, &inst, &FormalOptions { steps: 6, induction: 6, timeout_s: 30 }, work.path(), &mut |_| {}).unwrap();
     eprintln!("campaign + formal: {:.1} s", t0.elapsed().as_secs_f64());

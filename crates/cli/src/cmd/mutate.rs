@@ -54,6 +54,10 @@ pub struct Args {
     /// Host of every scenario (default wishbone: the mutated core is the can_top port list).
     #[arg(long, default_value = "wishbone", value_parser = ["wishbone", "avalon", "pio", "i8051"])]
     host: String,
+    /// A mutant times out when its scenarios take longer than this many times
+    /// the baseline's total (raise it on a loaded machine).
+    #[arg(long, default_value_t = 4.0, value_name = "X")]
+    budget_factor: f64,
     /// Waiver file (repeatable), added to the scenarios' own.
     #[arg(long = "waivers", value_name = "FILE")]
     waivers: Vec<PathBuf>,
@@ -64,6 +68,7 @@ pub const RTL_FILES: [&str; 8] = ["can_top.v", "can_wb_cdc.v", "can_regs.v", "ca
 
 /// Runs the subcommand: exit 0 when no mutant survived (or timed out), 1 otherwise.
 pub fn run(a: Args) -> anyhow::Result<i32> {
+    anyhow::ensure!(a.budget_factor.is_finite() && a.budget_factor > 0.0, "--budget-factor {}: must be a number above 0", a.budget_factor);
     let (sources, profile) = match &a.external {
         None => {
             let dir = PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("../../rtl");
@@ -112,6 +117,7 @@ pub fn run(a: Args) -> anyhow::Result<i32> {
             jobs: a.jobs,
             shard: a.shard,
             progress: std::io::IsTerminal::is_terminal(&std::io::stderr()),
+            budget_factor: a.budget_factor,
             ..Default::default()
         },
         formal: (!a.no_formal).then_some(mutate::FormalOptions { steps: a.formal_steps, induction: a.formal_steps, ..Default::default() }),
@@ -124,7 +130,10 @@ pub fn run(a: Args) -> anyhow::Result<i32> {
     if !surv.is_empty() {
         println!("survivors:");
         for m in &surv {
-            let f = report.formal_of(m.id).map(|f| f.describe()).unwrap_or_else(|| "not checked".into());
+            let f = match report.hidden_by(m.id) {
+                Some(h) => h.describe(),
+                None => report.formal_of(m.id).map(|f| f.describe()).unwrap_or_else(|| "not checked".into()),
+            };
             println!("  {:>4} {:<18} {}  [{f}]", m.id, m.location, m.description);
         }
     }
