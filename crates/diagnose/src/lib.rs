@@ -261,7 +261,13 @@ impl Diagnosis {
     /// One line per waived deviation: what the core showed, in words.
     fn write_waived(&self, s: &mut String) {
         for w in &self.waived {
-            let _ = writeln!(s, "Waived: {}; {} divergence(s), a known deviation of this core", lower_first(&w.describe()), w.hits);
+            let _ = writeln!(
+                s,
+                "Waived: {}; {} divergence(s){}, a known deviation of this core",
+                lower_first(&w.describe()),
+                w.hits,
+                w.bound_text()
+            );
         }
     }
 

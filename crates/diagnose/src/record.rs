@@ -615,9 +615,28 @@ pub struct WaivedDeviation {
     pub clause: Option<String>,
     /// Divergences the waiver covered.
     pub hits: u32,
+    /// Episodes of a waiver bounded by a host event (`until-read`): the
+    /// differences its hits belong to; 0 for other waivers.
+    #[serde(skip_serializing_if = "is_zero")]
+    pub episodes: u32,
+    /// That bound in words, printed with the hits.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub bound: Option<String>,
+}
+
+fn is_zero(n: &u32) -> bool {
+    *n == 0
 }
 
 impl WaivedDeviation {
+    /// `; N episode(s), each ...` for a waiver with a host-event bound, else empty.
+    pub fn bound_text(&self) -> String {
+        match &self.bound {
+            Some(b) => format!("; {} episode(s), {b}", self.episodes),
+            None => String::new(),
+        }
+    }
+
     /// `summary (id, clause)`.
     pub fn describe(&self) -> String {
         match &self.clause {

@@ -321,6 +321,7 @@ impl RegressReport {
                 match out.iter_mut().find(|u| u.deviation.waiver_id == d.waiver_id) {
                     Some(u) => {
                         u.deviation.hits += d.hits;
+                        u.deviation.episodes += d.episodes;
                         u.scenarios.push(c.scenario.clone());
                     }
                     None => out.push(WaiverUse { deviation: d.clone(), scenarios: vec![c.scenario.clone()] }),
@@ -374,10 +375,11 @@ impl RegressReport {
             for u in &used {
                 let d = &u.deviation;
                 out += &format!(
-                    "  {} x{} in {} scenario(s): {}{}\n",
+                    "  {} x{} in {} scenario(s){}: {}{}\n",
                     d.waiver_id,
                     d.hits,
                     u.scenarios.len(),
+                    d.bound_text(),
                     d.summary,
                     d.clause.as_ref().map(|c| format!(" ({c})")).unwrap_or_default()
                 );

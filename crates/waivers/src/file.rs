@@ -70,6 +70,16 @@
 //! # comparator's clock (`Observed::now_ps`, `bit_time_ps`,
 //! # `can_clock_ps`); a run that does not give them never matches.
 //! late-by = "1 bit + 16 clocks"
+//! # irq only: a pin difference that the host's read of IR ends (the read
+//! # clears the interrupt flag of the side that has it, datasheet Table
+//! # 15). One episode runs from the start of the difference until the
+//! # host's next read of IR; a report of it whose run began after that read
+//! # completed (the pin still differed for more than the comparator's pin
+//! # tolerance after the read) is not waived. `max-hits` then counts
+//! # episodes, not the comparator's repeated reports of one difference
+//! # (their number grows with how long the host takes to read IR). Not
+//! # with `late-by` or `late-bits`; only "IR" is accepted.
+//! until-read = "IR"
 //! ```
 //!
 //! A scenario expectation (a register read with an expected value) that
@@ -653,6 +663,7 @@ pub(crate) struct RawWaiver {
     pub context: Option<String>,
     pub late_bits: Option<Spanned<u32>>,
     pub late_by: Option<Spanned<Lateness>>,
+    pub until_read: Option<Spanned<String>>,
     pub expected_bits: Option<Spanned<BitPattern>>,
     pub seen_bits: Option<Spanned<BitPattern>>,
     pub seen_offset: Option<Spanned<i64>>,

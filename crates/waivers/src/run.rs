@@ -65,6 +65,12 @@ impl Session {
         self.mode
     }
 
+    /// The host's read of `register` completed at `t_ps`: it ends the
+    /// episodes of `until-read` waivers ([`WaiverSet::host_read`]).
+    pub fn host_read(&mut self, register: &str, t_ps: u64) {
+        self.set.host_read(register, t_ps);
+    }
+
     /// A divergence with nothing observed beyond it.
     pub fn divergence(&mut self, d: Divergence) -> Action {
         self.divergence_observed(d, &Observed::default())

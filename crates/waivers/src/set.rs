@@ -60,6 +60,11 @@ pub struct Observed {
     /// The model's PeliCAN mode register (MOD) at the divergence; `None` in
     /// BasicCAN or when not observed (`model-mod-bits`).
     pub model_mod: Option<u8>,
+    /// irq: `Some(true)` when the pins have not agreed since this pin's
+    /// previous report (the same difference reported again), `Some(false)`
+    /// when they have; `None`: not observed (then reports at most two CAN
+    /// clocks apart are taken as one difference). For `until-read`.
+    pub pin_continues: Option<bool>,
 }
 
 impl Observed {
@@ -165,6 +170,10 @@ pub struct Waiver {
     /// irq / bus-off: the DUT's pin may lag the model by at most this long
     /// (see [`WaiverSet::check_observed`]).
     pub late_by: Option<Lateness>,
+    /// irq: one pin difference (episode) lasts at most until the host's
+    /// next read of this register (`until-read = "IR"`); `max-hits` then
+    /// counts episodes (see [`WaiverSet::check_observed`]).
+    pub until_read: Option<String>,
     /// register-read: the model's value must have this pattern.
     pub expected_bits: Option<BitPattern>,
     /// register-read: the DUT's value must have this pattern.
@@ -182,9 +191,29 @@ pub struct Waiver {
     pub consequences: Vec<Consequence>,
     /// Divergences waived so far.
     pub hits: u32,
+    /// Episodes so far (`until-read`).
+    pub episodes: u32,
     episode: Option<Episode>,
     late: Option<LateEpisode>,
+    read_episode: Option<ReadEpisode>,
+    /// Completion times (ps) of the host's recent reads of `until_read`.
+    reads: Vec<u64>,
+    /// The last report refused because it outlasted a read: (its start, the read), ps.
+    outlasted: Option<(u64, u64)>,
 }
+
+/// The pin difference an `until-read` waiver is following: when it began
+/// (its first report's `time_ps`) and when it was last reported.
+#[derive(Clone, Copy, Debug)]
+struct ReadEpisode {
+    start_ps: u64,
+    last_report_ps: u64,
+}
+
+/// Reads of an `until-read` register kept while no episode is open: a
+/// new episode begins at most a pin tolerance before its first report, far
+/// fewer reads than this fit in it.
+const RECENT_READS: usize = 64;
 
 /// The current run of hits of one waiver, for the `late-bits` bound.
 #[derive(Clone, Copy, Debug)]
@@ -210,7 +239,22 @@ impl Waiver {
 
     /// What a report says of this waiver after `hits` divergences.
     pub fn deviation(&self, hits: u32) -> diagnose::WaivedDeviation {
-        diagnose::WaivedDeviation { waiver_id: self.id.clone(), summary: self.summary(), clause: self.clause.clone(), hits }
+        diagnose::WaivedDeviation {
+            waiver_id: self.id.clone(),
+            summary: self.summary(),
+            clause: self.clause.clone(),
+            hits,
+            episodes: if self.until_read.is_some() { self.episodes } else { 0 },
+            bound: self.bound(),
+        }
+    }
+
+    /// The bound that follows the host, in words for reports (`until-read`).
+    pub fn bound(&self) -> Option<String> {
+        self.until_read.as_ref().map(|r| {
+            let max = self.max_hits.map(|m| format!(", at most {m} (max-hits)")).unwrap_or_default();
+            format!("each episode until the host's next read of {r} (until-read = \"{r}\"){max}")
+        })
     }
 
     /// True if the waiver is for this DUT (name glob and revision range).
@@ -277,6 +321,9 @@ impl Waiver {
         if self.late_by.is_some() && (obs.now_ps.is_none() || obs.bit_time_ps.is_none() || obs.can_clock_ps.is_none())
         {
             return Some("late-by needs the comparator's clock (report time, bit time, CAN clock), not given".into());
+        }
+        if self.until_read.is_some() && obs.can_clock_ps.is_none() {
+            return Some("until-read needs the comparator's clock (CAN clock period), not given".into());
         }
         if let Some(v) = &self.expected
             && !v.contains(&d.expected)
@@ -354,6 +401,41 @@ impl Waiver {
             })
             .collect()
     }
+}
+
+/// The verdict of an `until-read` waiver on a divergence it matches (see
+/// [`WaiverSet::check_observed`]); `None`: not waived by it.
+fn until_read_verdict(w: &mut Waiver, d: &Divergence, obs: &Observed) -> Option<Verdict> {
+    let clk = obs.can_clock_ps?;
+    let now = obs.now_ps.unwrap_or(d.time_ps).max(d.time_ps);
+    let same = |e: &ReadEpisode| match obs.pin_continues {
+        Some(c) => c && d.time_ps >= e.start_ps,
+        None => d.time_ps >= e.start_ps && d.time_ps <= e.last_report_ps + 2 * clk,
+    };
+    match &mut w.read_episode {
+        Some(e) if same(e) => {
+            // The same difference, reported again.
+            e.last_report_ps = now;
+            let start = e.start_ps;
+            if let Some(&read) = w.reads.iter().find(|&&r| r >= start)
+                && d.time_ps > read
+            {
+                w.outlasted = Some((d.time_ps, read));
+                return None;
+            }
+        }
+        _ => {
+            // A new difference: one more episode.
+            if w.max_hits.is_some_and(|m| w.episodes >= m) {
+                return None;
+            }
+            w.read_episode = Some(ReadEpisode { start_ps: d.time_ps, last_report_ps: now });
+            w.reads.retain(|&r| r >= d.time_ps);
+            w.episodes += 1;
+        }
+    }
+    w.hits += 1;
+    Some(Verdict::Waived { waiver_id: w.id.clone(), resync: w.resolve(d, obs) })
 }
 
 /// The one value of a single-value counter bound.
@@ -480,11 +562,28 @@ impl WaiverSet {
     /// episode, and a hit that would make the episode span more than N bit
     /// times is not waived (nor is the rest of that episode). `max-hits`
     /// bounds the total.
+    ///
+    /// `until-read = "IR"` bounds a pin difference by the event that ends
+    /// it: reports of one lasting difference (the pins did not agree in
+    /// between, [`Observed::pin_continues`]; not observed: each report
+    /// starting at most two CAN clocks after the previous one) form one
+    /// episode, waived while
+    /// the run each report measures began no later than the completion of
+    /// the host's first read of IR since the episode began
+    /// ([`WaiverSet::host_read`]); later, the pin outlasted that read by more
+    /// than the comparator's pin tolerance and it is not waived. `max-hits`
+    /// counts episodes.
     pub fn check_observed(&mut self, d: &Divergence, dut: &DutInfo, obs: &Observed) -> Verdict {
         let bit = d.bit.unwrap_or(0);
         for w in &mut self.waivers {
             if w.mismatch(d, dut, obs).is_some() {
                 continue;
+            }
+            if w.until_read.is_some() {
+                match until_read_verdict(w, d, obs) {
+                    Some(v) => return v,
+                    None => continue,
+                }
             }
             if w.max_hits.is_some_and(|m| w.hits >= m) {
                 continue;
@@ -534,6 +633,19 @@ impl WaiverSet {
             .filter(|w| w.kind == d.kind && w.applies_to(dut) && w.same_place(d))
             .map(|w| match w.mismatch(d, dut, obs) {
                 Some(why) => format!("waiver `{}` ({}:{}) does not apply: {why}", w.id, w.file, w.line),
+                None if w.until_read.is_some() => {
+                    let reg = w.until_read.as_deref().unwrap_or("");
+                    match w.outlasted {
+                        Some((start, read)) if start == d.time_ps => format!(
+                            "waiver `{}` ({}:{}) does not apply: the pin still differed after the host's read of {reg} that completed at {read} ps (until-read = \"{reg}\")",
+                            w.id, w.file, w.line
+                        ),
+                        _ => format!(
+                            "waiver `{}` ({}:{}) already used its max-hits = {} episode(s) (until-read = \"{reg}\")",
+                            w.id, w.file, w.line, w.episodes
+                        ),
+                    }
+                }
                 None if w.max_hits.is_some_and(|m| w.hits >= m) => {
                     format!("waiver `{}` ({}:{}) already used its max-hits = {}", w.id, w.file, w.line, w.hits)
                 }
@@ -571,8 +683,25 @@ impl WaiverSet {
     pub fn reset_hits(&mut self) {
         for w in &mut self.waivers {
             w.hits = 0;
+            w.episodes = 0;
             w.episode = None;
             w.late = None;
+            w.read_episode = None;
+            w.reads.clear();
+            w.outlasted = None;
+        }
+    }
+
+    /// The host's read of `register` completed at `t_ps` (simulated time):
+    /// it ends the open episode of every `until-read` waiver on that register.
+    pub fn host_read(&mut self, register: &str, t_ps: u64) {
+        for w in &mut self.waivers {
+            if w.until_read.as_deref().is_some_and(|r| r.eq_ignore_ascii_case(register)) {
+                if w.read_episode.is_none() && w.reads.len() >= RECENT_READS {
+                    w.reads.remove(0);
+                }
+                w.reads.push(t_ps);
+            }
         }
     }
 }
@@ -700,6 +829,37 @@ fn validate(name: &str, src: &str, w: RawWaiver) -> Result<Waiver, WaiverError> 
         }
         l => l.as_ref().map(|l| *l.get_ref()),
     };
+    let until_read = match &w.until_read {
+        Some(u) if w.kind != KindName::Irq => {
+            return Err(invalid(
+                name,
+                at(u.span()),
+                "until-read",
+                format!("`until-read` is for kind irq (a read of IR clears an interrupt), not {}", w.kind.as_str()),
+            ));
+        }
+        Some(u) if !u.get_ref().eq_ignore_ascii_case("IR") => {
+            return Err(invalid(
+                name,
+                at(u.span()),
+                "until-read",
+                format!("`{}`: only \"IR\" ends a pin difference (its read clears the interrupt flags, datasheet Table 15)", u.get_ref()),
+            ));
+        }
+        Some(u) if w.late_by.is_some() || w.late_bits.is_some() => {
+            return Err(invalid(
+                name,
+                at(u.span()),
+                "until-read",
+                "one bound on how long a difference lasts: `until-read`, or `late-by` / `late-bits`, not both".into(),
+            ));
+        }
+        Some(u) if w.max_hits.is_none() => {
+            return Err(invalid(name, at(u.span()), "until-read", "needs a `max-hits` (the number of episodes)".into()));
+        }
+        Some(_) => Some("IR".to_string()),
+        None => None,
+    };
     let mut patterns = [None, None];
     for (slot, key, p) in [(0, "expected-bits", &w.expected_bits), (1, "seen-bits", &w.seen_bits)] {
         if let Some(p) = p {
@@ -781,6 +941,7 @@ fn validate(name: &str, src: &str, w: RawWaiver) -> Result<Waiver, WaiverError> 
         context: w.context,
         late_bits: w.late_bits.map(|l| l.into_inner()),
         late_by,
+        until_read,
         expected_bits,
         seen_bits,
         seen_offset,
@@ -789,8 +950,12 @@ fn validate(name: &str, src: &str, w: RawWaiver) -> Result<Waiver, WaiverError> 
         resync,
         consequences,
         hits: 0,
+        episodes: 0,
         episode: None,
         late: None,
+        read_episode: None,
+        reads: Vec::new(),
+        outlasted: None,
     })
 }
 

@@ -197,6 +197,8 @@ pub struct Comparator {
     latch_info: Option<Latch>,
     /// The latches of `found`, in step with it.
     found_latch: VecDeque<Latch>,
+    /// The irq report found: the pins had not agreed since the last one.
+    irq_continues: Option<bool>,
     /// Differences listed in collect mode, with their repeats.
     listed: Listed,
     skip_until_bit: u64,
@@ -230,6 +232,7 @@ impl Comparator {
             last_kind: None,
             latch_info: None,
             found_latch: VecDeque::new(),
+            irq_continues: None,
             listed: Listed::default(),
             skip_until_bit: 0,
             compared_bits: 0,
@@ -266,6 +269,12 @@ impl Comparator {
             Some(Latch::Read(DiffKey::Read { addr, dut, .. })) => Some((addr, dut)),
             _ => None,
         }
+    }
+
+    /// Of the irq report just taken: true if the pins have not agreed since
+    /// the previous irq report (the same difference again), once.
+    pub fn take_irq_continues(&mut self) -> Option<bool> {
+        self.irq_continues.take()
     }
 
     /// True while a divergence halts the comparison (until [`Comparator::resume`]).
@@ -439,6 +448,9 @@ impl Comparator {
         }
         self.expired = expired;
         for d in self.pins.clock(stamp, reference, dut, skipping).into_iter().flatten() {
+            if d.kind == DivergenceKind::Irq {
+                self.irq_continues = Some(d.continues);
+            }
             self.diverge(d.kind, d.since, None, d.expected, d.seen, d.context);
         }
     }

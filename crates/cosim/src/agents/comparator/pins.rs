@@ -16,6 +16,9 @@ pub(super) struct PinDiff {
     pub(super) expected: u32,
     pub(super) seen: u32,
     pub(super) context: String,
+    /// The pins have not agreed since this pin's previous report: the same
+    /// difference reported again (an `until-read` waiver's episode goes on).
+    pub(super) continues: bool,
 }
 
 /// One pin's run of differing clocks.
@@ -25,6 +28,8 @@ struct Run {
     since: Stamp,
     /// Collect mode: listed, not reported again until the pins agree.
     latched: bool,
+    /// The pins agreed at some clock since this pin's last report.
+    agreed: bool,
 }
 
 /// `irq_on` and `bus_off_on` against the reference's.
@@ -59,6 +64,8 @@ impl PinChecker {
     pub(super) fn quiet_clock(&mut self, skipping: bool) {
         self.irq.latched = false;
         self.bus.latched = false;
+        self.irq.agreed = true;
+        self.bus.agreed = true;
         if !skipping {
             if self.compare_irq {
                 self.irq.bad = 0;
@@ -71,32 +78,36 @@ impl PinChecker {
 
     /// Any clock: the differences that outlasted the tolerance now, irq first.
     pub(super) fn clock(&mut self, stamp: Stamp, reference: &CanPins, dut: &CanPins, skipping: bool) -> [Option<PinDiff>; 2] {
-        if self.irq.latched && reference.irq_n == dut.irq_n {
+        if reference.irq_n == dut.irq_n {
             self.irq.latched = false;
+            self.irq.agreed = true;
         }
-        if self.bus.latched && reference.bus_on == dut.bus_on {
+        if reference.bus_on == dut.bus_on {
             self.bus.latched = false;
+            self.bus.agreed = true;
         }
         let tol = self.tolerance;
         let irq = (self.compare_irq && !skipping)
             .then(|| {
-                self.irq.check(stamp, reference.irq_n, dut.irq_n, tol).map(|(since, e, s)| PinDiff {
+                self.irq.check(stamp, reference.irq_n, dut.irq_n, tol).map(|(since, e, s, continues)| PinDiff {
                     kind: DivergenceKind::Irq,
                     since,
                     expected: e,
                     seen: s,
                     context: format!("irq_on (active low) differs for more than {tol} CAN clocks"),
+                    continues,
                 })
             })
             .flatten();
         let bus = (self.compare_bus_off && !skipping)
             .then(|| {
-                self.bus.check(stamp, reference.bus_on, dut.bus_on, tol).map(|(since, e, s)| PinDiff {
+                self.bus.check(stamp, reference.bus_on, dut.bus_on, tol).map(|(since, e, s, continues)| PinDiff {
                     kind: DivergenceKind::BusOff,
                     since,
                     expected: e,
                     seen: s,
                     context: format!("bus_off_on (high = on the bus) differs for more than {tol} CAN clocks"),
+                    continues,
                 })
             })
             .flatten();
@@ -127,10 +138,11 @@ impl PinChecker {
 }
 
 impl Run {
-    /// One compared clock: (where it began, reference, DUT) once the
-    /// difference lasts more than `tol` clocks (and at every clock after).
+    /// One compared clock: (where it began, reference, DUT, the pins have
+    /// not agreed since the last report) once the difference lasts more
+    /// than `tol` clocks (and at every clock after).
     #[inline]
-    fn check(&mut self, stamp: Stamp, reference: bool, dut: bool, tol: u32) -> Option<(Stamp, u32, u32)> {
+    fn check(&mut self, stamp: Stamp, reference: bool, dut: bool, tol: u32) -> Option<(Stamp, u32, u32, bool)> {
         if self.latched {
             return None;
         }
@@ -142,7 +154,12 @@ impl Run {
             self.since = stamp;
         }
         self.bad += 1;
-        (self.bad > tol).then_some((self.since, reference as u32, dut as u32))
+        if self.bad <= tol {
+            return None;
+        }
+        let continues = !self.agreed;
+        self.agreed = false;
+        Some((self.since, reference as u32, dut as u32, continues))
     }
 }
 
@@ -179,6 +196,25 @@ mod tests {
             assert!(p.clock(at(bit), &r, &d, false)[0].is_none());
         }
         assert_eq!(p.clock(at(24), &r, &d, false)[0].as_ref().map(|x| x.since.bit), Some(21));
+    }
+
+    #[test]
+    fn a_report_says_whether_the_pins_agreed_since_the_last_one() {
+        let cfg = CompareConfig { pin_tolerance: 2, ..CompareConfig::default() };
+        let mut p = PinChecker::new(&cfg);
+        let (r, d) = (pins(true, true), pins(false, true));
+        let at = |bit| Stamp { bit, ..Stamp::default() };
+        let report = |p: &mut PinChecker, from: u64| {
+            (from..from + 3).find_map(|bit| p.clock(at(bit), &r, &d, false)[0].take()).map(|x| x.continues)
+        };
+        p.quiet_clock(false);
+        assert_eq!(report(&mut p, 0), Some(false), "a new difference");
+        // A waived report: the run restarts (as after any handled divergence).
+        p.restart();
+        assert_eq!(report(&mut p, 3), Some(true), "the same difference again");
+        p.restart();
+        assert!(p.clock(at(6), &r, &r, false)[0].is_none());
+        assert_eq!(report(&mut p, 7), Some(false), "the pins agreed at bit 6: a new one");
     }
 
     #[test]

@@ -99,6 +99,10 @@ impl ComparatorAgent {
     /// A register read completed on both sides (see [`Comparator::read`]):
     /// true when a divergence waits for [`ComparatorAgent::handle_divergences`].
     pub fn read(&mut self, stamp: Stamp, addr: u8, dut: u8, model: u8, name: Option<String>) -> bool {
+        // A read of IR ends the episodes of `until-read` waivers.
+        if let Some(n) = &name {
+            self.waivers.host_read(n, stamp.t_ps);
+        }
         match &mut self.comparator {
             Some(c) if !self.stopped => {
                 c.read(stamp, addr, dut, model, name);
@@ -189,6 +193,9 @@ impl ComparatorAgent {
         }
         while let Some(d) = c.take_divergence() {
             let bit = d.bit;
+            // An irq report: the same difference again, or a new one
+            // (`until-read` episodes).
+            observed.pin_continues = if d.kind == diagnose::DivergenceKind::Irq { c.take_irq_continues() } else { None };
             match self.waivers.divergence_observed(d.clone(), &observed) {
                 Action::Resync(steps) => {
                     let mut skip_to = None;
@@ -358,10 +365,15 @@ resync = ["adopt-dut-rec"]
     /// Clocks `n` CAN clocks with the DUT's irq pending and the model's not;
     /// handles each divergence; returns how many there were.
     fn irq_differs(a: &mut ComparatorAgent, r: &mut ReferenceAgent, rec: &mut RunRecord, n: u64) -> u32 {
+        irq_differs_from(a, r, rec, 0, n)
+    }
+
+    /// [`irq_differs`] for the clocks `from..from + n` (stamped so).
+    fn irq_differs_from(a: &mut ComparatorAgent, r: &mut ReferenceAgent, rec: &mut RunRecord, from: u64, n: u64) -> u32 {
         let view = RefView { pins: CanPins { tx: true, irq_n: true, bus_on: true, clkout: false }, ..RefView::default() };
         let dut = CanPins { irq_n: false, ..view.pins };
         let mut found = 0;
-        for k in 0..n {
+        for k in from..from + n {
             let stamp = || Stamp { t_ps: k, bit: k / 10, field: None, frame: None };
             if a.can_clock(stamp, k % 10 == 7, &view, &dut, || super::super::clkout::ClkoutSetting::Unchecked) {
                 found += 1;
@@ -406,6 +418,41 @@ resync = ["adopt-dut-rec"]
         assert_eq!(m.counters(), Some((0, 7)));
         assert!(!a.adopt_at_read(Some("RXERR"), 9, m, 0), "adopted once");
         assert!(!a.waiver_report().notes.iter().any(|n| n.contains("not applied yet")));
+    }
+
+    const IRQ_UNTIL_READ: &str = r#"
+[[waiver]]
+id = "ei-early"
+kind = "irq"
+dut = ["fixture"]
+explanation = "EI pending early on the DUT, until the host reads IR"
+until-read = "IR"
+max-hits = 1
+resync = ["none"]
+"#;
+
+    #[test]
+    fn an_until_read_episode_ends_at_the_hosts_read_of_ir() {
+        // The DUT's irq pending, the model's not, for 2000 clocks (41
+        // reports): one episode, waived, as long as no IR read came.
+        let (mut r, mut rec) = (reference(), RunRecord::new("t", "fixture"));
+        let mut a = agent(IRQ_UNTIL_READ, CollectMode::StopAtFirst);
+        assert_eq!(irq_differs(&mut a, &mut r, &mut rec, 2000), 40);
+        assert!(!a.stopped() && rec.divergence.is_none());
+        // Other reads do not end it; the host's read of IR does: the pin
+        // still differing more than the tolerance after it is a failure.
+        let at = Stamp { t_ps: 2000, ..Stamp::default() };
+        assert!(!a.read(at, 2, 0x0C, 0x0C, Some("SR".into())));
+        assert_eq!(irq_differs_from(&mut a, &mut r, &mut rec, 2000, 100), 2, "still the same episode");
+        assert!(!a.stopped());
+        // Reported at 2106 (its run began at 2058, before the read: within
+        // the pin tolerance after it) and at 2155 (began at 2107: not).
+        assert!(!a.read(Stamp { t_ps: 2100, ..at }, 3, 0x04, 0x04, Some("IR".into())));
+        assert_eq!(irq_differs_from(&mut a, &mut r, &mut rec, 2100, 100), 2);
+        assert!(a.stopped(), "the pin outlasted the IR read");
+        assert_eq!(rec.divergence.as_ref().map(|d| d.time_ps), Some(2107));
+        let report = a.waiver_report();
+        assert!(report.notes.iter().any(|n| n.contains("still differed after the host's read of IR")), "{:?}", report.notes);
     }
 
     #[test]
