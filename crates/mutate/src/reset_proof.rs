@@ -255,14 +255,10 @@ pub fn check_in_module(src: &CoreSources, m: &Mutation, opts: &FormalOptions, wo
         }
     );
     let secs = pdr_seconds(opts);
-    let abc = Command::new("yosys-abc")
-        .arg("-c")
-        .arg(format!("read_aiger miter.aig; fold; strash; scorr; dc2; pdr -T {secs}"))
-        .current_dir(&dir)
-        .output()
-        .map_err(io("running yosys-abc"))?;
-    let text = String::from_utf8_lossy(&abc.stdout).into_owned() + &String::from_utf8_lossy(&abc.stderr);
-    std::fs::write(dir.join("abc.log"), &text).map_err(io("writing abc.log"))?;
+    // Signal correspondence (`&scorr`) merges the gold/gate pairs that stay
+    // equal; PDR proves the rest or finds a counterexample. Wall-clock
+    // bounded (the machine may be loaded): twice the PDR time for both.
+    let (text, _) = abc(&dir, &format!("read_aiger miter.aig; fold; strash; &get -n; &scorr; &put; dc2; pdr -T {secs}"), 2 * secs, "abc.log")?;
     let verdict = if text.contains("Property proved") {
         FormalVerdict::Equivalent { method: format!("proved from reset by ABC scorr + PDR (inductive invariant): {assumed}") }
     } else if let Some(frame) = asserted_frame(&text) {
@@ -274,22 +270,52 @@ pub fn check_in_module(src: &CoreSources, m: &Mutation, opts: &FormalOptions, wo
         FormalVerdict::ModuleDiffers { module: module.clone(), steps: trace.iter().map(|t| t.step).max().unwrap_or(steps), trace, assumed }
     } else {
         // No proof: how deep is there surely no difference?
-        let bmc = Command::new("yosys-abc")
-            .arg("-c")
-            .arg(format!("read_aiger miter.aig; fold; strash; bmc3 -F {} -T {secs}", opts.steps))
-            .current_dir(&dir)
-            .output()
-            .map_err(io("running yosys-abc"))?;
-        let b = String::from_utf8_lossy(&bmc.stdout).into_owned();
-        std::fs::write(dir.join("bmc.log"), &b).map_err(io("writing bmc.log"))?;
+        let why = if text.contains("UNDECIDED") { format!("PDR undecided after {secs} s") } else { format!("ABC stopped after {} s", 2 * secs) };
+        let (b, _) = abc(&dir, &format!("read_aiger miter.aig; fold; strash; bmc3 -v -F {} -T {secs}", opts.steps), secs + 30, "bmc.log")?;
         if let Some(frame) = asserted_frame(&b) {
             FormalVerdict::ModuleDiffers { module: module.clone(), steps: frame + 1, trace: Vec::new(), assumed }
         } else {
-            let depth = if b.contains("No output asserted in") { format!("no difference within {} steps (bounded, not a proof)", opts.steps) } else { "bounded check inconclusive".into() };
-            FormalVerdict::Unknown { why: format!("{depth}; PDR undecided after {secs} s; {assumed}") }
+            let depth = match bmc_depth(&b) {
+                Some(d) => format!("no difference within {d} clocks (bounded, not a proof)"),
+                None => "bounded check inconclusive".into(),
+            };
+            FormalVerdict::Unknown { why: format!("{depth}; {why}; {assumed}") }
         }
     };
     Ok(Ok(ModuleCheck { module, verdict, seconds: t0.elapsed().as_secs_f64() }))
+}
+
+/// Runs `yosys-abc -c script` in `dir`, killed after `limit_s` seconds of
+/// wall time; its output (also written to `log`) and whether it was killed.
+fn abc(dir: &Path, script: &str, limit_s: u32, log: &str) -> Result<(String, bool), InstrumentError> {
+    let out_path = dir.join(log);
+    let out = std::fs::File::create(&out_path).map_err(io(format!("creating {}", out_path.display())))?;
+    let err = out.try_clone().map_err(io("abc log"))?;
+    let mut child = Command::new("yosys-abc").arg("-c").arg(script).current_dir(dir).stdout(out).stderr(err).spawn().map_err(io("running yosys-abc"))?;
+    let deadline = Instant::now() + std::time::Duration::from_secs(u64::from(limit_s));
+    let killed = loop {
+        if child.try_wait().map_err(io("waiting for yosys-abc"))?.is_some() {
+            break false;
+        }
+        if Instant::now() >= deadline {
+            let _ = child.kill();
+            let _ = child.wait();
+            break true;
+        }
+        std::thread::sleep(std::time::Duration::from_millis(50));
+    };
+    Ok((std::fs::read_to_string(&out_path).unwrap_or_default(), killed))
+}
+
+/// Frames `bmc3 -v` finished without a difference: `No output asserted
+/// in N frames.`, else its last progress line `F + : Var = ...` (frame F,
+/// from 0, done: F counted, one less than proved, to stay on the safe side).
+fn bmc_depth(text: &str) -> Option<u32> {
+    if let Some(l) = text.lines().find(|l| l.contains("No output asserted in")) {
+        return l.split(" in ").nth(1)?.split_whitespace().next()?.parse().ok();
+    }
+    let l = text.lines().rev().find(|l| l.contains(" + : Var ="))?;
+    l.split_whitespace().next()?.parse::<u32>().ok()
 }
 
 /// `Output 0 of miter "m" was asserted in frame 5.` → 5.
@@ -306,6 +332,9 @@ mod tests {
     fn abc_messages_are_read() {
         assert_eq!(asserted_frame("Output 0 of miter \"miter\" was asserted in frame 5.  Time =     0.01 sec"), Some(5));
         assert_eq!(asserted_frame("Property proved.  Time = 0.01 sec"), None);
+        assert_eq!(bmc_depth("  12 + : Var =   18108. Cla =    62251.\n  13 + : Var =   20565. Cla = 71237.\n"), Some(13));
+        assert_eq!(bmc_depth("No output asserted in 30 frames. Time = 1 sec"), Some(30));
+        assert_eq!(bmc_depth("Reached timeout"), None);
     }
 
     #[test]
