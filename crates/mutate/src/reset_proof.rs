@@ -247,18 +247,18 @@ pub fn check_in_module(src: &CoreSources, m: &Mutation, opts: &FormalOptions, wo
     );
     yosys_logged(&prep, &dir, "miter", false)?;
     let assumed = format!(
-        "module {module} alone, inputs free, {}, unreset registers zero in both copies",
+        "module {module} alone, inputs free, {}",
         match (&reset, clock) {
-            (Some((r, _)), Some(c)) => format!("{r} forced in the first {c} cycle"),
+            (Some((r, _)), Some(c)) => format!("{r} forced in the first {c} cycle, unreset registers zero in both copies"),
             (None, Some(_)) => "no reset input: from all registers zero".to_string(),
-            (_, None) => "combinational".to_string(),
+            (_, None) => "combinational (no clock)".to_string(),
         }
     );
     let secs = pdr_seconds(opts);
-    // Signal correspondence (`&scorr`) merges the gold/gate pairs that stay
+    // Signal correspondence (`scorr`) merges the gold/gate pairs that stay
     // equal; PDR proves the rest or finds a counterexample. Wall-clock
     // bounded (the machine may be loaded): twice the PDR time for both.
-    let (text, _) = abc(&dir, &format!("read_aiger miter.aig; fold; strash; &get -n; &scorr; &put; dc2; pdr -T {secs}"), 2 * secs, "abc.log")?;
+    let (text, _) = abc(&dir, &format!("read_aiger miter.aig; fold; strash; scorr; dc2; pdr -T {secs}"), 2 * secs, "abc.log")?;
     let verdict = if text.contains("Property proved") {
         FormalVerdict::Equivalent { method: format!("proved from reset by ABC scorr + PDR (inductive invariant): {assumed}") }
     } else if let Some(frame) = asserted_frame(&text) {
