@@ -246,6 +246,16 @@ pub fn check_in_module(src: &CoreSources, m: &Mutation, opts: &FormalOptions, wo
         wrap = wrap.display()
     );
     yosys_logged(&prep, &dir, "miter", false)?;
+    // The control: the module against itself (no mutation). If it differs,
+    // values the module leaves undefined (`x`, out-of-range memory reads)
+    // reach an output, and a difference of the mutant means nothing.
+    let control = |dir: &Path| -> Result<bool, InstrumentError> {
+        std::fs::create_dir_all(dir).map_err(io(format!("creating {}", dir.display())))?;
+        let script = prep.replace(&mutate_command(m, &cell), "");
+        yosys_logged(&script, dir, "miter", false)?;
+        let (t, _) = abc(dir, &format!("read_aiger miter.aig; fold; strash; scorr; dc2; pdr -T {}", pdr_seconds(opts)), 2 * pdr_seconds(opts), "abc.log")?;
+        Ok(asserted_frame(&t).is_some())
+    };
     let assumed = format!(
         "module {module} alone, inputs free, {}",
         match (&reset, clock) {
@@ -261,6 +271,8 @@ pub fn check_in_module(src: &CoreSources, m: &Mutation, opts: &FormalOptions, wo
     let (text, _) = abc(&dir, &format!("read_aiger miter.aig; fold; strash; scorr; dc2; pdr -T {secs}"), 2 * secs, "abc.log")?;
     let verdict = if text.contains("Property proved") {
         FormalVerdict::Equivalent { method: format!("proved from reset by ABC scorr + PDR (inductive invariant): {assumed}") }
+    } else if asserted_frame(&text).is_some() && control(&dir.join("control"))? {
+        FormalVerdict::Unknown { why: format!("no verdict: {module} differs from itself (its undefined values reach an output), so the mutant's difference says nothing; {assumed}") }
     } else if let Some(frame) = asserted_frame(&text) {
         // The input trace from a bounded check just deep enough.
         let steps = frame + 2;
