@@ -72,3 +72,21 @@ fn the_tiny_fixture_without_reset_is_checked_from_zero() {
     let FormalVerdict::ModuleDiffers { trace, .. } = &c.verdict else { panic!("{}: {:?}", xor.args, c.verdict) };
     assert!(trace.iter().any(|t| t.port == "op" && t.value == 1), "only op = 1 shows the xor path: {trace:?}");
 }
+
+/// A module whose own outputs are undefined at times (x after address 3) differs from itself: the control run catches
+/// it and the mutant gets no verdict instead of a difference.
+#[test]
+fn a_module_that_differs_from_itself_gives_no_verdict() {
+    if yosys_missing() {
+        eprintln!("yosys / yosys-abc not installed: skipped");
+        return;
+    }
+    let src = fixture("formal_undef.v", "formal_undef");
+    let cache = tempfile::tempdir().unwrap();
+    let inst = mutate::instrument(&src, &MutationSource::Sample { count: 20, seed: 1 }, cache.path()).unwrap();
+    let m = pick(&inst.mutations, "mutation of the register writes", |m| m.location().ends_with("formal_undef.v:15"));
+    let work = tempfile::tempdir().unwrap();
+    let c = mutate::reset_proof::check_in_module(&src, m, &OPTS, work.path()).unwrap().unwrap();
+    let FormalVerdict::Unknown { why } = &c.verdict else { panic!("{}: {:?}", m.args, c.verdict) };
+    assert!(why.contains("differs from itself"), "{why}");
+}
