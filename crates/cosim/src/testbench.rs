@@ -225,6 +225,9 @@ pub struct Testbench {
     host: HostAgent,
     /// The DUT's CAN-side pins as of its last eval (read once per tick).
     dut_pins: crate::dut::CanPins,
+    /// Levels of a Verilated DUT's clkout_o at its instants since the last
+    /// CAN rising edge (bit 0 low, bit 1 high): the CLKOUT check with CD = 7.
+    clkout_levels: u8,
     /// The reference model and the DUT's declared timing.
     reference: ReferenceAgent,
     /// The checkers and the waiver/resync policy.
@@ -409,6 +412,7 @@ impl Testbench {
             dut_name,
             host,
             dut_pins: crate::dut::CanPins::default(),
+            clkout_levels: 0,
             reference,
             checks: ComparatorAgent::new(cfg.lockstep.map(|(_, c)| c), waivers),
             bus,
@@ -549,6 +553,9 @@ impl Testbench {
     #[inline]
     fn after_eval(&mut self, t: Tick, pins: CanPins) {
         self.dut_pins = pins;
+        if matches!(self.dut, AnyDut::Verilated(_)) {
+            self.clkout_levels |= 1 << pins.clkout as u8;
+        }
         if t.host_rise {
             self.host_edge();
         }
@@ -639,6 +646,7 @@ impl Testbench {
         for i in 0..made {
             let l = lv[i];
             let o = ot[i];
+            self.clkout_levels |= 1 << (o >> 3 & 1);
             if l & 0b1100 == 0 {
                 prev_tx = o & 1 != 0;
                 continue;
@@ -758,6 +766,9 @@ impl Testbench {
             && let Some(r) = &mut self.reference.model
         {
             self.obs.reference_events(t_ps, bit, r);
+        }
+        if self.clkout_levels != 0 {
+            self.checks.clkout_instants(std::mem::take(&mut self.clkout_levels));
         }
         if let Some(v) = &view {
             let (obs, r) = (&self.obs, &self.reference.model);

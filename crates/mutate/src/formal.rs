@@ -53,6 +53,20 @@ pub enum FormalVerdict {
         /// The core's inputs, step by step.
         trace: Vec<TraceValue>,
     },
+    /// The outputs of the mutated module differ from the original's after
+    /// reset for some input sequence at its ports (reset_proof.rs); whether
+    /// the rest of the core can drive those inputs is not checked.
+    ModuleDiffers {
+        /// The module checked alone.
+        module: String,
+        /// Steps of the trace.
+        steps: u32,
+        /// The module's inputs, step by step (empty when only a bounded
+        /// check found the difference).
+        trace: Vec<TraceValue>,
+        /// What the check assumed.
+        assumed: String,
+    },
     /// Neither within the bounds.
     Unknown {
         /// What was tried.
@@ -66,6 +80,9 @@ impl FormalVerdict {
         match self {
             FormalVerdict::Equivalent { method } => format!("equivalent ({method})"),
             FormalVerdict::Differs { steps, .. } => format!("differs: counterexample of {steps} steps (scenario skeleton written)"),
+            FormalVerdict::ModuleDiffers { module, steps, .. } => {
+                format!("differs at the ports of {module} after reset ({steps} clocks, module inputs free; not shown reachable in the core)")
+            }
             FormalVerdict::Unknown { why } => format!("unknown: {why}"),
         }
     }
@@ -90,7 +107,7 @@ fn miter_script(inst: &Instrumented, id: u32) -> String {
 }
 
 /// Parses `sat -show-inputs` tables: `  <step> \in_<port>  <hex> <dec> <bin>`.
-fn parse_trace(text: &str) -> Vec<TraceValue> {
+pub(crate) fn parse_trace(text: &str) -> Vec<TraceValue> {
     let mut out = Vec::new();
     for l in text.lines() {
         let w: Vec<&str> = l.split_whitespace().collect();

@@ -129,7 +129,7 @@ pub(crate) fn yosys_logged(script: &str, cwd: &Path, step: &str, log: bool) -> R
     }
 }
 
-fn sources(src: &CoreSources) -> Result<Vec<PathBuf>, InstrumentError> {
+pub(crate) fn sources(src: &CoreSources) -> Result<Vec<PathBuf>, InstrumentError> {
     let abs = |p: &Path| if p.is_absolute() { p.to_path_buf() } else { src.dir.join(p) };
     if !src.files.is_empty() {
         return Ok(src.files.iter().map(|f| abs(f)).collect());
@@ -214,7 +214,10 @@ pub fn instrument(src: &CoreSources, from: &MutationSource, cache: &Path) -> Res
     })
 }
 
-fn build(src: &CoreSources, files: &[PathBuf], from: &MutationSource, saved: Option<&str>, work: &Path) -> Result<(), InstrumentError> {
+/// The `read_verilog` line of the core (defines, include directories, files
+/// in order): the formal check per module repeats it so that yosys numbers
+/// the cells as in the mutants' build.
+pub(crate) fn read_command(src: &CoreSources, files: &[PathBuf]) -> String {
     let mut read = String::from("read_verilog");
     for d in &src.defines {
         read += &format!(" -D{d}");
@@ -226,6 +229,11 @@ fn build(src: &CoreSources, files: &[PathBuf], from: &MutationSource, saved: Opt
     for f in files {
         read += &format!(" {}", f.display());
     }
+    read
+}
+
+fn build(src: &CoreSources, files: &[PathBuf], from: &MutationSource, saved: Option<&str>, work: &Path) -> Result<(), InstrumentError> {
+    let read = read_command(src, files);
     // Flattened, so every mutation (and its select) lands in the top module.
     let prep = format!("{read}\nhierarchy -top {top}\nprep -top {top}\nflatten\nopt_clean\nwrite_rtlil design.il\n", top = src.top);
     match (from, saved) {

@@ -14,6 +14,7 @@ pub mod formal;
 pub mod instrument;
 pub mod mutation;
 pub mod report;
+pub mod reset_proof;
 pub mod suite;
 pub mod waiver_audit;
 
@@ -129,7 +130,7 @@ pub fn mutate(cfg: &MutateConfig, log: &mut dyn FnMut(&str)) -> Result<Report, M
         run_seconds,
     };
     if let Some(f) = &cfg.formal {
-        check_survivors(&mut report, &inst, f, &cfg.out, log)?;
+        reset_proof::check_survivors_from_reset(&mut report, &cfg.sources, &inst, f, &cfg.out, log)?;
     }
     std::fs::write(cfg.out.join("report.json"), report.to_json()).map_err(io("writing report.json"))?;
     std::fs::write(cfg.out.join("report.md"), report.to_markdown()).map_err(io("writing report.md"))?;

@@ -14,12 +14,14 @@ pub enum ClkoutSetting {
         /// CAN clocks between two toggles.
         half_period: u32,
     },
-    /// `clkout_o` is `clk_i` itself (CD = 7). Not checked: the bench reads
-    /// the pins once per CAN clock, and on our RTL a pin that is the clock
-    /// reads 0 or 1 from one CAN clock to the next (measured), so neither
-    /// its level nor "no toggle" is a sound check; a core that drives a
-    /// constant instead of the clock is not caught (that needs the pin at
-    /// both clock edges).
+    /// `clkout_o` is `clk_i` itself (CD = 7). Read once per CAN clock, a
+    /// pin that is the clock reads 0 or 1 from one clock to the next
+    /// (measured on our RTL), so its level at the rising edge is no check.
+    /// When the bench also gives the levels the pin had at every instant
+    /// it evaluated the DUT (both clock edges: [`ClkoutCheck::instants`],
+    /// a Verilated DUT), the pin must be seen low and high within every
+    /// [`FOSC_WINDOW`] CAN clocks: a CLKOUT held at one level is caught,
+    /// its phase and duty cycle are not checked.
     Fosc,
     /// CDR.3 (clock off): no toggle.
     Off,
@@ -49,6 +51,11 @@ impl ClkoutSetting {
 /// this long without the model's setting changing.
 pub const SETTLE_CLOCKS: u32 = 32;
 
+/// With CD = 7 (fosc), CAN clocks within which `clkout_o` must be seen at
+/// both levels (it is the clock: both levels every clock; the window only
+/// leaves room for an instant the bench did not evaluate).
+pub const FOSC_WINDOW: u32 = 4;
+
 /// A difference the check found.
 #[derive(Clone, Debug, PartialEq, Eq)]
 pub struct ClkoutMismatch {
@@ -73,11 +80,30 @@ pub struct ClkoutCheck {
     /// A difference found, and the CAN clocks it has stood.
     pending: Option<(ClkoutMismatch, u32)>,
     reported: bool,
+    /// Levels of clkout_o seen at the DUT's instants since the last CAN
+    /// clock (bit 0: low, bit 1: high), when the bench gives them.
+    instant_levels: u8,
+    /// The bench gives the levels at every instant (kept across settings).
+    sub_clock: bool,
+    /// Fosc: levels seen since both were last seen, and for how many clocks.
+    fosc_seen: u8,
+    fosc_run: u32,
 }
 
 impl Default for ClkoutCheck {
     fn default() -> Self {
-        ClkoutCheck { setting: ClkoutSetting::Unchecked, since_change: 0, last_level: None, since_toggle: None, pending: None, reported: false }
+        ClkoutCheck {
+            setting: ClkoutSetting::Unchecked,
+            since_change: 0,
+            last_level: None,
+            since_toggle: None,
+            pending: None,
+            reported: false,
+            instant_levels: 0,
+            sub_clock: false,
+            fosc_seen: 0,
+            fosc_run: 0,
+        }
     }
 }
 
@@ -85,8 +111,9 @@ impl ClkoutCheck {
     /// One CAN clock: the reference's setting now, the DUT's `clkout_o`.
     #[inline]
     pub fn clock(&mut self, setting: ClkoutSetting, dut_level: bool) -> Option<ClkoutMismatch> {
+        let instants = std::mem::take(&mut self.instant_levels);
         if setting != self.setting {
-            *self = ClkoutCheck { setting, ..ClkoutCheck::default() };
+            *self = ClkoutCheck { setting, sub_clock: self.sub_clock, ..ClkoutCheck::default() };
         }
         let toggled = self.last_level.is_some_and(|l| l != dut_level);
         self.last_level = Some(dut_level);
@@ -105,7 +132,8 @@ impl ClkoutCheck {
             return Some(m);
         }
         let found = match setting {
-            ClkoutSetting::Unchecked | ClkoutSetting::Fosc => None,
+            ClkoutSetting::Unchecked => None,
+            ClkoutSetting::Fosc => self.fosc(instants),
             ClkoutSetting::Off => toggled.then(|| ClkoutMismatch {
                 expected: 0,
                 seen: 1,
@@ -115,6 +143,36 @@ impl ClkoutCheck {
         };
         self.pending = found.map(|m| (m, 0));
         None
+    }
+
+    /// The levels `clkout_o` had at the DUT's instants since the last CAN
+    /// clock (bit 0: seen low, bit 1: seen high), given before [`Self::clock`]
+    /// by a bench that evaluates the DUT at both CAN clock edges.
+    #[inline]
+    pub fn instants(&mut self, levels: u8) {
+        self.sub_clock = true;
+        self.instant_levels |= levels;
+    }
+
+    fn fosc(&mut self, instants: u8) -> Option<ClkoutMismatch> {
+        if !self.sub_clock {
+            return None;
+        }
+        self.fosc_seen |= instants;
+        if self.fosc_seen == 0b11 {
+            self.fosc_seen = 0;
+            self.fosc_run = 0;
+            return None;
+        }
+        self.fosc_run += 1;
+        (self.fosc_run > FOSC_WINDOW).then(|| {
+            let level = if self.fosc_seen & 0b10 != 0 { "high" } else { "low" };
+            ClkoutMismatch {
+                expected: 1,
+                seen: 0,
+                what: format!("clkout_o stayed {level} for {} CAN clocks, read at both clock edges; CDR.2..0 = 7 gives fosc (CLKOUT is the clock)", self.fosc_run),
+            }
+        })
     }
 
     fn divide(&mut self, half_period: u32, toggled: bool) -> Option<ClkoutMismatch> {
@@ -198,6 +256,28 @@ mod tests {
         assert_eq!(run(ClkoutSetting::Fosc, divider(1, 100, 0)), None);
         assert_eq!(run(ClkoutSetting::Fosc, std::iter::repeat_n(false, 100)), None);
         assert_eq!(run(ClkoutSetting::Unchecked, divider(1, 100, 0).map(|_| false)), None);
+    }
+
+    /// With the levels at both clock edges, CD = 7 means both levels every
+    /// few clocks: the clock passes, a pin held low or high is reported.
+    #[test]
+    fn fosc_read_at_both_edges_must_follow_the_clock() {
+        let fosc = |held: Option<bool>| {
+            let mut c = ClkoutCheck::default();
+            (0..200).find_map(|_| {
+                let (lo, hi) = held.map_or((false, true), |h| (h, h));
+                c.instants(1 << lo as u8);
+                c.instants(1 << hi as u8);
+                c.clock(ClkoutSetting::Fosc, hi)
+            })
+        };
+        assert_eq!(fosc(None), None);
+        let m = fosc(Some(false)).expect("CLKOUT held low");
+        assert!(m.what.contains("stayed low"), "{m:?}");
+        assert!(fosc(Some(true)).expect("CLKOUT held high").what.contains("stayed high"));
+        // an instant missed now and then (one level per clock) still passes
+        let mut c = ClkoutCheck::default();
+        assert_eq!((0..200).find_map(|t| { c.instants(1 << (t % 2)); c.clock(ClkoutSetting::Fosc, t % 2 == 1) }), None);
     }
 
     #[test]

@@ -506,6 +506,13 @@ impl Comparator {
         }
     }
 
+    /// The levels `clkout_o` had at the DUT's instants since the last CAN
+    /// clock ([`clkout::ClkoutCheck::instants`]), before [`Self::clkout_clock`].
+    #[inline]
+    pub fn clkout_instants(&mut self, levels: u8) {
+        self.clkout.instants(levels);
+    }
+
     /// A CLKOUT difference found by [`clkout::ClkoutCheck`].
     pub fn clkout_divergence(&mut self, stamp: Stamp, m: clkout::ClkoutMismatch) {
         if !self.halted {

@@ -70,6 +70,15 @@ impl ComparatorAgent {
         self.comparator.as_ref().map(|c| c.config().describe())
     }
 
+    /// The levels clkout_o had at the DUT's instants since the last CAN
+    /// clock (bit 0 low, bit 1 high), given before [`Self::can_clock`].
+    #[inline]
+    pub fn clkout_instants(&mut self, levels: u8) {
+        if let Some(c) = &mut self.comparator {
+            c.clkout_instants(levels);
+        }
+    }
+
     /// One CAN clock compared (lockstep and not stopped; else nothing),
     /// CLKOUT included (`clkout`: the reference's setting, asked only when
     /// checked): true when a divergence waits for

@@ -1,0 +1,418 @@
+//! The formal check of a survivor in its own module, from reset: the
+//! mutated module alone (not the whole core), a miter of the original and
+//! the mutant sharing every input, every register zero at power-up and the
+//! module's reset forced in the first clock (so the state the comparison
+//! starts from is the state after the reset sequence), outputs compared
+//! from the second clock on, the reset input free afterwards.
+//!
+//! The proof engine is ABC: signal correspondence (`scorr`: induction over
+//! pairs of equal signals, sound from the initial state) and then PDR, an
+//! unbounded model checker that ends with an inductive invariant. Only
+//! "Property proved" is reported as equivalent; a bounded check without a
+//! difference is reported as "no difference within N steps".
+//!
+//! What the proof assumes, stated in every verdict: the module's inputs are
+//! free (any value every clock, so a proof holds in any context); registers
+//! the reset leaves alone start at zero in both copies (as the bench's
+//! Verilator build starts them); `x` constants are free values chosen
+//! independently in the two copies (so a mutant that pins an `x` is only
+//! equivalent if that `x` can never reach an output). A counterexample is
+//! a difference at the module's ports; whether the rest of the core can
+//! drive those inputs is not checked ([`FormalVerdict::ModuleDiffers`]).
+
+use crate::formal::{FormalOptions, FormalVerdict, parse_trace};
+use crate::instrument::{CoreSources, InstrumentError, read_command, sources, yosys_logged};
+use crate::mutation::Mutation;
+use serde_json::Value;
+use std::path::Path;
+use std::process::Command;
+use std::time::Instant;
+
+/// Result of one mutant's check in its module.
+#[derive(Clone, Debug)]
+pub struct ModuleCheck {
+    /// The module the mutated cell belongs to.
+    pub module: String,
+    /// The verdict.
+    pub verdict: FormalVerdict,
+    /// Wall time of the check.
+    pub seconds: f64,
+}
+
+/// Where the check cannot run per module (the caller falls back to the
+/// whole-core check).
+#[derive(Clone, Debug, PartialEq)]
+pub enum NotPerModule {
+    /// The module has more than one clock input.
+    Clocks(String, Vec<String>),
+    /// The mutated cell was not found in the unflattened design.
+    CellNotFound(String),
+}
+
+fn io(what: impl Into<String>) -> impl FnOnce(std::io::Error) -> InstrumentError {
+    let what = what.into();
+    move |source| InstrumentError::Io { what, source }
+}
+
+/// A port of the mutated module.
+#[derive(Clone, Debug)]
+struct Port {
+    name: String,
+    width: usize,
+    input: bool,
+}
+
+/// The hierarchy of the core after `prep` (not flattened), as JSON; cached
+/// in `work` by a hash of the sources (the same commands as the mutants'
+/// build, so private cell names such as `$procmux$2131` are the same).
+fn hierarchy(src: &CoreSources, work: &Path) -> Result<Value, InstrumentError> {
+    let files = sources(src)?;
+    let read = read_command(src, &files);
+    let mut h = 0xcbf2_9ce4_8422_2325u64;
+    crate::instrument::fnv1a(&mut h, read.as_bytes());
+    for f in &files {
+        crate::instrument::fnv1a(&mut h, &std::fs::read(f).map_err(io(format!("reading {}", f.display())))?);
+    }
+    let json = work.join(format!("hierarchy-{h:016x}.json"));
+    if !json.exists() {
+        let script = format!("{read}\nhierarchy -top {t}\nprep -top {t}\nwrite_json {}\n", json.display(), t = src.top);
+        yosys_logged(&script, work, "hierarchy", false)?;
+    }
+    serde_json::from_str(&std::fs::read_to_string(&json).map_err(io(format!("reading {}", json.display())))?)
+        .map_err(|e| InstrumentError::Io { what: json.display().to_string(), source: std::io::Error::other(e) })
+}
+
+/// The module holding a cell of the flattened top (`$flatten\u_a.u_b.$x`
+/// is cell `$x` of the type of `u_b` inside the type of `u_a`), and the
+/// cell's name there.
+fn locate(design: &Value, top: &str, cell: &str) -> Option<(String, String)> {
+    let modules = design.get("modules")?;
+    let mut module = top.to_string();
+    let Some(mut rest) = cell.strip_prefix("$flatten\\") else {
+        return modules.get(top)?.get("cells")?.get(cell).map(|_| (module, cell.to_string()));
+    };
+    loop {
+        let cells = modules.get(&module)?.get("cells")?.as_object()?;
+        if cells.contains_key(rest) {
+            return Some((module, rest.to_string()));
+        }
+        // the instance whose name, plus a dot, starts the rest (longest first)
+        let (inst, ty) = cells
+            .iter()
+            .filter_map(|(name, c)| {
+                let ty = c.get("type")?.as_str()?;
+                (modules.get(ty).is_some() && rest.starts_with(&format!("{name}."))).then(|| (name.clone(), ty.to_string()))
+            })
+            .max_by_key(|(name, _)| name.len())?;
+        rest = &rest[inst.len() + 1..];
+        module = ty;
+    }
+}
+
+fn ports(design: &Value, module: &str) -> Vec<Port> {
+    let Some(ps) = design["modules"][module]["ports"].as_object() else { return Vec::new() };
+    ps.iter()
+        .map(|(name, p)| Port { name: name.clone(), width: p["bits"].as_array().map(|b| b.len()).unwrap_or(1), input: p["direction"] == "input" })
+        .collect()
+}
+
+/// Inputs of `module` that clock a flip-flop (found in its netlist: the
+/// bits on every `CLK` connection).
+fn clocks(design: &Value, module: &str, ports: &[Port]) -> Vec<String> {
+    let m = &design["modules"][module];
+    let mut clk_bits = Vec::new();
+    for c in m["cells"].as_object().into_iter().flat_map(|c| c.values()) {
+        if let Some(bits) = c["connections"]["CLK"].as_array() {
+            clk_bits.extend(bits.iter().cloned());
+        }
+    }
+    ports
+        .iter()
+        .filter(|p| p.input && m["ports"][&p.name]["bits"].as_array().is_some_and(|b| b.iter().any(|x| clk_bits.contains(x))))
+        .map(|p| p.name.clone())
+        .collect()
+}
+
+/// The reset input by name (`rst`, `reset`, `rst_i`, ...; `_n` / `n`
+/// endings active low).
+fn reset_port(ports: &[Port]) -> Option<(String, bool)> {
+    ports.iter().filter(|p| p.input && p.width == 1).find_map(|p| {
+        let n = p.name.to_ascii_lowercase();
+        let base = n.trim_end_matches("_i");
+        match base {
+            "rst" | "reset" | "arst" | "rst_in" | "wb_rst" => Some((p.name.clone(), true)),
+            "rst_n" | "rstn" | "reset_n" | "resetn" | "nrst" | "arst_n" => Some((p.name.clone(), false)),
+            _ => None,
+        }
+    })
+}
+
+fn vname(n: &str) -> String {
+    if n.chars().all(|c| c.is_ascii_alphanumeric() || c == '_') && !n.starts_with(|c: char| c.is_ascii_digit()) { n.to_string() } else { format!("\\{n} ") }
+}
+
+/// The wrapper: both copies on the same inputs (`in_<port>`, the names
+/// `sat -show-inputs` prints), the reset forced while `started` is 0 (the
+/// first clock), `trigger` when an output differs after that.
+fn wrapper(ports: &[Port], clock: Option<&str>, reset: Option<&(String, bool)>) -> String {
+    let range = |w: usize| if w == 1 { String::new() } else { format!("[{}:0] ", w - 1) };
+    let ins: Vec<&Port> = ports.iter().filter(|p| p.input).collect();
+    let outs: Vec<&Port> = ports.iter().filter(|p| !p.input).collect();
+    let mut s = String::from("module cosim_formal (\n");
+    for p in &ins {
+        s += &format!("    input wire {}in_{},\n", range(p.width), p.name);
+    }
+    s += "    output wire trigger\n);\n";
+    match clock {
+        Some(c) => s += &format!("    reg started = 1'b0;\n    always @(posedge in_{c}) started <= 1'b1;\n"),
+        None => s += "    wire started = 1'b1;\n",
+    }
+    for p in &outs {
+        s += &format!("    wire {r}gold_{n}, gate_{n};\n", r = range(p.width), n = p.name);
+    }
+    let conn = |copy: &str| {
+        let mut c: Vec<String> = ins
+            .iter()
+            .map(|p| match reset {
+                Some((r, high)) if *r == p.name && clock.is_some() => format!(".{}(in_{} {} !started)", vname(&p.name), p.name, if *high { "|" } else { "&" }),
+                _ => format!(".{}(in_{})", vname(&p.name), p.name),
+            })
+            .collect();
+        c.extend(outs.iter().map(|p| format!(".{}({copy}_{})", vname(&p.name), p.name)));
+        c.join(", ")
+    };
+    s += &format!("    cosim_gold gold ({});\n    cosim_gate gate ({});\n", conn("gold"), conn("gate"));
+    let cat = |copy: &str| outs.iter().map(|p| format!("{copy}_{}", p.name)).collect::<Vec<_>>().join(", ");
+    if outs.is_empty() {
+        s += "    assign trigger = 1'b0;\n";
+    } else {
+        s += &format!("    assign trigger = started && ({{{}}} != {{{}}});\n", cat("gold"), cat("gate"));
+    }
+    s += "endmodule\n";
+    s
+}
+
+/// The mutation's options rewritten for the module copy `cosim_gate`
+/// (`-wire` and `-src` dropped: they name the flattened design).
+fn mutate_command(m: &Mutation, cell: &str) -> String {
+    let mut s = format!("mutate -mode {} -module cosim_gate -cell {} -port {} -portbit {}", m.mode, cell, m.port, m.portbit);
+    if let Some(c) = m.ctrlbit {
+        s += &format!(" -ctrlbit {c}");
+    }
+    s
+}
+
+/// Options of the check from the survivor check's [`FormalOptions`]:
+/// `steps` bounds the counterexample search, `timeout_s` the proof.
+fn pdr_seconds(o: &FormalOptions) -> u32 {
+    o.timeout_s.max(1)
+}
+
+/// Checks mutation `m` of the core `src` in its own module, from reset.
+/// `Err(NotPerModule)` inside `Ok` when it cannot (more than one clock, or
+/// the cell is unknown): the caller then uses the whole-core check.
+pub fn check_in_module(src: &CoreSources, m: &Mutation, opts: &FormalOptions, work: &Path) -> Result<Result<ModuleCheck, NotPerModule>, InstrumentError> {
+    let t0 = Instant::now();
+    std::fs::create_dir_all(work).map_err(io(format!("creating {}", work.display())))?;
+    let work = &std::path::absolute(work).map_err(io(format!("resolving {}", work.display())))?;
+    let design = hierarchy(src, work)?;
+    let Some((module, cell)) = locate(&design, &src.top, &m.cell) else {
+        return Ok(Err(NotPerModule::CellNotFound(m.cell.clone())));
+    };
+    let ports = ports(&design, &module);
+    let clks = clocks(&design, &module, &ports);
+    if clks.len() > 1 {
+        return Ok(Err(NotPerModule::Clocks(module, clks)));
+    }
+    let clock = clks.first().map(String::as_str);
+    let reset = reset_port(&ports);
+    let dir = work.join(format!("mutant-{}", m.id));
+    std::fs::create_dir_all(&dir).map_err(io(format!("creating {}", dir.display())))?;
+    let wrap = dir.join("wrapper.v");
+    std::fs::write(&wrap, wrapper(&ports, clock, reset.as_ref())).map_err(io(format!("writing {}", wrap.display())))?;
+    let files = sources(src)?;
+    // Up to `prep` exactly as the mutants' build (same cell names); then
+    // the module alone, copied, the copy mutated, both flattened (their own
+    // submodules), memories as flip-flops, `x` free.
+    let prep = format!(
+        "{read}\nhierarchy -top {top}\nprep -top {top}\nhierarchy -top {module}\n\
+         copy {module} cosim_gate\nrename {module} cosim_gold\n{mutate}\n\
+         read_verilog {wrap}\nproc\nhierarchy -top cosim_formal\nflatten\nmemory\nsetundef -anyseq\n\
+         opt_clean\nasync2sync\ndffunmap\nwrite_rtlil miter.il\n\
+         techmap\nopt -fast\ndffunmap\nabc -fast -g AND\nopt_clean\ndffunmap\nwrite_aiger -zinit miter.aig\n",
+        read = read_command(src, &files),
+        top = src.top,
+        mutate = mutate_command(m, &cell),
+        wrap = wrap.display()
+    );
+    yosys_logged(&prep, &dir, "miter", false)?;
+    // The control: the module against itself (no mutation). If it differs,
+    // values the module leaves undefined (`x`, out-of-range memory reads)
+    // reach an output, and a difference of the mutant means nothing.
+    let control = |dir: &Path| -> Result<bool, InstrumentError> {
+        std::fs::create_dir_all(dir).map_err(io(format!("creating {}", dir.display())))?;
+        let script = prep.replace(&mutate_command(m, &cell), "");
+        yosys_logged(&script, dir, "miter", false)?;
+        let (t, _) = abc(dir, &format!("read_aiger miter.aig; fold; strash; scorr; dc2; pdr -T {}", pdr_seconds(opts)), 2 * pdr_seconds(opts), "abc.log")?;
+        Ok(asserted_frame(&t).is_some())
+    };
+    let assumed = format!(
+        "module {module} alone, inputs free, {}",
+        match (&reset, clock) {
+            (Some((r, _)), Some(c)) => format!("{r} forced in the first {c} cycle, unreset registers zero in both copies"),
+            (None, Some(_)) => "no reset input: from all registers zero".to_string(),
+            (_, None) => "combinational (no clock)".to_string(),
+        }
+    );
+    let secs = pdr_seconds(opts);
+    // Signal correspondence (`scorr`) merges the gold/gate pairs that stay
+    // equal; PDR proves the rest or finds a counterexample. Wall-clock
+    // bounded (the machine may be loaded): twice the PDR time for both.
+    let (text, _) = abc(&dir, &format!("read_aiger miter.aig; fold; strash; scorr; dc2; pdr -T {secs}"), 2 * secs, "abc.log")?;
+    let verdict = if text.contains("Property proved") {
+        FormalVerdict::Equivalent { method: format!("proved from reset by ABC scorr + PDR (inductive invariant): {assumed}") }
+    } else if asserted_frame(&text).is_some() && control(&dir.join("control"))? {
+        FormalVerdict::Unknown { why: format!("no verdict: {module} differs from itself (its undefined values reach an output), so the mutant's difference says nothing; {assumed}") }
+    } else if let Some(frame) = asserted_frame(&text) {
+        // The input trace from a bounded check just deep enough.
+        let steps = frame + 2;
+        let bmc = format!("read_rtlil miter.il\nsat -seq {steps} -prove trigger 0 -set-init-zero -show-inputs -timeout {secs} cosim_formal\n");
+        let out = yosys_logged(&bmc, &dir, "trace", true).unwrap_or_default();
+        let trace = parse_trace(&out);
+        FormalVerdict::ModuleDiffers { module: module.clone(), steps: trace.iter().map(|t| t.step).max().unwrap_or(steps), trace, assumed }
+    } else {
+        // No proof: how deep is there surely no difference?
+        let why = if text.contains("UNDECIDED") { format!("PDR undecided after {secs} s") } else { format!("ABC stopped after {} s", 2 * secs) };
+        let (b, _) = abc(&dir, &format!("read_aiger miter.aig; fold; strash; bmc3 -v -F {} -T {secs}", opts.steps), secs + 30, "bmc.log")?;
+        if let Some(frame) = asserted_frame(&b) {
+            FormalVerdict::ModuleDiffers { module: module.clone(), steps: frame + 1, trace: Vec::new(), assumed }
+        } else {
+            let depth = match bmc_depth(&b) {
+                Some(d) => format!("no difference within {d} clocks (bounded, not a proof)"),
+                None => "bounded check inconclusive".into(),
+            };
+            FormalVerdict::Unknown { why: format!("{depth}; {why}; {assumed}") }
+        }
+    };
+    Ok(Ok(ModuleCheck { module, verdict, seconds: t0.elapsed().as_secs_f64() }))
+}
+
+/// Runs `yosys-abc -c script` in `dir`, killed after `limit_s` seconds of
+/// wall time; its output (also written to `log`) and whether it was killed.
+fn abc(dir: &Path, script: &str, limit_s: u32, log: &str) -> Result<(String, bool), InstrumentError> {
+    let out_path = dir.join(log);
+    let out = std::fs::File::create(&out_path).map_err(io(format!("creating {}", out_path.display())))?;
+    let err = out.try_clone().map_err(io("abc log"))?;
+    let mut child = Command::new("yosys-abc").arg("-c").arg(script).current_dir(dir).stdout(out).stderr(err).spawn().map_err(io("running yosys-abc"))?;
+    let deadline = Instant::now() + std::time::Duration::from_secs(u64::from(limit_s));
+    let killed = loop {
+        if child.try_wait().map_err(io("waiting for yosys-abc"))?.is_some() {
+            break false;
+        }
+        if Instant::now() >= deadline {
+            let _ = child.kill();
+            let _ = child.wait();
+            break true;
+        }
+        std::thread::sleep(std::time::Duration::from_millis(50));
+    };
+    Ok((std::fs::read_to_string(&out_path).unwrap_or_default(), killed))
+}
+
+/// Frames `bmc3 -v` finished without a difference: `No output asserted
+/// in N frames.`, else its last progress line `F + : Var = ...` (frame F,
+/// from 0, done: F counted, one less than proved, to stay on the safe side).
+fn bmc_depth(text: &str) -> Option<u32> {
+    if let Some(l) = text.lines().find(|l| l.contains("No output asserted in")) {
+        return l.split(" in ").nth(1)?.split_whitespace().next()?.parse().ok();
+    }
+    let l = text.lines().rev().find(|l| l.contains(" + : Var ="))?;
+    l.split_whitespace().next()?.parse::<u32>().ok()
+}
+
+/// `Output 0 of miter "m" was asserted in frame 5.` → 5.
+fn asserted_frame(text: &str) -> Option<u32> {
+    let l = text.lines().find(|l| l.contains("was asserted in frame"))?;
+    l.split("frame").last()?.split_whitespace().next()?.trim_end_matches('.').parse().ok()
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn abc_messages_are_read() {
+        assert_eq!(asserted_frame("Output 0 of miter \"miter\" was asserted in frame 5.  Time =     0.01 sec"), Some(5));
+        assert_eq!(asserted_frame("Property proved.  Time = 0.01 sec"), None);
+        assert_eq!(bmc_depth("  12 + : Var =   18108. Cla =    62251.\n  13 + : Var =   20565. Cla = 71237.\n"), Some(13));
+        assert_eq!(bmc_depth("No output asserted in 30 frames. Time = 1 sec"), Some(30));
+        assert_eq!(bmc_depth("Reached timeout"), None);
+    }
+
+    #[test]
+    fn nested_flattened_names_resolve_to_their_module() {
+        let d: Value = serde_json::from_str(
+            r#"{"modules": {
+                "top": {"cells": {"u_a": {"type": "a"}, "$and$x": {"type": "$and"}}},
+                "a": {"cells": {"u_b": {"type": "b"}, "$procmux$1": {"type": "$mux"}}},
+                "b": {"cells": {"$ternary$/x/b.v:3$7": {"type": "$mux"}}}}}"#,
+        )
+        .unwrap();
+        assert_eq!(locate(&d, "top", "$flatten\\u_a.$procmux$1"), Some(("a".into(), "$procmux$1".into())));
+        assert_eq!(locate(&d, "top", "$flatten\\u_a.u_b.$ternary$/x/b.v:3$7"), Some(("b".into(), "$ternary$/x/b.v:3$7".into())));
+        assert_eq!(locate(&d, "top", "$and$x"), Some(("top".into(), "$and$x".into())));
+        assert_eq!(locate(&d, "top", "$flatten\\u_a.$nope$2"), None);
+    }
+
+    #[test]
+    fn the_reset_is_forced_only_in_the_first_clock() {
+        let ports = vec![
+            Port { name: "clk".into(), width: 1, input: true },
+            Port { name: "rst_n".into(), width: 1, input: true },
+            Port { name: "q".into(), width: 4, input: false },
+        ];
+        let r = reset_port(&ports);
+        assert_eq!(r, Some(("rst_n".into(), false)));
+        let w = wrapper(&ports, Some("clk"), r.as_ref());
+        assert!(w.contains(".rst_n(in_rst_n & !started)"), "{w}");
+        assert!(w.contains("assign trigger = started && ({gold_q} != {gate_q});"), "{w}");
+    }
+}
+
+/// The formal check of every survivor of `report`: per module from reset
+/// ([`check_in_module`]); the whole-core bounded check
+/// ([`crate::formal::check`], registers from zero) where a module has more
+/// than one clock. Module traces in `out/formal/mutant-N/trace.txt`,
+/// whole-core skeletons in `out/skeletons/`.
+pub fn check_survivors_from_reset(
+    report: &mut crate::Report,
+    src: &CoreSources,
+    inst: &crate::Instrumented,
+    f: &FormalOptions,
+    out: &Path,
+    log: &mut dyn FnMut(&str),
+) -> Result<(), crate::MutateError> {
+    let ids: Vec<u32> = report.mutants.iter().filter(|m| m.verdict == crate::Verdict::Survived).map(|m| m.id).collect();
+    let work = out.join("formal");
+    for id in ids {
+        let m = report.mutants.iter().find(|m| m.id == id).expect("a survivor of this report").mutation.clone();
+        match check_in_module(src, &m, f, &work)? {
+            Ok(c) => {
+                if let FormalVerdict::ModuleDiffers { trace, .. } = &c.verdict {
+                    let lines: Vec<String> = trace.iter().map(|t| format!("{} {} {}", t.step, t.port, t.value)).collect();
+                    let p = work.join(format!("mutant-{id}/trace.txt"));
+                    std::fs::write(&p, lines.join("\n") + "\n").map_err(|source| crate::MutateError::Io { what: format!("writing {}", p.display()), source })?;
+                }
+                log(&format!("mutant {id}: {} [{}, {:.1} s]", c.verdict.describe(), c.module, c.seconds));
+                report.formal.push((id, c.verdict));
+            }
+            Err(why) => {
+                log(&format!("mutant {id}: not checked per module ({why:?}): whole-core bounded check"));
+                let mut one = crate::Report { mutants: report.mutants.iter().filter(|r| r.id == id).cloned().collect(), formal: Vec::new(), ..report.clone() };
+                crate::check_survivors(&mut one, inst, f, out, log)?;
+                report.formal.extend(one.formal);
+            }
+        }
+    }
+    Ok(())
+}
