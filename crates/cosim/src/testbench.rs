@@ -458,6 +458,11 @@ impl Testbench {
         &self.kernel
     }
 
+    /// The raw nodes on the wire (`TbConfig::raw_nodes`), for their verdicts.
+    pub fn raw_nodes(&self) -> &[crate::agents::raw::RawNode] {
+        self.bus.raw_nodes()
+    }
+
     /// The golden-model nodes.
     pub fn bus(&self) -> &Bus {
         self.bus.bus()

@@ -122,6 +122,14 @@ impl RawFrame {
         bits
     }
 
+    /// Wire bit index of the ACK slot (SOF = 0), if the frame gets there
+    /// (`until` may cut it short).
+    pub fn ack_slot(&self) -> Option<usize> {
+        let whole = RawFrame { until: None, ..self.clone() }.wire_bits().len();
+        let slot = whole - 9;
+        (self.until.is_none_or(|u| u as usize >= slot)).then_some(slot)
+    }
+
     /// The CRC sent: the given one, else CRC-15 over the bits as sent.
     pub fn crc_sent(&self) -> u16 {
         self.crc.unwrap_or_else(|| Crc15::of(self.header_and_data()))
@@ -169,13 +177,14 @@ impl RawFrame {
 enum State {
     /// Not started; recessive clocks seen in a row (for `IdleBits`).
     Waiting { recessive: u64 },
-    /// Driving; the clock its first bit started.
+    /// Driving (and monitoring); the clock its first bit started.
     Sending { from: u64 },
-    /// Sequence sent.
+    /// Sequence sent and monitored.
     Done,
 }
 
-/// A raw node: a name, where it starts, the levels it drives.
+/// A raw node: a name, where it starts, the levels it drives, and the
+/// levels it expects on the wire (the lower tester's monitor).
 #[derive(Clone, Debug)]
 pub struct RawNode {
     /// Name for reports.
@@ -184,13 +193,38 @@ pub struct RawNode {
     pub start: RawStart,
     /// One level per bit time (`false` = dominant).
     pub bits: Vec<bool>,
+    /// Levels expected on the wire from its first bit on (`None`: any),
+    /// sampled 3/4 into each of its bits; may run past `bits`.
+    pub expect: Vec<Option<bool>>,
+    /// Wire levels sampled so far, one per bit of `expect`.
+    seen: Vec<bool>,
+    /// Bits whose whole bit time has passed since its start.
+    completed: usize,
     state: State,
 }
 
 impl RawNode {
     /// A node that drives `bits` from `start`.
     pub fn new(name: impl Into<String>, start: RawStart, bits: Vec<bool>) -> RawNode {
-        RawNode { name: name.into(), start, bits, state: State::Waiting { recessive: 0 } }
+        RawNode { name: name.into(), start, bits, expect: Vec::new(), seen: Vec::new(), completed: 0, state: State::Waiting { recessive: 0 } }
+    }
+
+    /// The levels it expects on the wire from its first bit on.
+    pub fn expecting(mut self, expect: Vec<Option<bool>>) -> RawNode {
+        self.expect = expect;
+        self
+    }
+
+    /// Bit times it is active for: driving up to its last dominant bit
+    /// (trailing recessive bits drive nothing), monitoring up to its last
+    /// expected bit.
+    fn len(&self) -> usize {
+        self.driven_len().max(self.expect.len())
+    }
+
+    /// Bits up to its last dominant one.
+    fn driven_len(&self) -> usize {
+        self.bits.iter().rposition(|&b| b == DOMINANT).map_or(0, |i| i + 1)
     }
 
     /// The level it drives for the coming CAN clock, given the bench's bus
@@ -210,22 +244,58 @@ impl RawNode {
         }
         match self.state {
             State::Sending { from } => {
-                let i = ((ctx.clock - from) / cpb) as usize;
-                match self.bits.get(i) {
-                    Some(&b) => b,
-                    None => {
-                        self.state = State::Done;
-                        RECESSIVE
-                    }
+                let k = ctx.clock - from;
+                let i = (k / cpb) as usize;
+                // The wire 3/4 into bit i - the level of the clock before
+                // this one - for the monitor.
+                if k % cpb == (cpb * 3 / 4 + 1).min(cpb - 1) && i < self.expect.len() && self.seen.len() == i {
+                    self.seen.push(last_level);
                 }
+                self.completed = i;
+                if i >= self.len() {
+                    self.state = State::Done;
+                    return RECESSIVE;
+                }
+                self.bits.get(i).copied().unwrap_or(RECESSIVE)
             }
             _ => RECESSIVE,
         }
     }
 
-    /// True once its whole sequence was driven.
+    /// True once its whole sequence was driven and monitored.
     pub fn done(&self) -> bool {
         self.state == State::Done
+    }
+
+    /// Its verdict at the end of a run: `Ok` with what it did, or `Err`
+    /// with why not: it never started (its start point did not come), the
+    /// run ended before its sequence did, or the wire differed from what it
+    /// expects (the first such bit, counted from its start).
+    pub fn verdict(&self) -> Result<String, String> {
+        let show = |v: &[bool]| v.iter().map(|&b| if b { '1' } else { '0' }).collect::<String>();
+        let start = match self.start {
+            RawStart::IdleBits(n) => format!("after {n} recessive bits"),
+            RawStart::FrameBit { frame, bit } => format!("at bit {bit} of frame {frame}"),
+            RawStart::AtBit(b) => format!("at bit time {b}"),
+        };
+        if let State::Waiting { .. } = self.state {
+            return Err(format!("never started: its start ({start}) did not come"));
+        }
+        for (i, (want, &got)) in self.expect.iter().zip(&self.seen).enumerate() {
+            if want.is_some_and(|w| w != got) {
+                return Err(format!("wire bit {i} from its start ({start}) is {}, expected {}; wire seen: {}", got as u8, !got as u8, show(&self.seen)));
+            }
+        }
+        if self.completed < self.driven_len() || self.seen.len() < self.expect.len() {
+            return Err(format!(
+                "the run ended before its sequence did ({} of {} bit(s) to its last dominant one driven, {} of {} expected bit(s) seen; {start})",
+                self.completed.min(self.driven_len()),
+                self.driven_len(),
+                self.seen.len(),
+                self.expect.len()
+            ));
+        }
+        Ok(format!("{} bit(s) driven{} {start}", self.bits.len(), if self.expect.is_empty() { String::new() } else { format!(", wire as expected ({})", show(&self.seen)) }))
     }
 }
 
@@ -303,11 +373,14 @@ mod tests {
         let w = f.wire_bits();
         assert!(w[0], "SOF flipped");
         assert_eq!(w[w.len() - 9], DOMINANT, "ACK slot driven");
+        assert_eq!(f.ack_slot(), Some(w.len() - 9));
+        assert_eq!(RawFrame::base(0x3C3, &[0]).ack_slot(), Some(46), "0x3C3 [00]: CRC delimiter 45, ACK 46");
         // 0x3C3 [00]: stuff bits at 17, 25, 31; flipping 25 makes a sixth
         // dominant bit (a stuff error), and the sender stops there.
         let f = RawFrame { flip: vec![25], until: Some(25), ..RawFrame::base(0x3C3, &[0]) };
         let w = f.wire_bits();
         assert_eq!(w.len(), 26);
+        assert_eq!(f.ack_slot(), None, "cut before its ACK slot");
         assert_eq!(&w[20..26], &[DOMINANT; 6], "data bits 0-4 and the flipped stuff bit");
         let nominal = RawFrame::base(0x3C3, &[0]).wire_bits();
         assert_eq!(&w[..25], &nominal[..25]);
@@ -337,6 +410,32 @@ mod tests {
         assert_eq!(first, 15, "8 recessive clocks (2 bits) counted from clock 8");
         assert_eq!(out[15..19], [false; 4]);
         assert!(out[19]);
+    }
+
+    #[test]
+    fn the_monitor_compares_the_wire_and_a_start_that_never_comes_is_a_failure() {
+        // Drives "0", expects "0 x 1 0": bit 2 recessive and bit 3 dominant
+        // (another transmitter's bits) on the wire.
+        let run = |wire: &str| {
+            let wire = bits(wire);
+            let mut n = RawNode::new("lt", RawStart::AtBit(0), bits("0")).expecting(vec![Some(false), None, Some(true), Some(false)]);
+            let mut level = true;
+            for k in 0..20u64 {
+                let drive = n.drive(&ctx(k, None, 0), level);
+                level = drive & wire[(k / 4) as usize];
+            }
+            n
+        };
+        let ok = run("1 0 1 0 1");
+        assert!(ok.done());
+        assert!(ok.verdict().unwrap().contains("wire as expected (0010)"), "{:?}", ok.verdict());
+        let bad = run("1 1 0 0 1");
+        assert!(bad.verdict().unwrap_err().contains("wire bit 2"), "{:?}", bad.verdict());
+        let never = RawNode::new("lt", RawStart::FrameBit { frame: 3, bit: 0 }, bits("0"));
+        assert!(never.verdict().unwrap_err().contains("never started"));
+        let mut cut = RawNode::new("lt", RawStart::AtBit(0), bits("000"));
+        cut.drive(&ctx(0, None, 0), true);
+        assert!(cut.verdict().unwrap_err().contains("run ended"));
     }
 
     #[test]
