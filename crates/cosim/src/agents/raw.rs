@@ -240,7 +240,15 @@ impl RawNode {
                 }
                 RawStart::AtBit(b) => ctx.clock >= b * cpb,
             };
-            self.state = if go { State::Sending { from: ctx.clock } } else { State::Waiting { recessive } };
+            // A frame bit starts where the bench's bit started: for bits
+            // after the SOF that is this clock (the bit boundary); the SOF's
+            // frame number is known only from its sample point on, so bit 0
+            // of a frame is joined late, on the grid of the SOF.
+            let from = match self.start {
+                RawStart::FrameBit { .. } => ctx.clock - u64::from(ctx.sub).min(ctx.clock),
+                _ => ctx.clock,
+            };
+            self.state = if go { State::Sending { from } } else { State::Waiting { recessive } };
         }
         match self.state {
             State::Sending { from } => {
@@ -395,6 +403,17 @@ mod tests {
         let got: Vec<bool> = (0..14).map(|k| n.drive(&ctx(20 + k, Some(1), 57), true)).collect();
         assert_eq!(got, bits("0000 1111 0000 11"), "4 clocks per bit, then recessive");
         assert!(n.done());
+    }
+
+    #[test]
+    fn bit_0_of_a_frame_is_joined_on_the_grid_of_its_sof() {
+        // The frame number appears at the SOF's sample point (sub 25 of 40 here):
+        // the node's bit 0 is the rest of that bit, its bit 1 the next bit.
+        let mut n = RawNode::new("lt", RawStart::FrameBit { frame: 1, bit: 0 }, bits("01"));
+        let c = |clock, sub| BusContext { clock, frame: Some(0), frame_bit: 0, sub, clocks_per_bit: 40 };
+        assert_eq!(n.drive(&c(125, 25), false), DOMINANT);
+        assert_eq!(n.drive(&c(139, 39), false), DOMINANT, "still bit 0");
+        assert_eq!(n.drive(&c(140, 0), false), RECESSIVE, "bit 1 from the bench's next bit");
     }
 
     #[test]
