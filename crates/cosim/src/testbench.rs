@@ -110,6 +110,8 @@ pub struct TbConfig {
     /// `Target::Node`). Their `BusContext` comes from the bench's bit clock
     /// and decoder (frame = SOFs seen, frame_bit = bits since that SOF).
     pub dut_rx_faults: Vec<Box<dyn FaultInjector>>,
+    /// Bit-level senders on the wire (`agents::raw`), on the bench's bit clock.
+    pub raw_nodes: Vec<crate::agents::raw::RawNode>,
     /// Lockstep reference and tolerances.
     pub lockstep: Option<(ReferenceChoice, CompareConfig)>,
     /// Our VCD (ports, bus, model, fields).
@@ -160,6 +162,7 @@ impl Default for TbConfig {
             nodes: Vec::new(),
             faults: Vec::new(),
             dut_rx_faults: Vec::new(),
+            raw_nodes: Vec::new(),
             lockstep: None,
             vcd: None,
             dut_trace: None,
@@ -336,7 +339,8 @@ impl Testbench {
             cfg.dut_rx_faults.drain(..).collect(),
             cfg.rx,
             cfg.tx_on_bus,
-        );
+        )
+        .with_raw_nodes(std::mem::take(&mut cfg.raw_nodes));
         let wave = match &cfg.vcd {
             Some(p) => Some(Wave::create(p)?),
             None => None,
@@ -456,6 +460,11 @@ impl Testbench {
     /// The kernel (time, clocks).
     pub fn kernel(&self) -> &Kernel {
         &self.kernel
+    }
+
+    /// The raw nodes on the wire (`TbConfig::raw_nodes`), for their verdicts.
+    pub fn raw_nodes(&self) -> &[crate::agents::raw::RawNode] {
+        self.bus.raw_nodes()
     }
 
     /// The golden-model nodes.

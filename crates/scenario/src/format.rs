@@ -40,6 +40,8 @@ pub struct RawScenario {
     pub nodes: Vec<Spanned<RawNode>>,
     #[serde(default, rename = "fault")]
     pub faults: Vec<Spanned<RawFault>>,
+    #[serde(default, rename = "raw-node")]
+    pub raw_nodes: Vec<Spanned<RawRawNode>>,
     #[serde(default)]
     pub expect: Option<Spanned<RawExpect>>,
 }
@@ -202,6 +204,56 @@ pub struct RawFault {
     pub offset_clocks: Option<i64>,
     /// Glitch only: pulse length in CAN clocks (with `offset_clocks`).
     pub width_clocks: Option<i64>,
+}
+
+/// One `[[raw-node]]`: a bit-level sender (the lower tester) on the wire.
+#[derive(Debug, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct RawRawNode {
+    pub name: String,
+    /// Start: at this bit time of the run, ...
+    pub at_bit: Option<i64>,
+    /// ... or at this wire bit (from SOF = 0) of this frame (SOFs on the bus from 1), ...
+    pub frame: Option<i64>,
+    pub bit_in_frame: Option<i64>,
+    /// ... or after this many recessive bit times in a row (11: bus idle).
+    pub idle_bits: Option<i64>,
+    /// The levels, one per bit time: "0" dominant, "1" recessive; spaces and `_` ignored.
+    pub bits: Option<String>,
+    /// Or a frame described by its fields.
+    pub fields: Option<RawFields>,
+    /// Levels expected on the wire from its first bit on ("0", "1", "x" any).
+    pub expect_bits: Option<String>,
+}
+
+/// `fields = { id = 0x123, data = [1], r0 = 1, ... }`: a frame with any
+/// field at a non-nominal value (levels 0 = dominant, 1 = recessive).
+#[derive(Debug, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct RawFields {
+    pub id: i64,
+    #[serde(default)]
+    pub extended: bool,
+    #[serde(default)]
+    pub rtr: bool,
+    #[serde(default)]
+    pub data: Vec<i64>,
+    pub dlc: Option<i64>,
+    pub srr: Option<i64>,
+    pub r1: Option<i64>,
+    pub r0: Option<i64>,
+    /// CRC sent instead of the one computed over the bits as sent.
+    pub crc: Option<i64>,
+    /// Level driven in the ACK slot (default 1: it is the transmitter).
+    pub ack: Option<i64>,
+    /// Wire bits (SOF = 0, after stuffing) sent inverted.
+    #[serde(default)]
+    pub flip: Vec<i64>,
+    /// Last wire bit sent.
+    pub until_bit: Option<i64>,
+    /// The node expects a dominant ACK slot (another node's ACK).
+    #[serde(default)]
+    pub expect_ack: bool,
 }
 
 /// `[expect]`: the expected outcome.

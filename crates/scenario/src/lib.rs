@@ -75,6 +75,11 @@
 //!                     # it may cross the bench's sample point and must end in the bit;
 //!                     # target = "dut-rx" only (the grid is the DUT timing's)
 //!
+//! [[raw-node]]        # a bit-level sender on the wire (crate::rawnode)
+//! name = "lt"; frame = 1; bit_in_frame = 57   # or at_bit = N, or idle_bits = 11
+//! bits = "0 0000"     # levels per bit time (0 = dominant), or a frame by its fields:
+//! fields = { id = 0x123, data = [1], r0 = 1 }  # srr, r1, crc, ack, flip; CRC and stuffing computed
+//!
 //! [expect]            # checked against the diagnosis
 //! category = "RxNotFollowingTx"  # diagnose::Category name
 //! field = "Sof"; first_attempt_tec = 136; bus_off_attempt = 16; tec = 128; sr = 0x60; attempts = 17
@@ -87,6 +92,7 @@
 
 mod format;
 pub mod html;
+pub mod rawnode;
 pub mod regress;
 pub mod replay;
 pub mod revdiff;
@@ -409,6 +415,8 @@ pub struct Scenario {
     pub nodes: Vec<NodeSpec>,
     /// Fault injections.
     pub faults: Vec<FaultSpec>,
+    /// Bit-level senders on the wire (`[[raw-node]]`).
+    pub raw_nodes: Vec<rawnode::RawNodeSpec>,
     /// Expected outcome.
     pub expect: ExpectSpec,
     /// Run length limit in bit times.
@@ -941,6 +949,8 @@ fn build(ctx: &Ctx, raw: RawScenario, file: &Path) -> Result<Scenario, ScenarioE
         faults.push(FaultSpec { kind, at_bit: f.at_bit.map(|b| b.max(0) as u64), frame_bit, duration_bits: f.duration_bits.unwrap_or(1).max(1) as u64, target, pulse_clocks });
     }
 
+    let raw_nodes = rawnode::build(ctx, raw.raw_nodes, &nodes)?;
+
     // expect
     let (espan, e) = match raw.expect {
         Some(s) => (s.span(), s.into_inner()),
@@ -996,6 +1006,7 @@ fn build(ctx: &Ctx, raw: RawScenario, file: &Path) -> Result<Scenario, ScenarioE
         steps,
         nodes,
         faults,
+        raw_nodes,
         expect,
         max_bits: raw.run.max_bits.unwrap_or(20_000),
         keep_bits: raw.run.keep_bits.unwrap_or(256),

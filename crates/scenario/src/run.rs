@@ -341,6 +341,11 @@ pub fn tb_config(s: &Scenario, dut: &DutKind, opts: &RunOptions) -> Result<TbCon
         nodes: s.nodes.iter().map(|n| NodeConfig { name: n.name.clone(), init: node_init(n) }).collect(),
         faults,
         dut_rx_faults,
+        raw_nodes: s
+            .raw_nodes
+            .iter()
+            .map(|r| cosim::agents::raw::RawNode::new(r.name.clone(), r.start, r.bits.clone()).expecting(r.expect.clone()))
+            .collect(),
         lockstep: Some((ReferenceChoice::Model, tolerances)),
         vcd: opts.vcd.clone(),
         keep_bits: s.keep_bits,
@@ -553,6 +558,15 @@ pub fn run(s: &Scenario, opts: &RunOptions) -> RunOutcome {
                 result = run_out(&mut tb, &mut traffic, max_bits, requested);
             }
             let mut r = tb.record();
+            // Each raw node must have run its whole sequence and seen the
+            // wire it expects: one step-0 expectation each.
+            for n in tb.raw_nodes() {
+                let (seen, passed) = match n.verdict() {
+                    Ok(v) => (v, true),
+                    Err(e) => (e, false),
+                };
+                r.expectations.push(Expectation { step: 0, what: format!("raw node {}", n.name), expected: "its sequence run, the wire as expected".into(), seen, passed });
+            }
             match result {
                 // Everything completed: a stuck transfer noted by a partial
                 // SR wait (polled in slices so node traffic can fire) is void.

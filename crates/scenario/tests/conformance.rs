@@ -104,6 +104,24 @@ fn passes_with(file: &str, edits: &[(&str, &str)]) -> bool {
     run(&s, &RunOptions { dut: Some(DutSpec::model()), ..Default::default() }).passed
 }
 
+/// The raw-node scenarios (branch rawsend) fail with their value changed:
+/// the CRC of the nominal frame sent with a recessive r0 (a CRC error), the
+/// start of frame one bit early in intermission bit 2 (an overload frame:
+/// the raw node's monitor sees the overload flag where the identifier
+/// should be), a winner of lower priority than the DUT (it wins), and an
+/// error-active DUT (it sends its identifier on the dominant bit).
+#[test]
+fn raw_node_scenarios_fail_with_their_value_changed() {
+    assert!(passes_with("rx-7.1.4-recessive-r0.toml", &[]));
+    assert!(!passes_with("rx-7.1.4-recessive-r0.toml", &[("r0 = 1, expect_ack = true }", "r0 = 1, expect_ack = true, crc = 0x7897 }")]));
+    assert!(passes_with("tx-8.3.2-sof-at-third-intermission-bit.toml", &[]));
+    assert!(!passes_with("tx-8.3.2-sof-at-third-intermission-bit.toml", &[("bit_in_frame = 42\nbits = \"0\"\n# the wire", "bit_in_frame = 41\nbits = \"0\"\n# the wire")]));
+    assert!(passes_with("tx-8.1.8-sof-at-third-intermission-bit-after-arbitration.toml", &[]));
+    assert!(!passes_with("tx-8.1.8-sof-at-third-intermission-bit-after-arbitration.toml", &[("id = 0x7A,", "id = 0x7C,")]));
+    assert!(passes_with("tx-8.5.9-passive-no-identifier-at-third-intermission-bit.toml", &[]));
+    assert!(!passes_with("tx-8.5.9-passive-no-identifier-at-third-intermission-bit.toml", &[("{ write = \"TXERR\", value = 0x80,", "{ write = \"TXERR\", value = 0,")]));
+}
+
 /// docs/conformance.md states the suite's size; it must be the list's.
 #[test]
 fn the_docs_state_the_suite_size() {

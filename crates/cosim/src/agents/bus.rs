@@ -2,11 +2,13 @@
 //! `tx_o` and the golden-model nodes (`sja1000::Bus`, clocked with it), the
 //! faults on what those nodes receive (inside that bus) and on what the DUT
 //! receives, and how the DUT's `rx_i` is wired (bus, tied recessive, tied
-//! dominant).
+//! dominant). Raw nodes ([`super::raw`]) drive the wire with them.
 
 use can_proto::RECESSIVE;
 use diagnose::RxWiring;
 use sja1000::{Bus, BusContext, FaultInjector, Sja1000};
+
+use super::raw::RawNode;
 
 /// A golden-model node on the bus, configured by register writes at start.
 #[derive(Clone, Debug, Default)]
@@ -29,6 +31,9 @@ pub struct BusAgent {
     level: bool,
     /// The DUT's `rx_i` from the last CAN edge.
     dut_rx: bool,
+    /// Bit-level senders on the wire (wired-AND with the DUT's tx and the
+    /// model nodes); they follow the bench's bit clock.
+    raw: Vec<RawNode>,
 }
 
 impl BusAgent {
@@ -53,7 +58,18 @@ impl BusAgent {
         for f in faults {
             bus.add_fault_boxed(f);
         }
-        BusAgent { bus, dut_faults, rx_wiring, tx_on_bus, level: RECESSIVE, dut_rx: RECESSIVE }
+        BusAgent { bus, dut_faults, rx_wiring, tx_on_bus, level: RECESSIVE, dut_rx: RECESSIVE, raw: Vec::new() }
+    }
+
+    /// Puts raw nodes on the wire.
+    pub fn with_raw_nodes(mut self, raw: Vec<RawNode>) -> BusAgent {
+        self.raw = raw;
+        self
+    }
+
+    /// The raw nodes.
+    pub fn raw_nodes(&self) -> &[RawNode] {
+        &self.raw
     }
 
     /// The model nodes.
@@ -84,14 +100,21 @@ impl BusAgent {
     /// `ctx` gives (asked only when there are some). Both are kept.
     #[inline]
     pub fn can_rise(&mut self, dut_tx: bool, ctx: impl FnOnce() -> BusContext) -> bool {
-        let dut_tx = if self.tx_on_bus { dut_tx } else { RECESSIVE };
+        let mut dut_tx = if self.tx_on_bus { dut_tx } else { RECESSIVE };
+        // Asked once, only when something needs it.
+        let ctx = (!self.dut_faults.is_empty() || !self.raw.is_empty()).then(ctx);
+        if let Some(c) = &ctx {
+            // The raw nodes drive the wire like another transceiver.
+            for r in &mut self.raw {
+                dut_tx &= r.drive(c, self.level);
+            }
+        }
         let level = if self.bus.is_empty() { dut_tx } else { self.bus.clock_with(dut_tx) };
         self.level = level;
         let rx = match self.rx_wiring {
             RxWiring::Bus => {
                 let mut rx = level;
-                if !self.dut_faults.is_empty() {
-                    let ctx = ctx();
+                if let Some(ctx) = ctx.filter(|_| !self.dut_faults.is_empty()) {
                     let me = self.bus.len();
                     for f in &mut self.dut_faults {
                         rx = f.apply(&ctx, me, rx);
@@ -107,10 +130,10 @@ impl BusAgent {
     }
 
     /// How the DUT's rx is driven if nothing but its own tx drives the bus
-    /// (no model nodes, no faults): `Some(None)` its own tx, looped back;
+    /// (no model nodes, no faults, no raw nodes): `Some(None)` its own tx, looped back;
     /// `Some(Some(level))` tied; `None` when nodes or faults are there.
     pub fn loopback_rx(&self) -> Option<Option<bool>> {
-        if !self.bus.is_empty() || !self.dut_faults.is_empty() {
+        if !self.bus.is_empty() || !self.dut_faults.is_empty() || !self.raw.is_empty() {
             return None;
         }
         Some(match self.rx_wiring {
@@ -172,6 +195,33 @@ mod tests {
         assert_eq!((rx, b.level()), (DOMINANT, RECESSIVE), "the DUT sees the fault, the bus does not");
         assert_eq!(asked, 1, "the fault's context is asked for");
         assert_eq!(b.loopback_rx(), None);
+    }
+
+    #[test]
+    fn a_raw_node_drives_the_wire_for_the_dut_and_the_model_nodes() {
+        use super::super::raw::RawStart;
+        let nodes = vec![NodeConfig { name: "n".into(), init: vec![] }];
+        let raw = RawNode::new("lt", RawStart::AtBit(1), vec![DOMINANT, RECESSIVE]);
+        let mut b = BusAgent::new(&nodes, Vec::new(), Vec::new(), RxWiring::Bus, true).with_raw_nodes(vec![raw]);
+        assert_eq!(b.loopback_rx(), None, "a raw node on the bus: no batch");
+        let mut clock = 0;
+        let mut levels = Vec::new();
+        for _ in 0..40 {
+            let c = BusContext { clock, ..ctx() };
+            levels.push((b.can_rise(RECESSIVE, || c), b.level(), b.bus().level()));
+            clock += 1;
+        }
+        // Bit 1 (clocks 10..20) dominant on the wire, in the DUT's rx and in
+        // what the model nodes' bus carries; recessive before and after.
+        for (k, &(rx, level, nodes_level)) in levels.iter().enumerate() {
+            let want = !(10..20).contains(&k);
+            assert_eq!((rx, level, nodes_level), (want, want, want), "clock {k}");
+        }
+        assert!(b.raw_nodes()[0].done());
+        // A raw node alone (no model nodes): the wire is its level and the DUT's.
+        let raw = RawNode::new("lt", RawStart::AtBit(0), vec![DOMINANT]);
+        let mut b = BusAgent::new(&[], Vec::new(), Vec::new(), RxWiring::Bus, true).with_raw_nodes(vec![raw]);
+        assert_eq!(b.can_rise(RECESSIVE, ctx), DOMINANT);
     }
 
     #[test]

@@ -12,6 +12,8 @@
 //! - [`comparator`]: one checker per kind (tx bits, register reads, the
 //!   irq/bus-off pins) with their tolerances, and the waiver and resync
 //!   policy that decides what a divergence does to the run;
+//! - [`raw`]: a bit-level sender (the lower tester) that the bus agent
+//!   wires onto the bus with the DUT and the model nodes;
 //! - [`observer`]: the bit clock, the field decoder, our VCD, the run
 //!   record and the bus log: it watches and writes down, never drives.
 
@@ -19,4 +21,5 @@ pub mod bus;
 pub mod comparator;
 pub mod host;
 pub mod observer;
+pub mod raw;
 pub mod reference;
