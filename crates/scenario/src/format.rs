@@ -204,6 +204,9 @@ pub struct RawFault {
     pub offset_clocks: Option<i64>,
     /// Glitch only: pulse length in CAN clocks (with `offset_clocks`).
     pub width_clocks: Option<i64>,
+    /// Placed glitch only: the level the pulse forces ("dominant" or
+    /// "recessive") instead of inverting the wire's.
+    pub level: Option<String>,
 }
 
 /// One `[[raw-node]]`: a bit-level sender (the lower tester) on the wire.

@@ -74,6 +74,9 @@
 //!                     # from the start of the bit (default: 1/8 bit, 1/4 into it);
 //!                     # it may cross the bench's sample point and must end in the bit;
 //!                     # target = "dut-rx" only (the grid is the DUT timing's)
+//! level = "dominant"  # placed glitch only: the pulse forces this level instead of
+//!                     # inverting the wire's (a pulse that must stay dominant while
+//!                     # the DUT starts driving dominant itself, e.g. an early ACK edge)
 //!
 //! [[raw-node]]        # a bit-level sender on the wire (crate::rawnode)
 //! name = "lt"; frame = 1; bit_in_frame = 57   # or at_bit = N, or idle_bits = 11
@@ -91,6 +94,7 @@
 #![warn(missing_docs)]
 
 mod format;
+mod pulse;
 pub mod html;
 pub mod rawnode;
 pub mod regress;
@@ -356,6 +360,9 @@ pub struct FaultSpec {
     /// `width_tq` times the DUT's quantum); `None`: 1/8 of a bit starting
     /// 1/4 into it.
     pub pulse_clocks: Option<(u32, u32)>,
+    /// Placed glitch only: the level the pulse forces (`level`); `None`:
+    /// the pulse inverts the wire's level.
+    pub pulse_level: Option<bool>,
 }
 
 /// The expected outcome.
@@ -946,7 +953,16 @@ fn build(ctx: &Ctx, raw: RawScenario, file: &Path) -> Result<Scenario, ScenarioE
                 return Err(ctx.err_key(&span, key, &format!("{p}.{key}"), format!("{key} = {o}, width = {w}: the pulse must be at least 1 wide and end within the DUT's bit of {per_bit} CAN clocks, {} quanta (BTR0 = {btr0:#04X}, BTR1 = {btr1:#04X})", per_bit / clocks_per_tq)));
             }
         };
-        faults.push(FaultSpec { kind, at_bit: f.at_bit.map(|b| b.max(0) as u64), frame_bit, duration_bits: f.duration_bits.unwrap_or(1).max(1) as u64, target, pulse_clocks });
+        let pulse_level = match f.level.as_deref() {
+            None => None,
+            Some(_) if pulse_clocks.is_none() => {
+                return Err(ctx.err_key(&span, "level", &format!("{p}.level"), "level forces a placed glitch's pulse: give offset_clocks/width_clocks or offset_tq/width_tq"));
+            }
+            Some("dominant") => Some(can_proto::DOMINANT),
+            Some("recessive") => Some(!can_proto::DOMINANT),
+            Some(other) => return Err(ctx.err_key(&span, "level", &format!("{p}.level"), format!("`{other}`: use \"dominant\" or \"recessive\""))),
+        };
+        faults.push(FaultSpec { kind, at_bit: f.at_bit.map(|b| b.max(0) as u64), frame_bit, duration_bits: f.duration_bits.unwrap_or(1).max(1) as u64, target, pulse_clocks, pulse_level });
     }
 
     let raw_nodes = rawnode::build(ctx, raw.raw_nodes, &nodes)?;

@@ -180,7 +180,10 @@ fn injector(f: &FaultSpec, target: Target, clocks_per_bit: u64) -> Box<dyn Fault
         // cross the sample point and stay in its bit).
         (FaultKind::Glitch, Some((fr, b))) if f.pulse_clocks.is_some() => {
             let (offset, width) = f.pulse_clocks.unwrap_or_default();
-            Box::new(sja1000::Glitch { frame: fr as u64 - 1, bit: b, offset, width, target })
+            match f.pulse_level {
+                Some(level) => Box::new(crate::pulse::ForcedPulse { frame: fr as u64 - 1, bit: b, offset, width, level, target }),
+                None => Box::new(sja1000::Glitch { frame: fr as u64 - 1, bit: b, offset, width, target }),
+            }
         }
         (FaultKind::Glitch, Some((fr, b))) => Box::new(sja1000::Glitch {
             frame: fr as u64 - 1,

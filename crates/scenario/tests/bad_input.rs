@@ -210,3 +210,26 @@ fn glitch_pulse_keys_are_checked() {
         assert!(e.to_string().contains(says), "{bad}: {e}");
     }
 }
+
+/// `level` makes a placed glitch force a level instead of inverting the
+/// wire's: only on a placed glitch, only "dominant" or "recessive"; each
+/// mistake is a one-line error naming the key.
+#[test]
+fn glitch_level_key_is_checked() {
+    let with = |fault: &str| format!("{GOOD}[[step]]\nwrite = \"BTR0\"\nvalue = 0x41\n[[step]]\nwrite = \"BTR1\"\nvalue = 0x25\n[[fault]]\n{fault}\n");
+    let ok = "kind = \"glitch\"\nframe = 1\nbit_in_frame = 45\noffset_clocks = 32\nwidth_clocks = 8\ntarget = \"dut-rx\"\nlevel = \"dominant\"";
+    let f = &Scenario::parse(&with(ok), "tb/ok.toml").unwrap().faults[0];
+    assert_eq!((f.pulse_clocks, f.pulse_level), (Some((32, 8)), Some(can_proto::DOMINANT)));
+    let rec = Scenario::parse(&with(&ok.replace("\"dominant\"", "\"recessive\"")), "tb/ok.toml").unwrap();
+    assert_eq!(rec.faults[0].pulse_level, Some(!can_proto::DOMINANT));
+    let plain = Scenario::parse(&with(&ok.replace("\nlevel = \"dominant\"", "")), "tb/ok.toml").unwrap();
+    assert_eq!(plain.faults[0].pulse_level, None, "no level: the pulse inverts");
+    for (bad, says) in [
+        (ok.replace("\"dominant\"", "\"low\""), "use \"dominant\" or \"recessive\""),
+        (ok.replace("offset_clocks = 32\nwidth_clocks = 8\n", ""), "placed glitch"),
+    ] {
+        let e = err(&with(&bad));
+        assert_eq!(e.key(), "fault[1].level", "{e}");
+        assert!(e.to_string().starts_with("tb/bad.toml:") && e.to_string().contains(says), "{bad}: {e}");
+    }
+}
