@@ -324,10 +324,11 @@ fn pelican_reset_mode_only_registers() {
     }
 }
 
-/// Datasheet 6.4.12 (TXERR): a write of 255 in reset mode shows only in
-/// TXERR; SR.BS/ES and the interrupts wait until reset mode is left; then
-/// the bus-off happens as one by errors: MOD.RM reads 1 again, TXERR 127,
-/// RXERR 0, SR.BS and SR.ES set, IR.EI (enabled) set, no EPI.
+/// Datasheet, TXERR register: a write of 255 in
+/// reset mode shows only in TXERR; SR.BS/ES and the interrupts wait until
+/// reset mode is left; then the bus-off happens as one by errors: MOD.RM
+/// reads 1 again, TXERR 127, RXERR 0, SR.BS and SR.ES set, IR.EI (enabled)
+/// set, no EPI.
 #[test]
 fn pelican_txerr_255_bus_off_waits_for_leaving_reset_mode() {
     let mut n = pelican_reset();
