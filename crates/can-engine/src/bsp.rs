@@ -183,6 +183,9 @@ pub(crate) struct Bsp {
     /// pending transmission, waiting for another node's start of frame
     /// (a resync; 0: no hold).
     sof_hold: u8,
+    /// A TXERR write of 255 in reset mode: the bus-off it forces happens
+    /// when reset mode is left (datasheet TXERR).
+    bus_off_armed: bool,
     pub(crate) reset_mode: bool,
     pub(crate) fc: Fault,
     pub(crate) ev: Vec<Event>,
@@ -228,6 +231,7 @@ impl Bsp {
             recovery: 0,
             since_bus_on: u8::MAX,
             sof_hold: 0,
+            bus_off_armed: false,
             reset_mode: false,
             fc,
             ev: Vec::with_capacity(8),
@@ -985,6 +989,13 @@ impl Bsp {
             self.pending = None;
             self.abort_req = false;
         } else {
+            if std::mem::take(&mut self.bus_off_armed) {
+                // Datasheet TXERR: the CPU-driven bus-off is performed now,
+                // as a bus-off by errors (reset mode is entered again).
+                self.fc.force_bus_off(&mut self.ev);
+                self.enter_bus_off();
+                return;
+            }
             self.cnt = 0;
             if self.phase == Phase::BusOff {
                 self.recovery = 0;
@@ -1020,15 +1031,27 @@ impl Bsp {
     }
 
     pub(crate) fn write_counters(&mut self, tec: Option<u8>, rec: Option<u8>) {
+        let was_off = self.fc.state() == FaultState::BusOff;
         if tec == Some(255) {
-            // Datasheet: writing 255 to TXERR forces a bus-off event.
-            if self.fc.state() != FaultState::BusOff {
+            // Datasheet: writing 255 to TXERR forces a bus-off event (a
+            // no-op while bus-off). In reset mode TXERR reads 255 and the
+            // bus-off waits until the mode is left; outside it (only a
+            // lockstep resync writes there) it happens at once.
+            if was_off {
+                return;
+            }
+            if self.reset_mode {
+                self.fc.write(tec, rec, &mut self.ev);
+                self.bus_off_armed = true;
+            } else {
                 self.fc.force_bus_off(&mut self.ev);
                 self.enter_bus_off();
             }
             return;
         }
-        let was_off = self.fc.state() == FaultState::BusOff;
+        if tec.is_some() {
+            self.bus_off_armed = false;
+        }
         self.fc.write(tec, rec, &mut self.ev);
         if was_off && self.fc.state() != FaultState::BusOff {
             // Bus-off cleared by the write: one bus-free sequence once reset

@@ -185,7 +185,8 @@ impl Fault {
         }
     }
 
-    /// Forces bus-off (CPU write of 255 to TXERR in reset mode).
+    /// Forces bus-off through rule 10 (a CPU write of 255 to TXERR, when
+    /// reset mode is left).
     pub(crate) fn force_bus_off(&mut self, ev: &mut Vec<Event>) {
         self.tec = 256;
         self.update(ev);

@@ -436,7 +436,9 @@ impl Engine {
     /// Writes TEC (the controller allows it in reset mode only); may change
     /// the fault state: 255 forces bus-off, any other value while bus-off
     /// clears it (datasheet TXERR). Warning/passive changes show when reset
-    /// mode is left.
+    /// mode is left; so does the bus-off forced by 255 in reset mode (TEC
+    /// reads 255 until then, and leaving reset mode enters it again, with
+    /// TEC 127 and REC 0, as a bus-off by errors).
     pub fn set_tec(&mut self, v: u8) {
         self.bsp.write_counters(Some(v), None);
     }

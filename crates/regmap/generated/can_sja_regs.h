@@ -267,7 +267,9 @@
  * TXERR: TX error counter register (address 15).
  * read: both modes; write: reset mode only. Reset: hw 00000000, rm
  * xxxxxxxx.
- * writable in reset mode only; bus-off sets it to 127, it then counts
+ * writable in reset mode only; writing 255 forces a bus-off that happens
+ * when reset mode is left (until then it reads 255, status and interrupts
+ * unchanged), as one by errors; bus-off sets it to 127, it then counts
  * bus-free occurrences down during recovery
  */
 #define CAN_SJA_PELI_TXERR_REG 15

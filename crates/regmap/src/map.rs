@@ -240,8 +240,10 @@ view_map! {
 
     TXERR / txerr @ 15 : "TX error counter register",
         hw "0000_0000", rm "xxxx_xxxx",
-        note "writable in reset mode only; bus-off sets it to 127, it then counts bus-free \
-              occurrences down during recovery"
+        note "writable in reset mode only; writing 255 forces a bus-off that happens when reset \
+              mode is left (until then it reads 255, status and interrupts unchanged), as one by \
+              errors; bus-off sets it to 127, it then counts bus-free occurrences down during \
+              recovery"
     {}
 
     // Addresses 16..28 have three meanings: RX buffer (operating read), TX

@@ -324,6 +324,31 @@ fn pelican_reset_mode_only_registers() {
     }
 }
 
+/// Datasheet, TXERR register: a write of 255 in
+/// reset mode shows only in TXERR; SR.BS/ES and the interrupts wait until
+/// reset mode is left; then the bus-off happens as one by errors: MOD.RM
+/// reads 1 again, TXERR 127, RXERR 0, SR.BS and SR.ES set, IR.EI (enabled)
+/// set, no EPI.
+#[test]
+fn pelican_txerr_255_bus_off_waits_for_leaving_reset_mode() {
+    let mut n = pelican_reset();
+    n.write(peli::IER, peli::ier::EIE | peli::ier::EPIE);
+    n.write(peli::RXERR, 40);
+    assert_eq!(n.write(peli::TXERR, 255), WriteOutcome::Applied);
+    assert_eq!(n.read(peli::TXERR), 255);
+    assert_eq!(n.read(peli::RXERR), 40);
+    assert_eq!(n.read(peli::SR) & (peli::sr::BS | peli::sr::ES), 0);
+    assert_eq!(n.read(peli::IR), 0, "no interrupt in reset mode");
+    assert!(!n.bus_off());
+    n.write(peli::MOD, 0);
+    assert_eq!(n.read(peli::MOD) & peli::r#mod::RM, peli::r#mod::RM);
+    assert_eq!((n.read(peli::TXERR), n.read(peli::RXERR)), (127, 0));
+    let sr = n.read(peli::SR);
+    assert_eq!(sr & (peli::sr::BS | peli::sr::ES), peli::sr::BS | peli::sr::ES);
+    assert_eq!(n.read(peli::IR) & (peli::ir::EI | peli::ir::EPI), peli::ir::EI);
+    assert!(n.bus_off());
+}
+
 /// CDR.7 (CAN mode), CBP and RXINTEN are reset-mode only; CD and clock off are not.
 #[test]
 fn pelican_cdr_mode_bit_locked_in_operating_mode() {

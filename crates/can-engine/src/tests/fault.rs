@@ -139,7 +139,9 @@ fn transmitter_with_rx_stuck_recessive_goes_bus_off_after_16_attempts() {
 fn bus_off_recovery_takes_128_times_11_recessive_bits() {
     let mut e = node_idle();
     e.set_reset_mode(true);
-    e.set_tec(255); // CPU-forced bus-off
+    e.set_tec(255); // CPU-forced bus-off, performed when reset mode is left
+    e.set_reset_mode(false);
+    assert!(e.in_reset_mode(), "bus-off enters reset mode again");
     assert_eq!(e.fault_state(), FaultState::BusOff);
     assert_eq!(e.tec(), 127);
     let ev: Vec<_> = e.take_events().collect();
@@ -192,8 +194,12 @@ fn txerr_write_clears_bus_off() {
     let mut e = node_idle();
     e.set_reset_mode(true);
     e.set_tec(255);
+    e.set_reset_mode(false);
+    assert_eq!(e.fault_state(), FaultState::BusOff);
+    assert!(e.in_reset_mode());
     e.set_tec(10);
     assert_eq!(e.fault_state(), FaultState::ErrorActive);
+    assert_eq!(e.tec(), 10);
     e.set_reset_mode(false);
     for _ in 0..11 {
         e.sample_bit(RECESSIVE);
@@ -201,6 +207,111 @@ fn txerr_write_clears_bus_off() {
     e.request_tx(std_frame(1, &[]), false, false);
     e.sample_bit(RECESSIVE);
     assert!(!e.tx(), "transmits after one bus-free sequence");
+}
+
+/// Datasheet TXERR: a write of 255 in reset mode changes nothing but the
+/// counter (TXERR reads 255, no bus-off, no event) until reset mode is
+/// left; then the bus-off is performed as one by errors: reset mode again,
+/// TXERR 127, RXERR 0, bus-off and error warning reported, in that order.
+#[test]
+fn txerr_255_bus_off_waits_for_leaving_reset_mode() {
+    let mut e = node_idle();
+    e.set_reset_mode(true);
+    e.set_rec(20);
+    e.set_tec(255);
+    assert_eq!((e.tec(), e.rec()), (255, 20), "the write shows in TXERR");
+    assert_eq!(e.fault_state(), FaultState::ErrorActive, "no bus-off yet");
+    assert!(!e.error_warning(), "no warning yet");
+    assert_eq!(e.take_events().count(), 0, "no event in reset mode");
+    for _ in 0..200 {
+        e.sample_bit(RECESSIVE);
+    }
+    assert_eq!(e.fault_state(), FaultState::ErrorActive);
+    e.set_reset_mode(false);
+    assert!(e.in_reset_mode(), "bus-off enters reset mode again");
+    assert_eq!(
+        (e.tec(), e.rec(), e.fault_state()),
+        (127, 0, FaultState::BusOff)
+    );
+    assert!(e.error_warning());
+    let ev: Vec<_> = e.take_events().collect();
+    assert_eq!(
+        ev,
+        vec![
+            Event::FaultState(FaultState::BusOff),
+            Event::ErrorWarning(true)
+        ],
+        "as a bus-off by errors; no error-passive step"
+    );
+}
+
+/// The same node driven to bus-off by errors (TEC 248, one more SOF bit
+/// error with RX stuck recessive) ends in the same state and reports the
+/// same bus-off event as one forced by a TXERR write of 255.
+#[test]
+fn txerr_255_bus_off_matches_a_bus_off_by_errors() {
+    let mut by_errors = node_idle();
+    by_errors.set_reset_mode(true);
+    by_errors.set_tec(248);
+    by_errors.set_reset_mode(false);
+    for _ in 0..11 {
+        by_errors.sample_bit(RECESSIVE);
+    }
+    by_errors.take_events().for_each(drop);
+    by_errors.request_tx(std_frame(1, &[]), false, false);
+    let mut n = 0;
+    while by_errors.fault_state() != FaultState::BusOff {
+        let _ = by_errors.tx();
+        by_errors.sample_bit(RECESSIVE); // RX stuck: bit error at SOF
+        n += 1;
+        assert!(n < 1000, "no bus-off by errors");
+    }
+    let mut forced = node_idle();
+    forced.set_reset_mode(true);
+    forced.set_tec(255);
+    forced.take_events().for_each(drop);
+    forced.set_reset_mode(false);
+    let state = |e: &Engine| {
+        (e.tec(), e.rec(), e.fault_state(), e.error_warning(), e.in_reset_mode())
+    };
+    assert_eq!(state(&forced), state(&by_errors));
+    let faults = |e: &mut Engine| {
+        e.take_events()
+            .filter(|v| matches!(v, Event::FaultState(_) | Event::ErrorWarning(_)))
+            .collect::<Vec<_>>()
+    };
+    // By errors the warning came at TEC 248 >= 96 already.
+    assert_eq!(faults(&mut by_errors), vec![Event::FaultState(FaultState::BusOff)]);
+    assert_eq!(faults(&mut forced)[0], Event::FaultState(FaultState::BusOff));
+}
+
+/// A TXERR write of 0..254 after 255 (still in reset mode) disarms the
+/// bus-off: leaving reset mode applies the last value only.
+#[test]
+fn txerr_write_after_255_disarms_the_bus_off() {
+    let mut e = node_idle();
+    e.set_reset_mode(true);
+    e.set_tec(255);
+    e.set_tec(130);
+    e.set_reset_mode(false);
+    assert!(!e.in_reset_mode());
+    assert_eq!((e.tec(), e.fault_state()), (130, FaultState::ErrorPassive));
+}
+
+/// Writes of 255 while bus-off change nothing (TXERR keeps counting the
+/// recovery, the node stays bus-off).
+#[test]
+fn txerr_255_while_bus_off_is_a_no_op() {
+    let mut e = node_idle();
+    e.set_reset_mode(true);
+    e.set_tec(255);
+    e.set_reset_mode(false);
+    e.take_events().for_each(drop);
+    e.set_tec(255);
+    assert_eq!((e.tec(), e.fault_state()), (127, FaultState::BusOff));
+    e.set_reset_mode(false);
+    assert!(!e.in_reset_mode(), "no second bus-off armed");
+    assert_eq!(e.fault_state(), FaultState::BusOff, "the recovery runs");
 }
 
 // ---- ACK errors -----------------------------------------------------------
@@ -367,7 +478,8 @@ fn node_just_bus_on() -> Engine {
     let mut e = node_idle();
     e.set_reset_mode(true);
     e.set_tec(255);
-    e.set_reset_mode(false);
+    e.set_reset_mode(false); // the forced bus-off enters reset mode again
+    e.set_reset_mode(false); // the recovery starts
     while e.fault_state() == FaultState::BusOff {
         e.sample_bit(RECESSIVE);
     }
