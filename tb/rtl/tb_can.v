@@ -28,8 +28,9 @@
 // 10. PeliCAN dual filter, standard frames: filter 1 = ID + RTR + data
 //     byte 1 (nibbles in ACR1/ACR3), filter 2 = ID + RTR; two accepted,
 //     two rejected.
-// 11. BasicCAN ACR/AMR filter on ID.10..3; an extended frame is stored with
-//     its 11 base ID bits.
+// 11. BasicCAN ACR/AMR filter on ID.10..3; an extended frame whose base ID
+//     matches is acknowledged but not stored (extended frame passive), the
+//     standard frame with that ID is.
 // 12. Triple sampling (BTR1.SAM = 1) on both nodes, SJW 1: a frame goes
 //     through with node 1 still on its drifting clock.
 // Node 1 runs on a clk_i 0.03 % off node 0's, so it resynchronises.
@@ -634,8 +635,11 @@ module tb_can;
         if (q[0] !== 1'b0) fail("BasicCAN filter let 0x2AB through");
         send1(8'h81, 8'h24, 8'hE0, 8'h00, 8'h08, 64'h7700_0000_0000_0000, 1); // ext, base 0x127
         rd(0, 8'd2, q);
-        if (q[0] !== 1'b1) fail("BasicCAN: extended frame with matching base ID not stored");
-        expect_reg(0, 8'd20, 8'h24, "BasicCAN RX ID.10..3 of the extended frame");
+        if (q[0] !== 1'b0) fail("BasicCAN: extended frame stored (the SJA1000 is extended frame passive in BasicCAN)");
+        send1(8'h01, 8'h24, 8'hE0, 8'h00, 8'h00, 64'h7700_0000_0000_0000, 1); // std 0x127
+        rd(0, 8'd2, q);
+        if (q[0] !== 1'b1) fail("BasicCAN: standard frame 0x127 not stored");
+        expect_reg(0, 8'd20, 8'h24, "BasicCAN RX ID.10..3 of 0x127");
         expect_reg(0, 8'd21, 8'hE1, "BasicCAN RX ID.2..0, RTR, DLC");
         expect_reg(0, 8'd22, 8'h77, "BasicCAN RX data 1");
         wr(0, 8'd1, 8'h04);
