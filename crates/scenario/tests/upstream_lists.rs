@@ -87,7 +87,7 @@ fn conformance_registers_and_mutation_holes_are_judged_on_the_upstream_core() {
                 ("peli-registers-ocr-and-test-read-zero", "D21"),
                 ("peli-ram-window-and-tx-buffer-read-back-unmapped", "D8a"),
                 ("basic-registers-ocr-test-cdr-cr6-unimplemented", "D21"),
-                ("peli-sr-at-cpu-forced-bus-off", "D24"),
+                ("peli-cpu-forced-bus-off-at-once-in-reset-mode", "D24"),
             ]),
         ),
         ("tb/mutation-holes.list", "12 run, 11 passed, 1 expected failure(s), 0 not passed", set(&[("tec-write-es-shown-in-reset-mode", "D23")])),
