@@ -2,8 +2,11 @@
 //! mutation-holes lists (issues 15/19, session 6), with its profile and
 //! waiver file: every scenario passes or fails exactly as its strict
 //! `[[expected-failure]]` entry records (docs/opencores-deviations.md D8a,
-//! D20-D24), exit 0, on the scenarios' own host (Wishbone). The main list
-//! is `upstream.rs`'s.
+//! D20-D25), on the scenarios' own host (Wishbone), except the conformance
+//! suite's two scenarios left open (tx-8.5.14, tx-8.7.9 at the maximum BTR:
+//! reference timing, not waived), which are asserted by name, so the list
+//! exits 1 and any other failure still fails this test. The main list is
+//! `upstream.rs`'s.
 //!
 //! The core is third-party (LGPL) and never shipped: its directory comes
 //! from `CAN_UPSTREAM_DIR`, the test is ignored otherwise.
@@ -32,8 +35,10 @@ fn cancosim() -> PathBuf {
     bin
 }
 
-/// `cancosim regress LIST` on the core: (exit 0, summary line, {(entry id, deviation)} of its expected failures).
-fn regress(list: &str) -> (bool, String, BTreeSet<(String, String)>) {
+/// `cancosim regress LIST` on the core: (exit 0, summary line, {(entry id,
+/// deviation)} of its expected failures, {scenario names} of the runs that
+/// neither passed nor failed as an entry records).
+fn regress(list: &str) -> (bool, String, BTreeSet<(String, String)>, BTreeSet<String>) {
     let dir = std::env::var_os("CAN_UPSTREAM_DIR").map(PathBuf::from).expect("set CAN_UPSTREAM_DIR to the upstream core's directory");
     let json = std::env::temp_dir().join(format!("upstream-lists-{}-{}.json", list.replace('/', "_"), std::process::id()));
     let ext = format!("upstream={}", dir.display());
@@ -60,8 +65,19 @@ fn regress(list: &str) -> (bool, String, BTreeSet<(String, String)>) {
         .filter(|c| c["status"] == "expected-failure")
         .map(|c| (c["expected_failure"]["id"].as_str().unwrap_or("").to_string(), c["expected_failure"]["deviation"].as_str().unwrap_or("").to_string()))
         .collect();
+    let open = report["cells"]
+        .as_array()
+        .into_iter()
+        .flatten()
+        .filter(|c| c["ok"] == false)
+        .map(|c| c["scenario"].as_str().unwrap_or("").to_string())
+        .collect();
     let summary = text.lines().find(|l| l.contains(" run, ")).unwrap_or("").to_string();
-    (status.success(), summary, xf)
+    (status.success(), summary, xf, open)
+}
+
+fn names(v: &[&str]) -> BTreeSet<String> {
+    v.iter().map(|n| n.to_string()).collect()
 }
 
 fn set(v: &[(&str, &str)]) -> BTreeSet<(String, String)> {
@@ -71,17 +87,27 @@ fn set(v: &[(&str, &str)]) -> BTreeSet<(String, String)> {
 #[test]
 #[ignore = "needs the upstream core (CAN_UPSTREAM_DIR) and a built cancosim; about 40 s warm"]
 fn conformance_registers_and_mutation_holes_are_judged_on_the_upstream_core() {
+    // (list, exit 0, summary, expected failures, scenarios left open (not
+    // waived, not an expected failure: docs/opencores-deviations.md,
+    // section "Session 6, branch conf6"))
     let want = [
         (
             "tb/conformance/list",
-            "70 run, 68 passed, 2 expected failure(s), 0 not passed",
+            false,
+            "107 run, 102 passed, 3 expected failure(s), 2 not passed",
             set(&[
                 ("rx-7.7.4-beyond-sjw-early-edge-not-compensated", "D20"),
                 ("rx-7.7.4-min-btr-fast-beyond-early-edge-not-compensated", "D20"),
+                ("tx-8.1.8-no-sof-at-third-intermission-bit-after-lost-arbitration", "D25"),
+            ]),
+            names(&[
+                "8.5.14 tx error passive: the retransmission starts 31 bits after the error",
+                "8.7.9 tx resynchronisation on an edge after the sample point while sending dominant (maximum TSEG1, TSEG2 and SJW: 25 tq, SJW 4)",
             ]),
         ),
         (
             "tb/registers.list",
+            true,
             "5 run, 1 passed, 4 expected failure(s), 0 not passed",
             set(&[
                 ("peli-registers-ocr-and-test-read-zero", "D21"),
@@ -89,15 +115,24 @@ fn conformance_registers_and_mutation_holes_are_judged_on_the_upstream_core() {
                 ("basic-registers-ocr-test-cdr-cr6-unimplemented", "D21"),
                 ("peli-cpu-forced-bus-off-at-once-in-reset-mode", "D24"),
             ]),
+            names(&[]),
         ),
-        ("tb/mutation-holes.list", "12 run, 11 passed, 1 expected failure(s), 0 not passed", set(&[("tec-write-es-shown-in-reset-mode", "D23")])),
+        (
+            "tb/mutation-holes.list",
+            true,
+            "15 run, 14 passed, 1 expected failure(s), 0 not passed",
+            set(&[("tec-write-es-shown-in-reset-mode", "D23")]),
+            names(&[]),
+        ),
     ];
     let mut failed = Vec::new();
-    for (list, summary, xfails) in want {
-        let (ok, got, xf) = regress(list);
+    for (list, exit0, summary, xfails, open) in want {
+        let (ok, got, xf, left) = regress(list);
         eprintln!("{list}: {got}");
-        if !(ok && got.starts_with(summary) && xf == xfails) {
-            failed.push(format!("{list}: exit 0 = {ok}, `{got}` (want `{summary}`), expected failures {xf:?} (want {xfails:?})"));
+        if !(ok == exit0 && got.starts_with(summary) && xf == xfails && left == open) {
+            failed.push(format!(
+                "{list}: exit 0 = {ok} (want {exit0}), `{got}` (want `{summary}`), expected failures {xf:?} (want {xfails:?}), open {left:?} (want {open:?})"
+            ));
         }
     }
     assert!(failed.is_empty(), "{}", failed.join("\n"));

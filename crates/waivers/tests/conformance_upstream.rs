@@ -118,6 +118,13 @@ fn rec_stops_at_128_only_dut_128_with_the_model_above() {
     assert_eq!(by(&mut set, &read("RXERR", 0x88, 0x80)).as_deref(), Some(ID));
     assert_eq!(by(&mut set, &read("RXERR", 0x89, 0x80)).as_deref(), Some(ID));
     let mut set = shipped();
+    // rx-7.5.5: one RXERR read after each of its four error frames (model
+    // 129, 131, 132, 134); a fifth read fails.
+    for model in [0x81, 0x83, 0x84, 0x86] {
+        assert_eq!(by(&mut set, &read("RXERR", model, 0x80)).as_deref(), Some(ID), "{model:#x}");
+    }
+    assert_eq!(by(&mut set, &read("RXERR", 0x87, 0x80)), None, "bounded: four per scenario");
+    let mut set = shipped();
     // Still caught: a DUT REC other than 128, a model at or below 128, far
     // above (more than 15 lost increments), and TXERR.
     assert_eq!(by(&mut set, &read("RXERR", 0x88, 0x81)), None);
@@ -184,11 +191,13 @@ fn the_single_frame_bus_off_pin_waiver_is_bound_to_frame_1_in_operating_mode() {
 }
 
 #[test]
-fn ecc_in_the_error_delimiter_d18_takes_only_the_measured_pair_once() {
+fn ecc_in_the_error_delimiter_d18_takes_only_the_measured_pair_twice() {
     const ID: &str = "ecc-error-in-error-delimiter-coded-as-flag-bit-error-tx";
     let mut set = shipped();
     assert_eq!(by(&mut set, &read("ECC", 0x77, 0x16)).as_deref(), Some(ID));
-    // Bounded: once per scenario.
+    assert_eq!(by(&mut set, &read("ECC", 0x77, 0x16)).as_deref(), Some(ID));
+    // Bounded: one read per form error in an error delimiter, rx-7.5.5's
+    // two; a third fails.
     assert_eq!(by(&mut set, &read("ECC", 0x77, 0x16)), None);
     let mut set = shipped();
     // Still caught: the active flag's code for the same delimiter error (an
@@ -219,4 +228,32 @@ fn ecc_cleared_by_a_read_d19_is_only_zero_for_the_held_stuff_error_twice() {
     assert_eq!(by(&mut set, &read("ECC", 0x0A, 0x00)), None);
     assert_eq!(by(&mut set, &read("ECC", 0xAA, 0x8A)), None);
     assert_eq!(by(&mut set, &read("ALC", 0xAA, 0x00)), None);
+}
+
+#[test]
+fn ecc_in_the_error_delimiter_d18_for_a_transmitter_takes_only_0x57_for_0x16_three_times() {
+    const ID: &str = "ecc-error-in-error-delimiter-coded-as-flag-bit-error-transmitter";
+    let mut set = shipped();
+    // tx-8.5.13: three form errors in the error delimiter, one ECC read each.
+    for _ in 0..3 {
+        assert_eq!(by(&mut set, &read("ECC", 0x57, 0x16)).as_deref(), Some(ID));
+    }
+    assert_eq!(by(&mut set, &read("ECC", 0x57, 0x16)), None, "bounded: three per scenario");
+    let mut set = shipped();
+    // Still caught: the active flag's code (an error-active transmitter, not
+    // measured), the delimiter error coded RX by the core (0x36), the right
+    // segment with only the type differing (0x17: D16 is not waived for the
+    // error delimiter), and the overload flag's code that D17 takes only as
+    // 0x1C (0x1C for 0x57 goes to D17's own waiver, not this one).
+    assert_eq!(by(&mut set, &read("ECC", 0x57, 0x11)), None);
+    assert_eq!(by(&mut set, &read("ECC", 0x57, 0x36)), None);
+    assert_eq!(by(&mut set, &read("ECC", 0x57, 0x17)), None);
+    assert_ne!(by(&mut set, &read("ECC", 0x57, 0x1C)).as_deref(), Some(ID));
+    // Still caught: 0x16 for other model codes (a bit error in the passive
+    // flag itself as transmitter, 0x16 on both, is no divergence; a form
+    // error in the CRC delimiter 0x58 is not an error-frame error).
+    assert_eq!(by(&mut set, &read("ECC", 0x58, 0x16)), None);
+    assert_eq!(by(&mut set, &read("ECC", 0x56, 0x16)), None);
+    // Still caught: another register with the same values.
+    assert_eq!(by(&mut set, &read("ALC", 0x57, 0x16)), None);
 }
