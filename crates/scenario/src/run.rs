@@ -672,11 +672,14 @@ pub fn run(s: &Scenario, opts: &RunOptions) -> RunOutcome {
 
 /// Failed step expectations that count although the diagnosis names the
 /// category the scenario expects, when that category is a set-up one: a bus
-/// set-up (BitTimingMismatch, NoAcknowledge), or writes the DUT and the model
-/// both ignore (ConfigWriteOutsideReset, TxBufferWriteWhileLocked, as in
-/// tb/registers/*.toml). There the DUT, its host and the model agree, so a
-/// wrong read is the scenario's finding, not a consequence; without this it
-/// hid behind the expected category.
+/// set-up (BitTimingMismatch, NoAcknowledge), a board wiring the model shares
+/// (RxNotFollowingTx: rx tied, as in the DE2 thesis), or a program the DUT and
+/// the model both obey (ConfigWriteOutsideReset, TxBufferWriteWhileLocked,
+/// AddressModeConfusion, as in tb/registers/*.toml). There the DUT, its host
+/// and the model agree, so a wrong read is the scenario's finding, not a
+/// consequence; without this it hid behind the expected category. Left out:
+/// a host-bus violation or timeout (the reads themselves are suspect) and the
+/// categories that are themselves the finding (DutDeviatesFromModel, ...).
 /// Expectations a waiver took (`waived_steps`: a waived read, or a listed
 /// consequence) are the waiver's, reported with it. For other categories the
 /// diagnosis itself is the finding and `check_expect` judges it.
@@ -690,8 +693,10 @@ fn failed_reads_under_bus_setup_verdict(
         diagnosed,
         diagnose::Category::BitTimingMismatch
             | diagnose::Category::NoAcknowledge
+            | diagnose::Category::RxNotFollowingTx
             | diagnose::Category::ConfigWriteOutsideReset
             | diagnose::Category::TxBufferWriteWhileLocked
+            | diagnose::Category::AddressModeConfusion
     );
     if !reads_trusted || expected != Some(diagnosed) {
         return Vec::new();
@@ -939,6 +944,12 @@ mod judge_tests {
         // The same under an expected BitTimingMismatch.
         let m = failed_reads_under_bus_setup_verdict(Some(Category::BitTimingMismatch), Category::BitTimingMismatch, &reads, &[]);
         assert_eq!(m.len(), 1);
+        // And under the thesis's wiring fault (rx tied, shared by the model):
+        // a wrong SR read passed there before (found by a coverage scenario).
+        let m = failed_reads_under_bus_setup_verdict(Some(Category::RxNotFollowingTx), Category::RxNotFollowingTx, &reads, &[]);
+        assert_eq!(m.len(), 1);
+        let m = failed_reads_under_bus_setup_verdict(Some(Category::AddressModeConfusion), Category::AddressModeConfusion, &reads, &[]);
+        assert_eq!(m.len(), 1);
     }
 
     #[test]
@@ -957,5 +968,7 @@ mod judge_tests {
         assert!(failed_reads_under_bus_setup_verdict(Some(Category::NoAcknowledge), Category::BitTimingMismatch, &reads, &[]).is_empty());
         // A diagnosis category that is itself the finding (ExpectationFailed and the like).
         assert!(failed_reads_under_bus_setup_verdict(Some(Category::ExpectationFailed), Category::ExpectationFailed, &reads, &[]).is_empty());
+        // A broken host bus: its reads are not evidence.
+        assert!(failed_reads_under_bus_setup_verdict(Some(Category::HostBusViolation), Category::HostBusViolation, &reads, &[]).is_empty());
     }
 }
