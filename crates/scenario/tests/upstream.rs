@@ -17,35 +17,15 @@
 //! ```
 
 use std::collections::BTreeSet;
-use std::path::{Path, PathBuf};
+mod upstream_common;
+use upstream_common::{cancosim, root, upstream_dir};
 use std::process::{Command, Output};
 
 const PROFILE: &str = "opencores-can";
 const WAIVERS: &str = "tb/waivers/opencores-upstream.toml";
 
-fn root() -> PathBuf {
-    PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("../..")
-}
 
-fn upstream_dir() -> PathBuf {
-    let d = std::env::var_os("CAN_UPSTREAM_DIR")
-        .map(PathBuf::from)
-        .expect("set CAN_UPSTREAM_DIR to the upstream core's directory (rtl/verilog files and timescale.v)");
-    assert!(d.join("can_top.v").is_file(), "{}: no can_top.v", d.display());
-    d
-}
 
-/// The `cancosim` built beside this test (`target/<profile>/cancosim`), or `$CANCOSIM`.
-fn cancosim() -> PathBuf {
-    if let Some(p) = std::env::var_os("CANCOSIM") {
-        return PathBuf::from(p);
-    }
-    let exe = std::env::current_exe().unwrap();
-    let dir = exe.parent().and_then(Path::parent).unwrap();
-    let bin = dir.join("cancosim");
-    assert!(bin.is_file(), "{} missing: run `cargo build --release -p cancosim` first (or set CANCOSIM)", bin.display());
-    bin
-}
 
 fn run(args: &[&str]) -> (bool, String) {
     let Output { status, stdout, stderr } = Command::new(cancosim()).current_dir(root()).args(args).output().unwrap();
@@ -82,7 +62,7 @@ fn shipped_ids() -> BTreeSet<String> {
 /// `cancosim regress` on the core with the profile and the waivers; returns
 /// (passed, table text, waivers hit according to the JUnit file, the JSON report).
 fn regress(host: Option<&str>) -> (bool, String, BTreeSet<String>, serde_json::Value) {
-    let dir = upstream_dir();
+    let dir = upstream_dir("can_top.v");
     let junit = std::env::temp_dir().join(format!("upstream-{}-{}.xml", host.unwrap_or("own"), std::process::id()));
     let json = junit.with_extension("json");
     let ext = format!("upstream={}", dir.display());
@@ -214,7 +194,7 @@ fn tb_list_len() -> usize {
 #[test]
 #[ignore = "needs the upstream core (CAN_UPSTREAM_DIR) and a built cancosim; about 1 s with a warm build"]
 fn the_thesis_wiring_reproduces_the_thesis_symptom_on_the_upstream_core() {
-    let dir = upstream_dir();
+    let dir = upstream_dir("can_top.v");
     let d = dir.to_str().unwrap();
     let mut failed = Vec::new();
     // The scenario's own host (the thesis's Wishbone wiring) and the PIO host.
@@ -278,7 +258,7 @@ const MUTATIONS: &[(&str, &str, &str, &str, &str)] = &[
 #[test]
 #[ignore = "needs the upstream core (CAN_UPSTREAM_DIR) and a built cancosim; verilates five mutated copies (about 4 minutes)"]
 fn waivers_hide_no_fault_mutated_upstream_cores_still_fail() {
-    let dir = upstream_dir();
+    let dir = upstream_dir("can_top.v");
     for (name, file, from, to, scen) in MUTATIONS {
         let tb = format!("tb/{scen}.toml");
         let d = dir.to_str().unwrap();

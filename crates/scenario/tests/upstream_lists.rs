@@ -17,23 +17,12 @@
 //! ```
 
 use std::collections::BTreeSet;
-use std::path::{Path, PathBuf};
+use std::path::PathBuf;
+mod upstream_common;
+use upstream_common::{cancosim, root};
 use std::process::{Command, Output};
 
-fn root() -> PathBuf {
-    PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("../..")
-}
 
-/// The `cancosim` built beside this test, or `$CANCOSIM`.
-fn cancosim() -> PathBuf {
-    if let Some(p) = std::env::var_os("CANCOSIM") {
-        return PathBuf::from(p);
-    }
-    let exe = std::env::current_exe().unwrap();
-    let bin = exe.parent().and_then(Path::parent).unwrap().join("cancosim");
-    assert!(bin.is_file(), "{} missing: run `cargo build --release -p cancosim` first (or set CANCOSIM)", bin.display());
-    bin
-}
 
 /// `cancosim regress LIST` on the core: (exit 0, summary line, {(entry id,
 /// deviation)} of its expected failures, {scenario names} of the runs that

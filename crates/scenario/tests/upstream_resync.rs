@@ -18,34 +18,16 @@
 //! ```
 
 use std::path::{Path, PathBuf};
+mod upstream_common;
+use upstream_common::{cancosim, root, upstream_dir};
 use std::process::{Command, Output};
 
 const FAST: [&str; 2] = ["tb/conformance/rx-7.7.4-beyond-sjw.toml", "tb/conformance/rx-7.7.4-min-btr-fast-beyond.toml"];
 const SLOW: &str = "tb/conformance/rx-7.7.4-min-btr-slow-beyond.toml";
 const SAMPLE_POINT: &str = "tb/conformance/rx-7.7.1-sample-point.toml";
 
-fn root() -> PathBuf {
-    PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("../..")
-}
 
-fn upstream_dir() -> PathBuf {
-    let d = std::env::var_os("CAN_UPSTREAM_DIR")
-        .map(PathBuf::from)
-        .expect("set CAN_UPSTREAM_DIR to the upstream core's directory (rtl/verilog files and timescale.v)");
-    assert!(d.join("can_btl.v").is_file(), "{}: no can_btl.v", d.display());
-    d
-}
 
-/// The `cancosim` built beside this test, or `$CANCOSIM`.
-fn cancosim() -> PathBuf {
-    if let Some(p) = std::env::var_os("CANCOSIM") {
-        return PathBuf::from(p);
-    }
-    let exe = std::env::current_exe().unwrap();
-    let bin = exe.parent().and_then(Path::parent).unwrap().join("cancosim");
-    assert!(bin.is_file(), "{} missing: run `cargo build --release -p cancosim` first (or set CANCOSIM)", bin.display());
-    bin
-}
 
 /// `cancosim regress FILES` on the core in `core` with the shipped profile
 /// and waivers: (exit 0, the table and messages).
@@ -60,7 +42,7 @@ fn regress(core: &Path, files: &[&str]) -> (bool, String) {
 
 /// A copy of the core with `from` replaced by `to` in can_btl.v (once).
 fn changed_core(name: &str, from: &str, to: &str) -> PathBuf {
-    let dir = upstream_dir();
+    let dir = upstream_dir("can_btl.v");
     let m = std::env::temp_dir().join(format!("upstream-resync-{name}-{}", std::process::id()));
     std::fs::create_dir_all(&m).unwrap();
     for e in std::fs::read_dir(&dir).unwrap() {
@@ -88,7 +70,7 @@ fn d20_fast_sender_scenarios_fail_as_recorded_and_the_entries_hide_nothing_else(
     // failures, the slow sender (late edges, phase segment 1) passes.
     let mut all = FAST.to_vec();
     all.push(SLOW);
-    let (ok, text) = regress(&upstream_dir(), &all);
+    let (ok, text) = regress(&upstream_dir("can_btl.v"), &all);
     assert!(ok && text.contains("3 run, 1 passed, 2 expected failure(s), 0 not passed"), "{text}");
     assert!(row(&text, "phase errors beyond SJW").contains("xfail (D20: rx-7.7.4-beyond-sjw-early-edge-not-compensated)"), "{text}");
     assert!(row(&text, "+5 % node").contains("xfail (D20: rx-7.7.4-min-btr-fast-beyond-early-edge-not-compensated)"), "{text}");
