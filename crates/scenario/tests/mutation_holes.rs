@@ -64,3 +64,31 @@ fn quantum_placed_glitches_hit_what_they_aim_at() {
         assert!(!o.passed, "{file}: the moved glitch changed nothing");
     }
 }
+
+/// The opencores seed-1 holes closed in session 7 (`up-` scenarios) are
+/// live: with the deciding frame or register moved each fails on the model,
+/// through the filter's or the counter's outcome (none of these values is
+/// read back). The DLC-0 frame given a mismatching byte (153), byte 2 bit 7
+/// matching (172), ACR2.4 = 1 (167), ID.25 not flipped (125), data byte 1
+/// bit 0 matching (140), EWLR 9 to 8 (148); for 110 and 148 the first check
+/// expected as the mutant reads it (message 18's RXFI 0xD1, ES = 1 at REC 4).
+#[test]
+fn up_scenarios_fail_with_their_deciding_stimulus_moved() {
+    for (file, from, to) in [
+        ("up-filter-single-std-absent-bytes.toml", "{ id = 0x3B5, at_bit = 150 }", "{ id = 0x3B5, data = [0x5A], at_bit = 150 }"),
+        ("up-filter-single-std-absent-bytes.toml", "data = [0xA5, 0x43], at_bit = 590", "data = [0xA5, 0xC3], at_bit = 590"),
+        ("up-filter-single-ext-id25-id9-compared.toml", "write = \"ACR2\", value = 0x6D", "write = \"ACR2\", value = 0x7D"),
+        ("up-filter-single-ext-id25-id9-compared.toml", "id = 0x078BCDAF", "id = 0x058BCDAF"),
+        ("up-filter-dual-std-data-byte1-low.toml", "data = [0x97], at_bit = 150", "data = [0x96], at_bit = 150"),
+        ("up-rx-info-past-16-releases.toml", "read = \"RXFI\", expect = 0x01, note = \"message 18", "read = \"RXFI\", expect = 0xD1, note = \"message 18"),
+        ("up-ewlr-odd-rec.toml", "write = \"EWLR\", value = 9 }", "write = \"EWLR\", value = 8 }"),
+        ("up-ewlr-odd-rec.toml", "expect = 0x00, mask = 0xC0, note = \"REC 4", "expect = 0x40, mask = 0xC0, note = \"REC 4"),
+    ] {
+        let path = root().join("tb/mutation-holes").join(file);
+        let text = std::fs::read_to_string(&path).unwrap();
+        assert!(text.contains(from), "{file}: the deciding stimulus moved");
+        let s = Scenario::parse(&text.replacen(from, to, 1), &path).unwrap();
+        let o = run(&s, &RunOptions { dut: Some(DutSpec::model()), ..Default::default() });
+        assert!(!o.passed, "{file}: `{to}` passed as well");
+    }
+}
