@@ -145,3 +145,14 @@ fn a_bad_after_names_file_line_and_key() {
         other => panic!("{other:?}"),
     }
 }
+
+/// D8d on SR: DOS late only while the model still holds a message (RBS):
+/// once every message is released the core's lost entry is at its head
+/// and its DOS is due (the opencores mutant 113, an RRB that also clears
+/// DOS, read model 0x0E, DUT 0x0C after the releases).
+#[test]
+fn dos_late_is_waived_only_while_the_model_still_holds_a_message() {
+    let mut set = shipped();
+    assert_eq!(by(&mut set, &read("SR", 0x0E, 0x0C), &lost(Some(1))), None, "every message released");
+    assert_eq!(by(&mut set, &read("SR", 0x0F, 0x0D), &lost(Some(1))).as_deref(), Some("dos-at-release-not-at-loss"));
+}

@@ -492,13 +492,17 @@ fn irq_pin_waivers_take_only_their_own_scenario() {
         seen: 0,
         ..Divergence::default()
     };
-    // The comparator's clock (24 MHz, 40 clocks a bit), which `until-read` needs.
-    let clock = waivers::Observed::timed(0, 40 * 41_667, 41_667);
+    // The comparator's clock (24 MHz, 40 clocks a bit), which `until-read`
+    // needs; the model lost a message (D8d's `after = "data-overrun"`).
+    let clock = waivers::Observed { model_lost_messages: Some(1), ..waivers::Observed::timed(0, 40 * 41_667, 41_667) };
     let operating = waivers::Observed { model_mod: Some(0x00), ..clock };
     let reset = waivers::Observed { model_mod: Some(0x01), ..clock };
     let d8 = "doi-irq-at-release-not-at-loss".to_string();
     let d10 = "ei-irq-when-es-clears-during-bus-off-recovery".to_string();
     let mut set = WaiverSet::load(path).unwrap();
+    // D8d only after a lost message.
+    let no_loss = waivers::Observed { model_lost_messages: Some(0), ..operating };
+    assert_ne!(by(&set.check_observed(&pin(8, Field::BusIdle), &dut, &no_loss)), Some(d8.clone()), "no message lost");
     // Each takes its own frame and not the other's.
     assert_eq!(by(&set.check_observed(&pin(8, Field::BusIdle), &dut, &operating)), Some(d8.clone()));
     assert_eq!(by(&set.check_observed(&pin(16, Field::BusIdle), &dut, &operating)), Some(d10.clone()));
