@@ -365,6 +365,9 @@ impl Reference for ModelRef {
     fn reg_name(&self, addr: u8, write: bool) -> Option<String> {
         reg_name(&self.m, addr, write)
     }
+    fn lost_messages(&self) -> Option<u32> {
+        Some(self.m.lost_messages() as u32)
+    }
     fn drain_events(&mut self, out: &mut Vec<EventKind>) {
         if !self.m.journal_pending() {
             return;

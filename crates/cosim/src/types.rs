@@ -107,6 +107,12 @@ pub trait Reference {
     fn reg_name(&self, _addr: u8, _write: bool) -> Option<String> {
         None
     }
+    /// Messages it lost to an RX FIFO overrun since its FIFO was last
+    /// emptied (reset mode, hardware reset), if it knows (the waivers'
+    /// `after = "data-overrun"`).
+    fn lost_messages(&self) -> Option<u32> {
+        None
+    }
     /// Engine events since the last call.
     fn drain_events(&mut self, _out: &mut Vec<EventKind>) {}
     /// Takes the DUT's error counters after a waived divergence (waivers

@@ -619,7 +619,8 @@ pub struct WaivedDeviation {
     /// differences its hits belong to; 0 for other waivers.
     #[serde(skip_serializing_if = "is_zero")]
     pub episodes: u32,
-    /// That bound in words, printed with the hits.
+    /// That bound in words, printed with the hits (also a condition such
+    /// as `after = "data-overrun"`).
     #[serde(skip_serializing_if = "Option::is_none")]
     pub bound: Option<String>,
 }
@@ -629,10 +630,12 @@ fn is_zero(n: &u32) -> bool {
 }
 
 impl WaivedDeviation {
-    /// `; N episode(s), each ...` for a waiver with a host-event bound, else empty.
+    /// `; N episode(s), each ...` for a waiver with a host-event bound, `; only after ...` for a
+    /// condition only, else empty.
     pub fn bound_text(&self) -> String {
         match &self.bound {
-            Some(b) => format!("; {} episode(s), {b}", self.episodes),
+            Some(b) if self.episodes > 0 => format!("; {} episode(s), {b}", self.episodes),
+            Some(b) => format!("; {b}"),
             None => String::new(),
         }
     }

@@ -118,3 +118,24 @@ fn up_scenarios_fail_with_their_fault_moved_or_value_changed() {
         assert!(!o.passed, "{file}: `{to}` still passed");
     }
 }
+
+/// doi-alone-drives-irq (the opencores mutant 8, DOI left off the irq
+/// output) checks the pin, not only IR: with DOIE cleared the model's INT
+/// is high once the messages are released and the `wait_irq` fails; an IR
+/// expectation with RI still set fails too.
+#[test]
+fn doi_alone_holds_the_interrupt_output_only_with_doie() {
+    let path = root().join("tb/mutation-holes/doi-alone-drives-irq.toml");
+    let text = std::fs::read_to_string(&path).unwrap();
+    let model = || RunOptions { dut: Some(DutSpec::model()), ..Default::default() };
+    assert!(run(&Scenario::parse(&text, &path).unwrap(), &model()).passed, "as shipped");
+    for (from, to) in [
+        ("{ write = \"IER\", value = 0x09,", "{ write = \"IER\", value = 0x01,"),
+        ("{ read = \"IR\", expect = 0x08,", "{ read = \"IR\", expect = 0x09,"),
+    ] {
+        assert!(text.contains(from), "the mutation point moved: {from}");
+        let s = Scenario::parse(&text.replacen(from, to, 1), &path).unwrap();
+        let o = run(&s, &model());
+        assert!(!o.passed, "{to}: passed");
+    }
+}

@@ -44,3 +44,24 @@ fn a_wrong_register_expectation_fails() {
         assert!(!o.passed, "a wrong TXERR expectation passed");
     }
 }
+
+/// peli-txerr-write-ends-bus-off checks what the datasheet states (6.4.12):
+/// the 0..254 write clears SR.BS at once (BS = 1 expected fails), ES waits
+/// for leaving reset mode (ES = 0 expected in reset mode fails), and a
+/// write of 255 instead (which changes nothing while bus-off) fails.
+#[test]
+fn a_txerr_write_during_bus_off_is_checked_where_the_datasheet_says() {
+    let path = root().join("tb/registers/peli-txerr-write-ends-bus-off.toml");
+    let text = std::fs::read_to_string(&path).unwrap();
+    let model = || RunOptions { dut: Some(DutSpec::model()), ..Default::default() };
+    assert!(run(&Scenario::parse(&text, &path).unwrap(), &model()).passed, "as shipped");
+    for (from, to) in [
+        ("{ read = \"SR\", expect = 0x40, mask = 0xC0, note = \"BS = 0 at once", "{ read = \"SR\", expect = 0xC0, mask = 0xC0, note = \"BS = 0 at once"),
+        ("{ read = \"SR\", expect = 0x40, mask = 0xC0, note = \"BS = 0 at once", "{ read = \"SR\", expect = 0x00, mask = 0xC0, note = \"BS = 0 at once"),
+        ("{ write = \"TXERR\", value = 10, note", "{ write = \"TXERR\", value = 255, note"),
+    ] {
+        assert!(text.contains(from), "the mutation point moved: {from}");
+        let s = Scenario::parse(&text.replacen(from, to, 1), &path).unwrap();
+        assert!(!run(&s, &model()).passed, "{to}: passed");
+    }
+}

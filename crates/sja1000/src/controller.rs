@@ -605,6 +605,13 @@ impl Sja1000 {
         self.ir_flags() != 0
     }
 
+    /// Messages lost to an RX FIFO overrun (SR.DOS's condition) since the
+    /// FIFO was last emptied (reset mode, hardware reset); releases keep
+    /// the count. Observed by the waivers' `after = "data-overrun"`.
+    pub fn lost_messages(&self) -> u8 {
+        self.fifo.lost()
+    }
+
     /// Bus-off (SR.BS). The pin is `bus_off_on = !bus_off()`.
     pub fn bus_off(&self) -> bool {
         self.bs

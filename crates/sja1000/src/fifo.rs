@@ -17,6 +17,8 @@ pub struct RxFifo {
     lens: [u8; MAX_MSGS],
     head: u8,
     count: u8,
+    // Messages lost to an overrun since the FIFO was last emptied.
+    lost: u8,
 }
 
 impl Default for RxFifo {
@@ -28,6 +30,7 @@ impl Default for RxFifo {
             lens: [0; MAX_MSGS],
             head: 0,
             count: 0,
+            lost: 0,
         }
     }
 }
@@ -37,7 +40,11 @@ impl RxFifo {
     /// the data overrun condition (§6.4.9: a partly written message is deleted).
     pub fn push(&mut self, msg: &[u8]) -> bool {
         let n = msg.len();
-        if n == 0 || n > FIFO_LEN - self.used as usize || self.count as usize >= MAX_MSGS {
+        if n == 0 {
+            return false;
+        }
+        if n > FIFO_LEN - self.used as usize || self.count as usize >= MAX_MSGS {
+            self.lost = self.lost.saturating_add(1);
             return false;
         }
         let start = self.rbsa as usize + self.used as usize;
@@ -69,6 +76,15 @@ impl RxFifo {
         self.used = 0;
         self.count = 0;
         self.head = 0;
+        self.lost = 0;
+    }
+
+    /// Messages lost to an overrun (a [`RxFifo::push`] that did not fit)
+    /// since the FIFO was last emptied (reset mode, hardware reset). Not a
+    /// register: a core that keeps an entry per lost message until its
+    /// FIFO is emptied (waivers' `after = "data-overrun"`) is judged by it.
+    pub fn lost(&self) -> u8 {
+        self.lost
     }
 
     /// RMC: messages stored.

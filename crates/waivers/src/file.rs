@@ -80,6 +80,14 @@
 //! # (their number grows with how long the host takes to read IR). Not
 //! # with `late-by` or `late-bits`; only "IR" is accepted.
 //! until-read = "IR"
+//! # any kind: the waiver applies only once the reference (the model) has
+//! # lost a message to an RX FIFO overrun (SR.DOS's condition), counted
+//! # since its RX FIFO was last emptied (reset mode entered, hardware
+//! # reset; releases do not forget a loss). For a deviation that exists
+//! # only after a lost message (a core that keeps an entry per lost
+//! # message until reset mode). "2 data-overruns": two lost messages. A
+//! # run whose reference does not report its losses never matches.
+//! after = "data-overrun"
 //! ```
 //!
 //! A scenario expectation (a register read with an expected value) that
@@ -506,6 +514,28 @@ impl From<BitPattern> for String {
     }
 }
 
+/// `after = "data-overrun"` (1) or `"<n> data-overruns"` (n >= 1): the
+/// number of messages the reference must have lost to an RX FIFO overrun
+/// (since its FIFO was last emptied) before the waiver applies.
+pub fn parse_after(s: &str) -> Result<u32, String> {
+    let bad = || {
+        format!("`{s}`: expected \"data-overrun\" or \"<n> data-overruns\" (messages the model lost to an RX FIFO overrun)")
+    };
+    let t = s.trim();
+    if t == "data-overrun" {
+        return Ok(1);
+    }
+    let (n, what) = t.split_once(char::is_whitespace).ok_or_else(bad)?;
+    let n: u32 = n.parse().map_err(|_| bad())?;
+    match (n, what.trim()) {
+        (0, _) => Err(format!("`{s}`: after 0 lost messages is no condition: leave the key out")),
+        (1, "data-overrun" | "data-overruns") => Ok(1),
+        (n, "data-overruns") if n <= 255 => Ok(n),
+        (n, "data-overruns") => Err(format!("`{s}`: {n} lost messages is more than the model counts (255)")),
+        _ => Err(bad()),
+    }
+}
+
 /// The re-synchronisation a waiver allows, as written in the file.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize)]
 #[serde(try_from = "String", into = "String")]
@@ -664,6 +694,7 @@ pub(crate) struct RawWaiver {
     pub late_bits: Option<Spanned<u32>>,
     pub late_by: Option<Spanned<Lateness>>,
     pub until_read: Option<Spanned<String>>,
+    pub after: Option<Spanned<String>>,
     pub expected_bits: Option<Spanned<BitPattern>>,
     pub seen_bits: Option<Spanned<BitPattern>>,
     pub seen_offset: Option<Spanned<i64>>,
@@ -802,6 +833,16 @@ mod tests {
         assert_eq!(String::from(ts), "xx10xxxx");
         for bad in ["xx10xxx", "xx10_xxxxx", "xx12_xxxx", "xxxx_xxxx", ""] {
             assert!(p(bad).is_err(), "{bad} must be rejected");
+        }
+    }
+
+    #[test]
+    fn after_spelling() {
+        assert_eq!(parse_after("data-overrun"), Ok(1));
+        assert_eq!(parse_after(" 1 data-overrun "), Ok(1));
+        assert_eq!(parse_after("2 data-overruns"), Ok(2));
+        for bad in ["", "overrun", "data-overruns", "0 data-overruns", "2 data-overrun", "x data-overruns", "2", "256 data-overruns", "-1 data-overruns"] {
+            assert!(parse_after(bad).is_err(), "{bad} must be rejected");
         }
     }
 

@@ -65,6 +65,10 @@ pub struct Observed {
     /// when they have; `None`: not observed (then reports at most two CAN
     /// clocks apart are taken as one difference). For `until-read`.
     pub pin_continues: Option<bool>,
+    /// Messages the reference (the model) lost to an RX FIFO overrun since
+    /// its FIFO was last emptied (reset mode, hardware reset); `None`: not
+    /// observed. For `after = "data-overrun"`.
+    pub model_lost_messages: Option<u32>,
 }
 
 impl Observed {
@@ -174,6 +178,10 @@ pub struct Waiver {
     /// next read of this register (`until-read = "IR"`); `max-hits` then
     /// counts episodes (see [`WaiverSet::check_observed`]).
     pub until_read: Option<String>,
+    /// Applies only once the reference has lost at least this many messages
+    /// to an RX FIFO overrun since its FIFO was last emptied
+    /// (`after = "data-overrun"`: 1; [`Observed::model_lost_messages`]).
+    pub after_lost: Option<u32>,
     /// register-read: the model's value must have this pattern.
     pub expected_bits: Option<BitPattern>,
     /// register-read: the DUT's value must have this pattern.
@@ -249,12 +257,25 @@ impl Waiver {
         }
     }
 
-    /// The bound that follows the host, in words for reports (`until-read`).
+    /// The bounds that follow the run, in words for reports (`until-read`,
+    /// `after`).
     pub fn bound(&self) -> Option<String> {
-        self.until_read.as_ref().map(|r| {
+        let read = self.until_read.as_ref().map(|r| {
             let max = self.max_hits.map(|m| format!(", at most {m} (max-hits)")).unwrap_or_default();
             format!("each episode until the host's next read of {r} (until-read = \"{r}\"){max}")
-        })
+        });
+        let after = self.after_lost.map(|n| {
+            let (lost, key) = if n == 1 {
+                ("a message".to_string(), "data-overrun".to_string())
+            } else {
+                (format!("{n} messages"), format!("{n} data-overruns"))
+            };
+            format!("only after the model lost {lost} to an RX FIFO overrun (after = \"{key}\")")
+        });
+        match (read, after) {
+            (Some(r), Some(a)) => Some(format!("{r}, {a}")),
+            (r, a) => r.or(a),
+        }
     }
 
     /// True if the waiver is for this DUT (name glob and revision range).
@@ -321,6 +342,17 @@ impl Waiver {
         if self.late_by.is_some() && (obs.now_ps.is_none() || obs.bit_time_ps.is_none() || obs.can_clock_ps.is_none())
         {
             return Some("late-by needs the comparator's clock (report time, bit time, CAN clock), not given".into());
+        }
+        if let Some(n) = self.after_lost {
+            match obs.model_lost_messages {
+                Some(lost) if lost >= n => {}
+                Some(lost) => {
+                    return Some(format!(
+                        "the model lost {lost} message(s) to an RX FIFO overrun since its FIFO was last emptied, after needs {n}"
+                    ));
+                }
+                None => return Some("after needs the model's lost messages, not observed".into()),
+            }
         }
         if self.until_read.is_some() && obs.can_clock_ps.is_none() {
             return Some("until-read needs the comparator's clock (CAN clock period), not given".into());
@@ -860,6 +892,10 @@ fn validate(name: &str, src: &str, w: RawWaiver) -> Result<Waiver, WaiverError> 
         Some(_) => Some("IR".to_string()),
         None => None,
     };
+    let after_lost = match &w.after {
+        Some(a) => Some(file::parse_after(a.get_ref()).map_err(|m| invalid(name, at(a.span()), "after", m))?),
+        None => None,
+    };
     let mut patterns = [None, None];
     for (slot, key, p) in [(0, "expected-bits", &w.expected_bits), (1, "seen-bits", &w.seen_bits)] {
         if let Some(p) = p {
@@ -942,6 +978,7 @@ fn validate(name: &str, src: &str, w: RawWaiver) -> Result<Waiver, WaiverError> 
         late_bits: w.late_bits.map(|l| l.into_inner()),
         late_by,
         until_read,
+        after_lost,
         expected_bits,
         seen_bits,
         seen_offset,

@@ -492,13 +492,17 @@ fn irq_pin_waivers_take_only_their_own_scenario() {
         seen: 0,
         ..Divergence::default()
     };
-    // The comparator's clock (24 MHz, 40 clocks a bit), which `until-read` needs.
-    let clock = waivers::Observed::timed(0, 40 * 41_667, 41_667);
+    // The comparator's clock (24 MHz, 40 clocks a bit), which `until-read`
+    // needs; the model lost a message (D8d's `after = "data-overrun"`).
+    let clock = waivers::Observed { model_lost_messages: Some(1), ..waivers::Observed::timed(0, 40 * 41_667, 41_667) };
     let operating = waivers::Observed { model_mod: Some(0x00), ..clock };
     let reset = waivers::Observed { model_mod: Some(0x01), ..clock };
     let d8 = "doi-irq-at-release-not-at-loss".to_string();
     let d10 = "ei-irq-when-es-clears-during-bus-off-recovery".to_string();
     let mut set = WaiverSet::load(path).unwrap();
+    // D8d only after a lost message.
+    let no_loss = waivers::Observed { model_lost_messages: Some(0), ..operating };
+    assert_ne!(by(&set.check_observed(&pin(8, Field::BusIdle), &dut, &no_loss)), Some(d8.clone()), "no message lost");
     // Each takes its own frame and not the other's.
     assert_eq!(by(&set.check_observed(&pin(8, Field::BusIdle), &dut, &operating)), Some(d8.clone()));
     assert_eq!(by(&set.check_observed(&pin(16, Field::BusIdle), &dut, &operating)), Some(d10.clone()));
@@ -533,15 +537,17 @@ fn irq_pin_waivers_take_only_their_own_scenario() {
     }
     // RBS for the lost entry: RBS only, bus idle, TBS = TCS = 1 on both
     // (DOS either way: before and after CDO), twice.
+    // (after = "data-overrun": the model lost a message; tests/after_overrun.rs without.)
     let rbs = "rbs-for-lost-message-entry".to_string();
     let mut set = WaiverSet::load(path).unwrap();
-    assert_ne!(by(&set.check(&read_div("SR", 0x0C, 0x1D), &dut)), Some(rbs.clone()), "RS too");
-    assert_ne!(by(&set.check(&read_div("SR", 0x1C, 0x1D), &dut)), Some(rbs.clone()), "while receiving");
-    assert_ne!(by(&set.check(&read_div("SR", 0x00, 0x01), &dut)), Some(rbs.clone()), "a transmission pending");
-    assert_ne!(by(&set.check(&read_div("SR", 0x0D, 0x0C), &dut)), Some(rbs.clone()), "the other way round");
-    assert_eq!(by(&set.check(&read_div("SR", 0x0E, 0x0F), &dut)), Some(rbs.clone()), "DOS set, before CDO");
-    assert_eq!(by(&set.check(&read_div("SR", 0x0C, 0x0D), &dut)), Some(rbs.clone()));
-    assert_ne!(by(&set.check(&read_div("SR", 0x0C, 0x0D), &dut)), Some(rbs), "max-hits 2");
+    let lost = waivers::Observed { model_lost_messages: Some(1), ..Default::default() };
+    assert_ne!(by(&set.check_observed(&read_div("SR", 0x0C, 0x1D), &dut, &lost)), Some(rbs.clone()), "RS too");
+    assert_ne!(by(&set.check_observed(&read_div("SR", 0x1C, 0x1D), &dut, &lost)), Some(rbs.clone()), "while receiving");
+    assert_ne!(by(&set.check_observed(&read_div("SR", 0x00, 0x01), &dut, &lost)), Some(rbs.clone()), "a transmission pending");
+    assert_ne!(by(&set.check_observed(&read_div("SR", 0x0D, 0x0C), &dut, &lost)), Some(rbs.clone()), "the other way round");
+    assert_eq!(by(&set.check_observed(&read_div("SR", 0x0E, 0x0F), &dut, &lost)), Some(rbs.clone()), "DOS set, before CDO");
+    assert_eq!(by(&set.check_observed(&read_div("SR", 0x0C, 0x0D), &dut, &lost)), Some(rbs.clone()));
+    assert_ne!(by(&set.check_observed(&read_div("SR", 0x0C, 0x0D), &dut, &lost)), Some(rbs), "max-hits 2");
 }
 
 /// Issue 19 (up-rest): D5 on IR (no WUI) and D12 (abort in an error frame:

@@ -200,6 +200,8 @@ impl ComparatorAgent {
         if let Some((diagnose::CanMode::PeliCan, _)) = r.mode() {
             observed.model_mod = Some(r.peek(0));
         }
+        // Messages the model lost to an overrun, for `after = "data-overrun"`.
+        observed.model_lost_messages = r.lost_messages();
         while let Some(d) = c.take_divergence() {
             let bit = d.bit;
             // An irq report: the same difference again, or a new one
