@@ -225,7 +225,7 @@ fn glitch_grid_key_is_checked() {
     assert!(!plain.faults[0].pulse_on_sof_grid, "the bench's grid by default");
     for (bad, says) in [
         (ok.replace("\"sof\"", "\"peer\""), "use \"sof\""),
-        (ok.replace("offset_tq = 5\nwidth_tq = 5\n", ""), "placed glitch"),
+        (ok.replace("offset_tq = 5\nwidth_tq = 5\n", ""), "places a glitch's pulse"),
     ] {
         let e = err(&with(&bad));
         assert_eq!(e.key(), "fault[1].grid", "{e}");
