@@ -207,6 +207,10 @@ pub struct RawFault {
     /// Placed glitch only: the level the pulse forces ("dominant" or
     /// "recessive") instead of inverting the wire's.
     pub level: Option<String>,
+    /// Placed glitch only: "sof" counts the bit and offset on the nominal
+    /// grid from the frame's SOF edge (no resynchronisation), not on the
+    /// bench's grid ("bench", the default).
+    pub grid: Option<String>,
 }
 
 /// One `[[raw-node]]`: a bit-level sender (the lower tester) on the wire.
@@ -227,6 +231,11 @@ pub struct RawRawNode {
     pub fields: Option<RawFields>,
     /// Levels expected on the wire from its first bit on ("0", "1", "x" any).
     pub expect_bits: Option<String>,
+    /// Its first bit starts this many of the DUT's time quanta after the
+    /// start point (inside that bit), ...
+    pub offset_tq: Option<i64>,
+    /// ... or this many CAN clocks after it.
+    pub offset_clocks: Option<i64>,
 }
 
 /// `fields = { id = 0x123, data = [1], r0 = 1, ... }`: a frame with any

@@ -77,6 +77,9 @@
 //! level = "dominant"  # placed glitch only: the pulse forces this level instead of
 //!                     # inverting the wire's (a pulse that must stay dominant while
 //!                     # the DUT starts driving dominant itself, e.g. an early ACK edge)
+//! grid = "sof"        # placed glitch only: bit and offset on the nominal grid from the
+//!                     # frame's SOF edge (the lower tester's), which no resynchronisation
+//!                     # moves; default "bench" (restarts at every edge of the wire)
 //!
 //! [[raw-node]]        # a bit-level sender on the wire (crate::rawnode)
 //! name = "lt"; frame = 1; bit_in_frame = 57   # or at_bit = N, or idle_bits = 11
@@ -363,6 +366,9 @@ pub struct FaultSpec {
     /// Placed glitch only: the level the pulse forces (`level`); `None`:
     /// the pulse inverts the wire's level.
     pub pulse_level: Option<bool>,
+    /// Placed glitch only: counted on the nominal grid from the frame's SOF
+    /// edge (`grid = "sof"`), not on the bench's grid.
+    pub pulse_on_sof_grid: bool,
 }
 
 /// The expected outcome.
@@ -962,10 +968,20 @@ fn build(ctx: &Ctx, raw: RawScenario, file: &Path) -> Result<Scenario, ScenarioE
             Some("recessive") => Some(!can_proto::DOMINANT),
             Some(other) => return Err(ctx.err_key(&span, "level", &format!("{p}.level"), format!("`{other}`: use \"dominant\" or \"recessive\""))),
         };
-        faults.push(FaultSpec { kind, at_bit: f.at_bit.map(|b| b.max(0) as u64), frame_bit, duration_bits: f.duration_bits.unwrap_or(1).max(1) as u64, target, pulse_clocks, pulse_level });
+        let pulse_on_sof_grid = match f.grid.as_deref() {
+            None | Some("bench") => false,
+            Some(_) if pulse_clocks.is_none() => {
+                return Err(ctx.err_key(&span, "grid", &format!("{p}.grid"), "grid places a glitch's pulse: give offset_clocks/width_clocks or offset_tq/width_tq"));
+            }
+            Some("sof") => true,
+            Some(other) => return Err(ctx.err_key(&span, "grid", &format!("{p}.grid"), format!("`{other}`: use \"sof\" (the nominal grid from the frame's SOF edge) or \"bench\""))),
+        };
+        faults.push(FaultSpec { kind, at_bit: f.at_bit.map(|b| b.max(0) as u64), frame_bit, duration_bits: f.duration_bits.unwrap_or(1).max(1) as u64, target, pulse_clocks, pulse_level, pulse_on_sof_grid });
     }
 
-    let raw_nodes = rawnode::build(ctx, raw.raw_nodes, &nodes)?;
+    let (btr0, btr1) = btr_written(&steps);
+    let timing = can_proto::timing::BusTiming::from_btr(btr0, btr1);
+    let raw_nodes = rawnode::build(ctx, raw.raw_nodes, &nodes, timing.clocks_per_tq(), timing.clocks_per_bit())?;
 
     // expect
     let (espan, e) = match raw.expect {

@@ -13,6 +13,9 @@
 //! # over the bits as sent and stuff bits inserted, unless crc / flip say otherwise
 //! fields = { id = 0x123, data = [1], r0 = 1, extended = false, srr = 0, r1 = 1, ack = 1, crc = 0x1234, flip = [40], until_bit = 40 }
 //! # expect_ack = true in fields: the ACK slot must be dominant (another node's ACK)
+//! offset_tq = 7                  # or offset_clocks: the first bit starts this far into
+//!                                # the start bit (the DUT's quanta), the whole sequence
+//!                                # with it: an early edge on the wire, seen by every node
 //! ```
 
 use crate::format::{RawFields, RawRawNode};
@@ -33,6 +36,9 @@ pub struct RawNodeSpec {
     pub frame: Option<RawFrame>,
     /// Levels it expects on the wire from its first bit on (`None`: any).
     pub expect: Vec<Option<bool>>,
+    /// CAN clocks from the start point to its first bit (`offset_tq` /
+    /// `offset_clocks`).
+    pub delay_clocks: u32,
 }
 
 type Span = std::ops::Range<usize>;
@@ -103,8 +109,9 @@ fn fields(ctx: &Ctx, span: &Span, p: &str, f: &RawFields) -> Result<RawFrame, Sc
 }
 
 /// Validates the `[[raw-node]]` tables (`nodes`: the model nodes, whose
-/// names a raw node may not take).
-pub(crate) fn build(ctx: &Ctx, raw: Vec<Spanned<RawRawNode>>, nodes: &[NodeSpec]) -> Result<Vec<RawNodeSpec>, ScenarioError> {
+/// names a raw node may not take; `clocks_per_tq` / `clocks_per_bit`: the
+/// DUT's timing, for `offset_tq` / `offset_clocks`).
+pub(crate) fn build(ctx: &Ctx, raw: Vec<Spanned<RawRawNode>>, nodes: &[NodeSpec], clocks_per_tq: u32, clocks_per_bit: u32) -> Result<Vec<RawNodeSpec>, ScenarioError> {
     let mut out: Vec<RawNodeSpec> = Vec::new();
     for (i, r) in raw.into_iter().enumerate() {
         let span = r.span();
@@ -175,7 +182,22 @@ pub(crate) fn build(ctx: &Ctx, raw: Vec<Spanned<RawRawNode>>, nodes: &[NodeSpec]
             expect = vec![None; slot];
             expect.push(Some(false));
         }
-        out.push(RawNodeSpec { name: r.name, start, bits, frame, expect });
+        // A start inside the start bit, in the DUT's quanta or in clocks.
+        let delay_clocks = match (r.offset_tq, r.offset_clocks) {
+            (None, None) => 0,
+            (Some(_), Some(_)) => return Err(ctx.err_key(&span, "offset_tq", &format!("{p}.offset_tq"), "give offset_tq or offset_clocks, not both")),
+            (Some(o), None) if o >= 0 && o * i64::from(clocks_per_tq) < i64::from(clocks_per_bit) => o as u32 * clocks_per_tq,
+            (None, Some(o)) if o >= 0 && o < i64::from(clocks_per_bit) => o as u32,
+            (o_tq, _) => {
+                let key = if o_tq.is_some() { "offset_tq" } else { "offset_clocks" };
+                let v = o_tq.or(r.offset_clocks).unwrap_or_default();
+                return Err(ctx.err_key(&span, key, &format!("{p}.{key}"), format!("{v}: the first bit must start inside the start bit ({} quanta, {clocks_per_bit} CAN clocks of the DUT's timing)", clocks_per_bit / clocks_per_tq.max(1))));
+            }
+        };
+        if delay_clocks > 0 && matches!(start, RawStart::IdleBits(_)) {
+            return Err(ctx.err_key(&span, if r.offset_tq.is_some() { "offset_tq" } else { "offset_clocks" }, &format!("{p}.offset_tq"), "an offset counts from a bit's start: give frame + bit_in_frame or at_bit"));
+        }
+        out.push(RawNodeSpec { name: r.name, start, bits, frame, expect, delay_clocks });
     }
     Ok(out)
 }

@@ -178,6 +178,10 @@ fn injector(f: &FaultSpec, target: Target, clocks_per_bit: u64) -> Box<dyn Fault
         // Placed in the bit (offset_clocks/offset_tq; dut-rx only, whose
         // context numbers bits from boundary to boundary, so the pulse may
         // cross the sample point and stay in its bit).
+        (FaultKind::Glitch, Some((fr, b))) if f.pulse_clocks.is_some() && f.pulse_on_sof_grid => {
+            let (offset, width) = f.pulse_clocks.unwrap_or_default();
+            Box::new(crate::pulse::SofGridPulse::new(fr as u64 - 1, b, offset, width, f.pulse_level, target))
+        }
         (FaultKind::Glitch, Some((fr, b))) if f.pulse_clocks.is_some() => {
             let (offset, width) = f.pulse_clocks.unwrap_or_default();
             match f.pulse_level {
@@ -347,7 +351,7 @@ pub fn tb_config(s: &Scenario, dut: &DutKind, opts: &RunOptions) -> Result<TbCon
         raw_nodes: s
             .raw_nodes
             .iter()
-            .map(|r| cosim::agents::raw::RawNode::new(r.name.clone(), r.start, r.bits.clone()).expecting(r.expect.clone()))
+            .map(|r| cosim::agents::raw::RawNode::new(r.name.clone(), r.start, r.bits.clone()).expecting(r.expect.clone()).delayed(r.delay_clocks))
             .collect(),
         lockstep: Some((ReferenceChoice::Model, tolerances)),
         vcd: opts.vcd.clone(),

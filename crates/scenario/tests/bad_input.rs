@@ -211,6 +211,28 @@ fn glitch_pulse_keys_are_checked() {
     }
 }
 
+/// `grid = "sof"` counts a placed glitch on the nominal grid from its
+/// frame's SOF edge: only on a placed glitch, only "sof" or "bench"; each
+/// mistake is a one-line error naming the key.
+#[test]
+fn glitch_grid_key_is_checked() {
+    let with = |fault: &str| format!("{GOOD}[[step]]\nwrite = \"BTR0\"\nvalue = 0x41\n[[step]]\nwrite = \"BTR1\"\nvalue = 0x25\n[[fault]]\n{fault}\n");
+    let ok = "kind = \"glitch\"\nframe = 1\nbit_in_frame = 46\noffset_tq = 5\nwidth_tq = 5\ntarget = \"dut-rx\"\ngrid = \"sof\"";
+    assert!(Scenario::parse(&with(ok), "tb/ok.toml").unwrap().faults[0].pulse_on_sof_grid);
+    let bench = Scenario::parse(&with(&ok.replace("\"sof\"", "\"bench\"")), "tb/ok.toml").unwrap();
+    assert!(!bench.faults[0].pulse_on_sof_grid);
+    let plain = Scenario::parse(&with(&ok.replace("\ngrid = \"sof\"", "")), "tb/ok.toml").unwrap();
+    assert!(!plain.faults[0].pulse_on_sof_grid, "the bench's grid by default");
+    for (bad, says) in [
+        (ok.replace("\"sof\"", "\"peer\""), "use \"sof\""),
+        (ok.replace("offset_tq = 5\nwidth_tq = 5\n", ""), "places a glitch's pulse"),
+    ] {
+        let e = err(&with(&bad));
+        assert_eq!(e.key(), "fault[1].grid", "{e}");
+        assert!(e.to_string().starts_with("tb/bad.toml:") && e.to_string().contains(says), "{bad}: {e}");
+    }
+}
+
 /// `level` makes a placed glitch force a level instead of inverting the
 /// wire's: only on a placed glitch, only "dominant" or "recessive"; each
 /// mistake is a one-line error naming the key.

@@ -213,3 +213,38 @@ fn idle_pulse_and_transmitter_sample_point_depend_on_the_pulse_length() {
     assert!(passes_with("tx-8.7.1-sample-point.toml", &[]));
     assert!(!passes_with("tx-8.7.1-sample-point.toml", &[("offset_clocks = 0\nwidth_clocks = 24", "offset_clocks = 0\nwidth_clocks = 32")]));
 }
+
+/// The session-7 items (branch isoitems) sit on their boundaries, on the
+/// model: 7.7.11 for e >= 2 fails with its ACK-slot pulse one quantum
+/// earlier, with the early edge one quantum shorter (e - 1: a DUT that
+/// resynchronised by less), and with its pulses on the bench's grid, which
+/// the DUT's own early ACK edge restarts (why `grid = "sof"` exists); 8.7.2 /
+/// 8.7.3 fail with the probe in identifier bit 1 one quantum earlier (over
+/// the hard-synchronised sample point); 8.5.10 fails with 111 instead of
+/// 112 dominant bits after the passive flag (TEC 240, not 248) and with its
+/// lower tester's frame expected acknowledged by the bus-off DUT.
+#[test]
+fn session_7_iso_items_fail_with_their_fault_moved_by_a_quantum() {
+    let e2 = "rx-7.7.11-ack-negative-phase-error-e2-sjw-btr-0x41-0x25.toml";
+    assert!(passes_with(e2, &[]));
+    // frame 1, e = 2: the ACK slot recessive from nominal quantum 5 (7 - e)
+    let ack = "bit_in_frame = 46\noffset_tq = 5\nwidth_tq = 5";
+    assert!(!passes_with(e2, &[(ack, "bit_in_frame = 46\noffset_tq = 4\nwidth_tq = 6")]));
+    assert!(!passes_with(e2, &[("offset_tq = 8\nwidth_tq = 2\nlevel = \"dominant\"", "offset_tq = 9\nwidth_tq = 1\nlevel = \"dominant\"")]));
+    // the header's mention and both faults of frame 1
+    let bench = ("grid = \"sof\"", "grid = \"bench\"");
+    assert!(!passes_with(e2, &[bench, bench, bench]));
+    for (file, probe) in [
+        ("tx-8.7.2-hard-sync-sof-before-sample-point-btr-0x41-0x25.toml", ("bit_in_frame = 1\noffset_tq = 7\nwidth_tq = 3", "bit_in_frame = 1\noffset_tq = 6\nwidth_tq = 4")),
+        ("tx-8.7.3-hard-sync-sof-after-sample-point-max-btr.toml", ("bit_in_frame = 1\noffset_tq = 17\nwidth_tq = 8", "bit_in_frame = 1\noffset_tq = 16\nwidth_tq = 9")),
+    ] {
+        assert!(passes_with(file, &[]), "{file}");
+        assert!(!passes_with(file, &[probe]), "{file}: the probe one quantum earlier passed");
+    }
+    let f = "tx-8.5.10-passive-bus-off-after-112-dominant-bits.toml";
+    let ones = format!("bits = \"{}\"", "0".repeat(112));
+    assert!(passes_with(f, &[]));
+    assert!(!passes_with(f, &[(&ones, &format!("bits = \"{}\"", "0".repeat(111)))]));
+    let ack = format!("expect_bits = \"{}1\"", "x".repeat(46));
+    assert!(!passes_with(f, &[(&ack, &format!("expect_bits = \"{}0\"", "x".repeat(46)))]));
+}

@@ -92,6 +92,30 @@ fn bad_raw_nodes_name_file_line_and_key() {
     }
 }
 
+/// `offset_tq` / `offset_clocks` start the raw node inside its start bit
+/// (BTR0 = 0x41, BTR1 = 0x25: 4 clocks a quantum, 40 a bit): one of them,
+/// inside the bit, from a bit's start (not after idle bits); each mistake
+/// is a one-line error naming the key.
+#[test]
+fn a_raw_node_offset_is_placed_in_quanta_or_clocks_inside_its_start_bit() {
+    let at = |extra: &str| parse(&format!("[[raw-node]]\nname = \"lt\"\nframe = 1\nbit_in_frame = 42\nbits = \"0\"\n{extra}"));
+    assert_eq!(at("").unwrap().raw_nodes[0].delay_clocks, 0);
+    assert_eq!(at("offset_tq = 6\n").unwrap().raw_nodes[0].delay_clocks, 24, "6 quanta of 4 clocks");
+    assert_eq!(at("offset_clocks = 39\n").unwrap().raw_nodes[0].delay_clocks, 39);
+    for (extra, key, words) in [
+        ("offset_tq = 10\n", "raw-node[1].offset_tq", "inside the start bit (10 quanta, 40 CAN clocks"),
+        ("offset_tq = -1\n", "raw-node[1].offset_tq", "inside the start bit"),
+        ("offset_clocks = 40\n", "raw-node[1].offset_clocks", "inside the start bit"),
+        ("offset_tq = 1\noffset_clocks = 4\n", "raw-node[1].offset_tq", "not both"),
+    ] {
+        let e = at(extra).expect_err(extra);
+        let msg = e.to_string();
+        assert!(msg.starts_with("raw.toml:") && msg.contains(&format!("key `{key}`")) && msg.contains(words), "{extra}: {msg}");
+    }
+    let idle = parse("[[raw-node]]\nname = \"lt\"\nidle_bits = 11\nbits = \"0\"\noffset_tq = 2\n").expect_err("offset after idle bits");
+    assert!(idle.to_string().contains("counts from a bit's start"), "{idle}");
+}
+
 fn model() -> RunOptions {
     RunOptions { dut: Some(DutSpec::model()), ..RunOptions::default() }
 }

@@ -3,8 +3,9 @@
 //! waiver file: every scenario passes or fails exactly as its strict
 //! `[[expected-failure]]` entry records (docs/opencores-deviations.md D8a,
 //! D20-D25), on the scenarios' own host (Wishbone), except the conformance
-//! suite's two scenarios left open (tx-8.5.14, tx-8.7.9 at the maximum BTR:
-//! reference timing, not waived), which are asserted by name, so the list
+//! suite's four scenarios left open (tx-8.5.14; tx-8.7.9, tx-8.7.2 and
+//! tx-8.7.3 at the maximum BTR: reference timing, not waived), which are
+//! asserted by name, so the list
 //! exits 1 and any other failure still fails this test. The main list is
 //! `upstream.rs`'s.
 //!
@@ -83,7 +84,7 @@ fn conformance_registers_and_mutation_holes_are_judged_on_the_upstream_core() {
         (
             "tb/conformance/list",
             false,
-            "107 run, 102 passed, 3 expected failure(s), 2 not passed",
+            "119 run, 112 passed, 3 expected failure(s), 4 not passed",
             set(&[
                 ("rx-7.7.4-beyond-sjw-early-edge-not-compensated", "D20"),
                 ("rx-7.7.4-min-btr-fast-beyond-early-edge-not-compensated", "D20"),
@@ -92,6 +93,9 @@ fn conformance_registers_and_mutation_holes_are_judged_on_the_upstream_core() {
             names(&[
                 "8.5.14 tx error passive: the retransmission starts 31 bits after the error",
                 "8.7.9 tx resynchronisation on an edge after the sample point while sending dominant (maximum TSEG1, TSEG2 and SJW: 25 tq, SJW 4)",
+                // session 7 (isoitems): the same reference grid at BRP 0 (tx at frame 1 bit 16)
+                "8.7.2 tx hard synchronisation of a DUT with a pending frame on a SOF before the sample point of the 3rd intermission bit (maximum TSEG1, TSEG2 and SJW: 25 tq, SJW 4)",
+                "8.7.3 tx hard synchronisation of a DUT with a pending frame on a SOF after the sample point of the 3rd intermission bit (maximum TSEG1, TSEG2 and SJW: 25 tq, SJW 4)",
             ]),
         ),
         (

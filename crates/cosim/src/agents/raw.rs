@@ -200,13 +200,23 @@ pub struct RawNode {
     seen: Vec<bool>,
     /// Bits whose whole bit time has passed since its start.
     completed: usize,
+    /// CAN clocks from its start point to its first bit (a start placed
+    /// inside a bit, in quanta: an edge every node sees early).
+    delay: u64,
     state: State,
 }
 
 impl RawNode {
     /// A node that drives `bits` from `start`.
     pub fn new(name: impl Into<String>, start: RawStart, bits: Vec<bool>) -> RawNode {
-        RawNode { name: name.into(), start, bits, expect: Vec::new(), seen: Vec::new(), completed: 0, state: State::Waiting { recessive: 0 } }
+        RawNode { name: name.into(), start, bits, expect: Vec::new(), seen: Vec::new(), completed: 0, delay: 0, state: State::Waiting { recessive: 0 } }
+    }
+
+    /// Its first bit starts `clocks` CAN clocks after its start point (the
+    /// whole sequence moves with it).
+    pub fn delayed(mut self, clocks: u32) -> RawNode {
+        self.delay = u64::from(clocks);
+        self
     }
 
     /// The levels it expects on the wire from its first bit on.
@@ -248,9 +258,11 @@ impl RawNode {
                 RawStart::FrameBit { .. } => ctx.clock - u64::from(ctx.sub).min(ctx.clock),
                 _ => ctx.clock,
             };
-            self.state = if go { State::Sending { from } } else { State::Waiting { recessive } };
+            self.state = if go { State::Sending { from: from + self.delay } } else { State::Waiting { recessive } };
         }
         match self.state {
+            // Started, its first bit not yet (`delay`).
+            State::Sending { from } if ctx.clock < from => RECESSIVE,
             State::Sending { from } => {
                 let k = ctx.clock - from;
                 let i = (k / cpb) as usize;
@@ -455,6 +467,28 @@ mod tests {
         let mut cut = RawNode::new("lt", RawStart::AtBit(0), bits("000"));
         cut.drive(&ctx(0, None, 0), true);
         assert!(cut.verdict().unwrap_err().contains("run ended"));
+    }
+
+    #[test]
+    fn a_delayed_node_moves_its_whole_sequence_and_its_monitor() {
+        // Start at bit 57 of frame 2, 6 clocks in: "01" at 4 clocks per bit
+        // is dominant over clocks 6..10 of the run, recessive after.
+        let mut n = RawNode::new("lt", RawStart::FrameBit { frame: 2, bit: 57 }, bits("01")).delayed(6).expecting(vec![Some(false), Some(true)]);
+        let mut level = true;
+        let mut out = Vec::new();
+        for k in 0..16u64 {
+            let d = n.drive(&ctx(k, Some(1), 57), level);
+            out.push(d);
+            level = d;
+        }
+        assert_eq!(out, bits("1111 1100 0011 1111"), "the dominant bit from clock 6 on");
+        assert!(n.done());
+        assert!(n.verdict().unwrap().contains("wire as expected (01)"), "{:?}", n.verdict());
+        let undelayed: Vec<bool> = {
+            let mut n = RawNode::new("lt", RawStart::FrameBit { frame: 2, bit: 57 }, bits("01"));
+            (0..8u64).map(|k| n.drive(&ctx(k, Some(1), 57), true)).collect()
+        };
+        assert_eq!(undelayed, bits("0000 1111"));
     }
 
     #[test]
