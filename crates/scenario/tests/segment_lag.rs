@@ -77,7 +77,15 @@ fn the_opencores_core_passes_at_every_landing_clock_with_its_segment_lag_and_not
     let dir = PathBuf::from(std::env::var_os("CAN_UPSTREAM_DIR").expect("CAN_UPSTREAM_DIR"));
     assert!(dir.join("can_btl.v").is_file(), "{}: no can_btl.v", dir.display());
     let waivers = vec![root().join("tb/waivers/opencores-upstream.toml")];
-    let core = |lag| DutSpec::external("upstream", &dir, "can_top").with_profile(profile("tb/profiles/opencores-can.toml", "hardware-reset", Some(lag)));
+    let core = |lag| {
+        let mut d = DutSpec::external("upstream", &dir, "can_top");
+        // Its Wishbone interface, timescale.v from its own directory (as `regress --external`).
+        if let scenario::DutKind::External { defines, includes, .. } = &mut d.kind {
+            defines.push("CAN_WISHBONE_IF".into());
+            includes.push(dir.clone());
+        }
+        d.with_profile(profile("tb/profiles/opencores-can.toml", "hardware-reset", Some(lag)))
+    };
     let shipped = Profile::find(root().join("tb/profiles/opencores-can.toml").to_str().unwrap()).unwrap();
     assert_eq!(shipped.segment_lag, 2);
     assert_eq!(failing(&core(2), &waivers), Vec::<usize>::new(), "with the shipped segment-lag");
