@@ -18,9 +18,11 @@
 //! DUT: its strict expected failure (D27) records the suspend it now sees.
 
 use scenario::{DutSpec, RunOptions, Scenario, run};
+use std::path::PathBuf;
 
-mod common;
-use common::root;
+fn root() -> PathBuf {
+    PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("../..")
+}
 
 /// Runs `file` (in tb/conformance) on the model with each `from` replaced by
 /// its `to` (each must occur once): true if the scenario still passes.
