@@ -8,6 +8,11 @@
 //! description = "what the core is"
 //! phase-origin = "hardware-reset"        # or "reset-mode-exit": where the bit timing's
 //!                                        # prescaler and bit counter start from
+//! segment-lag = 2                        # optional, hardware-reset only (default 0): CAN
+//!                                        #   clocks from the end of a quantum of the core's
+//!                                        #   prescaler (the model's) to its segment counters
+//!                                        #   acting on it; the reference takes a BTR1 write
+//!                                        #   this many CAN edges earlier (see below)
 //! [access.wishbone]                      # when a host access takes effect, per host bus
 //! takes-effect = "can-edges"             # or "at-ack" (alone)
 //! read = 3                               # after the n-th CAN (core) clock rising edge
@@ -272,6 +277,16 @@ pub struct Profile {
     pub file: Option<PathBuf>,
     /// Where the bit timing's phase starts from.
     pub phase_origin: PhaseOrigin,
+    /// CAN clocks by which the core's segment and quantum counters act
+    /// after the end of a quantum of its prescaler (`segment-lag`, with a
+    /// hardware-reset phase origin only; 0 otherwise). The model acts at
+    /// the end of the quantum itself, so a BTR1 write landing at the same
+    /// clock on both would meet the core's bit `segment_lag` clocks
+    /// earlier in its course than the model's: at BRP 0 (2 clocks a
+    /// quantum) a whole quantum, another segment. The reference takes
+    /// BTR1 writes that many CAN edges earlier
+    /// ([`crate::agents::reference::ReferenceAgent::due_edges`]).
+    pub segment_lag: u32,
     /// When a Wishbone access takes effect.
     pub wishbone: AccessTiming,
     /// When an Avalon-MM access takes effect.
@@ -474,6 +489,16 @@ impl Profile {
             Some(d) => Some(d.get_ref().trim().to_string()),
             None => None,
         };
+        let segment_lag = match &raw.segment_lag {
+            None => 0,
+            Some(l) if !matches!(raw.phase_origin, OriginName::HardwareReset) => {
+                return Err(bad(l.span(), "segment-lag", format!("{}: only with phase-origin = \"hardware-reset\" (a bit timing that stands still in reset mode takes BTR writes while stopped)", l.get_ref())));
+            }
+            Some(l) if *l.get_ref() > 8 => {
+                return Err(bad(l.span(), "segment-lag", format!("{}: at most 8 CAN clocks", l.get_ref())));
+            }
+            Some(l) => *l.get_ref(),
+        };
         let mut vhdl = crate::vhdl::VhdlOptions::default();
         if let Some(v) = &raw.vhdl {
             if let Some(st) = &v.standard {
@@ -494,6 +519,7 @@ impl Profile {
                 OriginName::HardwareReset => PhaseOrigin::HardwareReset,
                 OriginName::ResetModeExit => PhaseOrigin::ResetModeExit,
             },
+            segment_lag,
             latch: Latch {
                 wishbone: raw.access.wishbone.latch.as_ref().map(|v| *v.get_ref()),
                 avalon: raw.access.avalon.latch.as_ref().map(|v| *v.get_ref()),
@@ -529,8 +555,12 @@ impl Profile {
             None => String::new(),
             Some(b) => format!(" (no new request until {}/{}/{} CAN/host/CAN edges after an ack)", b.can, b.host, b.can_again),
         };
+        let lag = match self.segment_lag {
+            0 => String::new(),
+            n => format!(" (its segments act {n} CAN clocks after each quantum; BTR1 writes taken {n} CAN edges earlier)"),
+        };
         format!(
-            "profile {}{}: bit timing phase from the {origin}; host access takes effect: wishbone {}{}, avalon {}{}, pio {}{}; ports {}",
+            "profile {}{}: bit timing phase from the {origin}{lag}; host access takes effect: wishbone {}{}, avalon {}{}, pio {}{}; ports {}",
             self.name,
             self.file.as_ref().map(|f| format!(" ({})", f.display())).unwrap_or_default(),
             self.wishbone.describe(),
@@ -587,6 +617,7 @@ struct RawProfile {
     name: Spanned<String>,
     description: Spanned<String>,
     phase_origin: OriginName,
+    segment_lag: Option<Spanned<u32>>,
     access: RawAccessSet,
     tolerances: RawTolerances,
     ports: Option<RawPorts>,
@@ -815,6 +846,22 @@ mod tests {
         assert!(e.starts_with("p.toml:19: standard: `2019`: expected"), "{e}");
         let e = err(&format!("{GOOD}[vhdl]\nstd = \"08\"\n"));
         assert!(e.starts_with("p.toml:19: std: unknown field"), "{e}");
+    }
+
+    #[test]
+    fn segment_lag_is_for_a_running_bit_timing_only() {
+        assert_eq!(Profile::parse(GOOD, "p.toml").unwrap().segment_lag, 0);
+        assert_eq!(Profile::rtl().segment_lag, 0);
+        assert_eq!(Profile::find("opencores-can").unwrap().segment_lag, 2);
+        let p = Profile::parse(&GOOD.replace("phase-origin = \"hardware-reset\"\n", "phase-origin = \"hardware-reset\"\nsegment-lag = 2\n"), "p").unwrap();
+        assert_eq!(p.segment_lag, 2);
+        assert!(p.describe().contains("BTR1 writes taken 2 CAN edges earlier"), "{}", p.describe());
+        let e = err(&GOOD.replace("phase-origin = \"hardware-reset\"\n", "phase-origin = \"reset-mode-exit\"\nsegment-lag = 2\n"));
+        assert!(e.starts_with("p.toml:4: segment-lag: 2: only with phase-origin = \"hardware-reset\""), "{e}");
+        let e = err(&GOOD.replace("phase-origin = \"hardware-reset\"\n", "phase-origin = \"hardware-reset\"\nsegment-lag = 9\n"));
+        assert!(e.starts_with("p.toml:4: segment-lag: 9: at most 8"), "{e}");
+        let e = err(&GOOD.replace("phase-origin = \"hardware-reset\"\n", "phase-origin = \"hardware-reset\"\nsegment-lag = -1\n"));
+        assert!(e.starts_with("p.toml:4: segment-lag: "), "{e}");
     }
 
     #[test]

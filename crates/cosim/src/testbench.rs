@@ -925,7 +925,7 @@ impl Testbench {
         // The reference takes the access when the DUT's CAN side does, if
         // the bench knows when that is (see `RefTiming`); else at the ack.
         let timing = self.reference.timing();
-        let due_edges = timing.due_edges(write, addr);
+        let due_edges = self.reference.due_edges(write, addr);
         let mut launched = false;
         let mut i8051_wr_seen = false;
         let mut acks_seen = 0u32;
