@@ -261,9 +261,11 @@ fn build(src: &CoreSources, files: &[PathBuf], from: &MutationSource, saved: Opt
     let all: Vec<&Mutation> = mutations.iter().collect();
     let mut errors: Vec<(u32, String)> = Vec::new();
     if let Err(e) = yosys(&apply(&all, true), work, "apply") {
-        // Find the mutations yosys refuses, one by one; build the rest.
+        // Find the mutations yosys refuses, one by one, written out too
+        // (a memory read port's RD_ARST inverted is accepted by `mutate`
+        // but fails `write_verilog`); build the rest.
         for m in &mutations {
-            if let Err(e) = yosys(&apply(&[m], false), work, "apply one") {
+            if let Err(e) = yosys(&apply(&[m], true), work, "apply one") {
                 errors.push((m.id, e.to_string().lines().last().unwrap_or("").to_string()));
             }
         }

@@ -15,6 +15,7 @@ pub mod instrument;
 pub mod mutation;
 pub mod report;
 pub mod reset_proof;
+pub mod shared_undef;
 pub mod suite;
 pub mod waiver_audit;
 

@@ -226,36 +226,6 @@ pub fn check_in_module(src: &CoreSources, m: &Mutation, opts: &FormalOptions, wo
     }
     let clock = clks.first().map(String::as_str);
     let reset = reset_port(&ports);
-    let dir = work.join(format!("mutant-{}", m.id));
-    std::fs::create_dir_all(&dir).map_err(io(format!("creating {}", dir.display())))?;
-    let wrap = dir.join("wrapper.v");
-    std::fs::write(&wrap, wrapper(&ports, clock, reset.as_ref())).map_err(io(format!("writing {}", wrap.display())))?;
-    let files = sources(src)?;
-    // Up to `prep` exactly as the mutants' build (same cell names); then
-    // the module alone, copied, the copy mutated, both flattened (their own
-    // submodules), memories as flip-flops, `x` free.
-    let prep = format!(
-        "{read}\nhierarchy -top {top}\nprep -top {top}\nhierarchy -top {module}\n\
-         copy {module} cosim_gate\nrename {module} cosim_gold\n{mutate}\n\
-         read_verilog {wrap}\nproc\nhierarchy -top cosim_formal\nflatten\nmemory\nsetundef -anyseq\n\
-         opt_clean\nasync2sync\ndffunmap\nwrite_rtlil miter.il\n\
-         techmap\nopt -fast\ndffunmap\nabc -fast -g AND\nopt_clean\ndffunmap\nwrite_aiger -zinit miter.aig\n",
-        read = read_command(src, &files),
-        top = src.top,
-        mutate = mutate_command(m, &cell),
-        wrap = wrap.display()
-    );
-    yosys_logged(&prep, &dir, "miter", false)?;
-    // The control: the module against itself (no mutation). If it differs,
-    // values the module leaves undefined (`x`, out-of-range memory reads)
-    // reach an output, and a difference of the mutant means nothing.
-    let control = |dir: &Path| -> Result<bool, InstrumentError> {
-        std::fs::create_dir_all(dir).map_err(io(format!("creating {}", dir.display())))?;
-        let script = prep.replace(&mutate_command(m, &cell), "");
-        yosys_logged(&script, dir, "miter", false)?;
-        let (t, _) = abc(dir, &format!("read_aiger miter.aig; fold; strash; scorr; dc2; pdr -T {}", pdr_seconds(opts)), 2 * pdr_seconds(opts), "abc.log")?;
-        Ok(asserted_frame(&t).is_some())
-    };
     let assumed = format!(
         "module {module} alone, inputs free, {}",
         match (&reset, clock) {
@@ -264,37 +234,128 @@ pub fn check_in_module(src: &CoreSources, m: &Mutation, opts: &FormalOptions, wo
             (_, None) => "combinational (no clock)".to_string(),
         }
     );
-    let secs = pdr_seconds(opts);
-    // Signal correspondence (`scorr`) merges the gold/gate pairs that stay
-    // equal; PDR proves the rest or finds a counterexample. Wall-clock
-    // bounded (the machine may be loaded): twice the PDR time for both.
-    let (text, _) = abc(&dir, &format!("read_aiger miter.aig; fold; strash; scorr; dc2; pdr -T {secs}"), 2 * secs, "abc.log")?;
-    let verdict = if text.contains("Property proved") {
-        FormalVerdict::Equivalent { method: format!("proved from reset by ABC scorr + PDR (inductive invariant): {assumed}") }
-    } else if asserted_frame(&text).is_some() && control(&dir.join("control"))? {
-        FormalVerdict::Unknown { why: format!("no verdict: {module} differs from itself (its undefined values reach an output), so the mutant's difference says nothing; {assumed}") }
-    } else if let Some(frame) = asserted_frame(&text) {
-        // The input trace from a bounded check just deep enough.
-        let steps = frame + 2;
-        let bmc = format!("read_rtlil miter.il\nsat -seq {steps} -prove trigger 0 -set-init-zero -show-inputs -timeout {secs} cosim_formal\n");
-        let out = yosys_logged(&bmc, &dir, "trace", true).unwrap_or_default();
-        let trace = parse_trace(&out);
-        FormalVerdict::ModuleDiffers { module: module.clone(), steps: trace.iter().map(|t| t.step).max().unwrap_or(steps), trace, assumed }
-    } else {
-        // No proof: how deep is there surely no difference?
-        let why = if text.contains("UNDECIDED") { format!("PDR undecided after {secs} s") } else { format!("ABC stopped after {} s", 2 * secs) };
-        let (b, _) = abc(&dir, &format!("read_aiger miter.aig; fold; strash; bmc3 -v -F {} -T {secs}", opts.steps), secs + 30, "bmc.log")?;
-        if let Some(frame) = asserted_frame(&b) {
-            FormalVerdict::ModuleDiffers { module: module.clone(), steps: frame + 1, trace: Vec::new(), assumed }
-        } else {
-            let depth = match bmc_depth(&b) {
-                Some(d) => format!("no difference within {d} clocks (bounded, not a proof)"),
-                None => "bounded check inconclusive".into(),
-            };
-            FormalVerdict::Unknown { why: format!("{depth}; {why}; {assumed}") }
+    let files = sources(src)?;
+    let dir = work.join(format!("mutant-{}", m.id));
+    let head = format!("{read}\nhierarchy -top {top}\nprep -top {top}\nhierarchy -top {module}\n", read = read_command(src, &files), top = src.top);
+    let plain = Miter { module: &module, cell: &cell, m, opts, ports: &ports, clock, reset: reset.as_ref(), assumed: assumed.clone() };
+    let verdict = match plain.judge(&dir, &head)? {
+        Judged::Verdict(v) => v,
+        // The module differs from itself: again with its undefined values
+        // shared by both copies (shared_undef.rs), its own control run.
+        Judged::SelfDiffers => {
+            let sdir = dir.join("shared-undef");
+            std::fs::create_dir_all(&sdir).map_err(io(format!("creating {}", sdir.display())))?;
+            let expose = format!("{head}{}write_rtlil exposed.il\nwrite_json exposed.json\n", crate::shared_undef::expose_commands(&module));
+            yosys_logged(&expose, &sdir, "expose", false)?;
+            let json = sdir.join("exposed.json");
+            let exposed: Value = serde_json::from_str(&std::fs::read_to_string(&json).map_err(io(format!("reading {}", json.display())))?)
+                .map_err(|e| InstrumentError::Io { what: json.display().to_string(), source: std::io::Error::other(e) })?;
+            let sports = self::ports(&exposed, &module);
+            let n = sports.iter().filter(|p| p.input && crate::shared_undef::is_undef_port(&p.name)).count();
+            let assumed = format!("{assumed}; its {n} undefined values (x) shared: each one free input, the same in both copies");
+            let shared = Miter { ports: &sports, assumed: assumed.clone(), ..plain };
+            match shared.judge(&sdir, &format!("read_rtlil {}\n", sdir.join("exposed.il").display()))? {
+                Judged::Verdict(v) => v,
+                Judged::SelfDiffers => FormalVerdict::Unknown {
+                    why: format!("no verdict: {module} differs from itself (its undefined values reach an output), even with its x constants shared (values left undefined by its memories or submodules); {assumed}"),
+                },
+            }
         }
     };
     Ok(Ok(ModuleCheck { module, verdict, seconds: t0.elapsed().as_secs_f64() }))
+}
+
+/// What a miter says before the control run is weighed.
+enum Judged {
+    /// A verdict that stands.
+    Verdict(FormalVerdict),
+    /// The mutant differs, but so does the module from itself (the control
+    /// run): the difference says nothing.
+    SelfDiffers,
+}
+
+/// One miter of the mutated module: the module (after `head`, a yosys
+/// script that leaves it in the design as `module`), copied, the copy
+/// mutated, both in the wrapper on shared inputs.
+struct Miter<'a> {
+    module: &'a str,
+    cell: &'a str,
+    m: &'a Mutation,
+    opts: &'a FormalOptions,
+    ports: &'a [Port],
+    clock: Option<&'a str>,
+    reset: Option<&'a (String, bool)>,
+    assumed: String,
+}
+
+impl Miter<'_> {
+    /// Builds the miter in `dir` and judges it: a proof, a counterexample
+    /// (if the control run, the module against itself, shows none), or
+    /// bounded.
+    fn judge(&self, dir: &Path, head: &str) -> Result<Judged, InstrumentError> {
+        let (module, m, opts) = (self.module, self.m, self.opts);
+        std::fs::create_dir_all(dir).map_err(io(format!("creating {}", dir.display())))?;
+        let wrap = dir.join("wrapper.v");
+        std::fs::write(&wrap, wrapper(self.ports, self.clock, self.reset)).map_err(io(format!("writing {}", wrap.display())))?;
+        // Up to `prep` exactly as the mutants' build (same cell names); then
+        // the module alone, copied, the copy mutated, both flattened (their own
+        // submodules), memories as flip-flops, `x` free, every flip-flop
+        // without an initial value given one of zero (`write_aiger -zinit`
+        // makes the initial value of an uninitialised flip-flop a free input,
+        // a different one per copy: registers the reset leaves alone, such
+        // as a memory's words, then differed from themselves).
+        let prep = format!(
+            "{head}copy {module} cosim_gate\nrename {module} cosim_gold\n{mutate}\n\
+             read_verilog {wrap}\nproc\nhierarchy -top cosim_formal\nflatten\nmemory\nsetundef -anyseq\nsetundef -zero -init\n\
+             opt_clean\nasync2sync\ndffunmap\nwrite_rtlil miter.il\n\
+             techmap\nopt -fast\ndffunmap\nabc -fast -g AND\nopt_clean\ndffunmap\nwrite_aiger -zinit miter.aig\n",
+            mutate = mutate_command(m, self.cell),
+            wrap = wrap.display()
+        );
+        yosys_logged(&prep, dir, "miter", false)?;
+        // The control: the module against itself (no mutation). If it differs,
+        // values the module leaves undefined (`x`, out-of-range memory reads)
+        // reach an output, and a difference of the mutant means nothing.
+        let control = |dir: &Path| -> Result<bool, InstrumentError> {
+            std::fs::create_dir_all(dir).map_err(io(format!("creating {}", dir.display())))?;
+            let script = prep.replace(&mutate_command(m, self.cell), "");
+            yosys_logged(&script, dir, "miter", false)?;
+            let (t, _) = abc(dir, &format!("read_aiger miter.aig; fold; strash; scorr; dc2; pdr -T {}", pdr_seconds(opts)), 2 * pdr_seconds(opts), "abc.log")?;
+            Ok(asserted_frame(&t).is_some())
+        };
+        let assumed = self.assumed.clone();
+        let secs = pdr_seconds(opts);
+        // Signal correspondence (`scorr`) merges the gold/gate pairs that stay
+        // equal; PDR proves the rest or finds a counterexample. Wall-clock
+        // bounded (the machine may be loaded): twice the PDR time for both.
+        let (text, _) = abc(dir, &format!("read_aiger miter.aig; fold; strash; scorr; dc2; pdr -T {secs}"), 2 * secs, "abc.log")?;
+        let verdict = if text.contains("Property proved") {
+            FormalVerdict::Equivalent { method: format!("proved from reset by ABC scorr + PDR (inductive invariant): {assumed}") }
+        } else if asserted_frame(&text).is_some() && control(&dir.join("control"))? {
+            return Ok(Judged::SelfDiffers);
+        } else if let Some(frame) = asserted_frame(&text) {
+            // The input trace from a bounded check just deep enough.
+            let steps = frame + 2;
+            let bmc = format!("read_rtlil miter.il\nsat -seq {steps} -prove trigger 0 -set-init-zero -show-inputs -timeout {secs} cosim_formal\n");
+            let out = yosys_logged(&bmc, dir, "trace", true).unwrap_or_default();
+            let trace = parse_trace(&out);
+            FormalVerdict::ModuleDiffers { module: module.to_string(), steps: trace.iter().map(|t| t.step).max().unwrap_or(steps), trace, assumed }
+        } else {
+            // No proof: how deep is there surely no difference?
+            let why = if text.contains("UNDECIDED") { format!("PDR undecided after {secs} s") } else { format!("ABC stopped after {} s", 2 * secs) };
+            let (b, _) = abc(dir, &format!("read_aiger miter.aig; fold; strash; bmc3 -v -F {} -T {secs}", opts.steps), secs + 30, "bmc.log")?;
+            if let Some(frame) = asserted_frame(&b) {
+                FormalVerdict::ModuleDiffers { module: module.to_string(), steps: frame + 1, trace: Vec::new(), assumed }
+            } else {
+                let depth = match bmc_depth(&b) {
+                    Some(d) => format!("no difference within {d} clocks (bounded, not a proof)"),
+                    None => "bounded check inconclusive".into(),
+                };
+                FormalVerdict::Unknown { why: format!("{depth}; {why}; {assumed}") }
+            }
+        };
+        Ok(Judged::Verdict(verdict))
+    }
 }
 
 /// Runs `yosys-abc -c script` in `dir`, killed after `limit_s` seconds of

@@ -73,20 +73,57 @@ fn the_tiny_fixture_without_reset_is_checked_from_zero() {
     assert!(trace.iter().any(|t| t.port == "op" && t.value == 1), "only op = 1 shows the xor path: {trace:?}");
 }
 
-/// A module whose own outputs are undefined at times (x after address 3) differs from itself: the control run catches
-/// it and the mutant gets no verdict instead of a difference.
+/// A module whose own outputs are undefined at times (x at address 3) differs from itself when each copy picks its x
+/// freely; with its x shared by both copies (shared_undef.rs) its mutants get verdicts, and no false "equivalent":
+/// a mutant of the register writes, seen only through q at a defined address, is refuted; one that pins the x is
+/// refuted; a redundant gate is proved. (Before shared_undef.rs all three were "no verdict".)
 #[test]
-fn a_module_that_differs_from_itself_gives_no_verdict() {
+fn a_module_with_undefined_outputs_gets_verdicts_with_its_undefined_values_shared() {
     if yosys_missing() {
         eprintln!("yosys / yosys-abc not installed: skipped");
         return;
     }
     let src = fixture("formal_undef.v", "formal_undef");
     let cache = tempfile::tempdir().unwrap();
-    let inst = mutate::instrument(&src, &MutationSource::Sample { count: 20, seed: 1 }, cache.path()).unwrap();
-    let m = pick(&inst.mutations, "mutation of the register writes", |m| m.location().ends_with("formal_undef.v:15"));
+    let inst = mutate::instrument(&src, &MutationSource::Sample { count: 60, seed: 1 }, cache.path()).unwrap();
+    let work = tempfile::tempdir().unwrap();
+    let check = |m: &Mutation| mutate::reset_proof::check_in_module(&src, m, &OPTS, work.path()).unwrap().unwrap().verdict;
+
+    // r1's flop, bit 0, inverted under bit 1: r1 reaches q only at a = 1 or 2, where q is defined.
+    let write = pick(&inst.mutations, "mutation of r1", |m| m.cell.starts_with("$procdff$") && m.args.contains("-wire r1 "));
+    let FormalVerdict::ModuleDiffers { trace, assumed, .. } = check(write) else { panic!("{}: not refuted", write.args) };
+    assert!(assumed.contains("1 undefined values (x) shared"), "{assumed}");
+    assert!(trace.iter().any(|t| t.port == "cosim_undef_0"), "the shared x is an input of the trace: {trace:?}");
+    assert!(trace.iter().any(|t| t.port == "a" && (t.value == 1 || t.value == 2)), "seen through a defined q (a = 1 or 2): {trace:?}");
+
+    // The x input of q's mux (a == 3) held at 1: it pins the undefined value, seen whenever the shared x is 0.
+    let pin = pick(&inst.mutations, "mutation of the x input of q's mux", |m| m.cell.starts_with("$ternary$") && m.port == "B" && m.args.contains("formal_undef.v:22.57-22.100"));
+    let v = check(pin);
+    assert!(matches!(v, FormalVerdict::ModuleDiffers { .. }), "{}: {v:?}", pin.args);
+
+    // wen = we | (we & d[1]): its AND term stuck at 0 changes nothing.
+    let redundant = pick(&inst.mutations, "AND of wen stuck at 0", |m| m.cell.starts_with("$and$") && m.port == "Y" && m.mode == "const0");
+    let v = check(redundant);
+    let FormalVerdict::Equivalent { method } = &v else { panic!("{}: not proved: {v:?}", redundant.args) };
+    assert!(method.contains("proved from reset") && method.contains("shared"), "{method}");
+}
+
+/// The control run still decides: the x of a submodule (formal_undef inside formal_undef_outer) is not one of the
+/// checked module's own x constants, so it is not shared; it reaches q, the module differs from itself even with its
+/// x constants shared, and a mutant of its own flop gets no verdict rather than a difference or a proof.
+#[test]
+fn a_module_that_differs_from_itself_with_its_x_shared_gives_no_verdict() {
+    if yosys_missing() {
+        eprintln!("yosys / yosys-abc not installed: skipped");
+        return;
+    }
+    let src = fixture("formal_undef.v", "formal_undef_outer");
+    let cache = tempfile::tempdir().unwrap();
+    let inst = mutate::instrument(&src, &MutationSource::Sample { count: 60, seed: 1 }, cache.path()).unwrap();
+    let m = pick(&inst.mutations, "mutation of seen's flop", |m| m.cell.starts_with("$procdff$") && m.args.contains("-wire seen "));
     let work = tempfile::tempdir().unwrap();
     let c = mutate::reset_proof::check_in_module(&src, m, &OPTS, work.path()).unwrap().unwrap();
+    assert_eq!(c.module, "formal_undef_outer");
     let FormalVerdict::Unknown { why } = &c.verdict else { panic!("{}: {:?}", m.args, c.verdict) };
-    assert!(why.contains("differs from itself"), "{why}");
+    assert!(why.contains("differs from itself") && why.contains("even with its x constants shared"), "{why}");
 }
