@@ -63,6 +63,10 @@
 //! # must have this pattern, e.g. listen-only mode set (MOD.1). A run in
 //! # BasicCAN, or one that does not give the model's MOD, never matches.
 //! model-mod-bits = "xxxx_xx1x"
+//! # any kind: the model's mode (CDR.7) at the divergence must be this:
+//! # "basic" (BasicCAN) or "pelican". For a deviation that exists in one
+//! # mode only. A run that does not give the model's mode never matches.
+//! model-mode = "basic"
 //! # irq and bus-off only: the DUT's pin may lag the model by at most this
 //! # long, counted from the start of the difference to the clock the
 //! # comparator reports it: bit times and/or CAN clocks ("1 bit",
@@ -699,6 +703,7 @@ pub(crate) struct RawWaiver {
     pub seen_bits: Option<Spanned<BitPattern>>,
     pub seen_offset: Option<Spanned<i64>>,
     pub model_mod_bits: Option<BitPattern>,
+    pub model_mode: Option<Spanned<String>>,
     pub max_hits: Option<Spanned<u32>>,
     pub resync: Spanned<Vec<ResyncSpec>>,
     #[serde(default)]

@@ -69,6 +69,9 @@ pub struct Observed {
     /// its FIFO was last emptied (reset mode, hardware reset); `None`: not
     /// observed. For `after = "data-overrun"`.
     pub model_lost_messages: Option<u32>,
+    /// The model's mode at the divergence: `Some(true)` BasicCAN,
+    /// `Some(false)` PeliCAN; `None`: not observed. For `model-mode`.
+    pub model_basic: Option<bool>,
 }
 
 impl Observed {
@@ -190,6 +193,9 @@ pub struct Waiver {
     pub seen_offset: Option<i64>,
     /// The model's PeliCAN MOD must have this pattern ([`Observed::model_mod`]).
     pub model_mod_bits: Option<BitPattern>,
+    /// Applies only while the model is in this mode: `Some(true)` BasicCAN
+    /// (`model-mode = "basic"`), `Some(false)` PeliCAN.
+    pub model_basic: Option<bool>,
     /// At most this many divergences are waived.
     pub max_hits: Option<u32>,
     /// Re-synchronisation allowed.
@@ -272,10 +278,9 @@ impl Waiver {
             };
             format!("only after the model lost {lost} to an RX FIFO overrun (after = \"{key}\")")
         });
-        match (read, after) {
-            (Some(r), Some(a)) => Some(format!("{r}, {a}")),
-            (r, a) => r.or(a),
-        }
+        let mode = self.model_basic.map(|b| format!("only while the model is in {} mode (model-mode = \"{}\")", mode_name(b), mode_key(b)));
+        let parts: Vec<String> = [read, after, mode].into_iter().flatten().collect();
+        (!parts.is_empty()).then(|| parts.join(", "))
     }
 
     /// True if the waiver is for this DUT (name glob and revision range).
@@ -337,6 +342,13 @@ impl Waiver {
                     return Some(format!("the model's MOD 0x{m:02X} does not have the pattern {}", String::from(p)));
                 }
                 None => return Some("the model's MOD (PeliCAN) was not observed".into()),
+            }
+        }
+        if let Some(want) = self.model_basic {
+            match obs.model_basic {
+                Some(b) if b == want => {}
+                Some(b) => return Some(format!("the model is in {} mode, model-mode needs {}", mode_name(b), mode_name(want))),
+                None => return Some("model-mode needs the model's mode, not observed".into()),
             }
         }
         if self.late_by.is_some() && (obs.now_ps.is_none() || obs.bit_time_ps.is_none() || obs.can_clock_ps.is_none())
@@ -738,6 +750,16 @@ impl WaiverSet {
     }
 }
 
+/// A mode in reports: BasicCAN or PeliCAN.
+fn mode_name(basic: bool) -> &'static str {
+    if basic { "BasicCAN" } else { "PeliCAN" }
+}
+
+/// A mode as the `model-mode` key spells it.
+fn mode_key(basic: bool) -> &'static str {
+    if basic { "basic" } else { "pelican" }
+}
+
 fn invalid(file: &str, line: usize, key: &str, message: String) -> WaiverError {
     WaiverError::Invalid { file: file.into(), line, key: key.into(), message }
 }
@@ -896,6 +918,16 @@ fn validate(name: &str, src: &str, w: RawWaiver) -> Result<Waiver, WaiverError> 
         Some(a) => Some(file::parse_after(a.get_ref()).map_err(|m| invalid(name, at(a.span()), "after", m))?),
         None => None,
     };
+    let model_basic = match &w.model_mode {
+        Some(m) => match m.get_ref().trim() {
+            "basic" => Some(true),
+            "pelican" => Some(false),
+            other => {
+                return Err(invalid(name, at(m.span()), "model-mode", format!("`{other}`: expected \"basic\" or \"pelican\"")));
+            }
+        },
+        None => None,
+    };
     let mut patterns = [None, None];
     for (slot, key, p) in [(0, "expected-bits", &w.expected_bits), (1, "seen-bits", &w.seen_bits)] {
         if let Some(p) = p {
@@ -983,6 +1015,7 @@ fn validate(name: &str, src: &str, w: RawWaiver) -> Result<Waiver, WaiverError> 
         seen_bits,
         seen_offset,
         model_mod_bits: w.model_mod_bits,
+        model_basic,
         max_hits: w.max_hits.map(|m| m.into_inner()),
         resync,
         consequences,

@@ -325,3 +325,33 @@ resync = ["none"]
     let later = s.waived_count();
     assert_eq!(s.waive_expectation(later, 32, "TXERR & 0xFF", 0xFF, 0x7F, 0x80), None);
 }
+
+#[test]
+fn model_mode_binds_a_waiver_to_basiccan_or_pelican() {
+    let src = r#"
+[[waiver]]
+id = "gts-sof"
+kind = "tx-bit"
+model-mode = "basic"
+fields = ["BusIdle"]
+expected = [1]
+seen = [0]
+dut = ["opencores-can*"]
+explanation = "BasicCAN GTS decoded as self reception"
+max-hits = 1
+resync = ["none"]
+"#;
+    let sof = Divergence { kind: DivergenceKind::TxBit, bit: Some(3), field: Some(can_proto::Field::BusIdle), expected: 1, seen: 0, ..Divergence::default() };
+    let with_mode = |b: Option<bool>| Observed { model_basic: b, ..Default::default() };
+    let mut set = WaiverSet::parse(src, "m.toml").unwrap();
+    assert!(matches!(set.check_observed(&sof, &dut(), &with_mode(Some(true))), Verdict::Waived { .. }));
+    // Still caught: the same dominant bit in PeliCAN, or with the mode unknown.
+    let mut set = WaiverSet::parse(src, "m.toml").unwrap();
+    assert_eq!(set.check_observed(&sof, &dut(), &with_mode(Some(false))), Verdict::Failure);
+    assert_eq!(set.check_observed(&sof, &dut(), &with_mode(None)), Verdict::Failure);
+    let notes = set.near_misses(&sof, &dut(), &with_mode(Some(false)));
+    assert!(notes.iter().any(|n| n.contains("PeliCAN mode, model-mode needs BasicCAN")), "{notes:?}");
+    assert!(set.get("gts-sof").unwrap().bound().unwrap().contains("model-mode = \"basic\""));
+    let (line, key, _) = err(&src.trim_start().replace("\"basic\"", "\"basicCAN\""));
+    assert_eq!((line, key.as_str()), (4, "model-mode"));
+}

@@ -71,3 +71,29 @@ fn self_reception_d22_only_rbs_and_one_rmc_message_in_self_test_mode() {
     assert!(by(&mut set, &read("RMC", 1, 0), SELF_TEST).is_some());
     assert_eq!(by(&mut set, &read("RMC", 1, 0), SELF_TEST), None);
 }
+
+/// The shipped file's tx-bit waivers in bus idle (session 7): D6's GTS start
+/// of frame only in BasicCAN, D28's late release only with the model bus-off
+/// (reset mode), once.
+#[test]
+fn tx_bits_in_bus_idle_d6_basiccan_only_d28_bus_off_bit_once() {
+    let sof = Divergence { kind: DivergenceKind::TxBit, bit: Some(267), field: Some(can_proto::Field::BusIdle), expected: 1, seen: 0, ..Divergence::default() };
+    let dut = DutInfo::new("opencores-can (/cores/can)");
+    let check = |set: &mut WaiverSet, basic: bool, model_mod: Option<u8>| {
+        let obs = Observed { model_mod, model_basic: Some(basic), ..Observed::default() };
+        match set.check_observed(&sof, &dut, &obs) {
+            Verdict::Waived { waiver_id, .. } => Some(waiver_id),
+            _ => None,
+        }
+    };
+    let mut set = shipped();
+    assert_eq!(check(&mut set, true, None).as_deref(), Some("basic-gts-starts-transmission"));
+    let mut set = shipped();
+    assert_eq!(check(&mut set, false, Some(0x01)).as_deref(), Some("tx-released-later-in-the-bus-off-bit"));
+    // Still caught: a second such bit (the DUT dominant at the next sample
+    // point too), and a dominant bit in PeliCAN bus idle in operating mode
+    // (what D6's waiver took for tx-8.5.10 before it was bound to BasicCAN).
+    assert_eq!(check(&mut set, false, Some(0x01)), None);
+    let mut set = shipped();
+    assert_eq!(check(&mut set, false, Some(0x00)), None);
+}

@@ -200,6 +200,8 @@ impl ComparatorAgent {
         if let Some((diagnose::CanMode::PeliCan, _)) = r.mode() {
             observed.model_mod = Some(r.peek(0));
         }
+        // The model's mode, for `model-mode`.
+        observed.model_basic = r.mode().map(|(m, _)| m == diagnose::CanMode::BasicCan);
         // Messages the model lost to an overrun, for `after = "data-overrun"`.
         observed.model_lost_messages = r.lost_messages();
         while let Some(d) = c.take_divergence() {
