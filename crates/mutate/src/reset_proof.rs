@@ -88,8 +88,11 @@ fn hierarchy(src: &CoreSources, work: &Path) -> Result<Value, InstrumentError> {
 fn locate(design: &Value, top: &str, cell: &str) -> Option<(String, String)> {
     let modules = design.get("modules")?;
     let mut module = top.to_string();
-    let Some(mut rest) = cell.strip_prefix("$flatten\\") else {
-        return modules.get(top)?.get("cells")?.get(cell).map(|_| (module, cell.to_string()));
+    // A private cell of a submodule is `$flatten\u_a.$x`; a public one (a
+    // memory such as `u_regs.ramfree`) keeps its plain dotted path.
+    let in_top = modules.get(top)?.get("cells")?.get(cell).is_some();
+    let Some(mut rest) = cell.strip_prefix("$flatten\\").or_else(|| (!in_top && cell.contains('.')).then_some(cell)) else {
+        return in_top.then(|| (module, cell.to_string()));
     };
     loop {
         let cells = modules.get(&module)?.get("cells")?.as_object()?;
@@ -423,6 +426,10 @@ mod tests {
         assert_eq!(locate(&d, "top", "$flatten\\u_a.u_b.$ternary$/x/b.v:3$7"), Some(("b".into(), "$ternary$/x/b.v:3$7".into())));
         assert_eq!(locate(&d, "top", "$and$x"), Some(("top".into(), "$and$x".into())));
         assert_eq!(locate(&d, "top", "$flatten\\u_a.$nope$2"), None);
+        // a memory keeps its public, dotted name in the flattened design
+        let d: Value = serde_json::from_str(r#"{"modules": {"top": {"cells": {"u_a": {"type": "a"}}}, "a": {"cells": {"ram": {"type": "$mem_v2"}}}}}"#).unwrap();
+        assert_eq!(locate(&d, "top", "u_a.ram"), Some(("a".into(), "ram".into())));
+        assert_eq!(locate(&d, "top", "u_a.nope"), None);
     }
 
     #[test]

@@ -139,3 +139,21 @@ fn doi_alone_holds_the_interrupt_output_only_with_doie() {
         assert!(!o.passed, "{to}: passed");
     }
 }
+
+/// The session-7 holes of today's rtl/ sample (`rtl-*.toml`): a wrong value
+/// where each scenario reads what its mutant changes fails on the model.
+#[test]
+fn rtl_sample_hole_expectations_are_live() {
+    for (file, from, to) in [
+        ("rtl-late-edge-beyond-sjw4.toml", "read = \"RXB+2\", expect = 0x11,", "read = \"RXB+2\", expect = 0x12,"),
+        ("rtl-late-edge-at-tseg1-end.toml", "read = \"RXFI\", expect = 0x01,", "read = \"RXFI\", expect = 0x11,"),
+        ("rtl-free-ram-bit5-kept.toml", "read = 109, expect = 0xFF, note = \"bit 5 kept", "read = 109, expect = 0xDF, note = \"bit 5 kept"),
+    ] {
+        let path = root().join("tb/mutation-holes").join(file);
+        let text = std::fs::read_to_string(&path).unwrap();
+        assert!(text.contains(from), "{file}: the checked read moved");
+        let s = Scenario::parse(&text.replacen(from, to, 1), &path).unwrap();
+        let o = run(&s, &RunOptions { dut: Some(DutSpec::model()), ..Default::default() });
+        assert!(!o.passed, "{file}: a wrong expectation passed");
+    }
+}
