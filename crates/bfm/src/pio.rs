@@ -73,7 +73,11 @@ pub enum PioAckInput {
     /// cleared by a write to the `edgecapture` register). The program
     /// clears the capture (`IOWR_ALTERA_AVALON_PIO_EDGE_CAP`) before it
     /// raises cyc/stb and polls the capture register instead of the data
-    /// register: a one-clock ack pulse is never missed.
+    /// register: a one-clock ack pulse is never missed. A read drops
+    /// cyc/stb before `IORD(BASEdata_in)`: the program relies on the core
+    /// holding `wb_dat_o` from its ack to its next read (the opencores
+    /// core's `data_out`, our `can_wb_cdc`, the model DUT do; a core that
+    /// does not shows as a read divergence, not as a pass).
     EdgeCapture,
 }
 
@@ -225,11 +229,20 @@ impl PioMaster {
             OpKind::ResetPulse => [Iowr(Control, CTL_RST), Hold(op.extra), Iowr(Control, 0)].into(),
         };
         // Edge capture: clear the bit just before the strobe goes up, so
-        // that only this access's ack can set it.
+        // that only this access's ack can set it; and drop the strobe as
+        // soon as the ack is seen, before reading the data (the thesis's
+        // order holds cyc/stb for one more IORD: with the capture's two
+        // clocks of latency that reaches the end of a handshake core's
+        // hold-off, and the core performs the read again, its late ack
+        // then landing in the next access's capture).
         if self.timing.ack_input == PioAckInput::EdgeCapture
             && let Some(i) = steps.iter().position(|s| *s == PollAck)
         {
             steps.insert(i - 1, ClearAckCapture);
+            if let Some(r) = steps.iter().position(|s| *s == ReadData) {
+                steps.remove(r);
+                steps.push_back(ReadData);
+            }
         }
         steps
     }

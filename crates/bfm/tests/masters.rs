@@ -671,12 +671,13 @@ fn reset_pin_holds_and_flushes() {
 /// A slave with a request/acknowledge handshake like `can_top`'s: one
 /// one-cycle ack pulse `delay` cycles after cyc & stb appear, then nothing
 /// until the strobe has dropped (no repeat: this isolates how the program
-/// sees the pulse). Returns (result, acks given).
+/// sees the pulse). Returns (result, acks given, host cycles from the ack
+/// to the strobe's fall).
 fn pio_against_one_pulse(
     timing: PioTiming,
     delay: u32,
     read: bool,
-) -> (Option<Result<bfm::OpResult, BfmError>>, u32) {
+) -> (Option<Result<bfm::OpResult, BfmError>>, u32, u32) {
     let mut m = PioMaster::new("pio", timing);
     m.set_timeout(500);
     let h = if read {
@@ -685,10 +686,12 @@ fn pio_against_one_pulse(
         m.start_write(0x01, 0x04)
     };
     let (mut seen, mut acks, mut fired) = (0u32, 0u32, false);
+    let mut held_after_ack = 0u32;
     let mut s = WbSlaveOut::default();
     for _ in 0..1000 {
         let o = m.outputs();
         let req = o.cyc && o.stb;
+        held_after_ack += (req && fired) as u32;
         seen = if req { seen + 1 } else { 0 };
         fired &= req;
         s = WbSlaveOut {
@@ -702,10 +705,10 @@ fn pio_against_one_pulse(
         }
         m.on_edge(&s);
         if let Some(r) = m.poll(h) {
-            return (Some(r), acks);
+            return (Some(r), acks, held_after_ack);
         }
     }
-    (None, acks)
+    (None, acks, held_after_ack)
 }
 
 /// The thesis's level poll (one `IORD` of the data register per 5 cycles)
@@ -721,14 +724,17 @@ fn pio_edge_capture_sees_a_one_cycle_ack_the_level_poll_misses() {
     let mut level_missed = 0;
     for delay in 1..=10 {
         for read in [false, true] {
-            let (r, acks) = pio_against_one_pulse(PioTiming::default(), delay, read);
+            let (r, acks, _) = pio_against_one_pulse(PioTiming::default(), delay, read);
             if matches!(r, Some(Err(BfmError::Timeout { .. }))) {
                 level_missed += 1;
             }
             assert_eq!(acks, 1);
-            let (r, acks) = pio_against_one_pulse(edge, delay, read);
+            let (r, acks, held) = pio_against_one_pulse(edge, delay, read);
             let r = r.expect("finished").expect("edge capture saw the pulse");
             assert_eq!(acks, 1);
+            // Capture latency (2) + at most one poll (5) + the IOWR that
+            // drops the strobe (3): the data is read after that.
+            assert!(held <= 10, "cyc/stb held {held} cycles after the ack (read {read})");
             if read {
                 assert_eq!(r.data, 0x5A);
             }
