@@ -92,7 +92,8 @@ pub use op::{
 };
 pub use pins::{AvMasterOut, AvSlaveOut, WbMasterOut, WbSlaveOut};
 pub use pio::{
-    CTL_CYC, CTL_RST, CTL_STB, CTL_WE, DEFAULT_PIO_TIMEOUT_CYCLES, PioMaster, PioTiming,
+    CTL_CYC, CTL_RST, CTL_STB, CTL_WE, DEFAULT_PIO_TIMEOUT_CYCLES, PioAckInput, PioMaster,
+    PioTiming,
 };
 pub use wishbone::{AckMode, WishboneMaster, WishboneRam};
 

@@ -34,12 +34,17 @@ pub const DEFAULT_PIO_TIMEOUT_CYCLES: u64 = 100_000;
 /// - `IORD` = 5: one issue cycle + a 2-cycle Avalon read (registered PIO
 ///   `readdata`) + 2 late-result cycles before the `while (IORD(..) == 0)`
 ///   compare can use it; the loop's taken branch overlaps the next issue.
+///
+/// It also says how the program sees `ack` ([`PioAckInput`]): the GPIO
+/// cost of an access depends on it (one more `IOWR` with edge capture).
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub struct PioTiming {
     /// Host cycles per GPIO write (`IOWR`).
     pub iowr_cycles: u32,
     /// Host cycles per GPIO read (`IORD`), polling loop included.
     pub iord_cycles: u32,
+    /// How the `ack` input PIO is read: the thesis's level poll (default).
+    pub ack_input: PioAckInput,
 }
 
 impl Default for PioTiming {
@@ -47,8 +52,33 @@ impl Default for PioTiming {
         Self {
             iowr_cycles: 3,
             iord_cycles: 5,
+            ack_input: PioAckInput::Level,
         }
     }
+}
+
+/// How the program sees the core's `ack` through its input PIO.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+pub enum PioAckInput {
+    /// The thesis's program: `while (IORD(BASEacknowledge, 0) == 0)` reads
+    /// the PIO's data register, one sample of the wire per loop. A core
+    /// whose ack is a one-clock pulse (classic Wishbone, the opencores
+    /// `can_top`) is seen only when a sample lands on the pulse; the
+    /// strobe stays up meanwhile and such a core performs the access again.
+    #[default]
+    Level,
+    /// The ack PIO built with its edge capture register (Intel/Altera PIO
+    /// core, "synchronously capture: rising edge"; input registered twice,
+    /// the capture bit set at the clock after the rising edge is seen, and
+    /// cleared by a write to the `edgecapture` register). The program
+    /// clears the capture (`IOWR_ALTERA_AVALON_PIO_EDGE_CAP`) before it
+    /// raises cyc/stb and polls the capture register instead of the data
+    /// register: a one-clock ack pulse is never missed. A read drops
+    /// cyc/stb before `IORD(BASEdata_in)`: the program relies on the core
+    /// holding `wb_dat_o` from its ack to its next read (the opencores
+    /// core's `data_out`, our `can_wb_cdc`, the model DUT do; a core that
+    /// does not shows as a read divergence, not as a pass).
+    EdgeCapture,
 }
 
 /// The GPIO output registers of the thesis wiring.
@@ -67,8 +97,12 @@ enum PioReg {
 enum Step {
     /// `IOWR(reg, 0, value)`.
     Iowr(PioReg, u8),
-    /// One iteration of `while (IORD(BASEacknowledge, 0) == 0) {}`.
+    /// One iteration of `while (IORD(BASEacknowledge, 0) == 0) {}` (or of
+    /// `IORD_ALTERA_AVALON_PIO_EDGE_CAP` with [`PioAckInput::EdgeCapture`]).
     PollAck,
+    /// `IOWR_ALTERA_AVALON_PIO_EDGE_CAP(BASEacknowledge, 1)`: clears the
+    /// ack's edge capture bit.
+    ClearAckCapture,
     /// `donnee = IORD(BASEdata_in, 0)`.
     ReadData,
     /// A busy loop of this many host cycles (the reset pulse's delay).
@@ -107,6 +141,11 @@ pub struct PioMaster {
     adr: u8,
     dat: u8,
     ctl: u8,
+    /// Edge capture of the ack input: its two input registers and the
+    /// capture bit (used with [`PioAckInput::EdgeCapture`] only).
+    ack_d1: bool,
+    ack_d2: bool,
+    ack_captured: bool,
 }
 
 impl PioMaster {
@@ -115,9 +154,13 @@ impl PioMaster {
         log::info!(
             "{name}: PIO master (Nios II bit-banging Wishbone), address PIO 8 bits, data-out PIO 8 bits, \
              control PIO we=bit0 stb=bit1 cyc=bit2 rst=bit3, inputs ack + data-in 8 bits, \
-             IOWR {} cycles, IORD {} cycles, timeout {DEFAULT_PIO_TIMEOUT_CYCLES} cycles",
+             IOWR {} cycles, IORD {} cycles, ack {}, timeout {DEFAULT_PIO_TIMEOUT_CYCLES} cycles",
             timing.iowr_cycles,
-            timing.iord_cycles
+            timing.iord_cycles,
+            match timing.ack_input {
+                PioAckInput::Level => "polled as a level (the thesis's program)",
+                PioAckInput::EdgeCapture => "through the PIO's edge capture register",
+            }
         );
         Self {
             timing,
@@ -129,6 +172,9 @@ impl PioMaster {
             adr: 0,
             dat: 0,
             ctl: 0,
+            ack_d1: false,
+            ack_d2: false,
+            ack_captured: false,
         }
     }
 
@@ -161,7 +207,7 @@ impl PioMaster {
     fn steps_for(&self, op: &PendingOp) -> VecDeque<Step> {
         use PioReg::*;
         use Step::*;
-        match op.kind {
+        let mut steps: VecDeque<Step> = match op.kind {
             OpKind::Write => [
                 Iowr(Address, op.addr),
                 Iowr(DataOut, op.data),
@@ -181,12 +227,29 @@ impl PioMaster {
             ]
             .into(),
             OpKind::ResetPulse => [Iowr(Control, CTL_RST), Hold(op.extra), Iowr(Control, 0)].into(),
+        };
+        // Edge capture: clear the bit just before the strobe goes up, so
+        // that only this access's ack can set it; and drop the strobe as
+        // soon as the ack is seen, before reading the data (the thesis's
+        // order holds cyc/stb for one more IORD: with the capture's two
+        // clocks of latency that reaches the end of a handshake core's
+        // hold-off, and the core performs the read again, its late ack
+        // then landing in the next access's capture).
+        if self.timing.ack_input == PioAckInput::EdgeCapture
+            && let Some(i) = steps.iter().position(|s| *s == PollAck)
+        {
+            steps.insert(i - 1, ClearAckCapture);
+            if let Some(r) = steps.iter().position(|s| *s == ReadData) {
+                steps.remove(r);
+                steps.push_back(ReadData);
+            }
         }
+        steps
     }
 
     fn cost(&self, step: Step) -> u64 {
         match step {
-            Step::Iowr(..) => self.timing.iowr_cycles.max(1) as u64,
+            Step::Iowr(..) | Step::ClearAckCapture => self.timing.iowr_cycles.max(1) as u64,
             Step::PollAck | Step::ReadData => self.timing.iord_cycles.max(1) as u64,
             Step::Hold(n) => n.max(1),
         }
@@ -209,6 +272,16 @@ impl HostMaster for PioMaster {
 
     fn on_edge(&mut self, slave: &WbSlaveOut) {
         let sample = std::mem::replace(&mut self.prev, *slave);
+        // The ack PIO's registers at this edge: what a read ending here
+        // returns is the capture bit before the edge.
+        let captured_before = self.ack_captured;
+        self.ack_captured |= self.ack_d1 && !self.ack_d2;
+        self.ack_d2 = self.ack_d1;
+        self.ack_d1 = sample.ack;
+        let ack_read = match self.timing.ack_input {
+            PioAckInput::Level => sample.ack,
+            PioAckInput::EdgeCapture => captured_before,
+        };
         // Held in reset: start nothing (queued operations wait, and time out).
         let paused = step_pause(&mut self.pause) || self.in_reset;
         let mut aborted = false;
@@ -225,11 +298,13 @@ impl HostMaster for PioMaster {
                         Step::Iowr(PioReg::DataOut, v) => self.dat = v,
                         Step::Iowr(PioReg::Control, v) => self.ctl = v,
                         Step::PollAck => {}
+                        // The write takes priority over an edge seen at the same clock.
+                        Step::ClearAckCapture => self.ack_captured = false,
                         Step::ReadData => a.data = sample.dat,
                         Step::Hold(_) => {}
                     }
                     // The poll loop repeats until it reads ack = 1.
-                    if step != Step::PollAck || sample.ack {
+                    if step != Step::PollAck || ack_read {
                         a.steps.pop_front();
                     }
                 }
@@ -280,6 +355,7 @@ impl HostMaster for PioMaster {
         self.adr = 0;
         self.dat = 0;
         self.ctl = 0;
+        self.ack_captured = false;
     }
 
     fn set_reset(&mut self, asserted: bool) {

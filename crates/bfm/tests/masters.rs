@@ -502,6 +502,7 @@ fn pio_control_word_sequence() {
         PioTiming {
             iowr_cycles: 1,
             iord_cycles: 1,
+            ..PioTiming::default()
         },
     );
     let mut ram = WishboneRam::new("ram");
@@ -665,4 +666,114 @@ fn reset_pin_holds_and_flushes() {
         logs().iter().filter(|(_, s)| s.contains("flushed")).count(),
         1
     );
+}
+
+/// A slave with a request/acknowledge handshake like `can_top`'s: one
+/// one-cycle ack pulse `delay` cycles after cyc & stb appear, then nothing
+/// until the strobe has dropped (no repeat: this isolates how the program
+/// sees the pulse). Returns (result, acks given, host cycles from the ack
+/// to the strobe's fall).
+fn pio_against_one_pulse(
+    timing: PioTiming,
+    delay: u32,
+    read: bool,
+) -> (Option<Result<bfm::OpResult, BfmError>>, u32, u32) {
+    let mut m = PioMaster::new("pio", timing);
+    m.set_timeout(500);
+    let h = if read {
+        m.start_read(0x02)
+    } else {
+        m.start_write(0x01, 0x04)
+    };
+    let (mut seen, mut acks, mut fired) = (0u32, 0u32, false);
+    let mut held_after_ack = 0u32;
+    let mut s = WbSlaveOut::default();
+    for _ in 0..1000 {
+        let o = m.outputs();
+        let req = o.cyc && o.stb;
+        held_after_ack += (req && fired) as u32;
+        seen = if req { seen + 1 } else { 0 };
+        fired &= req;
+        s = WbSlaveOut {
+            ack: req && !fired && seen == delay,
+            dat: 0x5A,
+            ..s
+        };
+        if s.ack {
+            fired = true;
+            acks += 1;
+        }
+        m.on_edge(&s);
+        if let Some(r) = m.poll(h) {
+            return (Some(r), acks, held_after_ack);
+        }
+    }
+    (None, acks, held_after_ack)
+}
+
+/// The thesis's level poll (one `IORD` of the data register per 5 cycles)
+/// misses a one-cycle ack that falls between two samples and spins until
+/// its timeout; the same program polling the ack PIO's edge capture
+/// register sees the pulse whatever its phase, once, and reads the data.
+#[test]
+fn pio_edge_capture_sees_a_one_cycle_ack_the_level_poll_misses() {
+    let edge = PioTiming {
+        ack_input: bfm::PioAckInput::EdgeCapture,
+        ..PioTiming::default()
+    };
+    let mut level_missed = 0;
+    for delay in 1..=10 {
+        for read in [false, true] {
+            let (r, acks, _) = pio_against_one_pulse(PioTiming::default(), delay, read);
+            if matches!(r, Some(Err(BfmError::Timeout { .. }))) {
+                level_missed += 1;
+            }
+            assert_eq!(acks, 1);
+            let (r, acks, held) = pio_against_one_pulse(edge, delay, read);
+            let r = r.expect("finished").expect("edge capture saw the pulse");
+            assert_eq!(acks, 1);
+            // Capture latency (2) + at most one poll (5) + the IOWR that
+            // drops the strobe (3): the data is read after that.
+            assert!(held <= 10, "cyc/stb held {held} cycles after the ack (read {read})");
+            if read {
+                assert_eq!(r.data, 0x5A);
+            }
+        }
+    }
+    assert!(
+        level_missed >= 10,
+        "the level poll missed only {level_missed} of 20 pulses"
+    );
+}
+
+/// Edge capture is cleared before the strobe rises: an ack pulse from
+/// before the access (a stale capture) does not complete it.
+#[test]
+fn pio_edge_capture_ignores_an_ack_before_the_strobe() {
+    let mut m = PioMaster::new(
+        "pio",
+        PioTiming {
+            ack_input: bfm::PioAckInput::EdgeCapture,
+            ..PioTiming::default()
+        },
+    );
+    m.set_timeout(300);
+    // A stray ack pulse while the bus is idle.
+    m.on_edge(&WbSlaveOut {
+        ack: true,
+        ..Default::default()
+    });
+    for _ in 0..5 {
+        m.on_edge(&WbSlaveOut::default());
+    }
+    let h = m.start_write(0x01, 0x04);
+    let mut r = None;
+    for _ in 0..400 {
+        m.on_edge(&WbSlaveOut::default());
+        if let Some(x) = m.poll(h) {
+            r = Some(x);
+            break;
+        }
+    }
+    assert!(matches!(r, Some(Err(BfmError::Timeout { .. }))), "{r:?}");
 }

@@ -64,6 +64,37 @@ pub(crate) struct Btl {
     last_sample: bool,
     /// A synchronisation happened since the last sample point (rule 1).
     synced: bool,
+    /// The state before the last quantum's end and what it was given, for
+    /// [`Btl::retime`] to redo it (see [`RETIME_LAG`]).
+    before_tq: Option<BeforeTq>,
+}
+
+/// CAN clocks after a time quantum ends in which a bit-timing change
+/// (hardware-reset phase origin) still decides that quantum's segment
+/// change: the opencores core registers its prescaler's wrap twice
+/// (`clk_en`, `clk_en_q`) and moves its segments on the second, two clocks
+/// after the quantum boundary this model takes; a BTR write landing in
+/// those two clocks meets the old segment counter with the new lengths.
+/// Measured against the core's counters (read for facts) by simulating
+/// both for every landing phase of the thesis's BTR writes: without this,
+/// 1 landing phase in 4 left the model 2.5 or 4.5 quanta off the core
+/// (`--host pio-edge`, de2-with-ack-node: the core's first SOF while the
+/// model was still integrating).
+pub(crate) const RETIME_LAG: u32 = 2;
+
+/// What [`Btl::tq`] started from, and its arguments.
+#[derive(Clone, Copy, Debug)]
+struct BeforeTq {
+    pos: u8,
+    sp: u8,
+    end: u8,
+    prev_rx: bool,
+    hist: u8,
+    last_sample: bool,
+    synced: bool,
+    rx: bool,
+    hard_sync: bool,
+    sending_dominant: bool,
 }
 
 impl Btl {
@@ -82,6 +113,7 @@ impl Btl {
             hist: 7,
             last_sample: true,
             synced: false,
+            before_tq: None,
         };
         b.set_timing(t);
         b
@@ -100,7 +132,29 @@ impl Btl {
     /// from the hardware reset): the prescaler keeps its clock (a quantum
     /// already past the new length ends at the next clock), the bit keeps
     /// its quantum (a bit already past its new end ends at the next one).
-    pub(crate) fn retime(&mut self, t: BusTiming) {
+    ///
+    /// `redo_last`: the change may redo the quantum that ended less than
+    /// [`RETIME_LAG`] clocks ago, with the new lengths (only where nothing
+    /// but the bit timing saw that quantum: in reset mode).
+    pub(crate) fn retime(&mut self, t: BusTiming, redo_last: bool) {
+        let redo = if redo_last && self.clk < RETIME_LAG { self.before_tq } else { None };
+        if let Some(b) = redo {
+            self.pos = b.pos;
+            self.sp = b.sp;
+            self.end = b.end;
+            self.prev_rx = b.prev_rx;
+            self.hist = b.hist;
+            self.last_sample = b.last_sample;
+            self.synced = b.synced;
+        }
+        self.apply_lengths(t);
+        if let Some(b) = redo {
+            let _ = self.tq(b.rx, b.hard_sync, b.sending_dominant);
+        }
+    }
+
+    /// [`Btl::retime`]'s new lengths, from the current segment.
+    fn apply_lengths(&mut self, t: BusTiming) {
         self.cpt = t.clocks_per_tq();
         self.sp0 = t.tseg1_tq() as u8;
         self.end0 = self.sp0 + t.tseg2_tq() as u8;
@@ -167,6 +221,18 @@ impl Btl {
     /// dominant bit would be a start of frame now; `sending_dominant`: this
     /// node drives dominant in the current bit.
     pub(crate) fn tq(&mut self, rx: bool, hard_sync: bool, sending_dominant: bool) -> Tq {
+        self.before_tq = Some(BeforeTq {
+            pos: self.pos,
+            sp: self.sp,
+            end: self.end,
+            prev_rx: self.prev_rx,
+            hist: self.hist,
+            last_sample: self.last_sample,
+            synced: self.synced,
+            rx,
+            hard_sync,
+            sending_dominant,
+        });
         let edge = self.prev_rx && !rx;
         self.prev_rx = rx;
         self.hist = ((self.hist << 1) | rx as u8) & 7;
@@ -255,10 +321,44 @@ mod retime_tests {
         assert_eq!(b.tq(true, false, false), Tq::Quiet, "sync segment");
         assert_eq!(b.tq(true, false, false), Tq::Sample(true), "TSEG1 (1 tq) ends at the sample point");
         // Now in phase segment 2 (its first quantum is next); TSEG2 becomes 3 tq.
-        b.retime(BusTiming::from_btr(0x00, 0x25));
+        b.retime(BusTiming::from_btr(0x00, 0x25), false);
         assert_eq!(to_bit_start(&mut b), (3, 0), "phase segment 2 of 3 tq, no sample");
         // The next bit has the new lengths: sample after 6 tq, 10 tq in all.
         assert_eq!(to_bit_start(&mut b), (10, 1));
+    }
+
+    /// A BTR1 write that lands within [`RETIME_LAG`] clocks after the
+    /// quantum that was the (old, 1 tq) TSEG1's sample point: the core's
+    /// segment logic has not acted on that quantum yet and meets it with the
+    /// new TSEG1, so the bit stays in TSEG1 (sample 4 quanta later); a write
+    /// 2 clocks later finds the bit already in phase segment 2.
+    #[test]
+    fn retime_just_after_a_quantum_redoes_it_with_the_new_lengths() {
+        let at_sample = || {
+            let mut b = Btl::new(BusTiming::from_btr(0x41, 0x00));
+            to_bit_start(&mut b);
+            assert_eq!(b.tq(true, false, false), Tq::Quiet, "sync segment");
+            assert_eq!(b.tq(true, false, false), Tq::Sample(true), "old TSEG1 ends");
+            b
+        };
+        for clocks in 0..RETIME_LAG {
+            let mut b = at_sample();
+            for _ in 0..clocks {
+                assert!(!b.clock());
+            }
+            b.retime(BusTiming::from_btr(0x41, 0x25), true);
+            assert_eq!(to_bit_start(&mut b), (8, 1), "{clocks} clock(s) after: TSEG1 to its new end, then TSEG2");
+        }
+        let mut b = at_sample();
+        for _ in 0..RETIME_LAG {
+            assert!(!b.clock());
+        }
+        b.retime(BusTiming::from_btr(0x41, 0x25), true);
+        assert_eq!(to_bit_start(&mut b), (3, 0), "past the lag: phase segment 2 of 3 tq");
+        // Outside reset mode (redo_last false) nothing is redone.
+        let mut b = at_sample();
+        b.retime(BusTiming::from_btr(0x41, 0x25), false);
+        assert_eq!(to_bit_start(&mut b), (3, 0));
     }
 
     /// A write in TSEG1 before its sample point takes the new TSEG1.
@@ -266,7 +366,7 @@ mod retime_tests {
     fn retime_in_tseg1_takes_the_new_lengths() {
         let mut b = Btl::new(BusTiming::from_btr(0x00, 0x00));
         to_bit_start(&mut b);
-        b.retime(BusTiming::from_btr(0x00, 0x25));
+        b.retime(BusTiming::from_btr(0x00, 0x25), false);
         assert_eq!(to_bit_start(&mut b), (10, 1), "sync + 6 tq TSEG1 + 3 tq TSEG2");
     }
 }
@@ -304,7 +404,7 @@ mod tests {
         assert_eq!(next_event(&mut b).0, Tq::Sample(true));
         // Now in TSEG2; TSEG1 grows to 6 tq and TSEG2 to 3 tq: the bit ends
         // after the new TSEG2, without a second sample point.
-        b.retime(BusTiming::from_btr(0x41, 0x25));
+        b.retime(BusTiming::from_btr(0x41, 0x25), false);
         assert_eq!(next_event(&mut b), (Tq::BitStart, 3));
         assert_eq!(next_event(&mut b), (Tq::Sample(true), 7), "then whole bits: sync + 6 tq");
     }

@@ -216,7 +216,7 @@ impl Engine {
         self.timing = timing;
         match self.origin {
             PhaseOrigin::ResetModeExit => self.btl.set_timing(timing),
-            PhaseOrigin::HardwareReset => self.btl.retime(timing),
+            PhaseOrigin::HardwareReset => self.btl.retime(timing, self.bsp.reset_mode),
         }
     }
 

@@ -33,6 +33,12 @@
 //!                                        #   has committed to the access; a request dropped
 //!                                        #   later is no abandoned transfer for the bus monitor
 //!                                        #   (default: when it takes effect)
+//! count-from = "wires"                   # optional, any bus: the edge counts start at the
+//!                                        #   first CAN edge after cyc & stb appear on the wires
+//!                                        #   (a core that synchronises them straight into its
+//!                                        #   CAN clock); default "host-edge": after the first
+//!                                        #   host edge presenting them (a core that registers
+//!                                        #   the request in the host clock first, as ours)
 //! [tolerances]                           # CAN clocks, printed in every report
 //! tx-edge = 4                            # tx not compared this close to a model tx edge
 //! sof = 40                               # a SOF from bus idle may lag this much
@@ -151,6 +157,19 @@ pub struct Latch {
     pub avalon: Option<u32>,
     /// PIO.
     pub pio: Option<u32>,
+}
+
+/// The per-bus `count-from = "wires"` entries of a profile: the access's
+/// CAN edges are counted from the instant cyc & stb appear on the wires,
+/// not from the next host edge (false, the default).
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub struct CountFromWires {
+    /// Wishbone.
+    pub wishbone: bool,
+    /// Avalon (through a Wishbone bridge).
+    pub avalon: bool,
+    /// PIO.
+    pub pio: bool,
 }
 
 /// The per-bus `busy-after-ack` entries of a profile (see
@@ -305,6 +324,8 @@ pub struct Profile {
     pub latch: Latch,
     /// How long the core takes no new request after an ack, per bus.
     pub holdoff: Holdoff,
+    /// Where the access's CAN edges are counted from, per bus.
+    pub count_from_wires: CountFromWires,
     /// The comparator's tolerances for this core.
     pub tolerances: CompareConfig,
     /// Port names and polarities.
@@ -481,6 +502,9 @@ impl Profile {
                 if a.latch.is_some() || a.busy_after_ack.is_some() {
                     return Err(bad(a.takes_effect.span(), "access.i8051", "latch and busy-after-ack are not used on the 8051 bus (no handshake)".into()));
                 }
+                if let Some(c) = &a.count_from {
+                    return Err(bad(c.span(), "access.i8051", "count-from is not used on the 8051 bus (its edges count from the host edge raising RD or WR)".into()));
+                }
                 Some(access(a, "access.i8051")?)
             }
         };
@@ -525,6 +549,11 @@ impl Profile {
                 avalon: raw.access.avalon.latch.as_ref().map(|v| *v.get_ref()),
                 pio: raw.access.pio.latch.as_ref().map(|v| *v.get_ref()),
             },
+            count_from_wires: CountFromWires {
+                wishbone: raw.access.wishbone.count_from.as_ref().is_some_and(|c| *c.get_ref() == CountFrom::Wires),
+                avalon: raw.access.avalon.count_from.as_ref().is_some_and(|c| *c.get_ref() == CountFrom::Wires),
+                pio: raw.access.pio.count_from.as_ref().is_some_and(|c| *c.get_ref() == CountFrom::Wires),
+            },
             holdoff: Holdoff {
                 wishbone: busy(&raw.access.wishbone, "access.wishbone")?,
                 avalon: busy(&raw.access.avalon, "access.avalon")?,
@@ -551,9 +580,12 @@ impl Profile {
             PhaseOrigin::ResetModeExit => "reset-mode exit",
         };
         let ports = self.ports.describe();
-        let busy = |b: Option<BusyAfterAck>| match b {
-            None => String::new(),
-            Some(b) => format!(" (no new request until {}/{}/{} CAN/host/CAN edges after an ack)", b.can, b.host, b.can_again),
+        let busy = |b: Option<BusyAfterAck>, wires: bool| {
+            let w = if wires { " counted from the wires" } else { "" };
+            match b {
+                None => w.to_string(),
+                Some(b) => format!("{w} (no new request until {}/{}/{} CAN/host/CAN edges after an ack)", b.can, b.host, b.can_again),
+            }
         };
         let lag = match self.segment_lag {
             0 => String::new(),
@@ -564,11 +596,11 @@ impl Profile {
             self.name,
             self.file.as_ref().map(|f| format!(" ({})", f.display())).unwrap_or_default(),
             self.wishbone.describe(),
-            busy(self.holdoff.wishbone),
+            busy(self.holdoff.wishbone, self.count_from_wires.wishbone),
             self.avalon.describe(),
-            busy(self.holdoff.avalon),
+            busy(self.holdoff.avalon, self.count_from_wires.avalon),
             self.pio.describe(),
-            busy(self.holdoff.pio),
+            busy(self.holdoff.pio, self.count_from_wires.pio),
             if ports.is_empty() { "as can_top".to_string() } else { ports },
         ) + &match (&self.i8051, &self.i8051_inout_drive) {
             (None, None) => String::new(),
@@ -652,6 +684,13 @@ struct RawAccessSet {
 
 #[derive(Deserialize, Clone, Copy, PartialEq, Eq)]
 #[serde(rename_all = "kebab-case")]
+enum CountFrom {
+    HostEdge,
+    Wires,
+}
+
+#[derive(Deserialize, Clone, Copy, PartialEq, Eq)]
+#[serde(rename_all = "kebab-case")]
 enum TakesEffect {
     AtAck,
     CanEdges,
@@ -663,6 +702,7 @@ struct RawAccess {
     takes_effect: Spanned<TakesEffect>,
     latch: Option<Spanned<u32>>,
     busy_after_ack: Option<Spanned<Vec<u32>>>,
+    count_from: Option<Spanned<CountFrom>>,
     inout_drive: Option<Spanned<String>>,
     read: Option<Spanned<u32>>,
     write: Option<Spanned<u32>>,
@@ -782,6 +822,20 @@ mod tests {
         let hold = Some(BusyAfterAck { can: 3, host: 3, can_again: 2 });
         assert_eq!(oc.holdoff, Holdoff { wishbone: hold, avalon: hold, pio: hold });
         assert_eq!(Profile::rtl().holdoff, Holdoff::default(), "our RTL takes a new request at once");
+    }
+
+    #[test]
+    fn count_from_wires_is_per_bus_printed_and_refused_on_the_8051_bus() {
+        let p = Profile::parse(&GOOD.replace("[access.pio]\n", "[access.pio]\ncount-from = \"wires\"\n"), "p.toml").unwrap();
+        assert_eq!(p.count_from_wires, CountFromWires { wishbone: false, avalon: false, pio: true });
+        assert!(p.describe().contains(" counted from the wires"), "{}", p.describe());
+        let p = Profile::parse(&GOOD.replace("[access.pio]\n", "[access.pio]\ncount-from = \"host-edge\"\n"), "p.toml").unwrap();
+        assert_eq!(p.count_from_wires, CountFromWires::default());
+        assert!(!p.describe().contains("wires"));
+        let e = err(&GOOD.replace("[access.pio]\n", "[access.pio]\ncount-from = \"wire\"\n"));
+        assert!(e.starts_with("p.toml:"), "{e}");
+        let e = err(&GOOD.replace("[tolerances]", "[access.i8051]\ntakes-effect = \"at-ack\"\ncount-from = \"wires\"\n[tolerances]"));
+        assert!(e.contains("access.i8051: count-from is not used"), "{e}");
     }
 
     #[test]

@@ -989,6 +989,10 @@ impl Testbench {
                     // RD, a write with the release of WR (or its rise).
                     let launch = self.host.i8051_launch(write, &mut i8051_wr_seen);
                     launched = self.host.cycles() != c && launch;
+                } else if self.host.count_from_wires() {
+                    // The host edge that puts cyc & stb on the wires: the
+                    // core's synchroniser sees them at the next CAN edge.
+                    launched = self.host.cycles() != c && self.host.presented();
                 } else {
                     // The first host edge at which the DUT sees cyc & stb.
                     launched = self.host.cycles() != c && presented;

@@ -172,6 +172,11 @@ pub enum HostBfm {
     },
     /// Nios-style PIO bit-banging (seed 000 annexe 4).
     Pio,
+    /// The same program and wiring with the ack PIO's edge capture
+    /// register polled instead of its data register
+    /// (`bfm::PioAckInput::EdgeCapture`): for a core whose ack is a
+    /// one-clock pulse (`--host pio-edge`, command line only).
+    PioEdgeCapture,
     /// Intel-mode (8051) multiplexed bus (ALE, CS, RD, WR, shared port):
     /// our RTL through `can_top_8051`.
     I8051,
@@ -185,6 +190,7 @@ impl HostBfm {
             "wishbone" | "wb" => Some(HostBfm::Wishbone),
             "avalon" => Some(HostBfm::Avalon { begintransfer_cyc: false }),
             "pio" => Some(HostBfm::Pio),
+            "pio-edge" => Some(HostBfm::PioEdgeCapture),
             "i8051" | "8051" => Some(HostBfm::I8051),
             _ => None,
         }
@@ -197,6 +203,7 @@ impl HostBfm {
             HostBfm::Avalon { begintransfer_cyc: false } => "avalon",
             HostBfm::Avalon { begintransfer_cyc: true } => "avalon-begintransfer",
             HostBfm::Pio => "pio",
+            HostBfm::PioEdgeCapture => "pio-edge",
             HostBfm::I8051 => "i8051",
         }
     }

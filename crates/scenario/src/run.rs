@@ -258,7 +258,7 @@ pub fn tb_config(s: &Scenario, dut: &DutKind, opts: &RunOptions) -> Result<TbCon
         // A PIO master polls ack through a GPIO: our RTL needs its level
         // acknowledge (four-phase handshake, can_top ACK_LEVEL = 1) there,
         // as the thesis board would.
-        DutKind::Rtl | DutKind::AvalonWrapper if s.host == HostBfm::Pio => {
+        DutKind::Rtl | DutKind::AvalonWrapper if matches!(s.host, HostBfm::Pio | HostBfm::PioEdgeCapture) => {
             if cosim::bundled_tops().contains(&"can_top_pio") {
                 DutChoice::Bundled("can_top_pio".into())
             } else {
@@ -281,6 +281,7 @@ pub fn tb_config(s: &Scenario, dut: &DutKind, opts: &RunOptions) -> Result<TbCon
     let host = match s.host {
         HostBfm::Wishbone => cosim::HostBfm::Wishbone,
         HostBfm::Pio => cosim::HostBfm::Pio(bfm::PioTiming::default()),
+        HostBfm::PioEdgeCapture => cosim::HostBfm::Pio(bfm::PioTiming { ack_input: bfm::PioAckInput::EdgeCapture, ..Default::default() }),
         // DutChoice::Rtl is can_top_8051 under this host.
         HostBfm::I8051 => cosim::HostBfm::I8051(cosim::i8051_timing_for_rtl(s.host_hz as u64, s.can_hz as u64)),
         HostBfm::Avalon { begintransfer_cyc: true } => cosim::HostBfm::Avalon {

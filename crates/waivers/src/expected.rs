@@ -8,7 +8,7 @@
 //! scenario = "basic-sleep-wakeup"        # the scenario's `name`
 //! dut = ["opencores-can (*)"]            # DUT name globs, as for waivers
 //! host = "wishbone"                      # optional: the run's host (its own or --host):
-//!                                        # wishbone, avalon, avalon-begintransfer, pio, i8051;
+//!                                        # wishbone, avalon, avalon-begintransfer, pio, pio-edge, i8051;
 //!                                        # a list of them is accepted; absent: any host
 //! revisions = ["r3.."]                   # optional, as for waivers
 //! deviation = "D6"                       # row of docs/opencores-deviations.md
@@ -51,7 +51,7 @@ use crate::file::{DutGlob, KindName, RevRange, WaiverError};
 use crate::set::DutInfo;
 
 /// The hosts an entry may name (as `cancosim --host` and `[host] bfm` spell them).
-pub const HOSTS: &[&str] = &["wishbone", "avalon", "avalon-begintransfer", "pio", "i8051"];
+pub const HOSTS: &[&str] = &["wishbone", "avalon", "avalon-begintransfer", "pio", "pio-edge", "i8051"];
 
 /// The kinds of signature line, by their first word.
 pub const LINE_KINDS: &[&str] = &["divergence", "expectation", "verdict"];

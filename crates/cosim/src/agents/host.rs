@@ -131,6 +131,8 @@ pub struct HostAgent {
     /// 8051 host: the DUT takes a write when WR is released (our
     /// `can_top_8051`), not when WR rises (an external core).
     i8051_write_at_release: bool,
+    /// The profile's `count-from = "wires"` for the host bus in use.
+    count_from_wires: bool,
 }
 
 /// The host agent's settings from the bench configuration.
@@ -263,6 +265,12 @@ impl HostAgent {
                 })
                 .map(AckHoldoff::new),
             i8051_write_at_release: !s.external,
+            count_from_wires: profile.is_some_and(|p| match s.bfm {
+                HostBfm::Wishbone => p.count_from_wires.wishbone,
+                HostBfm::Avalon { wiring: AvalonWiring::Bridge, .. } => p.count_from_wires.avalon,
+                HostBfm::Pio(_) => p.count_from_wires.pio,
+                _ => false,
+            }),
         })
     }
 
@@ -488,6 +496,12 @@ impl HostAgent {
     /// The profile gives a handshake hold-off (`busy-after-ack`).
     pub fn has_holdoff(&self) -> bool {
         self.holdoff.is_some()
+    }
+
+    /// The profile says the core sees cyc & stb from the wires (its CAN
+    /// clock synchronises them), not from the next host edge.
+    pub fn count_from_wires(&self) -> bool {
+        self.count_from_wires
     }
 
     /// The profile's `latch` for this bus, if it gives one.
