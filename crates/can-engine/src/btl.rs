@@ -65,22 +65,17 @@ pub(crate) struct Btl {
     /// A synchronisation happened since the last sample point (rule 1).
     synced: bool,
     /// The state before the last quantum's end and what it was given, for
-    /// [`Btl::retime`] to redo it (see [`RETIME_LAG`]).
+    /// [`Btl::retime`] to redo it (see [`Btl::retime`]'s `lag`).
     before_tq: Option<BeforeTq>,
 }
 
-/// CAN clocks after a time quantum ends in which a bit-timing change
-/// (hardware-reset phase origin) still decides that quantum's segment
-/// change: the opencores core registers its prescaler's wrap twice
-/// (`clk_en`, `clk_en_q`) and moves its segments on the second, two clocks
-/// after the quantum boundary this model takes; a BTR write landing in
-/// those two clocks meets the old segment counter with the new lengths.
-/// Measured against the core's counters (read for facts) by simulating
-/// both for every landing phase of the thesis's BTR writes: without this,
-/// 1 landing phase in 4 left the model 2.5 or 4.5 quanta off the core
-/// (`--host pio-edge`, de2-with-ack-node: the core's first SOF while the
-/// model was still integrating).
-pub(crate) const RETIME_LAG: u32 = 2;
+/// The lag the unit tests use: the opencores core's (its profile's
+/// `segment-lag`): it registers its prescaler's wrap twice and moves its
+/// segments on the second, two clocks after the quantum boundary this
+/// model takes, so a BTR write landing in those two clocks meets the old
+/// segment counter with the new lengths.
+#[cfg(test)]
+const RETIME_LAG: u32 = 2;
 
 /// What [`Btl::tq`] started from, and its arguments.
 #[derive(Clone, Copy, Debug)]
@@ -134,10 +129,11 @@ impl Btl {
     /// its quantum (a bit already past its new end ends at the next one).
     ///
     /// `redo_last`: the change may redo the quantum that ended less than
-    /// [`RETIME_LAG`] clocks ago, with the new lengths (only where nothing
-    /// but the bit timing saw that quantum: in reset mode).
-    pub(crate) fn retime(&mut self, t: BusTiming, redo_last: bool) {
-        let redo = if redo_last && self.clk < RETIME_LAG { self.before_tq } else { None };
+    /// `lag` clocks ago, with the new lengths (only where nothing but the
+    /// bit timing saw that quantum: in reset mode). `lag` is the DUT's
+    /// declared segment lag (profile `segment-lag`; 0: never).
+    pub(crate) fn retime(&mut self, t: BusTiming, redo_last: bool, lag: u32) {
+        let redo = if redo_last && self.clk < lag { self.before_tq } else { None };
         if let Some(b) = redo {
             self.pos = b.pos;
             self.sp = b.sp;
@@ -321,7 +317,7 @@ mod retime_tests {
         assert_eq!(b.tq(true, false, false), Tq::Quiet, "sync segment");
         assert_eq!(b.tq(true, false, false), Tq::Sample(true), "TSEG1 (1 tq) ends at the sample point");
         // Now in phase segment 2 (its first quantum is next); TSEG2 becomes 3 tq.
-        b.retime(BusTiming::from_btr(0x00, 0x25), false);
+        b.retime(BusTiming::from_btr(0x00, 0x25), false, RETIME_LAG);
         assert_eq!(to_bit_start(&mut b), (3, 0), "phase segment 2 of 3 tq, no sample");
         // The next bit has the new lengths: sample after 6 tq, 10 tq in all.
         assert_eq!(to_bit_start(&mut b), (10, 1));
@@ -346,18 +342,18 @@ mod retime_tests {
             for _ in 0..clocks {
                 assert!(!b.clock());
             }
-            b.retime(BusTiming::from_btr(0x41, 0x25), true);
+            b.retime(BusTiming::from_btr(0x41, 0x25), true, RETIME_LAG);
             assert_eq!(to_bit_start(&mut b), (8, 1), "{clocks} clock(s) after: TSEG1 to its new end, then TSEG2");
         }
         let mut b = at_sample();
         for _ in 0..RETIME_LAG {
             assert!(!b.clock());
         }
-        b.retime(BusTiming::from_btr(0x41, 0x25), true);
+        b.retime(BusTiming::from_btr(0x41, 0x25), true, RETIME_LAG);
         assert_eq!(to_bit_start(&mut b), (3, 0), "past the lag: phase segment 2 of 3 tq");
         // Outside reset mode (redo_last false) nothing is redone.
         let mut b = at_sample();
-        b.retime(BusTiming::from_btr(0x41, 0x25), false);
+        b.retime(BusTiming::from_btr(0x41, 0x25), false, RETIME_LAG);
         assert_eq!(to_bit_start(&mut b), (3, 0));
     }
 
@@ -366,7 +362,7 @@ mod retime_tests {
     fn retime_in_tseg1_takes_the_new_lengths() {
         let mut b = Btl::new(BusTiming::from_btr(0x00, 0x00));
         to_bit_start(&mut b);
-        b.retime(BusTiming::from_btr(0x00, 0x25), false);
+        b.retime(BusTiming::from_btr(0x00, 0x25), false, RETIME_LAG);
         assert_eq!(to_bit_start(&mut b), (10, 1), "sync + 6 tq TSEG1 + 3 tq TSEG2");
     }
 }
@@ -404,7 +400,7 @@ mod tests {
         assert_eq!(next_event(&mut b).0, Tq::Sample(true));
         // Now in TSEG2; TSEG1 grows to 6 tq and TSEG2 to 3 tq: the bit ends
         // after the new TSEG2, without a second sample point.
-        b.retime(BusTiming::from_btr(0x41, 0x25), false);
+        b.retime(BusTiming::from_btr(0x41, 0x25), false, RETIME_LAG);
         assert_eq!(next_event(&mut b), (Tq::BitStart, 3));
         assert_eq!(next_event(&mut b), (Tq::Sample(true), 7), "then whole bits: sync + 6 tq");
     }

@@ -170,6 +170,9 @@ pub struct Engine {
     bits: u64,
     /// Where the bit timing's phase starts from.
     origin: PhaseOrigin,
+    /// CAN clocks after a quantum's end in which a bit-timing change still
+    /// decides that quantum (hardware-reset origin only; 0: none).
+    segment_lag: u32,
 }
 
 impl Engine {
@@ -182,7 +185,22 @@ impl Engine {
             tx_out: RECESSIVE,
             bits: 0,
             origin: PhaseOrigin::ResetModeExit,
+            segment_lag: 0,
         }
+    }
+
+    /// Sets the DUT's declared segment lag (profile `segment-lag`): a
+    /// bit-timing change in reset mode that lands less than `lag` CAN
+    /// clocks after a quantum's end redoes that quantum with the new
+    /// lengths, as a core whose segment logic acts `lag` clocks after its
+    /// prescaler's quantum does. Kept across [`Engine::hard_reset`].
+    pub fn set_segment_lag(&mut self, lag: u32) {
+        self.segment_lag = lag;
+    }
+
+    /// The declared segment lag ([`Engine::set_segment_lag`]).
+    pub fn segment_lag(&self) -> u32 {
+        self.segment_lag
     }
 
     /// Sets where the bit timing's phase starts from (kept across
@@ -216,7 +234,7 @@ impl Engine {
         self.timing = timing;
         match self.origin {
             PhaseOrigin::ResetModeExit => self.btl.set_timing(timing),
-            PhaseOrigin::HardwareReset => self.btl.retime(timing, self.bsp.reset_mode),
+            PhaseOrigin::HardwareReset => self.btl.retime(timing, self.bsp.reset_mode, self.segment_lag),
         }
     }
 

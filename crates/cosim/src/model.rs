@@ -226,6 +226,14 @@ impl ModelRef {
         r
     }
 
+    /// With the DUT's declared segment lag (profile `segment-lag`): a BTR
+    /// write in reset mode landing that many CAN clocks or fewer after a
+    /// quantum's end redoes the quantum, as the DUT's segment logic does.
+    pub fn with_segment_lag(mut self, lag: u32) -> ModelRef {
+        self.m.set_segment_lag(lag);
+        self
+    }
+
     /// Recomputes the cached view from the model (its `tx` and `clkout`
     /// are read afresh by `step` at every clock).
     fn observe(&mut self) {

@@ -589,7 +589,7 @@ impl Profile {
         };
         let lag = match self.segment_lag {
             0 => String::new(),
-            n => format!(" (its segments act {n} CAN clocks after each quantum; BTR1 writes taken {n} CAN edges earlier)"),
+            n => format!(" (its segments act {n} CAN clocks after each quantum: a BTR write in reset mode landing within them redoes that quantum)"),
         };
         format!(
             "profile {}{}: bit timing phase from the {origin}{lag}; host access takes effect: wishbone {}{}, avalon {}{}, pio {}{}; ports {}",

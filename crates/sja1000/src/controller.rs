@@ -419,6 +419,18 @@ impl Sja1000 {
         self.engine.set_phase_origin(origin);
     }
 
+    /// The DUT's declared segment lag (a profile's `segment-lag`, with the
+    /// hardware-reset phase origin); kept across hardware resets. See
+    /// [`Engine::set_segment_lag`].
+    pub fn set_segment_lag(&mut self, lag: u32) {
+        self.engine.set_segment_lag(lag);
+    }
+
+    /// The declared segment lag ([`Sja1000::set_segment_lag`]).
+    pub fn segment_lag(&self) -> u32 {
+        self.engine.segment_lag()
+    }
+
     /// Hardware reset (RST pin): hardware reset values from the register
     /// map; registers the data sheet leaves undefined read 0 here.
     pub fn hard_reset(&mut self) {
@@ -428,6 +440,7 @@ impl Sja1000 {
         });
         let scratch = std::mem::take(&mut self.scratch);
         let origin = self.engine.phase_origin();
+        let segment_lag = self.engine.segment_lag();
         *self = Sja1000 {
             engine: Engine::new(BusTiming::from_btr(0, 0), Options::default()),
             fifo: RxFifo::default(),
@@ -445,6 +458,7 @@ impl Sja1000 {
         }
         self.rm = true;
         self.engine.set_phase_origin(origin);
+        self.engine.set_segment_lag(segment_lag);
         self.engine.set_reset_mode(true);
         self.push_engine_config();
         self.engine.take_events().for_each(drop);

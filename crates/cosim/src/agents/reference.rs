@@ -12,9 +12,6 @@ use crate::profile::{AccessTiming, PhaseOrigin, Profile};
 use crate::types::RefView;
 use waivers::Resync;
 
-/// BTR1's address (the same in PeliCAN and BasicCAN mode).
-const BTR1_ADDR: u8 = 7;
-
 /// The reference of a lockstep run.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum ReferenceChoice {
@@ -140,11 +137,6 @@ pub struct ReferenceAgent {
     /// The model, if the run is in lockstep.
     pub model: Option<AnyRef>,
     timing: RefTiming,
-    /// CAN edges earlier than `timing` at which a BTR1 write is taken: the
-    /// profile's `segment-lag` (a core whose segment counters act that
-    /// many clocks after the end of each quantum of a prescaler running in
-    /// phase with the model's, from the hardware reset).
-    btr1_lead: u32,
     /// A `model-waits-bus-free-after-bus-on` resync holds the model's next
     /// frame: start it at the DUT's next tx falling edge (its SOF).
     await_dut_sof: bool,
@@ -157,31 +149,25 @@ impl ReferenceAgent {
     /// where `profile` says, taking host accesses as `timing` says.
     pub fn new(choice: Option<ReferenceChoice>, profile: Option<&Profile>, timing: RefTiming) -> ReferenceAgent {
         let model = choice.map(|c| match c {
-            ReferenceChoice::Model => AnyRef::Model(ModelRef::with_phase_origin(
-                profile.map_or(PhaseOrigin::ResetModeExit, |p| p.phase_origin),
-            )),
+            // The profile's segment lag goes to the model's bit timing: a BTR
+            // write that lands within it after a quantum's end redoes that
+            // quantum, as the core's segment logic does.
+            ReferenceChoice::Model => AnyRef::Model(
+                ModelRef::with_phase_origin(profile.map_or(PhaseOrigin::ResetModeExit, |p| p.phase_origin))
+                    .with_segment_lag(profile.map_or(0, |p| p.segment_lag)),
+            ),
             ReferenceChoice::Echo => AnyRef::Other(Box::new(EchoModel::new())),
         });
-        let btr1_lead = profile.map_or(0, |p| p.segment_lag);
-        ReferenceAgent { model, timing, btr1_lead, await_dut_sof: false, await_prev_dut_tx: true }
+        ReferenceAgent { model, timing, await_dut_sof: false, await_prev_dut_tx: true }
     }
 
     /// CAN edges after the launch edge at which the reference takes an
-    /// access to `addr` ([`RefTiming::due_edges`] of [`Self::timing`]),
-    /// except a BTR1 write: `segment-lag` edges earlier (not before the
-    /// launch), so that it meets the model's bit at the point of its
-    /// course where the write meets the core's. The write's effect on the
-    /// timing is then the core's: which segment the bit is in, how many
-    /// quanta of it are done. BTR0 is not moved: its prescale factor acts
-    /// on the prescaler, which runs in phase with the model's.
+    /// access to `addr` ([`RefTiming::due_edges`] of [`Self::timing`]).
+    /// (A core's segment lag acts in the model's bit timing, not here:
+    /// [`ModelRef::with_segment_lag`].)
     #[inline]
     pub fn due_edges(&self, write: bool, addr: u8) -> u32 {
-        let due = self.timing().due_edges(write, addr);
-        if write && addr == BTR1_ADDR && matches!(self.timing(), RefTiming::CanEdges { .. }) {
-            due.saturating_sub(self.btr1_lead)
-        } else {
-            due
-        }
+        self.timing().due_edges(write, addr)
     }
 
     /// When the reference takes a host access: the declared timing in
@@ -326,23 +312,22 @@ mod tests {
     }
 
     #[test]
-    fn a_btr1_write_is_taken_segment_lag_edges_earlier_and_nothing_else_is() {
+    fn the_segment_lag_goes_to_the_model_not_to_the_access_timing() {
         let oc = Profile::find("opencores-can").expect("shipped profile");
         let t = RefTiming::for_dut(DutKind::External, HostKind::Wishbone, Some(&oc));
         assert_eq!(t, RefTiming::CanEdges { read: 3, write: 3, command: 0 });
         let r = ReferenceAgent::new(Some(ReferenceChoice::Model), Some(&oc), t);
-        // BTR1 (7) written at edge 3 - 2; BTR0 (6), other writes, reads and CMR as declared.
-        assert_eq!(r.due_edges(true, 7), 1);
-        assert_eq!((r.due_edges(true, 6), r.due_edges(true, 4), r.due_edges(false, 7), r.due_edges(true, 1)), (3, 3, 3, 0));
-        // Never before the launch (the 8051 bus writes at edge 1).
-        let i = RefTiming::for_dut(DutKind::External, HostKind::I8051, Some(&oc));
-        assert_eq!(ReferenceAgent::new(Some(ReferenceChoice::Model), Some(&oc), i).due_edges(true, 7), 0);
-        // Our RTL declares none; no lockstep or at the ack: nothing to move.
+        // Every access as declared, BTR1 (7) included.
+        assert_eq!((r.due_edges(true, 7), r.due_edges(true, 6), r.due_edges(false, 7), r.due_edges(true, 1)), (3, 3, 3, 0));
+        let lag = |r: &ReferenceAgent| match &r.model {
+            Some(AnyRef::Model(m)) => m.model().segment_lag(),
+            _ => panic!("a model reference"),
+        };
+        assert_eq!(lag(&r), 2);
+        // Our RTL declares none.
         let rtl = Profile::rtl();
         let t = RefTiming::for_dut(DutKind::Rtl, HostKind::Wishbone, Some(&rtl));
-        assert_eq!(ReferenceAgent::new(Some(ReferenceChoice::Model), Some(&rtl), t).due_edges(true, 7), 4);
-        assert_eq!(ReferenceAgent::new(None, Some(&oc), t).due_edges(true, 7), 0);
-        assert_eq!(ReferenceAgent::new(Some(ReferenceChoice::Model), Some(&oc), RefTiming::AtAck).due_edges(true, 7), 0);
+        assert_eq!(lag(&ReferenceAgent::new(Some(ReferenceChoice::Model), Some(&rtl), t)), 0);
     }
 
     #[test]
