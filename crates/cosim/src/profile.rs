@@ -11,8 +11,8 @@
 //! segment-lag = 2                        # optional, hardware-reset only (default 0): CAN
 //!                                        #   clocks from the end of a quantum of the core's
 //!                                        #   prescaler (the model's) to its segment counters
-//!                                        #   acting on it; the reference takes a BTR1 write
-//!                                        #   this many CAN edges earlier (see below)
+//!                                        #   acting on it; a BTR write in reset mode that
+//!                                        #   lands within it redoes that quantum (see below)
 //! [access.wishbone]                      # when a host access takes effect, per host bus
 //! takes-effect = "can-edges"             # or "at-ack" (alone)
 //! read = 3                               # after the n-th CAN (core) clock rising edge
@@ -299,12 +299,11 @@ pub struct Profile {
     /// CAN clocks by which the core's segment and quantum counters act
     /// after the end of a quantum of its prescaler (`segment-lag`, with a
     /// hardware-reset phase origin only; 0 otherwise). The model acts at
-    /// the end of the quantum itself, so a BTR1 write landing at the same
-    /// clock on both would meet the core's bit `segment_lag` clocks
-    /// earlier in its course than the model's: at BRP 0 (2 clocks a
-    /// quantum) a whole quantum, another segment. The reference takes
-    /// BTR1 writes that many CAN edges earlier
-    /// ([`crate::agents::reference::ReferenceAgent::due_edges`]).
+    /// the end of the quantum itself, so a BTR write landing less than
+    /// `segment_lag` clocks after a quantum's end still decides that
+    /// quantum on the core: the reference's model redoes the quantum with
+    /// the new lengths, in reset mode (`Sja1000::set_segment_lag`; at BRP 0,
+    /// 2 clocks a quantum, it decides which segment the bit is in).
     pub segment_lag: u32,
     /// When a Wishbone access takes effect.
     pub wishbone: AccessTiming,
@@ -909,7 +908,7 @@ mod tests {
         assert_eq!(Profile::find("opencores-can").unwrap().segment_lag, 2);
         let p = Profile::parse(&GOOD.replace("phase-origin = \"hardware-reset\"\n", "phase-origin = \"hardware-reset\"\nsegment-lag = 2\n"), "p").unwrap();
         assert_eq!(p.segment_lag, 2);
-        assert!(p.describe().contains("BTR1 writes taken 2 CAN edges earlier"), "{}", p.describe());
+        assert!(p.describe().contains("a BTR write in reset mode landing within them redoes that quantum"), "{}", p.describe());
         let e = err(&GOOD.replace("phase-origin = \"hardware-reset\"\n", "phase-origin = \"reset-mode-exit\"\nsegment-lag = 2\n"));
         assert!(e.starts_with("p.toml:4: segment-lag: 2: only with phase-origin = \"hardware-reset\""), "{e}");
         let e = err(&GOOD.replace("phase-origin = \"hardware-reset\"\n", "phase-origin = \"hardware-reset\"\nsegment-lag = 9\n"));

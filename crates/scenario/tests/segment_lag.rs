@@ -1,7 +1,8 @@
-//! A profile's `segment-lag` (issue 15, tx-8.7.9 at maximum BTR): the
-//! reference takes a BTR1 write that many CAN edges earlier, so that at BRP
-//! 0 (2 clocks a quantum) the write meets the model's bit where it meets
-//! the core's. What it still catches: the scenario played with 0..13 extra
+//! A profile's `segment-lag` (issue 15, tx-8.7.9 at maximum BTR): a BTR
+//! write in reset mode landing that many clocks or fewer after a quantum's
+//! end redoes the quantum in the reference's model, as the core's segment
+//! logic does, so that at BRP 0 (2 clocks a quantum) the write meets the
+//! model's bit where it meets the core's. What it still catches: the scenario played with 0..13 extra
 //! register writes before BTR0 (the BTR1 write landing at every clock of
 //! the 6-clock reset-value bit) fails on a core whose grid is not the
 //! declared one.
