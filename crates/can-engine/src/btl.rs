@@ -67,6 +67,9 @@ pub(crate) struct Btl {
     /// The state before the last quantum's end and what it was given, for
     /// [`Btl::retime`] to redo it (see [`Btl::retime`]'s `lag`).
     before_tq: Option<BeforeTq>,
+    /// CAN clocks after a quantum's end in which [`Btl::retime`] may redo
+    /// it (the DUT's declared segment lag; 0: never, and nothing is kept).
+    redo_lag: u32,
 }
 
 /// The lag the unit tests use: the opencores core's (its profile's
@@ -109,6 +112,7 @@ impl Btl {
             last_sample: true,
             synced: false,
             before_tq: None,
+            redo_lag: 0,
         };
         b.set_timing(t);
         b
@@ -129,11 +133,10 @@ impl Btl {
     /// its quantum (a bit already past its new end ends at the next one).
     ///
     /// `redo_last`: the change may redo the quantum that ended less than
-    /// `lag` clocks ago, with the new lengths (only where nothing but the
-    /// bit timing saw that quantum: in reset mode). `lag` is the DUT's
-    /// declared segment lag (profile `segment-lag`; 0: never).
-    pub(crate) fn retime(&mut self, t: BusTiming, redo_last: bool, lag: u32) {
-        let redo = if redo_last && self.clk < lag { self.before_tq } else { None };
+    /// [`Btl::set_redo_lag`] clocks ago, with the new lengths (only where
+    /// nothing but the bit timing saw that quantum: in reset mode).
+    pub(crate) fn retime(&mut self, t: BusTiming, redo_last: bool) {
+        let redo = if redo_last && self.clk < self.redo_lag { self.before_tq } else { None };
         if let Some(b) = redo {
             self.pos = b.pos;
             self.sp = b.sp;
@@ -147,6 +150,12 @@ impl Btl {
         if let Some(b) = redo {
             let _ = self.tq(b.rx, b.hard_sync, b.sending_dominant);
         }
+    }
+
+    /// The DUT's declared segment lag (profile `segment-lag`), for
+    /// [`Btl::retime`]'s redo.
+    pub(crate) fn set_redo_lag(&mut self, lag: u32) {
+        self.redo_lag = lag;
     }
 
     /// [`Btl::retime`]'s new lengths, from the current segment.
@@ -217,7 +226,8 @@ impl Btl {
     /// dominant bit would be a start of frame now; `sending_dominant`: this
     /// node drives dominant in the current bit.
     pub(crate) fn tq(&mut self, rx: bool, hard_sync: bool, sending_dominant: bool) -> Tq {
-        self.before_tq = Some(BeforeTq {
+        // Kept only when a redo can use it (a declared segment lag).
+        self.before_tq = (self.redo_lag > 0).then(|| BeforeTq {
             pos: self.pos,
             sp: self.sp,
             end: self.end,
@@ -317,7 +327,7 @@ mod retime_tests {
         assert_eq!(b.tq(true, false, false), Tq::Quiet, "sync segment");
         assert_eq!(b.tq(true, false, false), Tq::Sample(true), "TSEG1 (1 tq) ends at the sample point");
         // Now in phase segment 2 (its first quantum is next); TSEG2 becomes 3 tq.
-        b.retime(BusTiming::from_btr(0x00, 0x25), false, RETIME_LAG);
+        b.retime(BusTiming::from_btr(0x00, 0x25), false);
         assert_eq!(to_bit_start(&mut b), (3, 0), "phase segment 2 of 3 tq, no sample");
         // The next bit has the new lengths: sample after 6 tq, 10 tq in all.
         assert_eq!(to_bit_start(&mut b), (10, 1));
@@ -332,6 +342,7 @@ mod retime_tests {
     fn retime_just_after_a_quantum_redoes_it_with_the_new_lengths() {
         let at_sample = || {
             let mut b = Btl::new(BusTiming::from_btr(0x41, 0x00));
+            b.set_redo_lag(RETIME_LAG);
             to_bit_start(&mut b);
             assert_eq!(b.tq(true, false, false), Tq::Quiet, "sync segment");
             assert_eq!(b.tq(true, false, false), Tq::Sample(true), "old TSEG1 ends");
@@ -342,18 +353,18 @@ mod retime_tests {
             for _ in 0..clocks {
                 assert!(!b.clock());
             }
-            b.retime(BusTiming::from_btr(0x41, 0x25), true, RETIME_LAG);
+            b.retime(BusTiming::from_btr(0x41, 0x25), true);
             assert_eq!(to_bit_start(&mut b), (8, 1), "{clocks} clock(s) after: TSEG1 to its new end, then TSEG2");
         }
         let mut b = at_sample();
         for _ in 0..RETIME_LAG {
             assert!(!b.clock());
         }
-        b.retime(BusTiming::from_btr(0x41, 0x25), true, RETIME_LAG);
+        b.retime(BusTiming::from_btr(0x41, 0x25), true);
         assert_eq!(to_bit_start(&mut b), (3, 0), "past the lag: phase segment 2 of 3 tq");
         // Outside reset mode (redo_last false) nothing is redone.
         let mut b = at_sample();
-        b.retime(BusTiming::from_btr(0x41, 0x25), false, RETIME_LAG);
+        b.retime(BusTiming::from_btr(0x41, 0x25), false);
         assert_eq!(to_bit_start(&mut b), (3, 0));
     }
 
@@ -362,7 +373,7 @@ mod retime_tests {
     fn retime_in_tseg1_takes_the_new_lengths() {
         let mut b = Btl::new(BusTiming::from_btr(0x00, 0x00));
         to_bit_start(&mut b);
-        b.retime(BusTiming::from_btr(0x00, 0x25), false, RETIME_LAG);
+        b.retime(BusTiming::from_btr(0x00, 0x25), false);
         assert_eq!(to_bit_start(&mut b), (10, 1), "sync + 6 tq TSEG1 + 3 tq TSEG2");
     }
 }
@@ -400,7 +411,7 @@ mod tests {
         assert_eq!(next_event(&mut b).0, Tq::Sample(true));
         // Now in TSEG2; TSEG1 grows to 6 tq and TSEG2 to 3 tq: the bit ends
         // after the new TSEG2, without a second sample point.
-        b.retime(BusTiming::from_btr(0x41, 0x25), false, RETIME_LAG);
+        b.retime(BusTiming::from_btr(0x41, 0x25), false);
         assert_eq!(next_event(&mut b), (Tq::BitStart, 3));
         assert_eq!(next_event(&mut b), (Tq::Sample(true), 7), "then whole bits: sync + 6 tq");
     }

@@ -196,6 +196,7 @@ impl Engine {
     /// prescaler's quantum does. Kept across [`Engine::hard_reset`].
     pub fn set_segment_lag(&mut self, lag: u32) {
         self.segment_lag = lag;
+        self.btl.set_redo_lag(lag);
     }
 
     /// The declared segment lag ([`Engine::set_segment_lag`]).
@@ -226,6 +227,7 @@ impl Engine {
         let opt = self.bsp.opt;
         self.bsp = Bsp::new(opt);
         self.btl = Btl::new(self.timing);
+        self.btl.set_redo_lag(self.segment_lag);
         self.tx_out = RECESSIVE;
     }
 
@@ -234,7 +236,7 @@ impl Engine {
         self.timing = timing;
         match self.origin {
             PhaseOrigin::ResetModeExit => self.btl.set_timing(timing),
-            PhaseOrigin::HardwareReset => self.btl.retime(timing, self.bsp.reset_mode, self.segment_lag),
+            PhaseOrigin::HardwareReset => self.btl.retime(timing, self.bsp.reset_mode),
         }
     }
 
