@@ -185,7 +185,7 @@ pub fn instrument(src: &CoreSources, from: &MutationSource, cache: &Path) -> Res
             None
         }
         MutationSource::Saved(p) => {
-            let t = std::fs::read_to_string(p).map_err(io(format!("reading {}", p.display())))?;
+            let t = relocate(&std::fs::read_to_string(p).map_err(io(format!("reading {}", p.display())))?, &files);
             read_list(&t, &p.display().to_string())?;
             fnv1a(&mut h, t.as_bytes());
             Some(t)
@@ -212,6 +212,38 @@ pub fn instrument(src: &CoreSources, from: &MutationSource, cache: &Path) -> Res
         mutations,
         build_errors: errors,
     })
+}
+
+/// A saved list made in another checkout names its cells after that
+/// checkout's source paths (yosys puts the path read into `$add$/old/rtl/x.v:47$557`
+/// and `-src`), so none of its cells would be found here. Each path that ends
+/// in the name of one of this core's files (a name no other file of the core
+/// has) is moved to that file; everything else is kept as written.
+pub fn relocate(list: &str, files: &[PathBuf]) -> String {
+    let mut out = String::with_capacity(list.len());
+    for line in list.split_inclusive('\n') {
+        let mut l = line.to_string();
+        for f in files {
+            let Some(name) = f.file_name().and_then(|n| n.to_str()) else { continue };
+            if files.iter().filter(|g| g.file_name() == f.file_name()).count() != 1 {
+                continue; // ambiguous: two files of that name
+            }
+            let here = f.display().to_string();
+            let needle = format!("/{name}:");
+            let mut from = 0;
+            while let Some(i) = l[from..].find(&needle).map(|i| i + from) {
+                // the path starts after the delimiter yosys writes before it
+                let start = l[..i].rfind([' ', '\t', '$']).map_or(0, |d| d + 1);
+                let end = i + needle.len() - 1;
+                if l[start..end] != here {
+                    l.replace_range(start..end, &here);
+                }
+                from = start + here.len() + 1;
+            }
+        }
+        out += &l;
+    }
+    out
 }
 
 /// The `read_verilog` line of the core (defines, include directories, files
@@ -281,6 +313,25 @@ fn build(src: &CoreSources, files: &[PathBuf], from: &MutationSource, saved: Opt
 
 #[cfg(test)]
 mod tests {
+    /// A list saved under /work/main/rtl applies to a checkout elsewhere:
+    /// both the cell name and the `-src` paths move; a path to a file the
+    /// core does not have is left alone.
+    #[test]
+    fn a_saved_list_moves_to_this_checkouts_paths() {
+        let files = vec![std::path::PathBuf::from("/home/u/co/rtl/can_btl.v"), std::path::PathBuf::from("/home/u/co/rtl/can_top.v")];
+        let line = "mutate -mode cnot1 -module can_top -cell $flatten\\u_btl.$add$/work/main/rtl/can_btl.v:47$557 -port Y -src /work/main/rtl/can_top.v:111.13-116.6 -src /work/main/rtl/can_btl.v:47.23-47.43 -src /x/other.v:1.1-1.2\n";
+        let got = super::relocate(line, &files);
+        assert_eq!(
+            got,
+            "mutate -mode cnot1 -module can_top -cell $flatten\\u_btl.$add$/home/u/co/rtl/can_btl.v:47$557 -port Y -src /home/u/co/rtl/can_top.v:111.13-116.6 -src /home/u/co/rtl/can_btl.v:47.23-47.43 -src /x/other.v:1.1-1.2\n"
+        );
+        // already here: unchanged
+        assert_eq!(super::relocate(&got, &files), got);
+        // two files of one name: no guess
+        let twin = vec![files[0].clone(), std::path::PathBuf::from("/elsewhere/can_btl.v")];
+        assert_eq!(super::relocate(line, &twin), line);
+    }
+
     /// A relative work directory (`--out out/x` from the CLI) works: the
     /// script path handed to yosys must not be relative to the directory
     /// yosys runs in (the formal check failed with "Can't open script file").
