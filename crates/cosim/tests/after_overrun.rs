@@ -7,52 +7,17 @@
 //! (self-test mode, self reception): five extended 8-byte messages (13
 //! bytes each) overrun the 64-byte FIFO once.
 
+mod common;
+use common::AlteredModel;
 use std::sync::Arc;
 
-use bfm::{WbMasterOut, WbSlaveOut};
-use cosim::model::ModelDut;
 use cosim::waivers::{CollectMode, WaiverReport, WaiverSet};
-use cosim::{CanPins, CompareConfig, CustomDut, Dut, DutChoice, HostBfm, ReferenceChoice, TbConfig, Testbench};
+use cosim::{CompareConfig, CustomDut, Dut, DutChoice, HostBfm, ReferenceChoice, TbConfig, Testbench};
 use diagnose::DivergenceKind;
 
 const MOD: u8 = 0;
 const CMR: u8 = 1;
 const RMC: u8 = 29;
-
-/// The golden model, except that its RMC reads one more.
-struct RmcOneMore {
-    inner: ModelDut,
-    wb_in: WbMasterOut,
-}
-
-impl Dut for RmcOneMore {
-    fn name(&self) -> String {
-        "golden model, RMC one more".into()
-    }
-    fn set_reset(&mut self, on: bool) {
-        self.inner.set_reset(on);
-    }
-    fn set_wb(&mut self, m: &WbMasterOut) {
-        self.wb_in = *m;
-        self.inner.set_wb(m);
-    }
-    fn wb(&self) -> WbSlaveOut {
-        let mut o = self.inner.wb();
-        if o.ack && !self.wb_in.we && self.wb_in.adr == RMC {
-            o.dat += 1;
-        }
-        o
-    }
-    fn set_rx(&mut self, rx: bool) {
-        self.inner.set_rx(rx);
-    }
-    fn can(&self) -> CanPins {
-        self.inner.can()
-    }
-    fn eval(&mut self, host_clk: bool, can_clk: bool) {
-        self.inner.eval(host_clk, can_clk);
-    }
-}
 
 const WAIVER: &str = r#"
 [[waiver]]
@@ -68,7 +33,7 @@ resync = ["none"]
 
 fn bench(waiver: &str) -> Testbench {
     let make: Arc<dyn Fn() -> Box<dyn Dut> + Send + Sync> =
-        Arc::new(|| Box::new(RmcOneMore { inner: ModelDut::new(), wb_in: WbMasterOut::default() }));
+        Arc::new(|| Box::new(AlteredModel::new("golden model, RMC one more").on_read(|adr, d, _| if adr == RMC { d.wrapping_add(1) } else { d })));
     Testbench::new(TbConfig {
         scenario: "rmc-one-more".into(),
         dut: DutChoice::Custom(CustomDut { name: "rmc-one-more".into(), make }),

@@ -4,52 +4,23 @@
 //! cascade of the first. The DUT is the golden model behind a wrapper with
 //! one deliberate deviation: a host write of TXERR stores the value + 1.
 
+mod common;
+use common::AlteredModel;
 use std::sync::Arc;
 
-use bfm::{WbMasterOut, WbSlaveOut};
-use cosim::model::ModelDut;
 use cosim::waivers::CollectMode;
-use cosim::{CanPins, CompareConfig, CustomDut, Dut, DutChoice, HostBfm, ReferenceChoice, TbConfig, Testbench};
+use cosim::{CompareConfig, CustomDut, Dut, DutChoice, HostBfm, ReferenceChoice, TbConfig, Testbench};
 use diagnose::DivergenceKind;
 
 const TXERR: u8 = 15;
 
-/// The golden model, except that a written TXERR is stored one higher.
-struct TxerrWrittenPlusOne {
-    inner: ModelDut,
-}
-
-impl Dut for TxerrWrittenPlusOne {
-    fn name(&self) -> String {
-        "golden model, TXERR written + 1".into()
-    }
-    fn set_reset(&mut self, on: bool) {
-        self.inner.set_reset(on);
-    }
-    fn set_wb(&mut self, m: &WbMasterOut) {
-        let mut m = *m;
-        if m.we && m.adr == TXERR {
-            m.dat = m.dat.wrapping_add(1);
-        }
-        self.inner.set_wb(&m);
-    }
-    fn wb(&self) -> WbSlaveOut {
-        self.inner.wb()
-    }
-    fn set_rx(&mut self, rx: bool) {
-        self.inner.set_rx(rx);
-    }
-    fn can(&self) -> CanPins {
-        self.inner.can()
-    }
-    fn eval(&mut self, host_clk: bool, can_clk: bool) {
-        self.inner.eval(host_clk, can_clk);
-    }
-}
-
 fn bench() -> Testbench {
     let make: Arc<dyn Fn() -> Box<dyn Dut> + Send + Sync> =
-        Arc::new(|| Box::new(TxerrWrittenPlusOne { inner: ModelDut::new() }));
+        Arc::new(|| Box::new(AlteredModel::new("golden model, TXERR written + 1").on_write(|m| {
+            if m.we && m.adr == TXERR {
+                m.dat = m.dat.wrapping_add(1);
+            }
+        })));
     Testbench::new(TbConfig {
         scenario: "txerr-written-plus-one".into(),
         dut: DutChoice::Custom(CustomDut { name: "txerr-written-plus-one".into(), make }),

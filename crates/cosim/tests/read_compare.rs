@@ -4,13 +4,13 @@
 //! wrapper with one deliberate deviation (the opencores core's: an abort
 //! sets SR.TCS), so no Verilator build and no third-party core is needed.
 
+mod common;
+use common::AlteredModel;
 use std::sync::Arc;
 
-use bfm::{WbMasterOut, WbSlaveOut};
-use cosim::model::ModelDut;
 use cosim::waivers::CollectMode;
 use cosim::{
-    CanPins, CompareConfig, CustomDut, Dut, DutChoice, HostBfm, ReferenceChoice, TbConfig,
+    CompareConfig, CustomDut, Dut, DutChoice, HostBfm, ReferenceChoice, TbConfig,
     Testbench,
 };
 use diagnose::DivergenceKind;
@@ -18,61 +18,17 @@ use diagnose::DivergenceKind;
 const SR: u8 = 2;
 const CMR: u8 = 1;
 
-/// The golden model, except that after CMR.AT its SR reads show TCS (bit 3)
-/// for the rest of the run.
-struct TcsAfterAbort {
-    inner: ModelDut,
-    wb_in: WbMasterOut,
-    host_clk: bool,
-    aborted: bool,
-}
-
-impl Dut for TcsAfterAbort {
-    fn name(&self) -> String {
-        "golden model, SR.TCS set by an abort".into()
-    }
-    fn set_reset(&mut self, on: bool) {
-        self.inner.set_reset(on);
-    }
-    fn set_wb(&mut self, m: &WbMasterOut) {
-        self.wb_in = *m;
-        self.inner.set_wb(m);
-    }
-    fn wb(&self) -> WbSlaveOut {
-        let mut o = self.inner.wb();
-        if o.ack && !self.wb_in.we && self.wb_in.adr == SR && self.aborted {
-            o.dat |= 0x08;
-        }
-        o
-    }
-    fn set_rx(&mut self, rx: bool) {
-        self.inner.set_rx(rx);
-    }
-    fn can(&self) -> CanPins {
-        self.inner.can()
-    }
-    fn eval(&mut self, host_clk: bool, can_clk: bool) {
-        let w = self.wb_in;
-        if host_clk && !self.host_clk && w.cyc && w.stb && w.we && w.adr == CMR && w.dat & 0x02 != 0 {
-            self.aborted = true;
-        }
-        self.host_clk = host_clk;
-        self.inner.eval(host_clk, can_clk);
-    }
-}
-
 fn bench(collect: CollectMode) -> Testbench {
     bench_with(collect, cosim::waivers::WaiverSet::default())
 }
 
 fn bench_with(collect: CollectMode, waivers: cosim::waivers::WaiverSet) -> Testbench {
     let make: Arc<dyn Fn() -> Box<dyn Dut> + Send + Sync> = Arc::new(|| {
-        Box::new(TcsAfterAbort {
-            inner: ModelDut::new(),
-            wb_in: WbMasterOut::default(),
-            host_clk: false,
-            aborted: false,
-        })
+        // after CMR.AT, SR reads show TCS (bit 3) for the rest of the run
+        Box::new(AlteredModel::new("golden model, SR.TCS set by an abort").on_read(|adr, d, writes| {
+            let aborted = writes.iter().any(|&(a, v)| a == CMR && v & 0x02 != 0);
+            if adr == SR && aborted { d | 0x08 } else { d }
+        }))
     });
     Testbench::new(TbConfig {
         scenario: "tcs-after-abort".into(),

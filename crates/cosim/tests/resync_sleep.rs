@@ -6,13 +6,13 @@
 //! then be the next (and only) failure reported, not hidden and not buried
 //! under the consequences of the first (a model asleep for the frame).
 
+mod common;
+use common::AlteredModel;
 use std::sync::Arc;
 
-use bfm::{WbMasterOut, WbSlaveOut};
-use cosim::model::ModelDut;
 use cosim::waivers::{CollectMode, WaiverSet};
 use cosim::{
-    CanPins, CompareConfig, CustomDut, Dut, DutChoice, HostBfm, NodeConfig, ReferenceChoice, TbConfig,
+    CompareConfig, CustomDut, Dut, DutChoice, HostBfm, NodeConfig, ReferenceChoice, TbConfig,
     Testbench,
 };
 use diagnose::DivergenceKind;
@@ -21,44 +21,6 @@ const MOD: u8 = 0;
 const IR: u8 = 3;
 const RMC: u8 = 29;
 const RXB1: u8 = 17;
-
-struct NoSleepMode {
-    inner: ModelDut,
-    wb_in: WbMasterOut,
-}
-
-impl Dut for NoSleepMode {
-    fn name(&self) -> String {
-        "golden model without sleep mode, RXB[1] bit 0 flipped".into()
-    }
-    fn set_reset(&mut self, on: bool) {
-        self.inner.set_reset(on);
-    }
-    fn set_wb(&mut self, m: &WbMasterOut) {
-        self.wb_in = *m;
-        let mut m = *m;
-        if m.we && m.adr == MOD {
-            m.dat &= !0x10;
-        }
-        self.inner.set_wb(&m);
-    }
-    fn wb(&self) -> WbSlaveOut {
-        let mut o = self.inner.wb();
-        if o.ack && !self.wb_in.we && self.wb_in.adr == RXB1 {
-            o.dat ^= 0x01;
-        }
-        o
-    }
-    fn set_rx(&mut self, rx: bool) {
-        self.inner.set_rx(rx);
-    }
-    fn can(&self) -> CanPins {
-        self.inner.can()
-    }
-    fn eval(&mut self, host_clk: bool, can_clk: bool) {
-        self.inner.eval(host_clk, can_clk);
-    }
-}
 
 fn waivers(resync: &str) -> WaiverSet {
     WaiverSet::parse(
@@ -87,7 +49,15 @@ resync = ["{resync}"]
 /// MOD; a frame from the other node; read IR, RMC, the frame, release it.
 fn run(resync: &str) -> waivers::WaiverReport {
     let make: Arc<dyn Fn() -> Box<dyn Dut> + Send + Sync> =
-        Arc::new(|| Box::new(NoSleepMode { inner: ModelDut::new(), wb_in: WbMasterOut::default() }));
+        Arc::new(|| Box::new(
+            AlteredModel::new("golden model without sleep mode, RXB[1] bit 0 flipped")
+                .on_write(|m| {
+                    if m.we && m.adr == MOD {
+                        m.dat &= !0x10;
+                    }
+                })
+                .on_read(|adr, d, _| if adr == RXB1 { d ^ 0x01 } else { d }),
+        ));
     let pelican_open = vec![
         (0u8, 0x01u8),
         (31, 0x80),
