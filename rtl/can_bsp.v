@@ -77,6 +77,7 @@ module can_bsp (
     reg        srtr;         // received SRR/RTR bit
     reg        txr;          // we are the transmitter of this frame
     reg        req, req_single, req_self;
+    reg        abort_hold;   // an abort met a clock that may start a frame: decide next clock
     reg        crc_err;      // CRC error to signal after the ACK delimiter
     reg        ack_pend;     // error-passive ACK error: +8 only if dominant seen in flag
     reg [2:0]  eq_cnt;       // passive error flag: equal bits in a row
@@ -259,6 +260,7 @@ module can_bsp (
         if (rst) begin
             st <= S_OFF; cnt <= 6'd0; scnt <= 3'd0; slast <= 1'b1; crc <= 15'd0;
             srtr <= 1'b0; txr <= 1'b0; req <= 1'b0; req_single <= 1'b0; req_self <= 1'b0;
+            abort_hold <= 1'b0;
             crc_err <= 1'b0; ack_pend <= 1'b0; eq_cnt <= 3'd0; eq_last <= 1'b1; flag_act <= 1'b1;
             first <= 1'b0; dom_cnt <= 3'd0; rcnt <= 4'd0;
             id_sr <= 29'd0; rx_ide <= 1'b0; rx_rtr <= 1'b0; rx_dlc <= 4'd0; rx_data <= 64'd0;
@@ -266,12 +268,20 @@ module can_bsp (
             alc_val <= 5'd0; ecc_val <= 8'd0;
         end else begin
             // ---- transmission requests ----
+            // CMR.AT (datasheet 6.4.4): a pending request is cancelled (TBS,
+            // TI), one in progress is not retried. A frame starts at a sample
+            // point (or when bus-off recovery ends) from the old `req`, so an
+            // abort meeting that clock is decided one clock later, when txr
+            // says whether the frame started: else TBS would free the buffer
+            // of a frame on the wire.
+            abort_hold <= 1'b0;
             if (rm) begin
                 req <= 1'b0;
             end else if (tx_req && !req) begin
                 req <= 1'b1; req_single <= tx_single; req_self <= tx_self;
-            end else if (tx_abort && req) begin
+            end else if ((tx_abort || abort_hold) && req) begin
                 if (txr && busy) req_single <= 1'b1;
+                else if (!abort_hold && (sample || st == S_BUSOFF)) abort_hold <= 1'b1;
                 else begin req <= 1'b0; tx_drop <= 1'b1; end
             end
 
