@@ -2,7 +2,7 @@
 //! mutation-holes lists (issues 15/19, session 6), with its profile and
 //! waiver file: every scenario passes or fails exactly as its strict
 //! `[[expected-failure]]` entry records (docs/opencores-deviations.md D8a,
-//! D20-D27, D29), on the scenarios' own host (Wishbone); a scenario left open
+//! D20-D27, D30), on the scenarios' own host (Wishbone); a scenario left open
 //! (none since session 7: tx-8.7.9 at the maximum BTR passes with the
 //! profile's `segment-lag`, tx-8.5.14 is D27's) would be asserted by name.
 //! The main list is `upstream.rs`'s.
@@ -113,8 +113,8 @@ fn conformance_registers_and_mutation_holes_are_judged_on_the_upstream_core() {
             set(&[
                 ("tec-write-es-shown-in-reset-mode", "D23"),
                 ("rtl-free-ram-bit5-kept-unmapped", "D8a"),
-                ("ecc-stuff-bit-after-crc-coded-as-crc-delimiter-rx", "D29"),
-                ("ecc-stuff-bit-after-crc-coded-as-crc-delimiter-tx", "D29"),
+                ("ecc-stuff-bit-after-crc-coded-as-crc-delimiter-rx", "D30"),
+                ("ecc-stuff-bit-after-crc-coded-as-crc-delimiter-tx", "D30"),
             ]),
             names(&[]),
         ),
