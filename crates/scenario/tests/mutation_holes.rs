@@ -157,3 +157,39 @@ fn rtl_sample_hole_expectations_are_live() {
         assert!(!o.passed, "{file}: a wrong expectation passed");
     }
 }
+
+/// ecc-stuff-after-crc-rx / -tx (rtl/ mutant 20: the ECC segment of an error
+/// in the stuff bit after the CRC's last bit) are live, on the model and on
+/// our RTL. Receiver: the flip moved one bit earlier (the last CRC bit: the
+/// stuff bit is then taken for the delimiter, a form error at the ACK
+/// delimiter, ECC 0x7B) or one bit later (the CRC delimiter: form error,
+/// 0x78) fails, and so does ECC expected as the mutant reads it (0xB8).
+/// Transmitter: one bit later (its CRC delimiter read back dominant: form
+/// error, 0x58) and the mutant's ECC (0x18) fail; one bit earlier is a bit
+/// error in the last CRC bit, whose ECC is the same 0x08 by the datasheet
+/// (segment CRC sequence either way), so that one passes: there the RX
+/// scenario is the one that tells the stuff bit apart.
+#[test]
+fn stuff_after_crc_scenarios_fail_with_the_flip_moved_or_the_ecc_changed() {
+    for (file, ecc_from, ecc_to, earlier_passes) in [
+        ("ecc-stuff-after-crc-rx.toml", "read = \"ECC\", expect = 0xA8,", "read = \"ECC\", expect = 0xB8,", false),
+        ("ecc-stuff-after-crc-tx.toml", "read = \"ECC\", expect = 0x08,", "read = \"ECC\", expect = 0x18,", true),
+    ] {
+        let path = root().join("tb/mutation-holes").join(file);
+        let text = std::fs::read_to_string(&path).unwrap();
+        for dut in [DutSpec::model(), DutSpec::rtl()] {
+            let opts = || RunOptions { dut: Some(dut.clone()), ..Default::default() };
+            assert!(run(&Scenario::parse(&text, &path).unwrap(), &opts()).passed, "{file} as shipped on {}", dut.name);
+            for (from, to, passes) in [
+                ("bit_in_frame = 43", "bit_in_frame = 42", earlier_passes),
+                ("bit_in_frame = 43", "bit_in_frame = 44", false),
+                (ecc_from, ecc_to, false),
+            ] {
+                assert!(text.contains(from), "{file}: the mutation point moved: {from}");
+                let s = Scenario::parse(&text.replacen(from, to, 1), &path).unwrap();
+                let o = run(&s, &opts());
+                assert_eq!(o.passed, passes, "{file} on {} with `{to}`", dut.name);
+            }
+        }
+    }
+}
