@@ -839,7 +839,7 @@ fn count_received(tb: &mut Testbench, node: usize) -> u32 {
 /// the reference is clocked with the DUT's own rx, so a correct core agrees
 /// with it bit for bit all the way to bus-off, and a divergence there is
 /// the core's.
-fn divergence_is_the_symptom(c: diagnose::Category) -> bool {
+pub fn divergence_is_the_symptom(c: diagnose::Category) -> bool {
     use diagnose::Category as C;
     matches!(
         c,

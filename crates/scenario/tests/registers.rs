@@ -65,3 +65,32 @@ fn a_txerr_write_during_bus_off_is_checked_where_the_datasheet_says() {
         assert!(!run(&s, &model()).passed, "{to}: passed");
     }
 }
+
+/// The two register checks of session 8 are live on the model and on our
+/// RTL: PeliCAN ACR3 bit 7 after a BasicCAN ACR write (mutant 119 reads
+/// 7FH) and the BasicCAN AMR read in operating mode (mutant 125 reads F7H),
+/// each expected as the mutant reads it, fail.
+#[test]
+fn acr3_kept_and_amr_ffh_in_operating_mode_are_checked() {
+    for (file, from, to) in [
+        (
+            "peli-acr-amr-kept-across-basic-writes.toml",
+            "{ read = \"ACR3\", expect = 0xFF, note = \"bit 7 kept",
+            "{ read = \"ACR3\", expect = 0x7F, note = \"bit 7 kept",
+        ),
+        (
+            "basic-acr-amr-read-ffh-in-operating-mode.toml",
+            "{ read = \"AMR\", expect = 0xFF, note = \"Table 2: FFH in operating mode (mutant 125",
+            "{ read = \"AMR\", expect = 0xF7, note = \"Table 2: FFH in operating mode (mutant 125",
+        ),
+    ] {
+        let path = root().join("tb/registers").join(file);
+        let text = std::fs::read_to_string(&path).unwrap();
+        assert!(text.contains(from), "{file}: the check moved");
+        let s = Scenario::parse(&text.replacen(from, to, 1), &path).unwrap();
+        for dut in [DutSpec::model(), DutSpec::rtl()] {
+            let o = run(&s, &RunOptions { dut: Some(dut), ..Default::default() });
+            assert!(!o.passed, "{file}: {to} passed");
+        }
+    }
+}

@@ -103,7 +103,7 @@ fn conformance_registers_and_mutation_holes_are_judged_on_the_upstream_core() {
         (
             "tb/registers.list",
             true,
-            "6 run, 1 passed, 5 expected failure(s), 0 not passed",
+            "8 run, 3 passed, 5 expected failure(s), 0 not passed",
             set(&[
                 ("peli-registers-ocr-and-test-read-zero", "D21"),
                 ("peli-ram-window-and-tx-buffer-read-back-unmapped", "D8a"),
