@@ -291,9 +291,9 @@ fn rtl_without_the_fix() -> PathBuf {
 #[ignore = "builds a Verilator copy of rtl/ without the fix (minutes on a loaded machine)"]
 fn without_the_fix_the_landing_at_the_start_clock_diverges_and_only_it() {
     let dir = rtl_without_the_fix();
-    for site in [Site::Intermission, Site::BusOffEnd] {
-        let landings = sweep(site, Some(&dir));
-        let failed: Vec<i64> = landings.iter().filter(|l| l.failure.is_some()).map(|l| l.offset).collect();
-        assert!(!failed.is_empty() && failed.iter().all(|&o| o == 0), "{site:?}: failing landings {failed:?}");
-    }
+    // The intermission site only: at the end of bus-off recovery rtl/ and
+    // the model differ with the fix too (the ignored test above).
+    let landings = sweep(Site::Intermission, Some(&dir));
+    let failed: Vec<i64> = landings.iter().filter(|l| l.failure.is_some()).map(|l| l.offset).collect();
+    assert!(!failed.is_empty() && failed.iter().all(|&o| o == 0), "failing landings {failed:?}");
 }
