@@ -248,6 +248,8 @@ pub struct Testbench {
     batch_out: Vec<u8>,
     /// Times of a batch's instants.
     batch_times: Vec<u64>,
+    /// CAN clock count after which the reference took the last host access.
+    last_access_clock: Option<u64>,
 }
 
 /// Instants per batch (see `Testbench::run_batch`).
@@ -427,6 +429,7 @@ impl Testbench {
             batch_levels: Vec::new(),
             batch_out: Vec::new(),
             batch_times: Vec::new(),
+            last_access_clock: None,
         };
         tb.host.hold_reset(&mut tb.dut);
         tb.dut.set_rx(RECESSIVE);
@@ -999,6 +1002,7 @@ impl Testbench {
                 }
                 let ready_now = self.host.ready();
                 if launched && can_edges >= due_edges && (due_edges > 0 || ready_now) {
+                    self.last_access_clock = Some(self.can_clocks);
                     if let Some(refm) = &mut self.reference.model {
                         taken = Some(if write {
                             (refm.write(addr, data), 0)
@@ -1055,6 +1059,9 @@ impl Testbench {
                     field: self.obs.field(),
                     frame: None,
                 };
+                if taken.is_none() {
+                    self.last_access_clock = Some(self.can_clocks);
+                }
                 if let Some(refm) = &mut self.reference.model {
                     if write {
                         rec.outcome = match taken {
@@ -1111,6 +1118,19 @@ impl Testbench {
                 Err(err)
             }
         }
+    }
+
+    /// The CAN clock count (as [`Testbench::can_cycles`]) after which the
+    /// reference took the last host access: tests that place an access
+    /// against a clock of the bus (an abort against the clock a frame
+    /// starts) read where it landed.
+    pub fn last_access_clock(&self) -> Option<u64> {
+        self.last_access_clock
+    }
+
+    /// The field the reference is in after the last CAN clock, if it knows.
+    pub fn reference_field(&self) -> Option<can_proto::Field> {
+        self.reference.model.as_ref().and_then(|r| r.field())
     }
 
     /// Host register write through the BFM.
