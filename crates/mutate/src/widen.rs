@@ -377,3 +377,58 @@ pub fn combine(module: &str, per_module: FormalVerdict, widened: &[ScopeCheck]) 
         other => FormalVerdict::Unknown { why: format!("{module} alone: {}; widened: {}", other.describe(), tried.join("; ")) },
     }
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// top: u_m reads a (from u_small), b (from u_big), c (from u_fast, on
+    /// another clock); u_m's y goes to u_small (inside the scope) and to
+    /// u_read (cut); u_read drives nothing u_m reads.
+    fn design() -> Value {
+        let dff = |clk: u64, q: &[u64]| serde_json::json!({"type": "$dff", "port_directions": {"CLK": "input", "Q": "output"}, "connections": {"CLK": [clk], "Q": q}});
+        let port = |d: &str, bits: &[u64]| serde_json::json!({"direction": d, "bits": bits});
+        let inst = |ty: &str, dirs: Value, conns: Value| serde_json::json!({"type": ty, "port_directions": dirs, "connections": conns});
+        serde_json::json!({"modules": {
+            "top": {
+                "ports": {"clk": port("input", &[2]), "clk2": port("input", &[3]), "z": port("output", &[9])},
+                "netnames": {"clk": {"hide_name": 0, "bits": [2]}, "a": {"hide_name": 0, "bits": [4]}, "y": {"hide_name": 0, "bits": [7]}},
+                "cells": {
+                    "u_m": inst("m", serde_json::json!({"clk": "input", "a": "input", "b": "input", "c": "input", "y": "output"}), serde_json::json!({"clk": [2], "a": [4], "b": [5], "c": [6], "y": [7]})),
+                    "u_small": inst("small", serde_json::json!({"clk": "input", "y": "input", "a": "output"}), serde_json::json!({"clk": [2], "y": [7], "a": [4]})),
+                    "u_big": inst("big", serde_json::json!({"clk": "input", "b": "output"}), serde_json::json!({"clk": [2], "b": [5]})),
+                    "u_fast": inst("fast", serde_json::json!({"clk": "input", "c": "output"}), serde_json::json!({"clk": [3], "c": [6]})),
+                    "u_read": inst("read", serde_json::json!({"clk": "input", "y": "input", "z": "output"}), serde_json::json!({"clk": [2], "y": [7], "z": [9]}))
+                }
+            },
+            "m": {"ports": {"clk": port("input", &[2])}, "cells": {"$procdff$1": dff(2, &[10])}},
+            "small": {"ports": {"clk": port("input", &[2])}, "cells": {"r": dff(2, &[10])}},
+            "big": {"ports": {"clk": port("input", &[2])}, "cells": {"r": dff(2, &[10, 11, 12])}},
+            "fast": {"ports": {"clk": port("input", &[2])}, "cells": {"r": dff(2, &[10])}},
+            "read": {"ports": {"clk": port("input", &[2])}, "cells": {"r": dff(2, &[10])}}
+        }})
+    }
+
+    #[test]
+    fn scopes_are_the_drivers_on_the_same_clock_smallest_first() {
+        let d = design();
+        assert_eq!(mutated_instance(&d, "top", "$flatten\\u_m.$procdff$1"), Some("u_m".into()));
+        assert_eq!(mutated_instance(&d, "top", "u_m.mem"), Some("u_m".into()));
+        assert_eq!(mutated_instance(&d, "top", "$flatten\\u_nope.$x"), None);
+        let s = candidate_scopes(&d, "top", "u_m");
+        let with: Vec<&str> = s.iter().map(|s| s.with[0].as_str()).collect();
+        assert_eq!(with, ["u_small", "u_big"], "u_fast is on another clock, u_read drives nothing u_m reads");
+    }
+
+    #[test]
+    fn the_scope_compares_what_it_drives_into_cut_modules_only() {
+        let d = design();
+        let (v, compared, free) = scope_verilog(&d, "top", &Scope { mutated: "u_m".into(), with: vec!["u_small".into()] }).unwrap();
+        // y (bit 7) is read by u_read (cut): compared; a (bit 4) only inside the scope: not a port
+        assert_eq!(compared, 1, "{v}");
+        assert!(v.contains("output wire y") && !v.contains("input wire a") && !v.contains("output wire a"), "{v}");
+        // clk, b and c (from the cut u_big and u_fast) are free inputs
+        assert_eq!(free, 3, "{v}");
+        assert!(v.contains("input wire clk") && v.contains("m u_m (") && v.contains("small u_small ("), "{v}");
+    }
+}
