@@ -357,16 +357,16 @@ pub fn check_widened(src: &CoreSources, m: &Mutation, scope: Option<&Scope>, opt
 }
 
 /// The verdict to report from a per-module verdict and the widened checks
-/// after it: a proof in any scope; else the widest refutation (the first
-/// scope that refuted; a difference with the cut modules' outputs free,
-/// as the per-module one); else the per-module verdict, the scopes' own
-/// verdicts added to its reason. The scope is named in every case.
+/// after it: a proof in any scope; else, if every scope refuted it, the
+/// first scope's difference (with the cut modules' outputs free, as the
+/// per-module one); else (a scope without a verdict) no verdict, every
+/// scope's result in the reason. The scope is named in every case.
 pub fn combine(module: &str, per_module: FormalVerdict, widened: &[ScopeCheck]) -> FormalVerdict {
     if let Some(c) = widened.iter().find(|c| matches!(c.verdict, FormalVerdict::Equivalent { .. })) {
         return c.verdict.clone();
     }
-    if let Some(c) = widened.iter().find(|c| matches!(c.verdict, FormalVerdict::ModuleDiffers { .. })) {
-        return c.verdict.clone();
+    if !widened.is_empty() && widened.iter().all(|c| matches!(c.verdict, FormalVerdict::ModuleDiffers { .. })) {
+        return widened[0].verdict.clone();
     }
     if widened.is_empty() {
         return per_module;
@@ -430,5 +430,18 @@ mod tests {
         // clk, b and c (from the cut u_big and u_fast) are free inputs
         assert_eq!(free, 3, "{v}");
         assert!(v.contains("input wire clk") && v.contains("m u_m (") && v.contains("small u_small ("), "{v}");
+    }
+
+    #[test]
+    fn a_proof_in_any_scope_wins_a_difference_needs_every_scope() {
+        let sc = |v: FormalVerdict| ScopeCheck { scope: Scope { mutated: "u_m".into(), with: vec![] }, label: "top scope u_m".into(), verdict: v, seconds: 1.0 };
+        let diff = || FormalVerdict::ModuleDiffers { module: "top scope u_m".into(), steps: 3, trace: vec![], assumed: String::new() };
+        let unknown = || FormalVerdict::Unknown { why: "bounded".into() };
+        let proved = || FormalVerdict::Equivalent { method: "pdr".into() };
+        assert_eq!(combine("m", diff(), &[sc(diff()), sc(proved())]), proved());
+        assert_eq!(combine("m", unknown(), &[sc(diff()), sc(diff())]), diff());
+        let FormalVerdict::Unknown { why } = combine("m", diff(), &[sc(unknown()), sc(diff())]) else { panic!("one scope without a verdict") };
+        assert!(why.starts_with("m alone: differs") && why.contains("top scope u_m: unknown: bounded") && why.contains("top scope u_m: differs"), "{why}");
+        assert_eq!(combine("m", diff(), &[]), diff(), "no scope: the per-module verdict");
     }
 }
