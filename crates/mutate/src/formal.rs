@@ -81,7 +81,7 @@ impl FormalVerdict {
             FormalVerdict::Equivalent { method } => format!("equivalent ({method})"),
             FormalVerdict::Differs { steps, .. } => format!("differs: counterexample of {steps} steps (scenario skeleton written)"),
             FormalVerdict::ModuleDiffers { module, steps, .. } => {
-                format!("differs at the ports of {module} after reset ({steps} clocks, module inputs free; not shown reachable in the core)")
+                format!("differs at the ports of {module} after reset ({steps} clocks, its inputs free; not shown reachable in the core)")
             }
             FormalVerdict::Unknown { why } => format!("unknown: {why}"),
         }

@@ -18,6 +18,7 @@ pub mod reset_proof;
 pub mod shared_undef;
 pub mod suite;
 pub mod waiver_audit;
+pub mod widen;
 
 pub use campaign::{Baseline, CampaignOptions, MutantResult, Suite, TestInfo, TestResult, Verdict};
 pub use formal::{FormalOptions, FormalVerdict};

@@ -49,23 +49,23 @@ pub enum NotPerModule {
     CellNotFound(String),
 }
 
-fn io(what: impl Into<String>) -> impl FnOnce(std::io::Error) -> InstrumentError {
+pub(crate) fn io(what: impl Into<String>) -> impl FnOnce(std::io::Error) -> InstrumentError {
     let what = what.into();
     move |source| InstrumentError::Io { what, source }
 }
 
 /// A port of the mutated module.
 #[derive(Clone, Debug)]
-struct Port {
-    name: String,
-    width: usize,
-    input: bool,
+pub(crate) struct Port {
+    pub(crate) name: String,
+    pub(crate) width: usize,
+    pub(crate) input: bool,
 }
 
 /// The hierarchy of the core after `prep` (not flattened), as JSON; cached
 /// in `work` by a hash of the sources (the same commands as the mutants'
 /// build, so private cell names such as `$procmux$2131` are the same).
-fn hierarchy(src: &CoreSources, work: &Path) -> Result<Value, InstrumentError> {
+pub(crate) fn hierarchy(src: &CoreSources, work: &Path) -> Result<Value, InstrumentError> {
     let files = sources(src)?;
     let read = read_command(src, &files);
     let mut h = 0xcbf2_9ce4_8422_2325u64;
@@ -112,7 +112,7 @@ fn locate(design: &Value, top: &str, cell: &str) -> Option<(String, String)> {
     }
 }
 
-fn ports(design: &Value, module: &str) -> Vec<Port> {
+pub(crate) fn ports(design: &Value, module: &str) -> Vec<Port> {
     let Some(ps) = design["modules"][module]["ports"].as_object() else { return Vec::new() };
     ps.iter()
         .map(|(name, p)| Port { name: name.clone(), width: p["bits"].as_array().map(|b| b.len()).unwrap_or(1), input: p["direction"] == "input" })
@@ -121,7 +121,7 @@ fn ports(design: &Value, module: &str) -> Vec<Port> {
 
 /// Inputs of `module` that clock a flip-flop (found in its netlist: the
 /// bits on every `CLK` connection).
-fn clocks(design: &Value, module: &str, ports: &[Port]) -> Vec<String> {
+pub(crate) fn clocks(design: &Value, module: &str, ports: &[Port]) -> Vec<String> {
     let m = &design["modules"][module];
     let mut clk_bits = Vec::new();
     for c in m["cells"].as_object().into_iter().flat_map(|c| c.values()) {
@@ -138,7 +138,7 @@ fn clocks(design: &Value, module: &str, ports: &[Port]) -> Vec<String> {
 
 /// The reset input by name (`rst`, `reset`, `rst_i`, ...; `_n` / `n`
 /// endings active low).
-fn reset_port(ports: &[Port]) -> Option<(String, bool)> {
+pub(crate) fn reset_port(ports: &[Port]) -> Option<(String, bool)> {
     ports.iter().filter(|p| p.input && p.width == 1).find_map(|p| {
         let n = p.name.to_ascii_lowercase();
         let base = n.trim_end_matches("_i");
@@ -240,32 +240,42 @@ pub fn check_in_module(src: &CoreSources, m: &Mutation, opts: &FormalOptions, wo
     let files = sources(src)?;
     let dir = work.join(format!("mutant-{}", m.id));
     let head = format!("{read}\nhierarchy -top {top}\nprep -top {top}\nhierarchy -top {module}\n", read = read_command(src, &files), top = src.top);
-    let plain = Miter { module: &module, cell: &cell, m, opts, ports: &ports, clock, reset: reset.as_ref(), assumed: assumed.clone() };
-    let verdict = match plain.judge(&dir, &head)? {
+    let plain = Miter { module: &module, label: &module, cell: &cell, m, opts, ports: &ports, clock, reset: reset.as_ref(), assumed };
+    let verdict = verdict_with_shared_undef(plain, &dir, &head)?;
+    Ok(Ok(ModuleCheck { module, verdict, seconds: t0.elapsed().as_secs_f64() }))
+}
+
+/// The verdict of a miter (`head` leaves `plain.module` in the design); if
+/// the module differs from itself, again with its undefined values shared
+/// by both copies (shared_undef.rs), its own control run deciding.
+pub(crate) fn verdict_with_shared_undef(plain: Miter<'_>, dir: &Path, head: &str) -> Result<FormalVerdict, InstrumentError> {
+    let module = plain.module;
+    let label = plain.label;
+    let assumed = plain.assumed.clone();
+    Ok(match plain.judge(dir, head)? {
         Judged::Verdict(v) => v,
         // The module differs from itself: again with its undefined values
         // shared by both copies (shared_undef.rs), its own control run.
         Judged::SelfDiffers => {
             let sdir = dir.join("shared-undef");
             std::fs::create_dir_all(&sdir).map_err(io(format!("creating {}", sdir.display())))?;
-            let expose = format!("{head}{}write_rtlil exposed.il\nwrite_json exposed.json\n", crate::shared_undef::expose_commands(&module));
+            let expose = format!("{head}{}write_rtlil exposed.il\nwrite_json exposed.json\n", crate::shared_undef::expose_commands(module));
             yosys_logged(&expose, &sdir, "expose", false)?;
             let json = sdir.join("exposed.json");
             let exposed: Value = serde_json::from_str(&std::fs::read_to_string(&json).map_err(io(format!("reading {}", json.display())))?)
                 .map_err(|e| InstrumentError::Io { what: json.display().to_string(), source: std::io::Error::other(e) })?;
-            let sports = self::ports(&exposed, &module);
+            let sports = self::ports(&exposed, module);
             let n = sports.iter().filter(|p| p.input && crate::shared_undef::is_undef_port(&p.name)).count();
             let assumed = format!("{assumed}; its {n} undefined values (x) shared: each one free input, the same in both copies");
             let shared = Miter { ports: &sports, assumed: assumed.clone(), ..plain };
             match shared.judge(&sdir, &format!("read_rtlil {}\n", sdir.join("exposed.il").display()))? {
                 Judged::Verdict(v) => v,
                 Judged::SelfDiffers => FormalVerdict::Unknown {
-                    why: format!("no verdict: {module} differs from itself (its undefined values reach an output), even with its x constants shared (values left undefined by its memories or submodules); {assumed}"),
+                    why: format!("no verdict: {label} differs from itself (its undefined values reach an output), even with its x constants shared (values left undefined by its memories or submodules); {assumed}"),
                 },
             }
         }
-    };
-    Ok(Ok(ModuleCheck { module, verdict, seconds: t0.elapsed().as_secs_f64() }))
+    })
 }
 
 /// What a miter says before the control run is weighed.
@@ -280,15 +290,18 @@ enum Judged {
 /// One miter of the mutated module: the module (after `head`, a yosys
 /// script that leaves it in the design as `module`), copied, the copy
 /// mutated, both in the wrapper on shared inputs.
-struct Miter<'a> {
-    module: &'a str,
-    cell: &'a str,
-    m: &'a Mutation,
-    opts: &'a FormalOptions,
-    ports: &'a [Port],
-    clock: Option<&'a str>,
-    reset: Option<&'a (String, bool)>,
-    assumed: String,
+pub(crate) struct Miter<'a> {
+    /// The module (in the design after the head script).
+    pub(crate) module: &'a str,
+    /// What it is, in the verdicts (the module's name, or a scope's).
+    pub(crate) label: &'a str,
+    pub(crate) cell: &'a str,
+    pub(crate) m: &'a Mutation,
+    pub(crate) opts: &'a FormalOptions,
+    pub(crate) ports: &'a [Port],
+    pub(crate) clock: Option<&'a str>,
+    pub(crate) reset: Option<&'a (String, bool)>,
+    pub(crate) assumed: String,
 }
 
 impl Miter<'_> {
@@ -340,15 +353,17 @@ impl Miter<'_> {
             // The input trace from a bounded check just deep enough.
             let steps = frame + 2;
             let bmc = format!("read_rtlil miter.il\nsat -seq {steps} -prove trigger 0 -set-init-zero -show-inputs -timeout {secs} cosim_formal\n");
-            let out = yosys_logged(&bmc, dir, "trace", true).unwrap_or_default();
+            // `sat -timeout` is not kept on a large module (can_bsp: 9-15 min):
+            // the process is killed after its time and the trace left empty.
+            let (out, _) = yosys_killed_after(&bmc, dir, "trace", secs + 30)?;
             let trace = parse_trace(&out);
-            FormalVerdict::ModuleDiffers { module: module.to_string(), steps: trace.iter().map(|t| t.step).max().unwrap_or(steps), trace, assumed }
+            FormalVerdict::ModuleDiffers { module: self.label.to_string(), steps: trace.iter().map(|t| t.step).max().unwrap_or(steps), trace, assumed }
         } else {
             // No proof: how deep is there surely no difference?
             let why = if text.contains("UNDECIDED") { format!("PDR undecided after {secs} s") } else { format!("ABC stopped after {} s", 2 * secs) };
             let (b, _) = abc(dir, &format!("read_aiger miter.aig; fold; strash; bmc3 -v -F {} -T {secs}", opts.steps), secs + 30, "bmc.log")?;
             if let Some(frame) = asserted_frame(&b) {
-                FormalVerdict::ModuleDiffers { module: module.to_string(), steps: frame + 1, trace: Vec::new(), assumed }
+                FormalVerdict::ModuleDiffers { module: self.label.to_string(), steps: frame + 1, trace: Vec::new(), assumed }
             } else {
                 let depth = match bmc_depth(&b) {
                     Some(d) => format!("no difference within {d} clocks (bounded, not a proof)"),
@@ -361,16 +376,34 @@ impl Miter<'_> {
     }
 }
 
+/// Runs a yosys script (`step`.ys, its log `step`.log) in `dir`, killed
+/// after `limit_s` seconds of wall time: its log and whether it was killed.
+pub(crate) fn yosys_killed_after(script: &str, dir: &Path, step: &str, limit_s: u32) -> Result<(String, bool), InstrumentError> {
+    let ys = dir.join(format!("{step}.ys"));
+    std::fs::write(&ys, script).map_err(io(format!("writing {}", ys.display())))?;
+    run_killed_after(Command::new("yosys").arg("-s").arg(&ys), dir, limit_s, &format!("{step}.log"))
+}
+
 /// Runs `yosys-abc -c script` in `dir`, killed after `limit_s` seconds of
 /// wall time; its output (also written to `log`) and whether it was killed.
 fn abc(dir: &Path, script: &str, limit_s: u32, log: &str) -> Result<(String, bool), InstrumentError> {
+    run_killed_after(Command::new("yosys-abc").arg("-c").arg(script), dir, limit_s, log)
+}
+
+/// Runs `cmd` in `dir`, its output to `log`, killed after `limit_s` seconds.
+fn run_killed_after(cmd: &mut Command, dir: &Path, limit_s: u32, log: &str) -> Result<(String, bool), InstrumentError> {
     let out_path = dir.join(log);
     let out = std::fs::File::create(&out_path).map_err(io(format!("creating {}", out_path.display())))?;
-    let err = out.try_clone().map_err(io("abc log"))?;
-    let mut child = Command::new("yosys-abc").arg("-c").arg(script).current_dir(dir).stdout(out).stderr(err).spawn().map_err(io("running yosys-abc"))?;
+    let err = out.try_clone().map_err(io("log file"))?;
+    let name = cmd.get_program().to_string_lossy().into_owned();
+    let mut child = match cmd.current_dir(dir).stdout(out).stderr(err).spawn() {
+        Ok(c) => c,
+        Err(e) if e.kind() == std::io::ErrorKind::NotFound && name == "yosys" => return Err(InstrumentError::NoYosys),
+        Err(e) => return Err(io(format!("running {name}"))(e)),
+    };
     let deadline = Instant::now() + std::time::Duration::from_secs(u64::from(limit_s));
     let killed = loop {
-        if child.try_wait().map_err(io("waiting for yosys-abc"))?.is_some() {
+        if child.try_wait().map_err(io(format!("waiting for {name}")))?.is_some() {
             break false;
         }
         if Instant::now() >= deadline {
@@ -466,13 +499,29 @@ pub fn check_survivors_from_reset(
         let m = report.mutants.iter().find(|m| m.id == id).expect("a survivor of this report").mutation.clone();
         match check_in_module(src, &m, f, &work)? {
             Ok(c) => {
-                if let FormalVerdict::ModuleDiffers { trace, .. } = &c.verdict {
+                log(&format!("mutant {id}: {} [{}, {:.1} s]", c.verdict.describe(), c.module, c.seconds));
+                // Not proved in its module (its inputs free): again with the
+                // modules that drive it (widen.rs).
+                let verdict = if matches!(c.verdict, FormalVerdict::Equivalent { .. }) {
+                    c.verdict
+                } else {
+                    // A scope yosys cannot build (an inout port, a name it
+                    // rejects) leaves the per-module verdict, said in the log.
+                    let wide = crate::widen::check_widened(src, &m, None, f, &work).unwrap_or_else(|e| {
+                        log(&format!("mutant {id}: no widened check: {}", e.to_string().lines().last().unwrap_or("")));
+                        Vec::new()
+                    });
+                    for w in &wide {
+                        log(&format!("mutant {id}: {} [{}, {:.1} s]", w.verdict.describe(), w.label, w.seconds));
+                    }
+                    crate::widen::combine(&c.module, c.verdict, &wide)
+                };
+                if let FormalVerdict::ModuleDiffers { trace, .. } = &verdict {
                     let lines: Vec<String> = trace.iter().map(|t| format!("{} {} {}", t.step, t.port, t.value)).collect();
                     let p = work.join(format!("mutant-{id}/trace.txt"));
                     std::fs::write(&p, lines.join("\n") + "\n").map_err(|source| crate::MutateError::Io { what: format!("writing {}", p.display()), source })?;
                 }
-                log(&format!("mutant {id}: {} [{}, {:.1} s]", c.verdict.describe(), c.module, c.seconds));
-                report.formal.push((id, c.verdict));
+                report.formal.push((id, verdict));
             }
             Err(why) => {
                 log(&format!("mutant {id}: not checked per module ({why:?}): whole-core bounded check"));
