@@ -82,6 +82,9 @@ pub struct RunOptions {
     /// Inputs of an external core held at a constant for the whole run
     /// ([`cosim::ExternalCore::held_inputs`]: the mutant select of `cancosim mutate`).
     pub held_inputs: Vec<(String, u64)>,
+    /// A DUT in Rust built by the caller instead of the scenario's own
+    /// (tests: the golden model with one behaviour altered, no HDL build).
+    pub custom_dut: Option<cosim::CustomDut>,
 }
 
 /// The scenario as run with a host override: the host replaced, and our
@@ -254,6 +257,7 @@ fn external_core_of(kind: &DutKind, profile: Option<&cosim::Profile>, host: Opti
 pub fn tb_config(s: &Scenario, dut: &DutKind, opts: &RunOptions) -> Result<TbConfig, String> {
     let avalon_dut = matches!(s.dut, DutKind::AvalonWrapper);
     let choice = match dut {
+        _ if opts.custom_dut.is_some() => DutChoice::Custom(opts.custom_dut.clone().expect("checked")),
         DutKind::Rtl | DutKind::AvalonWrapper if avalon_dut && matches!(s.host, HostBfm::Avalon { begintransfer_cyc: false }) => DutChoice::RtlAvalon,
         // A PIO master polls ack through a GPIO: our RTL needs its level
         // acknowledge (four-phase handshake, can_top ACK_LEVEL = 1) there,
@@ -360,7 +364,7 @@ pub fn tb_config(s: &Scenario, dut: &DutKind, opts: &RunOptions) -> Result<TbCon
         op_timeout_cycles: s.timeout_cycles as u64,
         waivers: waiver_set,
         dut_revision: opts.dut_revision.clone(),
-        collect: opts.collect,
+        collect: collect_mode(s.expect.category, opts.collect),
         profile,
         coverage_dat: opts.coverage_dat.clone(),
         ..TbConfig::default()
@@ -694,16 +698,7 @@ fn failed_reads_under_bus_setup_verdict(
     expectations: &[Expectation],
     waived_steps: &[usize],
 ) -> Vec<String> {
-    let reads_trusted = matches!(
-        diagnosed,
-        diagnose::Category::BitTimingMismatch
-            | diagnose::Category::NoAcknowledge
-            | diagnose::Category::RxNotFollowingTx
-            | diagnose::Category::ConfigWriteOutsideReset
-            | diagnose::Category::TxBufferWriteWhileLocked
-            | diagnose::Category::AddressModeConfusion
-    );
-    if !reads_trusted || expected != Some(diagnosed) {
+    if !reads_trusted_under(diagnosed) || expected != Some(diagnosed) {
         return Vec::new();
     }
     expectations
@@ -711,6 +706,33 @@ fn failed_reads_under_bus_setup_verdict(
         .filter(|e| !e.passed && !waived_steps.contains(&e.step))
         .map(|e| format!("step {}: {} expected {}, seen {}", e.step, e.what, e.expected, e.seen))
         .collect()
+}
+
+/// The set-up verdicts under which a failed read still counts (see
+/// [`failed_reads_under_bus_setup_verdict`]).
+fn reads_trusted_under(c: diagnose::Category) -> bool {
+    use diagnose::Category as C;
+    matches!(
+        c,
+        C::BitTimingMismatch | C::NoAcknowledge | C::RxNotFollowingTx | C::ConfigWriteOutsideReset | C::TxBufferWriteWhileLocked | C::AddressModeConfusion
+    )
+}
+
+/// The comparator's mode for a scenario expecting `expected`: collect
+/// whenever a divergence is the expected symptom and the reads are still
+/// judged under that verdict (ConfigWriteOutsideReset,
+/// TxBufferWriteWhileLocked, AddressModeConfusion). Stopping at the first
+/// divergence there ended the run before the reads after it were judged,
+/// while the diagnosis stayed the expected one: a DUT reading a wrong value
+/// there passed (a false pass of `run`, `regress` and `mutate` without
+/// `--collect`). Elsewhere stopping loses nothing: for `Pass` or a bus-level
+/// verdict the divergence itself fails the run; under a host-bus verdict or
+/// `DutDeviatesFromModel` the reads are not judged.
+pub fn collect_mode(expected: Option<diagnose::Category>, asked: waivers::CollectMode) -> waivers::CollectMode {
+    match expected {
+        Some(c) if divergence_is_the_symptom(c) && reads_trusted_under(c) => waivers::CollectMode::Collect,
+        _ => asked,
+    }
 }
 
 /// The outcome of a scenario not run (host override on a fixed host wiring).
