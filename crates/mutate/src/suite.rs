@@ -29,24 +29,11 @@ impl ScenarioSuite {
     /// waiver audit reads its waiver hits).
     pub fn outcome(&self, index: usize, select: u64) -> scenario::RunOutcome {
         let s = &self.scenarios[index];
-        let mut o = options_for(s, &self.options);
+        // a set-up verdict's reads are judged by scenario::run itself (collect_mode)
+        let mut o = self.options.clone();
         o.held_inputs.push((SELECT.into(), select));
         scenario::run(s, &o)
     }
-}
-
-/// The run options of scenario `s`. Under an expected verdict whose symptom
-/// is a divergence (e.g. `ConfigWriteOutsideReset`), a run stopped at the
-/// first divergence leaves the read that diverged unjudged, and the verdict
-/// alone passes: rtl/ mutant 125 (AMR F7H for FFH) survived
-/// basic-reset-values-and-access that way. Such a scenario runs collecting,
-/// so every read expectation of it is judged.
-pub fn options_for(s: &Scenario, base: &RunOptions) -> RunOptions {
-    let mut o = base.clone();
-    if s.expect.category.is_some_and(scenario::run::divergence_is_the_symptom) {
-        o.collect = waivers::CollectMode::Collect;
-    }
-    o
 }
 
 /// A run's outcome as a test result: pass, skipped, or the first failure in words.
@@ -96,15 +83,17 @@ mod tests {
     }
 
     /// A scenario expecting a set-up verdict (divergence as its symptom)
-    /// runs collecting; one expecting `Pass` keeps the campaign's mode.
+    /// runs collecting whatever the campaign asks (scenario::run decides,
+    /// for run, regress and mutate alike); one expecting `Pass` keeps the
+    /// campaign's mode.
     #[test]
     fn set_up_verdict_scenarios_run_collecting_the_others_stop_at_the_first_divergence() {
         let base = RunOptions::default();
         assert_eq!(base.collect, CollectMode::StopAtFirst);
         let setup = load("registers/basic-reset-values-and-access.toml");
         assert_eq!(setup.expect.category, Some(diagnose::Category::ConfigWriteOutsideReset), "the example moved");
-        assert_eq!(options_for(&setup, &base).collect, CollectMode::Collect);
+        assert_eq!(scenario::run::collect_mode(setup.expect.category, base.collect), CollectMode::Collect);
         let pass = load("registers/basic-acr-amr-read-ffh-in-operating-mode.toml");
-        assert_eq!(options_for(&pass, &base).collect, CollectMode::StopAtFirst);
+        assert_eq!(scenario::run::collect_mode(pass.expect.category, base.collect), CollectMode::StopAtFirst);
     }
 }
