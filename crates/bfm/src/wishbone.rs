@@ -100,9 +100,10 @@ impl WishboneMaster {
         self.active.map(|op| op.handle)
     }
 
-    /// The rest of the current block is given up (its transfer before
-    /// failed): complete each with [`BfmError::BlockAbandoned`].
-    fn abandon_block(&mut self) {
+    /// Give up the transfers of the current block that have not started
+    /// (a transfer before them failed, or the caller stops): each completes
+    /// with [`BfmError::BlockAbandoned`]. A transfer on the wires runs on.
+    pub fn abandon_block(&mut self) {
         let rest = std::mem::take(&mut self.block_rest);
         self.q.abandon(&rest);
     }
