@@ -95,7 +95,7 @@ pub use pio::{
     CTL_CYC, CTL_RST, CTL_STB, CTL_WE, DEFAULT_PIO_TIMEOUT_CYCLES, PioAckInput, PioMaster,
     PioTiming,
 };
-pub use wishbone::{AckMode, WishboneMaster, WishboneRam};
+pub use wishbone::{AckMode, BlockAccess, WishboneMaster, WishboneRam};
 
 /// A host-side bus master, stepped by the kernel (see the crate docs for the
 /// stepping contract).

@@ -115,6 +115,16 @@ pub enum BfmError {
         /// Cycles stepped.
         cycles: u64,
     },
+    /// An earlier transfer of the same Wishbone block cycle did not end with
+    /// an ack (timeout or err): the master gave up the block, and this
+    /// transfer was never put on the wires.
+    #[error("{op} at 0x{addr:02X} not done: an earlier transfer of its block cycle failed")]
+    BlockAbandoned {
+        /// Read or write.
+        op: OpKind,
+        /// Register address.
+        addr: u8,
+    },
 }
 
 /// One queued operation.
@@ -275,6 +285,35 @@ impl OpQueue {
                 }),
             );
         }
+    }
+
+    /// Remove the queued (not yet started) operations `handles` and complete
+    /// each with [`BfmError::BlockAbandoned`].
+    pub fn abandon(&mut self, handles: &[OpHandle]) {
+        let (gone, kept): (Vec<PendingOp>, Vec<PendingOp>) =
+            self.pending.drain(..).partition(|p| handles.contains(&p.handle));
+        self.pending = kept.into();
+        for op in gone {
+            log::warn!(
+                "{}: {} {} at 0x{:02X} abandoned with its block cycle",
+                self.name,
+                op.handle,
+                op.kind,
+                op.addr
+            );
+            self.complete(
+                op.handle,
+                Err(BfmError::BlockAbandoned {
+                    op: op.kind,
+                    addr: op.addr,
+                }),
+            );
+        }
+    }
+
+    /// The handle of the operation at the head of the queue.
+    pub fn head(&self) -> Option<OpHandle> {
+        self.pending.front().map(|p| p.handle)
     }
 
     /// Operations queued or in flight.

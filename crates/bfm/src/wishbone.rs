@@ -6,13 +6,43 @@ use crate::{
     WbMasterOut, WbSlaveOut,
 };
 
+/// One transfer of a Wishbone block cycle (see [`WishboneMaster::start_block`]).
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct BlockAccess {
+    /// A write (else a read).
+    pub write: bool,
+    /// Register address.
+    pub addr: u8,
+    /// Write data (ignored for a read).
+    pub data: u8,
+}
+
+impl BlockAccess {
+    /// A write transfer.
+    pub fn write(addr: u8, data: u8) -> Self {
+        Self { write: true, addr, data }
+    }
+
+    /// A read transfer.
+    pub fn read(addr: u8) -> Self {
+        Self { write: false, addr, data: 0 }
+    }
+}
+
 /// Wishbone classic (non-pipelined) single-access master.
 ///
 /// Holds `cyc`/`stb` from the edge an operation starts until the edge at
 /// which it samples `ack` (or `err`); a `rty` ends the attempt, idles one
 /// cycle and retries. Back-to-back operations keep `cyc`/`stb` high, as
 /// classic cycles allow. The pause generator inserts idle cycles before an
-/// operation starts, never inside one.
+/// operation starts, never inside one (nor inside a block cycle).
+///
+/// [`WishboneMaster::start_block`] queues transfers as one block cycle
+/// (Wishbone B4 §3.3 BLOCK READ / WRITE, classic): `cyc` and `stb` stay high
+/// from the first transfer to the ack of the last, and each next transfer's
+/// `adr`/`we`/`dat` go on the wires at the edge that samples the previous
+/// `ack`; a slave that keeps `ack` high then acknowledges that next transfer
+/// too, which a slave must not do before it has done it.
 pub struct WishboneMaster {
     q: OpQueue,
     pause: Option<Pause>,
@@ -21,6 +51,8 @@ pub struct WishboneMaster {
     retry_gap: bool,
     prev: WbSlaveOut,
     out: WbMasterOut,
+    /// Queued transfers that continue the block of the one before them.
+    block_rest: Vec<OpHandle>,
 }
 
 impl WishboneMaster {
@@ -38,7 +70,42 @@ impl WishboneMaster {
             retry_gap: false,
             prev: WbSlaveOut::default(),
             out: WbMasterOut::default(),
+            block_rest: Vec::new(),
         }
+    }
+
+    /// Queue `accesses` as one block cycle; one handle per transfer, in
+    /// order. If a transfer ends without an ack (timeout, `err`), the rest
+    /// of the block completes with [`BfmError::BlockAbandoned`] and never
+    /// reaches the wires (each transfer keeps its own timeout: a slave that
+    /// stops acknowledging inside a block ends in a timeout, not a hang).
+    pub fn start_block(&mut self, accesses: &[BlockAccess]) -> Vec<OpHandle> {
+        let handles: Vec<OpHandle> = accesses
+            .iter()
+            .map(|a| {
+                if a.write {
+                    self.q.push(OpKind::Write, a.addr, a.data)
+                } else {
+                    self.q.push(OpKind::Read, a.addr, 0)
+                }
+            })
+            .collect();
+        log::debug!("{}: block cycle of {} transfers queued", self.q.name(), handles.len());
+        self.block_rest.extend(handles.iter().skip(1));
+        handles
+    }
+
+    /// The operation on the wires now, if any.
+    pub fn active(&self) -> Option<OpHandle> {
+        self.active.map(|op| op.handle)
+    }
+
+    /// Give up the transfers of the current block that have not started
+    /// (a transfer before them failed, or the caller stops): each completes
+    /// with [`BfmError::BlockAbandoned`]. A transfer on the wires runs on.
+    pub fn abandon_block(&mut self) {
+        let rest = std::mem::take(&mut self.block_rest);
+        self.q.abandon(&rest);
     }
 
     /// Set the per-operation timeout for operations queued from now on.
@@ -85,6 +152,8 @@ impl HostMaster for WishboneMaster {
         // Held in reset: start nothing (queued operations wait, and time out).
         let paused = step_pause(&mut self.pause) || self.in_reset;
         let mut aborted = false;
+        // The transfer that ended at this edge was acked.
+        let mut acked = false;
         if let Some(mut op) = self.active.take() {
             op.cycles += 1;
             if self.retry_gap {
@@ -97,6 +166,7 @@ impl HostMaster for WishboneMaster {
                     op.data
                 };
                 self.q.finish(&op, data);
+                acked = true;
             } else if sample.err {
                 log::warn!(
                     "{}: {} {} at 0x{:02X} ended with err",
@@ -112,6 +182,7 @@ impl HostMaster for WishboneMaster {
                         addr: op.addr,
                     }),
                 );
+                self.abandon_block();
             } else if sample.rty {
                 log::debug!("{}: {} retry requested by slave", self.q.name(), op.handle);
                 self.retry_gap = true;
@@ -125,13 +196,20 @@ impl HostMaster for WishboneMaster {
                 self.active = None;
                 self.retry_gap = false;
                 self.q.time_out(&op);
+                self.abandon_block();
                 aborted = true;
             }
         }
+        // The next transfer of a block follows its ack at once: cyc and stb
+        // stay high (no pause inside a block cycle).
+        let continues = acked && self.q.head().is_some_and(|h| self.block_rest.contains(&h));
         // After an abandoned cycle, idle one cycle so a late ack cannot
         // complete the next operation.
         if self.active.is_none() && !aborted {
-            self.active = self.q.next(paused);
+            self.active = self.q.next(if continues { self.in_reset } else { paused });
+            if let Some(op) = self.active {
+                self.block_rest.retain(|h| *h != op.handle);
+            }
         }
         self.drive();
     }
@@ -152,6 +230,7 @@ impl HostMaster for WishboneMaster {
         log::info!("{}: reset", self.q.name());
         let active = self.active.take();
         self.q.flush(active);
+        self.block_rest.clear();
         self.retry_gap = false;
         self.drive();
     }

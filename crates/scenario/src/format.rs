@@ -123,6 +123,9 @@ pub struct RawStep {
     pub timeout_bits: Option<i64>,
     /// Fill the TX buffer with this frame (expands to register writes).
     pub load_tx: Option<RawFrame>,
+    /// Accesses (write, read, load_tx steps) done as one Wishbone block
+    /// cycle: cyc and stb held from the first to the last ack.
+    pub block: Option<Vec<RawStep>>,
 }
 
 /// A CAN frame in a file.

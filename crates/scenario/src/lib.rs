@@ -49,6 +49,10 @@
 //! timeout_bits = 2000
 //! [[step]]
 //! load_tx = { id = 0x529, data = [0x51] }   # fills the TX buffer (extended, rtr, dlc, raw_dlc)
+//! [[step]]            # accesses as one Wishbone block cycle (B4 §3.3): cyc and stb held
+//! block = [ { load_tx = { id = 0x12, data = [1] } }, { read = "TXB", expect = 0x02 } ]
+//!                     # from the first transfer to the last ack (write, read, load_tx entries;
+//!                     # on Avalon, PIO or 8051 hosts: single accesses)
 //! # The steps may instead be one array of inline tables at the top of the
 //! # file, before any [table], one step per line (tb/pelican-*.toml):
 //! # step = [ { write = "CR", value = 0x01 }, { wait_irq = true }, ... ]
@@ -314,6 +318,9 @@ pub struct Step {
     pub reset_mode: bool,
     /// The action.
     pub action: Action,
+    /// Part of the Wishbone block cycle of this `[[step]]` table (its
+    /// `block` key): consecutive steps with the same number are one cycle.
+    pub block: Option<usize>,
 }
 
 /// A golden-model node on the bus.
@@ -501,6 +508,76 @@ impl Ctx<'_> {
     fn err_key(&self, span: &std::ops::Range<usize>, key: &str, path: &str, message: impl Into<String>) -> ScenarioError {
         self.err(self.key_span(span, key), path, message)
     }
+}
+
+/// Where a `[[step]]` table is: its line and its index from 1.
+struct Placed {
+    line: usize,
+    table: usize,
+}
+
+/// The accesses of a `block = [...]` step, each a step of its own marked
+/// with the table's index as its block (the register view and reset mode
+/// follow the writes inside the block, as between steps).
+#[allow(clippy::too_many_arguments)]
+fn block_steps(
+    ctx: &Ctx,
+    span: &std::ops::Range<usize>,
+    p: &str,
+    block: &[RawStep],
+    at: Placed,
+    mode: &mut Mode,
+    reset_mode: &mut bool,
+    steps: &mut Vec<Step>,
+) -> Result<(), ScenarioError> {
+    let first = steps.len();
+    for (j, st) in block.iter().enumerate() {
+        let q = format!("{p}.block[{}]", j + 1);
+        let waits = [st.wait_irq.is_some(), st.wait_sr_set.is_some() || st.wait_sr_clear.is_some(), st.wait_bits.is_some(), st.block.is_some(), st.timeout_bits.is_some()];
+        let accesses = [st.write.is_some(), st.read.is_some(), st.load_tx.is_some()];
+        if waits.iter().any(|w| *w) || accesses.iter().filter(|a| **a).count() != 1 {
+            return Err(ctx.err_key(span, "block", &q, "each entry of a block is one access: write, read or load_tx (no waits: a block cycle holds the bus)"));
+        }
+        let view = match &st.view {
+            None => *mode,
+            Some(v) => parse_mode(ctx, span, "view", &format!("{q}.view"), v)?,
+        };
+        let mut push = |action: Action, mode: Mode, reset_mode: bool| {
+            steps.push(Step { n: steps.len() + 1, line: at.line, table: at.table, note: st.note.clone(), mode, reset_mode, action, block: Some(at.table) });
+        };
+        if let Some(w) = &st.write {
+            let (addr, name) = resolve(ctx, span, "write", &format!("{q}.write"), w, view)?;
+            let v = st.value.ok_or_else(|| ctx.err_key(span, "block", &format!("{q}.value"), "a write needs `value`"))?;
+            let value = byte(ctx, span, "block", &format!("{q}.value"), v)?;
+            push(Action::Write { addr, value, name }, *mode, *reset_mode);
+            if addr == 31 {
+                *mode = Mode::from_cdr(value);
+            }
+            if addr == 0 {
+                *reset_mode = value & 1 != 0;
+            }
+        } else if let Some(r) = &st.read {
+            let (addr, name) = resolve(ctx, span, "read", &format!("{q}.read"), r, view)?;
+            let expect = match st.expect {
+                None => None,
+                Some(e) => {
+                    let e = byte(ctx, span, "block", &format!("{q}.expect"), e)?;
+                    let m = byte(ctx, span, "block", &format!("{q}.mask"), st.mask.unwrap_or(0xFF))?;
+                    Some((m, e))
+                }
+            };
+            push(Action::Read { addr, name, expect }, *mode, *reset_mode);
+        } else if let Some(f) = &st.load_tx {
+            let fr = frame(ctx, span, &format!("{q}.load_tx"), f)?;
+            for (addr, value) in tx_buffer_bytes(&fr, view) {
+                push(Action::Write { addr, value, name: None }, *mode, *reset_mode);
+            }
+        }
+    }
+    if steps.len() - first < 2 {
+        return Err(ctx.err_key(span, "block", &format!("{p}.block"), "a block cycle needs at least two accesses"));
+    }
+    Ok(())
 }
 
 fn byte(ctx: &Ctx, span: &std::ops::Range<usize>, key: &str, path: &str, v: i64) -> Result<u8, ScenarioError> {
@@ -789,13 +866,18 @@ fn build(ctx: &Ctx, raw: RawScenario, file: &Path) -> Result<Scenario, ScenarioE
             st.wait_sr_set.is_some() || st.wait_sr_clear.is_some(),
             st.wait_bits.is_some(),
             st.load_tx.is_some(),
+            st.block.is_some(),
         ];
         let count = actions.iter().filter(|a| **a).count();
         if count != 1 {
-            return Err(ctx.err(span, &p, format!("a step needs exactly one action (write, read, wait_irq, wait_sr_set/wait_sr_clear, wait_bits, load_tx); found {count}")));
+            return Err(ctx.err(span, &p, format!("a step needs exactly one action (write, read, wait_irq, wait_sr_set/wait_sr_clear, wait_bits, load_tx, block); found {count}")));
+        }
+        if let Some(block) = &st.block {
+            block_steps(&ctx, &span, &p, block, Placed { line, table: i + 1 }, &mut mode, &mut reset_mode, &mut steps)?;
+            continue;
         }
         let mut push = |action: Action, mode: Mode, reset_mode: bool| {
-            steps.push(Step { n: steps.len() + 1, line, table: i + 1, note: st.note.clone(), mode, reset_mode, action });
+            steps.push(Step { n: steps.len() + 1, line, table: i + 1, note: st.note.clone(), mode, reset_mode, action, block: None });
         };
         if let Some(w) = &st.write {
             let (addr, name) = resolve(ctx, &span, "write", &format!("{p}.write"), w, view)?;

@@ -409,9 +409,14 @@ pub fn tec_trace_from_events(r: &RunRecord, side: Side) -> Vec<TecStep> {
 
 /// Plays the steps; returns early on the first test-bench error.
 fn play(tb: &mut Testbench, s: &Scenario, traffic: &mut Vec<(u64, usize, can_proto::CanFrame)>, max_bits: u64) -> Result<(), TbError> {
-    for st in &s.steps {
+    for (i, st) in s.steps.iter().enumerate() {
         log::info!("{}: step {} (line {}){}", s.name, st.n, st.line, st.note.as_ref().map(|n| format!(": {n}")).unwrap_or_default());
         fire_traffic(tb, traffic);
+        if let Some(b) = st.block
+            && (i == 0 || s.steps[i - 1].block != Some(b))
+        {
+            tb.begin_block(&block_accesses(&s.steps[i..], b))?;
+        }
         match &st.action {
             Action::Write { addr, value, .. } => {
                 tb.write(*addr, *value)?;
@@ -450,6 +455,19 @@ fn play(tb: &mut Testbench, s: &Scenario, traffic: &mut Vec<(u64, usize, can_pro
         }
     }
     Ok(())
+}
+
+/// The accesses `(write, addr, data)` of block `b`, from its first step on.
+fn block_accesses(steps: &[crate::Step], b: usize) -> Vec<(bool, u8, u8)> {
+    steps
+        .iter()
+        .take_while(|st| st.block == Some(b))
+        .filter_map(|st| match &st.action {
+            Action::Write { addr, value, .. } => Some((true, *addr, *value)),
+            Action::Read { addr, .. } => Some((false, *addr, 0)),
+            _ => None,
+        })
+        .collect()
 }
 
 /// Requests transmission on model nodes whose time has come. A frame whose

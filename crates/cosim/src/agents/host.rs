@@ -394,7 +394,13 @@ impl HostAgent {
                 // Nothing queued or in flight and idle outputs: its edge
                 // would start nothing and drive the same idle outputs.
                 if !(m.in_flight() == 0 && self.applied_wb == WbMasterOut::default()) {
+                    let before = m.active();
                     m.on_edge(&s);
+                    // The next transfer of a block cycle replaced the one
+                    // on the wires (cyc & stb held): a new request.
+                    if before.is_some() && m.active().is_some_and(|h| Some(h) != before) {
+                        self.req_edges = 0;
+                    }
                     self.applied_wb = m.outputs();
                     dut.set_wb(&self.applied_wb);
                 }
@@ -461,6 +467,27 @@ impl HostAgent {
     /// Queues a register access on the BFM.
     pub fn start(&mut self, write: bool, addr: u8, data: u8) -> OpHandle {
         with_master!(&mut self.master, m => if write { m.start_write(addr, data) } else { m.start_read(addr) })
+    }
+
+    /// Queues register accesses `(write, addr, data)` as one Wishbone block
+    /// cycle (cyc and stb held across them, see
+    /// [`bfm::WishboneMaster::start_block`]); one handle per access. `None`
+    /// when the host is not the Wishbone master (other buses have no block
+    /// cycle: the caller does the accesses one by one).
+    pub fn start_block(&mut self, accesses: &[(bool, u8, u8)]) -> Option<Vec<OpHandle>> {
+        let Master::Wb(m) = &mut self.master else { return None };
+        let block: Vec<bfm::BlockAccess> = accesses
+            .iter()
+            .map(|&(write, addr, data)| bfm::BlockAccess { write, addr, data })
+            .collect();
+        Some(m.start_block(&block))
+    }
+
+    /// Gives up the accesses of the block cycle that have not started.
+    pub fn abandon_block(&mut self) {
+        if let Master::Wb(m) = &mut self.master {
+            m.abandon_block();
+        }
     }
 
     /// Host cycles within which the queued operations must end (the
