@@ -47,12 +47,9 @@ fn root() -> PathBuf {
     PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("../..")
 }
 
-/// The bus of the intermission site: blocker sends 0x7F0, the DUT requests
-/// 0x100 during it, rival (0x0F0) too; both start at intermission bit 3 and
-/// the DUT loses at ID.8.
-const INTERMISSION_BUS: &str = r#"
-name = "abort race: intermission bit 3"
-purpose = "CMR.AT across the frame start at intermission bit 3"
+/// What both sites' scenarios share: the clocks, the host, our RTL, a
+/// `Pass`; each site adds its name and its nodes (`bus_text`).
+const COMMON: &str = r#"
 verifies = ["the sweep in abort_race.rs"]
 sequence = ["the sweep in abort_race.rs"]
 step = []
@@ -63,6 +60,14 @@ can_mhz = 24.0
 bfm = "wishbone"
 [dut]
 kind = "rtl"
+[expect]
+category = "Pass"
+"#;
+
+/// The intermission site: blocker sends 0x7F0, the DUT requests 0x100
+/// during it, rival (0x0F0) too; both start at intermission bit 3 and the
+/// DUT loses at ID.8.
+const INTERMISSION_NODES: &str = r#"
 [[node]]
 name = "blocker"
 btr0 = 0x41
@@ -75,27 +80,17 @@ btr0 = 0x41
 btr1 = 0x25
 mode = "peli"
 send = [ { id = 0x0F0, data = [0xF0], at_bit = 1000000 } ]
-[expect]
-category = "Pass"
 "#;
 
-/// The bus-off site: the DUT alone in self-test mode (no ACK needed).
-const BUS_OFF_BUS: &str = r#"
-name = "abort race: end of bus-off recovery"
-purpose = "CMR.AT across the frame start at the end of bus-off recovery"
-verifies = ["the sweep in abort_race.rs"]
-sequence = ["the sweep in abort_race.rs"]
-step = []
-[clocks]
-host_mhz = 50.0
-can_mhz = 24.0
-[host]
-bfm = "wishbone"
-[dut]
-kind = "rtl"
-[expect]
-category = "Pass"
-"#;
+/// The scenario text of a site (the bus-off site: the DUT alone in
+/// self-test mode, no ACK needed, so no node).
+fn bus_text(site: Site) -> String {
+    let (name, nodes) = match site {
+        Site::Intermission => ("intermission bit 3", INTERMISSION_NODES),
+        Site::BusOffEnd => ("end of bus-off recovery", ""),
+    };
+    format!("name = \"abort race: {name}\"\npurpose = \"CMR.AT across the frame start at {name}\"\n{COMMON}{nodes}")
+}
 
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 enum Site {
@@ -105,11 +100,7 @@ enum Site {
 
 /// Our RTL, or a copy of rtl/ in `dir` built at run time (same profile).
 fn bench(site: Site, dir: Option<&Path>) -> (Testbench, Scenario) {
-    let text = match site {
-        Site::Intermission => INTERMISSION_BUS,
-        Site::BusOffEnd => BUS_OFF_BUS,
-    };
-    let s = Scenario::parse(text, "abort_race.rs").unwrap();
+    let s = Scenario::parse(&bus_text(site), "abort_race.rs").unwrap();
     let mut cfg = scenario::run::tb_config(&s, &DutKind::Rtl, &RunOptions::default()).unwrap();
     if let Some(d) = dir {
         cfg.dut = DutChoice::External(ExternalCore { dir: d.to_path_buf(), top: "can_top".into(), ..ExternalCore::default() });
