@@ -1,7 +1,8 @@
 //! The session-9 checks for can_regs mutants 45, 111 (a reset-mode write
 //! that also lands at a second address) and 72 (sleep taken with an
 //! interrupt pending) are live: each expected value set to what the mutant
-//! reads fails on the golden model and on our RTL.
+//! reads fails on the golden model and on our RTL; so do the other sleep
+//! refusals of the PeliCAN scenario (in reset mode, before bus-free).
 
 use scenario::{DutSpec, RunOptions, Scenario, run};
 
@@ -9,7 +10,7 @@ mod common;
 use common::root;
 
 /// `(file under tb/, text of the check, the check as the mutant reads it)`.
-const CHECKS: [(&str, &str, &str); 6] = [
+const CHECKS: [(&str, &str, &str); 8] = [
     // mutant 111: the TX RAM write at 102 also lands in the free RAM at 110
     (
         "registers/peli-reset-mode-writes-alias-nothing.toml",
@@ -32,6 +33,17 @@ const CHECKS: [(&str, &str, &str); 6] = [
         "mutation-holes/peli-sleep-refused-interrupt-pending.toml",
         "{ read = \"MOD\", expect = 0x00, mask = 0x1F, note = \"SM reads 0\" },",
         "{ read = \"MOD\", expect = 0x10, mask = 0x1F, note = \"SM reads 0\" },",
+    ),
+    // the other refusals of the PeliCAN family: in reset mode, and before bus-free after it
+    (
+        "mutation-holes/peli-sleep-refused-interrupt-pending.toml",
+        "{ read = \"MOD\", expect = 0x01, mask = 0x1F },",
+        "{ read = \"MOD\", expect = 0x11, mask = 0x1F },",
+    ),
+    (
+        "mutation-holes/peli-sleep-refused-interrupt-pending.toml",
+        "{ read = \"MOD\", expect = 0x00, mask = 0x1F, note = \"SM reads 0: no sleep before bus-free\" },",
+        "{ read = \"MOD\", expect = 0x10, mask = 0x1F, note = \"SM reads 0: no sleep before bus-free\" },",
     ),
     // mutant 72, BasicCAN: clearing GTS after the refused request wakes a sleeping DUT (WUI)
     (
