@@ -5,9 +5,12 @@
 //! refusals of the PeliCAN scenario (in reset mode, before bus-free).
 
 use scenario::{DutSpec, RunOptions, Scenario, run};
+use std::path::PathBuf;
 
-mod common;
-use common::root;
+/// The project's root (where `tb/` is).
+fn root() -> PathBuf {
+    PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("../..")
+}
 
 /// `(file under tb/, text of the check, the check as the mutant reads it)`.
 const CHECKS: [(&str, &str, &str); 8] = [
