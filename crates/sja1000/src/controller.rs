@@ -1271,6 +1271,16 @@ impl Sja1000 {
                     reason: "the bus is active",
                 });
             }
+            // CMR.4 note 1: after reset mode is left, sleep can be set only
+            // once bus-free has been seen again (also after a wake-up,
+            // which waits for bus-free too); refused like bus activity.
+            if self.waiting_for_bus_free() {
+                self.raise(WUI);
+                return Some(WriteOutcome::CommandIgnored {
+                    command,
+                    reason: "bus-free not yet seen",
+                });
+            }
             self.sleeping = true;
             self.engine.set_sleep(true);
             self.log(NodeEvent::Sleep(true));

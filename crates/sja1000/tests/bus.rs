@@ -1057,12 +1057,14 @@ fn accounting_window_survives_a_timing_change_of_node_0() {
 #[test]
 fn accounting_with_the_next_sof_right_after_intermission() {
     let mut bus = bus_of(&[Config::pelican(), Config::pelican()]);
-    host::transmit(bus.node_mut(0), &std_frame(0, &[]), peli::cmr::TR).unwrap();
     bus.node_mut(1).write(peli::MOD, peli::r#mod::RM);
     bus.node_mut(1).write(peli::MOD, peli::r#mod::STM);
+    // sleep can be set only once bus-free was seen after reset mode (CMR.4 note 1)
+    bus.run_bits(12);
     let m = bus.node(0).peek(peli::MOD);
     bus.node_mut(0).write(peli::MOD, (m | peli::r#mod::SM) & !peli::r#mod::RM);
     assert!(bus.node(0).is_sleeping());
+    host::transmit(bus.node_mut(0), &std_frame(0, &[]), peli::cmr::TR).unwrap();
     let remote = CanFrame::with_dlc(CanFrame::ext_id(22158987).unwrap(), true, 7, &[]).unwrap();
     host::transmit(bus.node_mut(1), &remote, peli::cmr::TR).unwrap();
     bus.run_bits(200);

@@ -64,10 +64,19 @@ fn reset_mode_clears_ti() {
     assert_eq!(n.read(peli::SR) & peli::sr::TBS, peli::sr::TBS);
 }
 
+/// Runs `n` with the bus recessive until it has seen bus-free (11
+/// recessive bits) after reset mode: only then can sleep be set (CMR.4 note 1).
+fn integrate(n: &mut Sja1000) {
+    for _ in 0..12 * n.engine().timing().clocks_per_bit() {
+        n.clock(true);
+    }
+}
+
 /// Sleep is refused while an interrupt is pending (data sheet MOD.4).
 #[test]
 fn sleep_refused_with_interrupt_pending() {
     let mut n = pelican_operating(peli::ier::TIE);
+    integrate(&mut n);
     host::transmit(&mut n, &std_frame(0x10, &[]), peli::cmr::TR).unwrap();
     n.write(peli::CMR, peli::cmr::AT);
     let out = n.write(peli::MOD, peli::r#mod::SM | peli::r#mod::AFM);
@@ -93,6 +102,11 @@ fn sleep_refused_with_interrupt_pending() {
 fn basic_gts_sleep_and_wake() {
     let mut n = Sja1000::new();
     host::configure(&mut n, &Config::basic(0, 0xFF));
+    // before bus-free is seen after reset mode, GTS is refused (CMR.4 note 1)
+    assert!(matches!(n.write(basic::CMR, basic::cmr::GTS), WriteOutcome::CommandIgnored { command: "GTS", .. }));
+    assert!(!n.is_sleeping());
+    integrate(&mut n);
+    n.read(basic::IR); // the refusal's WUI
     n.write(basic::CMR, basic::cmr::GTS);
     assert!(n.is_sleeping());
     n.write(basic::CMR, 0);
