@@ -44,6 +44,7 @@
 set -e
 root=$(pwd)
 test -f "$root/rtl/can_bsp.v" || { echo "run from the repository root" >&2; exit 2; }
+command -v yosys >/dev/null || { echo "yosys not found on PATH" >&2; exit 2; }
 work=$(mktemp -d)
 if [ -n "$KEEP" ]; then echo "miters and logs kept in $work"; else trap 'rm -rf "$work"' EXIT; fi
 cd "$work"
