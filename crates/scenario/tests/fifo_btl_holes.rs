@@ -80,3 +80,16 @@ fn large_brp_frames_take_their_quanta() {
         assert!((44.0..100.0).contains(&bits), "frame {} at BTR0 0x{b:02X}: {bits:.1} bit times", i + 1);
     }
 }
+
+/// btl-large-brp-receive-resync needs its resynchronisation: with SJW = 0
+/// (BTR0 0x3F on the DUT and both senders, the rest unchanged) the 1.5 %
+/// senders' frames are not received on the model.
+#[test]
+fn large_brp_receive_needs_sjw() {
+    let path = root().join("tb/mutation-holes/btl-large-brp-receive-resync.toml");
+    let text = std::fs::read_to_string(&path).unwrap();
+    assert!(run(&Scenario::parse(&text, &path).unwrap(), &model()).passed, "as shipped");
+    assert_eq!(text.matches("btr0 = 0xFF\n").count(), 2, "the senders' BTR0 moved");
+    let sjw0 = text.replacen("write = \"BTR0\", value = 0xFF", "write = \"BTR0\", value = 0x3F", 1).replace("btr0 = 0xFF\n", "btr0 = 0x3F\n");
+    assert!(!run(&Scenario::parse(&sjw0, &path).unwrap(), &model()).passed, "SJW = 0 passed as well");
+}
