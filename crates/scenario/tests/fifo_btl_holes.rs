@@ -56,6 +56,21 @@ fn doi_only_on_dos_rising_checks_are_live() {
     );
 }
 
+/// The BasicCAN twin: without the release from full the 10-byte refill is
+/// lost; without the CDO the last loss raises no DOI; a DOI expected at the
+/// loss while DOS = 1 fails.
+#[test]
+fn basic_refill_and_doi_checks_are_live() {
+    live(
+        "basic-fifo-refill-doi-on-dos-rising.toml",
+        &[
+            ("{ write = \"CMR\", value = 0x04, note = \"release message 1 from the full FIFO", "{ read = \"SR\", note = \"release message 1 from the full FIFO"),
+            ("{ write = \"CMR\", value = 0x08, note = \"CDO\" }", "{ read = \"SR\" }"),
+            ("{ read = \"IR\", expect = 0xE0, note = \"no DOI: DOS was already 1\" }", "{ read = \"IR\", expect = 0xE8 }"),
+        ],
+    );
+}
+
 /// Each self-test frame of btl-large-brp-self-test takes 44..100 bit times
 /// of its own setting (nq = 10 quanta of 2 (BRP + 1) clocks at 24 MHz),
 /// from CMR = SRR to the IR read after its interrupt: the frames ran at BRP
