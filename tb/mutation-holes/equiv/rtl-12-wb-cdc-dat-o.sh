@@ -31,6 +31,7 @@
 #     that samples during a held level ack sees bit 4 = 1: the gated compare
 #     is not vacuous, and the mutant's twin in can_top_pio is observable).
 # Prints one verdict line per check; exit 0 when every verdict is as above.
+# KEEP_WORK=DIR keeps the yosys scripts and AIGER files in DIR.
 set -e
 root=$(pwd)
 test -f "$root/rtl/can_wb_cdc.v" || { echo "run from the repository root" >&2; exit 2; }
