@@ -71,6 +71,27 @@ fn basic_refill_and_doi_checks_are_live() {
     );
 }
 
+/// fifo-rbsa-write-sets-store-address reads the RAM where the RBSA written
+/// says the message goes: RBSA written one higher (and the window's RBSA
+/// check with it), the RAM reads at 60.. fail.
+#[test]
+fn rbsa_store_address_checks_are_live() {
+    let path = root().join("tb/mutation-holes/fifo-rbsa-write-sets-store-address.toml");
+    let text = std::fs::read_to_string(&path).unwrap();
+    assert!(run(&Scenario::parse(&text, &path).unwrap(), &model()).passed, "as shipped");
+    let from = ["{ write = \"RBSA\", value = 0x3C", "{ read = \"RBSA\", expect = 0x3C }\n", "{ read = \"RBSA\", expect = 0x3C }\n", "{ read = \"RBSA\", expect = 0x03"];
+    let to = ["{ write = \"RBSA\", value = 0x3D", "{ read = \"RBSA\", expect = 0x3D }\n", "{ read = \"RBSA\", expect = 0x3D }\n", "{ read = \"RBSA\", expect = 0x04"];
+    let mut moved = text.clone();
+    for (f, t) in from.iter().zip(to) {
+        assert!(moved.contains(f), "the RBSA steps moved: {f}");
+        moved = moved.replacen(f, t, 1);
+    }
+    let o = run(&Scenario::parse(&moved, &path).unwrap(), &model());
+    assert!(!o.passed, "RBSA 0x3D passed as well");
+    let failed: Vec<&str> = o.record.expectations.iter().filter(|e| !e.passed).map(|e| e.what.as_str()).collect();
+    assert!(!failed.is_empty() && failed.iter().all(|w| w.starts_with("RXFIFO")), "not (only) through the RAM reads: {failed:?}");
+}
+
 /// Each self-test frame of btl-large-brp-self-test takes 44..100 bit times
 /// of its own setting (nq = 10 quanta of 2 (BRP + 1) clocks at 24 MHz),
 /// from CMR = SRR to the IR read after its interrupt: the frames ran at BRP
