@@ -79,8 +79,8 @@ fn rbsa_store_address_checks_are_live() {
     let path = root().join("tb/mutation-holes/fifo-rbsa-write-sets-store-address.toml");
     let text = std::fs::read_to_string(&path).unwrap();
     assert!(run(&Scenario::parse(&text, &path).unwrap(), &model()).passed, "as shipped");
-    let from = ["{ write = \"RBSA\", value = 0x3C", "{ read = \"RBSA\", expect = 0x3C }\n", "{ read = \"RBSA\", expect = 0x3C }\n", "{ read = \"RBSA\", expect = 0x03"];
-    let to = ["{ write = \"RBSA\", value = 0x3D", "{ read = \"RBSA\", expect = 0x3D }\n", "{ read = \"RBSA\", expect = 0x3D }\n", "{ read = \"RBSA\", expect = 0x04"];
+    let from = ["{ write = \"RBSA\", value = 0x3C", "{ read = \"RBSA\", expect = 0x3C },", "{ read = \"RBSA\", expect = 0x3C },", "{ read = \"RBSA\", expect = 0x03"];
+    let to = ["{ write = \"RBSA\", value = 0x3D", "{ read = \"RBSA\", expect = 0x3D },", "{ read = \"RBSA\", expect = 0x3D },", "{ read = \"RBSA\", expect = 0x04"];
     let mut moved = text.clone();
     for (f, t) in from.iter().zip(to) {
         assert!(moved.contains(f), "the RBSA steps moved: {f}");
