@@ -147,8 +147,16 @@ impl Mutation {
         };
         let wire = self.wire.as_ref().map(|w| format!(" ({})", w.trim_start_matches('\\'))).unwrap_or_default();
         let what = format!("{port} bit {} of {}{wire}", self.portbit, self.cell_kind());
+        // A register's output is also its own hold input after `proc`, so an
+        // inverted Q is not "stored inverted": the bit flips on every clock
+        // the register keeps its value (session 9, mutants 14 and 17).
+        let held = if self.port == "Q" && self.cell_kind() == "register" {
+            ", its own hold path included (the bit toggles on each clock it is not written)"
+        } else {
+            ""
+        };
         match (self.mode.as_str(), self.ctrlbit) {
-            ("inv", _) => format!("{what} inverted"),
+            ("inv", _) => format!("{what} inverted{held}"),
             ("const0", _) => format!("{what} stuck at 0"),
             ("const1", _) => format!("{what} stuck at 1"),
             ("cnot0", Some(c)) => format!("{what} inverted while bit {c} of the same port is 0"),
@@ -172,6 +180,11 @@ mod tests {
         let c = Mutation::parse(1, r"mutate -mode cnot1 -module t -cell $flatten\u.$procmux$1 -port A -portbit 1 -ctrlbit 2 -src a.v:5.1-5.2 -src b.v:0.0-0.0").unwrap();
         assert_eq!(c.location(), "a.v:5", "a 0.0-0.0 location is no location");
         assert!(c.describe().contains("inverted while bit 2 of the same port is 1"), "{}", c.describe());
+        let r = Mutation::parse(2, r"mutate -mode inv -module can_top -cell $flatten\u_bsp.$procdff$7026 -port Q -portbit 0 -wire u_bsp.rcnt -wirebit 0 -src /w/rtl/can_bsp.v:254.5-473.8").unwrap();
+        assert_eq!(
+            r.describe(),
+            "output bit 0 of register (u_bsp.rcnt) inverted, its own hold path included (the bit toggles on each clock it is not written)"
+        );
         assert!(Mutation::parse(1, "mutate -mode").is_err());
         assert!(Mutation::parse(1, "hello").is_err());
     }
