@@ -5,12 +5,10 @@
 //! refusals of the PeliCAN scenario (in reset mode, before bus-free).
 
 use scenario::{DutSpec, RunOptions, Scenario, run};
-use std::path::PathBuf;
 
-/// The project's root (where `tb/` is).
-fn root() -> PathBuf {
-    PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("../..")
-}
+#[allow(dead_code)] // only root() of the shared helpers is used here
+mod common;
+use common::root;
 
 /// `(file under tb/, text of the check, the check as the mutant reads it)`.
 const CHECKS: [(&str, &str, &str); 8] = [
