@@ -18,6 +18,10 @@
 #![warn(missing_docs)]
 
 pub mod fault;
+pub mod plan;
+pub mod random;
+pub mod render;
+pub mod scoreboard;
 
 use std::collections::BTreeMap;
 use std::fmt::Write as _;

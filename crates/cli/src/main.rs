@@ -48,8 +48,8 @@ enum Command {
     /// Performance: golden model, co-simulation, raw C++ Verilator harness and Icarus, ratios in one run.
     #[command(after_help = "Examples:\n  cancosim bench --smoke\n  cancosim bench --frames 1000 --json")]
     Bench(cmd::bench::Args),
-    /// Seeded random fault-injection campaign, DUT vs golden model.
-    #[command(after_help = "Examples:\n  cancosim campaign --frames 500 --seed 7\n  cancosim campaign --dut model --frames 100")]
+    /// Constrained-random co-simulation against any core: random bus and host programs, a scoreboard, failures shrunk to scenarios.
+    #[command(after_help = "Examples:\n  cancosim campaign --frames 500 --seed 7\n  cancosim campaign --external oc=/path/to/can@opencores-can --waivers tb/waivers/opencores-upstream.toml --minutes 10 --save-failures out/found\n  cancosim campaign --frames 2000 --shard 2/4 --json shard2.json")]
     Campaign(cmd::campaign::Args),
     /// Mutation testing: yosys mutants behind one run-time select, verilated once, killed by the first failing scenario.
     #[command(after_help = "Examples:\n  cancosim mutate tb/regression.list --count 200 --seed 1 --jobs 2\n  cancosim mutate --shard 1/4 --out out/mutate     (run again to resume after an interruption)\n  cancosim mutate --external /path/to/rtl --profile opencores-can --waivers tb/waivers/opencores-upstream.toml\n\nExit: 0 no survivor, 1 survivors or timed-out mutants (listed), 2 bad input or no build.")]

@@ -126,6 +126,18 @@ pub struct RawStep {
     /// Accesses (write, read, load_tx steps) done as one Wishbone block
     /// cycle: cyc and stb held from the first to the last ack.
     pub block: Option<Vec<RawStep>>,
+    /// With `wait_irq`: a timeout ends the wait instead of failing the run.
+    pub optional: Option<bool>,
+    /// Read and release up to this many received messages while SR.RBS = 1.
+    pub drain: Option<i64>,
+    /// Release up to this many messages while SR.RBS = 1, without reading them.
+    pub release: Option<i64>,
+    /// Wait (up to `timeout_bits`) for SR.TBS = 1 in operating mode, then
+    /// fill the TX buffer with this frame and write `command` to CMR; skipped
+    /// when the buffer stays locked, the node is bus-off or in reset mode.
+    pub transmit: Option<RawFrame>,
+    /// With `transmit`: the CMR value (default 0x01, TR).
+    pub command: Option<i64>,
 }
 
 /// A CAN frame in a file.

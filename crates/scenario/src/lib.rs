@@ -48,7 +48,18 @@
 //! wait_irq = true     # or wait_sr_set / wait_sr_clear, or wait_bits = N
 //! timeout_bits = 2000
 //! [[step]]
+//! wait_irq = true     # with optional = true: a timeout ends the wait, no failure
+//! timeout_bits = 300
+//! optional = true
+//! [[step]]
 //! load_tx = { id = 0x529, data = [0x51] }   # fills the TX buffer (extended, rtr, dlc, raw_dlc)
+//! [[step]]
+//! transmit = { id = 0x529, data = [0x51] }  # waits for SR.TBS (timeout_bits), then load_tx and
+//! command = 0x01      # CMR = command; does nothing while bus-off, in reset mode or locked
+//! [[step]]
+//! drain = 64          # while SR.RBS: read the message, release it (at most 64)
+//! [[step]]
+//! release = 3         # while SR.RBS: release without reading (at most 3)
 //! [[step]]            # accesses as one Wishbone block cycle (B4 §3.3): cyc and stb held
 //! block = [ { load_tx = { id = 0x12, data = [1] } }, { read = "TXB", expect = 0x02 } ]
 //!                     # from the first transfer to the last ack (write, read, load_tx entries;
@@ -298,6 +309,32 @@ pub enum Action {
     },
     /// Let the bus run.
     WaitBits(u64),
+    /// Wait until irq_on is asserted or `timeout_bits` pass, whichever
+    /// comes first; neither is a failure (`wait_irq` with `optional`).
+    WaitIrqOrTimeout {
+        /// Bit times to wait at most.
+        timeout_bits: u64,
+    },
+    /// While SR.RBS reads 1 and fewer than `max` were taken: read the
+    /// received message (when `read`) and release it (CMR.RRB). The
+    /// messages read are the run's delivered frames.
+    Drain {
+        /// Messages at most.
+        max: u8,
+        /// Read the message before releasing it (`drain`), or release only (`release`).
+        read: bool,
+    },
+    /// Poll SR until TBS = 1 (at most `timeout_bits`); then, if the node is
+    /// on the bus and in operating mode, fill the TX buffer and write
+    /// `command` to CMR. Otherwise the step does nothing.
+    Transmit {
+        /// The frame.
+        frame: can_proto::CanFrame,
+        /// CMR value.
+        command: u8,
+        /// Bit times to wait for a free buffer.
+        timeout_bits: u64,
+    },
 }
 
 /// A numbered step with its place in the file.
@@ -533,7 +570,14 @@ fn block_steps(
     let first = steps.len();
     for (j, st) in block.iter().enumerate() {
         let q = format!("{p}.block[{}]", j + 1);
-        let waits = [st.wait_irq.is_some(), st.wait_sr_set.is_some() || st.wait_sr_clear.is_some(), st.wait_bits.is_some(), st.block.is_some(), st.timeout_bits.is_some()];
+        let waits = [
+            st.wait_irq.is_some(),
+            st.wait_sr_set.is_some() || st.wait_sr_clear.is_some(),
+            st.wait_bits.is_some(),
+            st.block.is_some(),
+            st.timeout_bits.is_some(),
+            st.drain.is_some() || st.release.is_some() || st.transmit.is_some(),
+        ];
         let accesses = [st.write.is_some(), st.read.is_some(), st.load_tx.is_some()];
         if waits.iter().any(|w| *w) || accesses.iter().filter(|a| **a).count() != 1 {
             return Err(ctx.err_key(span, "block", &q, "each entry of a block is one access: write, read or load_tx (no waits: a block cycle holds the bus)"));
@@ -867,10 +911,19 @@ fn build(ctx: &Ctx, raw: RawScenario, file: &Path) -> Result<Scenario, ScenarioE
             st.wait_bits.is_some(),
             st.load_tx.is_some(),
             st.block.is_some(),
+            st.drain.is_some(),
+            st.release.is_some(),
+            st.transmit.is_some(),
         ];
         let count = actions.iter().filter(|a| **a).count();
         if count != 1 {
-            return Err(ctx.err(span, &p, format!("a step needs exactly one action (write, read, wait_irq, wait_sr_set/wait_sr_clear, wait_bits, load_tx, block); found {count}")));
+            return Err(ctx.err(span, &p, format!("a step needs exactly one action (write, read, wait_irq, wait_sr_set/wait_sr_clear, wait_bits, load_tx, block, drain, release, transmit); found {count}")));
+        }
+        if st.optional.is_some() && st.wait_irq.is_none() {
+            return Err(ctx.err_key(&span, "optional", &format!("{p}.optional"), "`optional` goes with `wait_irq`"));
+        }
+        if st.command.is_some() && st.transmit.is_none() {
+            return Err(ctx.err_key(&span, "command", &format!("{p}.command"), "`command` goes with `transmit`"));
         }
         if let Some(block) = &st.block {
             block_steps(&ctx, &span, &p, block, Placed { line, table: i + 1 }, &mut mode, &mut reset_mode, &mut steps)?;
@@ -902,7 +955,21 @@ fn build(ctx: &Ctx, raw: RawScenario, file: &Path) -> Result<Scenario, ScenarioE
             };
             push(Action::Read { addr, name, expect }, mode, reset_mode);
         } else if st.wait_irq.is_some() {
-            push(Action::WaitIrq { timeout_bits: timeout }, mode, reset_mode);
+            if st.optional == Some(true) {
+                push(Action::WaitIrqOrTimeout { timeout_bits: timeout }, mode, reset_mode);
+            } else {
+                push(Action::WaitIrq { timeout_bits: timeout }, mode, reset_mode);
+            }
+        } else if let Some(n) = st.drain.or(st.release) {
+            let key = if st.drain.is_some() { "drain" } else { "release" };
+            if !(1..=64).contains(&n) {
+                return Err(ctx.err_key(&span, key, &format!("{p}.{key}"), format!("{n}: between 1 and 64 messages")));
+            }
+            push(Action::Drain { max: n as u8, read: st.drain.is_some() }, mode, reset_mode);
+        } else if let Some(f) = &st.transmit {
+            let fr = frame(ctx, &span, &format!("{p}.transmit"), f)?;
+            let command = byte(ctx, &span, "command", &format!("{p}.command"), st.command.unwrap_or(0x01))?;
+            push(Action::Transmit { frame: fr, command, timeout_bits: timeout }, mode, reset_mode);
         } else if st.wait_sr_set.is_some() || st.wait_sr_clear.is_some() {
             let set = byte(ctx, &span, "wait_sr_set", &format!("{p}.wait_sr_set"), st.wait_sr_set.unwrap_or(0))?;
             let clear = byte(ctx, &span, "wait_sr_clear", &format!("{p}.wait_sr_clear"), st.wait_sr_clear.unwrap_or(0))?;

@@ -155,7 +155,8 @@ pub struct Cell {
 }
 
 impl Cell {
-    fn from_outcome(scenario: &str, o: &RunOutcome) -> Cell {
+    /// The cell of one run (its verdict from the outcome and `[expect]`).
+    pub fn from_outcome(scenario: &str, o: &RunOutcome) -> Cell {
         let d = &o.diagnosis;
         let status = if let Some(why) = &o.skipped {
             Status::Skipped(why.clone())

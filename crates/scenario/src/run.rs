@@ -127,6 +127,9 @@ pub struct RunOutcome {
     /// The run's bus log (frames, the DUT's error frames), for `--candump`
     /// ([`cosim::candump::write_log`]).
     pub bus_log: Vec<cosim::candump::LogEntry>,
+    /// The messages the host read out of the DUT's RX FIFO (`drain` steps),
+    /// in order, each with the bit time it was read at.
+    pub delivered: Vec<(u64, can_proto::CanFrame)>,
 }
 
 /// A level forced from a bit of a frame on, for `bits` bit times (a
@@ -408,7 +411,13 @@ pub fn tec_trace_from_events(r: &RunRecord, side: Side) -> Vec<TecStep> {
 }
 
 /// Plays the steps; returns early on the first test-bench error.
-fn play(tb: &mut Testbench, s: &Scenario, traffic: &mut Vec<(u64, usize, can_proto::CanFrame)>, max_bits: u64) -> Result<(), TbError> {
+fn play(
+    tb: &mut Testbench,
+    s: &Scenario,
+    traffic: &mut Vec<(u64, usize, can_proto::CanFrame)>,
+    max_bits: u64,
+    delivered: &mut Vec<(u64, can_proto::CanFrame)>,
+) -> Result<(), TbError> {
     for (i, st) in s.steps.iter().enumerate() {
         log::info!("{}: step {} (line {}){}", s.name, st.n, st.line, st.note.as_ref().map(|n| format!(": {n}")).unwrap_or_default());
         fire_traffic(tb, traffic);
@@ -449,11 +458,96 @@ fn play(tb: &mut Testbench, s: &Scenario, traffic: &mut Vec<(u64, usize, can_pro
                 }
             }
             Action::WaitBits(n) => advance(tb, traffic, *n)?,
+            Action::WaitIrqOrTimeout { timeout_bits } => {
+                let end = tb.bits() + timeout_bits;
+                while tb.pins().irq_n && tb.bits() < end {
+                    fire_traffic(tb, traffic);
+                    tb.run_bits(1)?;
+                }
+            }
+            Action::Drain { max, read } => {
+                for _ in 0..*max {
+                    if tb.read(2)? & diagnose::sr::RBS == 0 {
+                        break;
+                    }
+                    if *read {
+                        let f = read_rx_message(tb, st.mode)?;
+                        delivered.push((tb.bits(), f));
+                    }
+                    tb.write(1, 0x04)?;
+                }
+            }
+            Action::Transmit { frame, command, timeout_bits } => transmit_when_free(tb, traffic, frame, *command, *timeout_bits, st.mode)?,
         }
         if tb.bits() > max_bits {
             return Err(TbError::Timeout { what: format!("the scenario's steps (step {})", st.n), bits: max_bits });
         }
     }
+    Ok(())
+}
+
+/// Reads the message at the head of the RX FIFO through the receive
+/// window (PeliCAN 16.., BasicCAN 20..). A frame the window cannot hold
+/// (an identifier out of range) is impossible by construction of the
+/// fields; its bytes are masked into range.
+fn read_rx_message(tb: &mut Testbench, mode: Mode) -> Result<can_proto::CanFrame, TbError> {
+    let (id, ext, rtr, dlc, data_at) = if mode == Mode::PeliCan {
+        let fi = tb.read(16)?;
+        let ext = fi & 0x80 != 0;
+        if ext {
+            let b: Vec<u8> = (17..21).map(|a| tb.read(a)).collect::<Result<_, _>>()?;
+            let id = (b[0] as u32) << 21 | (b[1] as u32) << 13 | (b[2] as u32) << 5 | (b[3] as u32) >> 3;
+            (id, true, fi & 0x40 != 0, fi & 0x0F, 21u8)
+        } else {
+            let b: Vec<u8> = (17..19).map(|a| tb.read(a)).collect::<Result<_, _>>()?;
+            ((b[0] as u32) << 3 | (b[1] as u32) >> 5, false, fi & 0x40 != 0, fi & 0x0F, 19u8)
+        }
+    } else {
+        let b0 = tb.read(20)?;
+        let b1 = tb.read(21)?;
+        ((b0 as u32) << 3 | (b1 as u32) >> 5, false, b1 & 0x10 != 0, b1 & 0x0F, 22u8)
+    };
+    let n = if rtr { 0 } else { dlc.min(8) };
+    let data: Vec<u8> = (0..n).map(|i| tb.read(data_at + i)).collect::<Result<_, _>>()?;
+    let ident = if ext { can_proto::CanFrame::ext_id(id & 0x1FFF_FFFF) } else { can_proto::CanFrame::std_id((id & 0x7FF) as u16) };
+    Ok(can_proto::CanFrame::with_dlc(ident.expect("masked into range"), rtr, dlc, &data).expect("data length follows the DLC"))
+}
+
+/// The `transmit` step: polls SR once a bit until TBS = 1; a node that is
+/// bus-off or in reset mode (MOD.RM / CR.RR, set by bus-off too) does not
+/// transmit. Before writing the buffer the bus runs two more bit times, so
+/// a reference whose TBS rises a few clocks after the DUT's (the status
+/// latency the comparator tolerates) has released the buffer too.
+fn transmit_when_free(
+    tb: &mut Testbench,
+    traffic: &mut Vec<(u64, usize, can_proto::CanFrame)>,
+    frame: &can_proto::CanFrame,
+    command: u8,
+    timeout_bits: u64,
+    mode: Mode,
+) -> Result<(), TbError> {
+    let start = tb.bits();
+    loop {
+        let sr = tb.read(2)?;
+        if sr & diagnose::sr::BS != 0 {
+            return Ok(());
+        }
+        if sr & diagnose::sr::TBS != 0 {
+            break;
+        }
+        if tb.bits() - start >= timeout_bits {
+            return Ok(());
+        }
+        advance(tb, traffic, 1)?;
+    }
+    advance(tb, traffic, 2)?;
+    if tb.read(0)? & 0x01 != 0 {
+        return Ok(());
+    }
+    for (addr, value) in crate::tx_buffer_bytes(frame, mode) {
+        tb.write(addr, value)?;
+    }
+    tb.write(1, command)?;
     Ok(())
 }
 
@@ -559,6 +653,7 @@ pub fn run(s: &Scenario, opts: &RunOptions) -> RunOutcome {
     // overrun, off the bus); checked at the end of every run.
     let mut lost = None;
     let mut bus_log = Vec::new();
+    let mut delivered = Vec::new();
     let mut record = match tb_config(s, &dut.kind, opts).map_err(|e| e.to_string()).and_then(|c| Testbench::new(c).map_err(|e| e.to_string())) {
         Err(e) => {
             let mut r = RunRecord::new(&s.name, &dut.name);
@@ -581,7 +676,7 @@ pub fn run(s: &Scenario, opts: &RunOptions) -> RunOutcome {
                 .enumerate()
                 .flat_map(|(i, n)| n.traffic.iter().map(move |f| (f.at_bit, i, f.frame)))
                 .collect();
-            let mut result = play(&mut tb, s, &mut traffic, max_bits);
+            let mut result = play(&mut tb, s, &mut traffic, max_bits, &mut delivered);
             // Last transmission request (CMR.TR or CMR.SRR) of the program.
             let requested = tb.record().host_ops.iter().rev().find(|o| o.addr == 1 && o.access == diagnose::Access::Write && o.data & 0x11 != 0).map(|_| tb.bits());
             if result.is_ok() {
@@ -694,6 +789,7 @@ pub fn run(s: &Scenario, opts: &RunOptions) -> RunOutcome {
         waivers: report,
         warnings,
         bus_log,
+        delivered,
     }
 }
 
@@ -770,6 +866,7 @@ fn skipped(s: &Scenario, opts: &RunOptions, why: String) -> RunOutcome {
         warnings: Vec::new(),
         skipped: Some(why),
         bus_log: Vec::new(),
+        delivered: Vec::new(),
     }
 }
 

@@ -36,6 +36,7 @@ fn failed(divs: Vec<Divergence>) -> RunOutcome {
         warnings: Vec::new(),
         skipped: None,
         bus_log: Vec::new(),
+        delivered: Vec::new(),
     }
 }
 

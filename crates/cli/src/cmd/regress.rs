@@ -12,26 +12,13 @@ pub struct Args {
     /// Regression list (one scenario path per line) or scenario files.
     #[arg(default_value = "tb/regression.list")]
     inputs: Vec<PathBuf>,
-    /// Bundled DUTs to run against (repeatable): rtl, model.
-    #[arg(long = "dut", value_parser = ["rtl", "model"])]
-    duts: Vec<String>,
-    /// External core as NAME=DIR or NAME=DIR@PROFILE (repeatable; define CAN_WISHBONE_IF, DIR as
-    /// include dir). Each needs a profile: its own @PROFILE, else --profile.
-    /// DIR may be `git:REPO@REV[:SUBDIR]` (exported with git archive into the build cache).
-    #[arg(long = "external", value_name = "NAME=DIR[@PROFILE]")]
-    externals: Vec<String>,
+    #[command(flatten)]
+    dut: DutArgs,
     /// The old revision to compare the (one) --external with, NAME=DIR[@PROFILE] or
     /// NAME=git:REPO@REV[:SUBDIR]: per scenario fixed / broken / still failing / still passing;
     /// exit 1 only when something broke.
     #[arg(long, value_name = "NAME=DIR[@PROFILE]")]
     baseline: Option<String>,
-    /// Core profile (tb/profiles/NAME.toml or a file) of every --external without @PROFILE
-    /// (e.g. --profile opencores-can); the column is then named "<profile> (<dir>)".
-    #[arg(long, value_name = "NAME|FILE")]
-    profile: Option<String>,
-    /// Top module of the external cores (the opencores `can_top` port list).
-    #[arg(long, default_value = "can_top")]
-    top: String,
     /// Worker threads (0 = one per core).
     #[arg(long, short, default_value_t = 0)]
     jobs: usize,
@@ -77,9 +64,29 @@ pub struct Args {
     waivers: super::run::WaiverArgs,
 }
 
+/// The devices under test of `regress` and `campaign`.
+#[derive(clap::Args, Clone)]
+pub struct DutArgs {
+    /// Bundled DUTs to run against (repeatable): rtl, model.
+    #[arg(long = "dut", value_parser = ["rtl", "model"])]
+    pub duts: Vec<String>,
+    /// External core as NAME=DIR or NAME=DIR@PROFILE (repeatable; define CAN_WISHBONE_IF, DIR as
+    /// include dir). Each needs a profile: its own @PROFILE, else --profile.
+    /// DIR may be `git:REPO@REV[:SUBDIR]` (exported with git archive into the build cache).
+    #[arg(long = "external", value_name = "NAME=DIR[@PROFILE]")]
+    pub externals: Vec<String>,
+    /// Core profile (tb/profiles/NAME.toml or a file) of every --external without @PROFILE
+    /// (e.g. --profile opencores-can); the column is then named "<profile> (<dir>)".
+    #[arg(long, value_name = "NAME|FILE")]
+    pub profile: Option<String>,
+    /// Top module of the external cores (the opencores `can_top` port list).
+    #[arg(long, default_value = "can_top")]
+    pub top: String,
+}
+
 /// Why the DUTs could not be set up: the user's input (an `Err` of the
 /// command: exit 2) or the core itself (exit 125, `git bisect run` skips).
-enum SetupError {
+pub enum SetupError {
     Input(anyhow::Error),
     Unbuildable(anyhow::Error),
 }
@@ -100,7 +107,7 @@ impl From<cosim::ProfileError> for SetupError {
 /// `scenario::regress::EXIT_*` (0 passed, 1 failed, 2 bad input, 125 the
 /// core does not build).
 pub fn run(a: Args) -> anyhow::Result<i32> {
-    let duts = match setup_duts(&a) {
+    let duts = match setup_duts(&a.dut, a.baseline.as_ref(), a.host.bfm(), &a.waivers.waivers, a.coverage.is_some()) {
         Ok(d) => d,
         Err(SetupError::Input(e)) => return Err(e),
         Err(SetupError::Unbuildable(e)) => {
@@ -112,7 +119,13 @@ pub fn run(a: Args) -> anyhow::Result<i32> {
 }
 
 /// The DUTs of the command line, each external core checked and built.
-fn setup_duts(a: &Args) -> Result<Vec<DutSpec>, SetupError> {
+pub fn setup_duts(
+    a: &DutArgs,
+    baseline: Option<&String>,
+    host: Option<scenario::HostBfm>,
+    waiver_files: &[PathBuf],
+    coverage: bool,
+) -> Result<Vec<DutSpec>, SetupError> {
     let unbuildable = SetupError::Unbuildable;
     let mut duts: Vec<DutSpec> = a
         .duts
@@ -121,12 +134,12 @@ fn setup_duts(a: &Args) -> Result<Vec<DutSpec>, SetupError> {
         .collect();
     // A bad waiver file (or [[expected-failure]] entry) is one error before
     // any run (exit 2, file:line: key), not an error cell per scenario.
-    waivers::WaiverSet::load_all(&a.waivers.waivers).map_err(|e| SetupError::Input(e.into()))?;
+    waivers::WaiverSet::load_all(waiver_files).map_err(|e| SetupError::Input(e.into()))?;
     let common = a.profile.as_deref().map(cosim::Profile::find).transpose()?;
-    if a.baseline.is_some() && a.externals.len() != 1 {
+    if baseline.is_some() && a.externals.len() != 1 {
         return Err(anyhow::anyhow!("--baseline compares with exactly one --external (the new revision)").into());
     }
-    for e in a.baseline.iter().chain(&a.externals) {
+    for e in baseline.into_iter().chain(&a.externals) {
         let (name, spec) = e.split_once('=').with_context(|| format!("--external {e}: expected NAME=DIR[@PROFILE]"))?;
         let (dir, own): (String, Option<cosim::Profile>) = if super::gitcore::parse(spec).is_some() {
             // A git name takes --profile (its @ is the revision's). A
@@ -160,7 +173,7 @@ fn setup_duts(a: &Args) -> Result<Vec<DutSpec>, SetupError> {
         if let scenario::DutKind::External { defines, includes, .. } = &mut d.kind {
             // The opencores core's Wishbone build; over the 8051 bus its
             // default build (the profile's [access.i8051] says how).
-            if a.host.bfm() != Some(scenario::HostBfm::I8051) {
+            if host != Some(scenario::HostBfm::I8051) {
                 defines.push("CAN_WISHBONE_IF".into());
             }
             includes.push(dir.into());
@@ -170,7 +183,7 @@ fn setup_duts(a: &Args) -> Result<Vec<DutSpec>, SetupError> {
     if duts.is_empty() {
         duts.push(DutSpec::rtl());
     }
-    check_externals(&duts, a.host.bfm(), a.coverage.is_some())?;
+    check_externals(&duts, host, coverage)?;
     Ok(duts)
 }
 
@@ -196,7 +209,7 @@ fn run_on(a: Args, duts: Vec<DutSpec>) -> anyhow::Result<i32> {
     print!("{}", report.to_table());
     if let Some(b) = &a.baseline {
         let old = b.split_once('=').map(|(n, _)| n).unwrap_or(b);
-        let new = a.externals[0].split_once('=').map(|(n, _)| n).unwrap_or(&a.externals[0]);
+        let new = a.dut.externals[0].split_once('=').map(|(n, _)| n).unwrap_or(&a.dut.externals[0]);
         let rows = scenario::revdiff::diff(&report, old, new);
         print!("{}", scenario::revdiff::to_text(&rows, old, new));
         return Ok(if scenario::revdiff::any_broken(&rows) { 1 } else { 0 });
