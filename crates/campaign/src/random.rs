@@ -49,6 +49,9 @@ pub struct RandomConfig {
     pub progress: bool,
     /// Inputs of an external core held constant (a mutant's select).
     pub held_inputs: Vec<(String, u64)>,
+    /// A DUT in Rust instead of `dut`'s own (tests: the golden model with
+    /// one behaviour altered).
+    pub custom_dut: Option<cosim::CustomDut>,
 }
 
 impl RandomConfig {
@@ -71,6 +74,7 @@ impl RandomConfig {
             max_failures: 5,
             progress: false,
             held_inputs: Vec::new(),
+            custom_dut: None,
         }
     }
 
@@ -81,6 +85,7 @@ impl RandomConfig {
             dut_revision: self.dut_revision.clone(),
             host: self.host,
             held_inputs: self.held_inputs.clone(),
+            custom_dut: self.custom_dut.clone(),
             ..Default::default()
         }
     }
@@ -516,7 +521,11 @@ pub fn run_campaign(cfg: &RandomConfig) -> CampaignResult {
                 format!("Plan before shrinking: {}", render::summary(plan)),
                 format!("After: {}", render::summary(small)),
             ];
-            let text = render::to_toml(small, &purpose, &header);
+            // What a correct core does is what the golden model does: its
+            // diagnosis category becomes the scenario's [expect], so the file
+            // passes on a core without the defect and joins a list as it is.
+            let model = scenario::run::run(&scenario_of(small, &purpose), &RunOptions { dut: Some(DutSpec::model()), ..Default::default() });
+            let text = render::to_toml_expecting(small, &purpose, &header, model.diagnosis.category);
             let saved = std::fs::create_dir_all(dir).and_then(|_| std::fs::write(&path, &text));
             if saved.is_ok() {
                 // Saving is serialisation: the file, loaded back, must fail the same way.

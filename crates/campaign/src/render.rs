@@ -157,6 +157,14 @@ pub fn summary(p: &Plan) -> String {
     )
 }
 
+/// [`to_toml`] with an `[expect]` category (a saved failure expects what
+/// the golden model does with the same plan).
+pub fn to_toml_expecting(p: &Plan, purpose: &str, header: &[String], category: diagnose::Category) -> String {
+    let mut s = to_toml(p, purpose, header);
+    write!(s, "\n[expect]\ncategory = \"{category:?}\"\n").unwrap();
+    s
+}
+
 /// The plan as a scenario file. `purpose` is its first line of meaning
 /// (the divergence, for a saved failure); `header` is written as comments
 /// above it.

@@ -330,11 +330,7 @@ impl Bsp {
             Phase::BusOff => self.bus_off_recovery(rx),
             Phase::Sleep => {
                 if !rx {
-                    self.ev.push(Event::WakeUp);
-                    // Datasheet: after a wake-up by bus activity the node
-                    // needs a bus-free sequence (11 recessive bits) first.
-                    self.phase = Phase::Integrating;
-                    self.cnt = 0;
+                    self.wake_by_bus();
                 }
             }
             Phase::Off => {}
@@ -1005,6 +1001,14 @@ impl Bsp {
             // Status changes from CPU writes to TXERR/RXERR show now.
             self.fc.update(&mut self.ev);
         }
+    }
+
+    /// A dominant bit while asleep: the wake-up event, then (datasheet)
+    /// a bus-free sequence (11 recessive bits) before taking part.
+    pub(crate) fn wake_by_bus(&mut self) {
+        self.ev.push(Event::WakeUp);
+        self.phase = Phase::Integrating;
+        self.cnt = 0;
     }
 
     pub(crate) fn set_sleep(&mut self, on: bool) {

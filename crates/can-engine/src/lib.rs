@@ -287,9 +287,23 @@ impl Engine {
     /// Sleep mode: stop until a dominant bit wakes the node ([`Event::WakeUp`]);
     /// after a wake-up the node waits for 11 recessive bits before taking part.
     pub fn set_sleep(&mut self, on: bool) {
+        let was = self.is_sleeping();
         self.bsp.set_sleep(on);
         if on {
             self.tx_out = RECESSIVE;
+        }
+        if was && !self.is_sleeping() {
+            self.restart_after_sleep();
+        }
+    }
+
+    /// With the reset-mode-exit origin the bit timing stands still while
+    /// the node does not run, asleep as in reset mode (the SJA1000 stops its
+    /// oscillator in sleep mode, datasheet MOD.SM): its prescaler starts
+    /// from zero at the wake-up, as in rtl/can_btl.v.
+    fn restart_after_sleep(&mut self) {
+        if self.origin == PhaseOrigin::ResetModeExit {
+            self.btl.restart_idle();
         }
     }
 
@@ -309,6 +323,15 @@ impl Engine {
     /// Work happens only at time-quantum boundaries.
     #[inline]
     pub fn clock(&mut self, rx: bool) -> bool {
+        if self.origin == PhaseOrigin::ResetModeExit && self.bsp.phase == bsp::Phase::Sleep {
+            // The bit timing stands still; a dominant level wakes the node
+            // at once and the prescaler starts from zero.
+            if !rx {
+                self.bsp.wake_by_bus();
+                self.restart_after_sleep();
+            }
+            return self.tx_out;
+        }
         if !self.btl.clock() {
             return self.tx_out;
         }

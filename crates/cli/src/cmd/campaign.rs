@@ -129,6 +129,7 @@ pub fn run_cmd(a: Args) -> anyhow::Result<i32> {
         max_failures: a.max_failures.max(1),
         progress: std::io::IsTerminal::is_terminal(&std::io::stderr()),
         held_inputs: Vec::new(),
+        custom_dut: None,
     };
     let res = run_campaign(&cfg);
     print!("{}", res.to_text(&cfg));
