@@ -1058,7 +1058,7 @@ pub fn summary_of(explanation: &str) -> String {
 
 #[cfg(test)]
 mod summary_tests {
-    use super::summary_of;
+    use super::{DutInfo, DutMatch, EXAMPLE, WaiverSet, file_schema, summary_of};
 
     #[test]
     fn the_reference_example_parses_and_covers_a_fork_via_its_family() {
