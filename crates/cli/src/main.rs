@@ -30,8 +30,8 @@ enum Command {
     /// Annotate a bit list or a VCD signal with CAN fields, frames and errors.
     #[command(after_help = "Examples:\n  cancosim decode --bits 11111111111010100101001000001010101010001...\n  cancosim decode out/de2-thesis.vcd --signal tx_o --clock 24MHz --btr0 0x41 --btr1 0x25")]
     Decode(cmd::decode::Args),
-    /// Write the Nios _regs.h, PIO header, Platform Designer _hw.tcl, register docs and Verilog include.
-    #[command(after_help = "Examples:\n  cancosim gen --out out/gen\n  cancosim gen --out ip/can --prefix MY_CAN --spacing word")]
+    /// Write the Nios _regs.h, PIO header, Platform Designer _hw.tcl, register docs and Verilog include; `gen reference`: this tool's reference pages.
+    #[command(after_help = "Examples:\n  cancosim gen --out out/gen\n  cancosim gen --out ip/can --prefix MY_CAN --spacing word\n  cancosim gen reference --out docs/reference")]
     Gen(cmd::generate::Args),
     /// Play a scenario on its DUT in lockstep with the golden model and print the diagnosis.
     #[command(after_help = "Examples:\n  cancosim run tb/de2-thesis.toml\n  cancosim run tb/de2-thesis.toml --dut model --vcd out/thesis.vcd\n  cancosim run tb/pelican-error-kinds.toml --host avalon\n  cancosim run tb/de2-with-ack-node.toml --external ~/can/rtl/verilog --define CAN_WISHBONE_IF --include ~/can/rtl/verilog --profile opencores-can\n\nAn external core needs --profile (tb/profiles/NAME.toml or a file): its bit timing's phase origin, when host accesses take effect, tolerances, port map.")]

@@ -8,9 +8,9 @@
 use std::path::{Path, PathBuf};
 
 use crate::bridge::{BridgeError, ExternalCore};
-use crate::dut::{HostPort, VerilatedDut};
+use crate::dut::{DutChoice, HostPort, VerilatedDut};
 use crate::profile::PortMap;
-use crate::testbench::{DutChoice, TbError};
+use crate::error::TbError;
 
 /// Our RTL's directory (the sources the bundled tops were built from).
 pub fn rtl_dir() -> PathBuf {

@@ -739,3 +739,41 @@ impl crate::types::Reference for EchoModel {
         a != 0x1f
     }
 }
+
+/// Which device is under test.
+#[derive(Clone, Debug)]
+pub enum DutChoice {
+    /// Our RTL `can_top` (Wishbone), compiled into this crate.
+    Rtl,
+    /// Our RTL behind the `can_avalon` wrapper.
+    RtlAvalon,
+    /// A bundled top with the `can_top` port list (the fixtures).
+    Bundled(String),
+    /// An HDL core given by path, built at run time.
+    External(crate::bridge::ExternalCore),
+    /// The golden model itself as a Wishbone slave.
+    Model,
+    /// The Rust twin of the echo fixture.
+    Echo,
+    /// A DUT in Rust built by the caller, e.g. the golden model behind a
+    /// wrapper with one deliberate deviation, to show what the comparator
+    /// catches. The reference takes each access at the ack.
+    Custom(CustomDut),
+}
+
+/// A caller-built DUT for [`DutChoice::Custom`]: its name in reports and
+/// how to make one.
+#[derive(Clone)]
+pub struct CustomDut {
+    /// Name in reports.
+    pub name: String,
+    /// Makes a fresh instance.
+    pub make: std::sync::Arc<dyn Fn() -> Box<dyn Dut> + Send + Sync>,
+}
+
+impl std::fmt::Debug for CustomDut {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        write!(f, "CustomDut({})", self.name)
+    }
+}
+

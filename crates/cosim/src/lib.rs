@@ -17,6 +17,7 @@ pub mod bitclock;
 pub mod candump;
 pub mod coverage;
 pub mod dut;
+pub mod error;
 pub mod gtkw;
 pub mod holdoff;
 pub mod i8051_shell;

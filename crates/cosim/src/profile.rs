@@ -290,6 +290,9 @@ impl PortMap {
 pub struct Profile {
     /// Name (an external core co-simulated with it is "<name> (<dir>)").
     pub name: String,
+    /// The profiles it extends (`extends`), nearest first: with `name`,
+    /// its family, whose waivers apply to the DUT too.
+    pub ancestors: Vec<String>,
     /// What the core is.
     pub description: String,
     /// The file it came from.
@@ -386,18 +389,34 @@ impl Profile {
         })
     }
 
-    /// Reads a profile file.
+    /// Reads a profile file (and the profiles it extends).
     pub fn load(path: impl AsRef<Path>) -> Result<Profile, ProfileError> {
         let path = path.as_ref();
         let file = path.display().to_string();
         let text = std::fs::read_to_string(path).map_err(|source| ProfileError::Io { file: file.clone(), source })?;
-        let mut p = Profile::parse(&text, &file)?;
+        let mut p = Profile::parse_at(&text, &file, Some(path))?;
         p.file = Some(path.to_path_buf());
         Ok(p)
     }
 
-    /// Parses profile text; `file` names it in errors.
+    /// Parses profile text; `file` names it in errors. An `extends` path
+    /// is taken relative to the working directory (see [`Profile::load`]
+    /// for one relative to the file).
     pub fn parse(text: &str, file: &str) -> Result<Profile, ProfileError> {
+        Profile::parse_at(text, file, None)
+    }
+
+    /// Parses profile text read from `path`, following `extends`.
+    fn parse_at(text: &str, file: &str, path: Option<&Path>) -> Result<Profile, ProfileError> {
+        let Some(chain) = resolve_extends(text, file, path, &mut Vec::new())? else { return Profile::parse_one(text, file) };
+        let merged = toml::to_string(&chain.table).expect("a TOML table serialises");
+        let mut p = Profile::parse_one(&merged, file).map_err(|e| chain.locate(e))?;
+        p.ancestors = chain.ancestors;
+        Ok(p)
+    }
+
+    /// Parses the text of one profile that extends none.
+    fn parse_one(text: &str, file: &str) -> Result<Profile, ProfileError> {
         let raw: RawProfile = toml::from_str(text).map_err(|e| from_toml(file, text, &e))?;
         let bad = |span: std::ops::Range<usize>, key: &str, message: String| ProfileError::Invalid {
             file: file.into(),
@@ -536,6 +555,7 @@ impl Profile {
             i8051_inout_drive,
             vhdl,
             name,
+            ancestors: Vec::new(),
             description: raw.description.get_ref().trim().to_string(),
             file: None,
             phase_origin: match raw.phase_origin {
@@ -591,9 +611,10 @@ impl Profile {
             n => format!(" (its segments act {n} CAN clocks after each quantum: a BTR write in reset mode landing within them redoes that quantum)"),
         };
         format!(
-            "profile {}{}: bit timing phase from the {origin}{lag}; host access takes effect: wishbone {}{}, avalon {}{}, pio {}{}; ports {}",
+            "profile {}{}{}: bit timing phase from the {origin}{lag}; host access takes effect: wishbone {}{}, avalon {}{}, pio {}{}; ports {}",
             self.name,
             self.file.as_ref().map(|f| format!(" ({})", f.display())).unwrap_or_default(),
+            if self.ancestors.is_empty() { String::new() } else { format!(", extends {}", self.ancestors.join(" < ")) },
             self.wishbone.describe(),
             busy(self.holdoff.wishbone, self.count_from_wires.wishbone),
             self.avalon.describe(),
@@ -642,114 +663,335 @@ pub fn missing_profile_message(dir: &Path, top: &str) -> String {
     )
 }
 
-#[derive(Deserialize)]
+/// A profile that `extends` another, merged over its ancestors.
+struct Chain {
+    /// The merged keys (no `extends`).
+    table: toml::Table,
+    /// The profiles extended, nearest first.
+    ancestors: Vec<String>,
+    /// (file, text) of the profile and each ancestor, for error lines.
+    sources: Vec<(String, String)>,
+}
+
+impl Chain {
+    /// An error in the merged text, placed in the file that writes its key
+    /// (the profile first, then its ancestors).
+    fn locate(&self, e: ProfileError) -> ProfileError {
+        let ProfileError::Invalid { key, message, .. } = e else { return e };
+        let leaf = key.rsplit('.').next().unwrap_or(&key).to_string();
+        let found = self.sources.iter().find_map(|(file, text)| {
+            text.lines()
+                .position(|l| {
+                    let l = l.trim_start();
+                    l.trim_end() == format!("[{key}]") || l.strip_prefix(leaf.as_str()).is_some_and(|r| r.trim_start().starts_with('='))
+                })
+                .map(|i| (file.clone(), i + 1))
+        });
+        let (file, line) = found.unwrap_or_else(|| (self.sources[0].0.clone(), 1));
+        ProfileError::Invalid { file, line, key, message }
+    }
+}
+
+/// `extends = "NAME"` or `extends = "FILE"`: the parent's keys (its own
+/// ancestors' first), the child's over them; tables merge key by key, any
+/// other value replaces the parent's. `None`: the profile extends none.
+/// `seen` holds the files being resolved, to report a cycle.
+fn resolve_extends(text: &str, file: &str, path: Option<&Path>, seen: &mut Vec<PathBuf>) -> Result<Option<Chain>, ProfileError> {
+    let mut table: toml::Table = toml::from_str(text).map_err(|e| from_toml(file, text, &e))?;
+    let Some(ext) = table.remove("extends") else { return Ok(None) };
+    let line = key_line(text, "extends");
+    let bad = |message: String| ProfileError::Invalid { file: file.into(), line, key: "extends".into(), message };
+    let parent = match ext.as_str().map(str::trim) {
+        Some(s) if !s.is_empty() => s.to_string(),
+        _ => return Err(bad("must be a profile name (tb/profiles/NAME.toml) or a .toml path".into())),
+    };
+    if !table.get("name").is_some_and(|n| n.as_str().is_some_and(|n| !n.trim().is_empty())) {
+        return Err(ProfileError::Invalid {
+            file: file.into(),
+            line: 1,
+            key: "name".into(),
+            message: format!("a profile that extends `{parent}` needs its own name (its DUT is named after it)"),
+        });
+    }
+    // A name as `--profile` takes it; a path relative to this file.
+    let pp = Path::new(&parent);
+    let parent_path = if parent.ends_with(".toml") || pp.components().count() > 1 {
+        match path.and_then(Path::parent) {
+            Some(dir) if pp.is_relative() => dir.join(pp),
+            _ => pp.to_path_buf(),
+        }
+    } else {
+        let f = shipped_dir().join(format!("{parent}.toml"));
+        if !f.is_file() {
+            return Err(bad(format!(
+                "no profile named `{parent}` in {}; shipped profiles: {}",
+                shipped_dir().display(),
+                shipped_names().join(", ")
+            )));
+        }
+        f
+    };
+    let key = |p: &Path| std::fs::canonicalize(p).unwrap_or_else(|_| p.to_path_buf());
+    if let Some(me) = path {
+        if seen.is_empty() {
+            seen.push(key(me));
+        }
+    }
+    let pkey = key(&parent_path);
+    if let Some(i) = seen.iter().position(|s| *s == pkey) {
+        let names: Vec<String> = seen[i..].iter().chain([&pkey]).map(|p| p.display().to_string()).collect();
+        return Err(bad(format!("`extends` makes a cycle: {}", names.join(" extends "))));
+    }
+    seen.push(pkey);
+    let pfile = parent_path.display().to_string();
+    let ptext = std::fs::read_to_string(&parent_path).map_err(|source| ProfileError::Io { file: pfile.clone(), source })?;
+    let (mut merged, mut ancestors, mut sources) = match resolve_extends(&ptext, &pfile, Some(&parent_path), seen)? {
+        Some(c) => (c.table, c.ancestors, c.sources),
+        None => (toml::from_str(&ptext).map_err(|e| from_toml(&pfile, &ptext, &e))?, Vec::new(), vec![(pfile.clone(), ptext.clone())]),
+    };
+    let pname = merged.get("name").and_then(|n| n.as_str()).map(|n| n.trim().to_string()).unwrap_or_else(|| parent.clone());
+    ancestors.insert(0, pname);
+    merge_tables(&mut merged, table);
+    sources.insert(0, (file.to_string(), text.to_string()));
+    Ok(Some(Chain { table: merged, ancestors, sources }))
+}
+
+/// `over`'s keys into `base`: tables merge key by key, other values replace.
+fn merge_tables(base: &mut toml::Table, over: toml::Table) {
+    for (k, v) in over {
+        match (base.get_mut(&k), v) {
+            (Some(toml::Value::Table(b)), toml::Value::Table(o)) => merge_tables(b, o),
+            (_, v) => {
+                base.insert(k, v);
+            }
+        }
+    }
+}
+
+/// A core profile (`tb/profiles/NAME.toml`, or any file given to `--profile`).
+/// Unknown keys are rejected; every error reads `file:line: key: message`.
+#[derive(Deserialize, schemars::JsonSchema)]
 #[serde(deny_unknown_fields, rename_all = "kebab-case")]
 struct RawProfile {
+    /// The profile this one extends: a shipped profile's name (`tb/profiles/NAME.toml`,
+    /// as `--profile NAME` finds it) or a `.toml` path relative to this file. Only the
+    /// keys that differ are written: tables merge key by key, any other value replaces
+    /// the parent's. The profile's *family* is its name and its ancestors' names; a
+    /// waiver whose `dut` glob names any member of the family applies to its DUT, and
+    /// the report says which member it matched through. A cycle is an error. Default:
+    /// none (every required key written here).
+    #[allow(dead_code)] // taken out before the rest is read (`resolve_extends`)
+    extends: Option<String>,
+    /// Name; an external core co-simulated with it is named `"<name> (<dir>)"` in
+    /// reports, which waiver `dut` globs match. Required, also with `extends`.
+    #[schemars(with = "String")]
     name: Spanned<String>,
+    /// What the core is, one line for report headers. Required (inherited with `extends`).
+    #[schemars(with = "String")]
     description: Spanned<String>,
+    /// Where the bit timing's prescaler and bit counter start from:
+    /// `"hardware-reset"` (they run from the hardware reset on, also in reset mode)
+    /// or `"reset-mode-exit"` (they stand still in reset mode and start when it is left).
     phase_origin: OriginName,
+    /// CAN clocks from the end of a quantum of the core's prescaler to its segment
+    /// counters acting on it; a BTR write in reset mode landing within them redoes that
+    /// quantum. At most 8; only with `phase-origin = "hardware-reset"`. Default: 0.
+    #[schemars(with = "Option<u32>")]
     segment_lag: Option<Spanned<u32>>,
+    /// When a host access takes effect in the core, per host bus.
     access: RawAccessSet,
+    /// The comparator's tolerances for this core, in CAN clocks (printed in every report).
     tolerances: RawTolerances,
+    /// The top's ports by role, only those that differ from `can_top`'s Wishbone list.
+    /// Default: `can_top`'s names and polarities.
     ports: Option<RawPorts>,
+    /// How a core with `.vhd`/`.vhdl` sources goes through GHDL.
+    /// Default: VHDL-93c, GHDL's `--elab-order` of every VHDL file in the directory.
     vhdl: Option<RawVhdl>,
 }
 
-#[derive(Deserialize)]
+/// `[vhdl]`: a core with VHDL sources (GHDL).
+#[derive(Deserialize, schemars::JsonSchema)]
 #[serde(deny_unknown_fields, rename_all = "kebab-case")]
 struct RawVhdl {
+    /// Language revision: `"93"`, `"93c"` (GHDL's relaxed VHDL-93) or `"08"`. Default: `"93c"`.
+    #[schemars(with = "Option<String>")]
     standard: Option<Spanned<String>>,
+    /// VHDL files in analysis order, relative to the core's directory.
+    /// Default: every `.vhd`/`.vhdl` there, in GHDL's `--elab-order`.
     #[serde(default)]
     files: Vec<String>,
+    /// Extra GHDL options for analysis and synthesis (`["-fsynopsys"]`). Default: none.
     #[serde(default)]
     ghdl_args: Vec<String>,
 }
 
-#[derive(Deserialize, Clone, Copy)]
+#[derive(Deserialize, Clone, Copy, schemars::JsonSchema)]
 #[serde(rename_all = "kebab-case")]
 enum OriginName {
     HardwareReset,
     ResetModeExit,
 }
 
-#[derive(Deserialize)]
+/// `[access]`: one table per host bus.
+#[derive(Deserialize, schemars::JsonSchema)]
 #[serde(deny_unknown_fields)]
 struct RawAccessSet {
+    /// Wishbone (`--host wishbone`, the default). Required.
     wishbone: RawAccess,
+    /// Avalon-MM (`--host avalon`, through a Wishbone bridge). Required.
     avalon: RawAccess,
+    /// PIO, bit-banged Wishbone (`--host pio`). Required.
     pio: RawAccess,
+    /// The 8051 bus (`--host i8051`): edges counted from the host edge raising RD or WR;
+    /// `latch`, `busy-after-ack` and `count-from` are refused here.
+    /// Default: the 1st CAN edge of the strobe for read, write and command.
     i8051: Option<RawAccess>,
 }
 
-#[derive(Deserialize, Clone, Copy, PartialEq, Eq)]
+#[derive(Deserialize, Clone, Copy, PartialEq, Eq, schemars::JsonSchema)]
 #[serde(rename_all = "kebab-case")]
 enum CountFrom {
     HostEdge,
     Wires,
 }
 
-#[derive(Deserialize, Clone, Copy, PartialEq, Eq)]
+#[derive(Deserialize, Clone, Copy, PartialEq, Eq, schemars::JsonSchema)]
 #[serde(rename_all = "kebab-case")]
 enum TakesEffect {
     AtAck,
     CanEdges,
 }
 
-#[derive(Deserialize)]
+/// `[access.BUS]`: when an access on this bus takes effect in the core.
+#[derive(Deserialize, schemars::JsonSchema)]
 #[serde(deny_unknown_fields, rename_all = "kebab-case")]
 struct RawAccess {
+    /// `"at-ack"`: when the host sees the ack (no edge counts then); `"can-edges"`:
+    /// after the `read`/`write`/`command`-th CAN clock rising edge strictly after the
+    /// host edge that first presents the access. Required.
+    #[schemars(with = "TakesEffect")]
     takes_effect: Spanned<TakesEffect>,
+    /// CAN edges after which the core has committed to the access: a request dropped
+    /// later is no abandoned transfer for the bus monitor. Default: when it takes effect.
+    #[schemars(with = "Option<u32>")]
     latch: Option<Spanned<u32>>,
+    /// `[CAN, host, CAN]` edges after an ack during which the core sees no new request
+    /// (a handshake returning to idle); each at most 64. Default: a new request is seen at once.
+    #[schemars(with = "Option<Vec<u32>>")]
     busy_after_ack: Option<Spanned<Vec<u32>>>,
+    /// Where the edge counts start: `"host-edge"` (after the first host edge presenting
+    /// cyc & stb: a core that registers the request in the host clock) or `"wires"` (at
+    /// the first CAN edge after they appear on the wires). Default: `"host-edge"`.
+    #[schemars(with = "Option<CountFrom>")]
     count_from: Option<Spanned<CountFrom>>,
+    /// `[access.i8051]` only: the top has `inout [7:0] port_0_io`, wrapped in a shell that
+    /// drives it while this Verilog expression of its inputs holds (`"cs_can_i & rd_i"`).
+    /// Default: separate input and output ports.
+    #[schemars(with = "Option<String>")]
     inout_drive: Option<Spanned<String>>,
+    /// CAN edges until read data is captured (at most 64). Required with `"can-edges"`.
+    #[schemars(with = "Option<u32>")]
     read: Option<Spanned<u32>>,
+    /// CAN edges until a register is written (at most 64). Required with `"can-edges"`.
+    #[schemars(with = "Option<u32>")]
     write: Option<Spanned<u32>>,
+    /// CAN edges until a command (CMR write) is taken (at most 64). Required with `"can-edges"`.
+    #[schemars(with = "Option<u32>")]
     command: Option<Spanned<u32>>,
 }
 
-#[derive(Deserialize)]
+/// `[tolerances]`: how far the core may be from the model, in CAN clocks (each at most 1000).
+#[derive(Deserialize, schemars::JsonSchema)]
 #[serde(deny_unknown_fields, rename_all = "kebab-case")]
 struct RawTolerances {
+    /// tx is not compared this close to a model tx edge. Required.
+    #[schemars(with = "u32")]
     tx_edge: Spanned<u32>,
+    /// A start of frame from bus idle may lag the model's this much. Required.
+    #[schemars(with = "u32")]
     sof: Spanned<u32>,
+    /// SR/IR reads: a value the model held this recently is accepted. Required.
+    #[schemars(with = "u32")]
     status: Spanned<u32>,
+    /// The irq and bus-off pins may differ from the model's this long. Required.
+    #[schemars(with = "u32")]
     pins: Spanned<u32>,
 }
 
-#[derive(Deserialize, Clone, Copy, PartialEq, Eq)]
+#[derive(Deserialize, Clone, Copy, PartialEq, Eq, schemars::JsonSchema)]
 #[serde(rename_all = "kebab-case")]
 enum Active {
     High,
     Low,
 }
 
-#[derive(Deserialize)]
+/// A port: its name (`"clk"`), or for reset, irq and bus-off also its active level
+/// (`{ name = "irq_o", active = "high" }`).
+#[derive(Deserialize, schemars::JsonSchema)]
 #[serde(untagged)]
 enum RawPin {
     Name(String),
     Full { name: String, active: Active },
 }
 
-#[derive(Deserialize)]
+/// `[ports]`: the top's port for each role, only where it differs from `can_top`'s.
+/// Active levels: reset active = in reset, irq active = interrupt pending,
+/// bus-off active = while bus-off.
+#[derive(Deserialize, schemars::JsonSchema)]
 #[serde(deny_unknown_fields, rename_all = "kebab-case")]
 struct RawPorts {
+    /// Host clock. Default: `wb_clk_i`.
     host_clock: Option<RawPin>,
+    /// Reset. Default: `wb_rst_i`, active high.
     reset: Option<RawPin>,
+    /// Write data, 8 bits. Default: `wb_dat_i`.
     dat_i: Option<RawPin>,
+    /// Read data, 8 bits. Default: `wb_dat_o`.
     dat_o: Option<RawPin>,
+    /// Wishbone cycle. Default: `wb_cyc_i`.
     cyc: Option<RawPin>,
+    /// Wishbone strobe. Default: `wb_stb_i`.
     stb: Option<RawPin>,
+    /// Write enable. Default: `wb_we_i`.
     we: Option<RawPin>,
+    /// Address, 8 bits. Default: `wb_adr_i`.
     adr: Option<RawPin>,
+    /// Acknowledge. Default: `wb_ack_o`.
     ack: Option<RawPin>,
+    /// CAN clock. Default: `clk_i`.
     can_clock: Option<RawPin>,
+    /// CAN receive. Default: `rx_i`.
     rx: Option<RawPin>,
+    /// CAN transmit. Default: `tx_o`.
     tx: Option<RawPin>,
+    /// Interrupt. Default: `irq_on`, active low.
     irq: Option<RawPin>,
+    /// Bus-off indication. Default: `bus_off_on`, active low (high while on the bus).
     bus_off: Option<RawPin>,
+    /// Clock output. Default: `clkout_o`.
     clkout: Option<RawPin>,
 }
+
+/// The JSON schema of a profile file, for the generated reference
+/// (`cancosim gen reference`): doc comments are the descriptions.
+pub fn file_schema() -> schemars::Schema {
+    schemars::schema_for!(RawProfile)
+}
+
+/// A profile of a fork of the opencores core with renamed ports, for the
+/// reference (tested to load).
+pub const EXAMPLE_FORK: &str = r#"# A fork of the opencores core: same timing, its own port names.
+extends = "opencores-can"      # every key of tb/profiles/opencores-can.toml, and its waivers
+name = "my-can"                # its DUT is "my-can (<dir>)"
+description = "opencores can_top fork with a renamed top and ports"
+
+[ports]                        # only what differs; the rest is inherited
+can-clock = "clk"
+tx = "can_tx"
+rx = "can_rx"
+irq = { name = "irq_o", active = "high" }
+"#;
 
 /// 1-based line of the last `key = ...` in `src` (1 if none).
 fn key_line(src: &str, key: &str) -> usize {
@@ -915,6 +1157,89 @@ mod tests {
         assert!(e.starts_with("p.toml:4: segment-lag: 9: at most 8"), "{e}");
         let e = err(&GOOD.replace("phase-origin = \"hardware-reset\"\n", "phase-origin = \"hardware-reset\"\nsegment-lag = -1\n"));
         assert!(e.starts_with("p.toml:4: segment-lag: "), "{e}");
+    }
+
+    fn write(dir: &Path, name: &str, text: &str) -> PathBuf {
+        let f = dir.join(name);
+        std::fs::write(&f, text).unwrap();
+        f
+    }
+
+    #[test]
+    fn a_fork_extends_a_shipped_profile_with_only_its_own_ports() {
+        let d = tempfile::tempdir().unwrap();
+        let f = write(
+            d.path(),
+            "fork.toml",
+            "extends = \"opencores-can\"\nname = \"my-fork\"\n[ports]\ncan-clock = \"clk\"\ntx = \"can_tx\"\n[tolerances]\nsof = 3\n",
+        );
+        let fork = Profile::load(&f).unwrap();
+        let oc = Profile::find("opencores-can").unwrap();
+        assert_eq!(fork.name, "my-fork");
+        assert_eq!(fork.ancestors, vec!["opencores-can".to_string()]);
+        assert_eq!((fork.ports.can_clock.name.as_str(), fork.ports.tx.name.as_str()), ("clk", "can_tx"));
+        assert_eq!(fork.ports.irq, oc.ports.irq, "a port it does not name stays the parent's");
+        // Nested tables merge key by key: [tolerances] keeps the parent's other three.
+        assert_eq!(fork.tolerances, CompareConfig { sof_tolerance: 3, ..oc.tolerances.clone() });
+        // Everything else is the parent's.
+        let same = Profile {
+            name: oc.name.clone(),
+            ancestors: Vec::new(),
+            file: oc.file.clone(),
+            ports: oc.ports.clone(),
+            tolerances: oc.tolerances.clone(),
+            ..fork.clone()
+        };
+        assert_eq!(same, oc);
+        assert!(fork.describe().contains("profile my-fork (") && fork.describe().contains(", extends opencores-can:"), "{}", fork.describe());
+    }
+
+    #[test]
+    fn extends_follows_a_chain_of_files_relative_to_each() {
+        let d = tempfile::tempdir().unwrap();
+        std::fs::create_dir(d.path().join("base")).unwrap();
+        write(&d.path().join("base"), "mid.toml", "extends = \"rtl\"\nname = \"mid\"\n[access.pio]\nwrite = 5\n");
+        let f = write(d.path(), "leaf.toml", "extends = \"base/mid.toml\"\nname = \"leaf\"\ndescription = \"a leaf\"\n");
+        let leaf = Profile::load(&f).unwrap();
+        assert_eq!(leaf.ancestors, vec!["mid".to_string(), "rtl".to_string()]);
+        assert_eq!(leaf.description, "a leaf");
+        assert_eq!(leaf.pio, AccessTiming::CanEdges { read: 3, write: 5, command: 4 });
+        assert_eq!(leaf.wishbone, Profile::rtl().wishbone);
+    }
+
+    #[test]
+    fn an_extends_cycle_is_an_error_naming_the_files() {
+        let d = tempfile::tempdir().unwrap();
+        write(d.path(), "a.toml", "extends = \"b.toml\"\nname = \"a\"\n");
+        write(d.path(), "b.toml", "extends = \"a.toml\"\nname = \"b\"\n");
+        let e = Profile::load(d.path().join("a.toml")).unwrap_err().to_string();
+        assert!(e.contains("b.toml:1: extends: `extends` makes a cycle: ") && e.contains("a.toml extends ") && e.ends_with("a.toml"), "{e}");
+        write(d.path(), "self.toml", "extends = \"self.toml\"\nname = \"s\"\n");
+        let e = Profile::load(d.path().join("self.toml")).unwrap_err().to_string();
+        assert!(e.contains("makes a cycle"), "{e}");
+    }
+
+    #[test]
+    fn bad_extends_say_where_and_why() {
+        let d = tempfile::tempdir().unwrap();
+        let e = Profile::load(write(d.path(), "x.toml", "name = \"x\"\nextends = \"no-such-core\"\n")).unwrap_err().to_string();
+        assert!(e.contains("x.toml:2: extends: no profile named `no-such-core`") && e.contains("opencores-can"), "{e}");
+        let e = Profile::load(write(d.path(), "y.toml", "extends = \"rtl\"\n")).unwrap_err().to_string();
+        assert!(e.contains("y.toml:1: name: a profile that extends `rtl` needs its own name"), "{e}");
+        // A bad value is reported in the file that writes it, an unknown key too.
+        let e = Profile::load(write(d.path(), "z.toml", "extends = \"rtl\"\nname = \"z\"\n\n[tolerances]\nsof = 5000\n")).unwrap_err().to_string();
+        assert!(e.contains("z.toml:5: sof: 5000 CAN clocks: at most 1000"), "{e}");
+        let e = Profile::load(write(d.path(), "w.toml", "extends = \"rtl\"\nname = \"w\"\nsofa = 1\n")).unwrap_err().to_string();
+        assert!(e.contains("w.toml:3: sofa: unknown field"), "{e}");
+    }
+
+    #[test]
+    fn the_reference_example_loads_and_renames_only_ports() {
+        let p = Profile::parse(EXAMPLE_FORK, "example").unwrap();
+        assert_eq!((p.name.as_str(), p.ancestors.as_slice()), ("my-can", ["opencores-can".to_string()].as_slice()));
+        assert_eq!(p.ports.describe(), "can-clock = clk, rx = can_rx, tx = can_tx, irq = irq_o active high");
+        let s = file_schema().as_value().to_string();
+        assert!(s.contains("\"extends\"") && s.contains("family"), "the schema documents extends and families");
     }
 
     #[test]

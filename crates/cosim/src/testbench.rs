@@ -33,51 +33,15 @@ pub use crate::agents::bus::NodeConfig;
 use crate::agents::observer::Observer;
 use crate::agents::reference::{DutKind, HostKind, RefTiming, ReferenceAgent};
 pub use crate::agents::reference::ReferenceChoice;
-use crate::bridge::{BridgeError, ExternalCore};
 use crate::compare::{Comparator, ComparatorAgent, CompareConfig, IR_ADDR, Now, SR_ADDR, Stamp};
 use crate::dut::{AnyDut, CanPins, EchoModel, HostPort, VerilatedDut};
-use crate::kernel::{Kernel, KernelError, Tick};
+use crate::kernel::{Kernel, Tick};
 use crate::model::ModelDut;
 use crate::profile::{PhaseOrigin, PortMap, Profile};
 use crate::wave::{Wave, WaveSample};
+pub use crate::dut::{CustomDut, DutChoice};
+pub use crate::error::TbError;
 use waivers::{CollectMode, DutInfo, Session, WaiverReport, WaiverSet};
-
-/// Which device is under test.
-#[derive(Clone, Debug)]
-pub enum DutChoice {
-    /// Our RTL `can_top` (Wishbone), compiled into this crate.
-    Rtl,
-    /// Our RTL behind the `can_avalon` wrapper.
-    RtlAvalon,
-    /// A bundled top with the `can_top` port list (the fixtures).
-    Bundled(String),
-    /// An HDL core given by path, built at run time.
-    External(ExternalCore),
-    /// The golden model itself as a Wishbone slave.
-    Model,
-    /// The Rust twin of the echo fixture.
-    Echo,
-    /// A DUT in Rust built by the caller, e.g. the golden model behind a
-    /// wrapper with one deliberate deviation, to show what the comparator
-    /// catches. The reference takes each access at the ack.
-    Custom(CustomDut),
-}
-
-/// A caller-built DUT for [`DutChoice::Custom`]: its name in reports and
-/// how to make one.
-#[derive(Clone)]
-pub struct CustomDut {
-    /// Name in reports.
-    pub name: String,
-    /// Makes a fresh instance.
-    pub make: std::sync::Arc<dyn Fn() -> Box<dyn crate::dut::Dut> + Send + Sync>,
-}
-
-impl std::fmt::Debug for CustomDut {
-    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
-        write!(f, "CustomDut({})", self.name)
-    }
-}
 
 /// Everything a test bench is built from.
 pub struct TbConfig {
@@ -177,46 +141,6 @@ impl Default for TbConfig {
             coverage_dat: None,
         }
     }
-}
-
-/// Why a test-bench call failed. Each prints as one paragraph.
-#[derive(Debug, thiserror::Error)]
-pub enum TbError {
-    /// Building or binding the DUT failed.
-    #[error(transparent)]
-    Bridge(#[from] BridgeError),
-    /// Bad clocks.
-    #[error(transparent)]
-    Kernel(#[from] KernelError),
-    /// A configuration that cannot work.
-    #[error("test bench configuration: {0}")]
-    Config(String),
-    /// A host access did not complete.
-    #[error("host {op} at 0x{addr:02X}: {error}{monitor}")]
-    Host {
-        /// "read" or "write".
-        op: &'static str,
-        /// Address.
-        addr: u8,
-        /// The BFM's error.
-        error: BfmError,
-        /// What the protocol monitor saw, if anything.
-        monitor: String,
-    },
-    /// Something awaited did not happen in time.
-    #[error("timeout after {bits} bit times waiting for {what}")]
-    Timeout {
-        /// What.
-        what: String,
-        /// How long.
-        bits: u64,
-    },
-    /// The comparator found a divergence; the run stopped there.
-    #[error("DUT diverged from the reference: {0}")]
-    Diverged(String),
-    /// Writing the VCD failed.
-    #[error("VCD: {0}")]
-    Io(#[from] std::io::Error),
 }
 
 /// The test bench.
@@ -367,9 +291,11 @@ impl Testbench {
         };
         let waivers = Session::new(
             std::mem::take(&mut cfg.waivers),
-            DutInfo {
-                name: dut_name.clone(),
-                revision: cfg.dut_revision.clone(),
+            // A profile that extends others: waivers for its family apply too.
+            match &cfg.profile {
+                Some(p) => DutInfo { name: dut_name.clone(), revision: cfg.dut_revision.clone(), family: Vec::new() }
+                    .in_family(&p.name, &p.ancestors),
+                None => DutInfo { name: dut_name.clone(), revision: cfg.dut_revision.clone(), family: Vec::new() },
             },
             cfg.collect,
         );

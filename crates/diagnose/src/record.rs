@@ -623,6 +623,10 @@ pub struct WaivedDeviation {
     /// as `after = "data-overrun"`).
     #[serde(skip_serializing_if = "Option::is_none")]
     pub bound: Option<String>,
+    /// The profile the waiver matched the DUT through, when it names an
+    /// ancestor of the DUT's profile (`extends`) and not the DUT itself.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub via: Option<String>,
 }
 
 fn is_zero(n: &u32) -> bool {
@@ -640,11 +644,13 @@ impl WaivedDeviation {
         }
     }
 
-    /// `summary (id, clause)`.
+    /// `summary (id, clause)`, and `; applied via family member P` for a
+    /// waiver that matched through an ancestor profile.
     pub fn describe(&self) -> String {
+        let via = self.via.as_ref().map(|p| format!("; applied via family member {p}")).unwrap_or_default();
         match &self.clause {
-            Some(c) => format!("{} ({}, {c})", self.summary, self.waiver_id),
-            None => format!("{} ({})", self.summary, self.waiver_id),
+            Some(c) => format!("{} ({}, {c}{via})", self.summary, self.waiver_id),
+            None => format!("{} ({}{via})", self.summary, self.waiver_id),
         }
     }
 }

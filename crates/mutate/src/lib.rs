@@ -132,7 +132,7 @@ pub fn mutate(cfg: &MutateConfig, log: &mut dyn FnMut(&str)) -> Result<Report, M
         run_seconds,
     };
     if let Some(f) = &cfg.formal {
-        reset_proof::check_survivors_from_reset(&mut report, &cfg.sources, &inst, f, &cfg.out, log)?;
+        check_survivors_from_reset(&mut report, &cfg.sources, &inst, f, &cfg.out, log)?;
     }
     std::fs::write(cfg.out.join("report.json"), report.to_json()).map_err(io("writing report.json"))?;
     std::fs::write(cfg.out.join("report.md"), report.to_markdown()).map_err(io("writing report.md"))?;
@@ -167,6 +167,60 @@ pub fn check_survivors(report: &mut Report, inst: &Instrumented, f: &FormalOptio
         }
         log(&format!("mutant {id}: {}", v.describe()));
         report.formal.push((id, v));
+    }
+    Ok(())
+}
+
+/// The formal check of every survivor of `report`: per module from reset
+/// ([`reset_proof::check_in_module`]); the whole-core bounded check
+/// ([`crate::formal::check`], registers from zero) where a module has more
+/// than one clock. Module traces in `out/formal/mutant-N/trace.txt`,
+/// whole-core skeletons in `out/skeletons/`.
+pub fn check_survivors_from_reset(
+    report: &mut Report,
+    src: &CoreSources,
+    inst: &Instrumented,
+    f: &FormalOptions,
+    out: &std::path::Path,
+    log: &mut dyn FnMut(&str),
+) -> Result<(), MutateError> {
+    let ids: Vec<u32> = report.mutants.iter().filter(|m| m.verdict == Verdict::Survived).map(|m| m.id).collect();
+    let work = out.join("formal");
+    for id in ids {
+        let m = report.mutants.iter().find(|m| m.id == id).expect("a survivor of this report").mutation.clone();
+        match reset_proof::check_in_module(src, &m, f, &work)? {
+            Ok(c) => {
+                log(&format!("mutant {id}: {} [{}, {:.1} s]", c.verdict.describe(), c.module, c.seconds));
+                // Not proved in its module (its inputs free): again with the
+                // modules that drive it (widen.rs).
+                let verdict = if matches!(c.verdict, FormalVerdict::Equivalent { .. }) {
+                    c.verdict
+                } else {
+                    // A scope yosys cannot build (an inout port, a name it
+                    // rejects) leaves the per-module verdict, said in the log.
+                    let wide = widen::check_widened(src, &m, None, f, &work).unwrap_or_else(|e| {
+                        log(&format!("mutant {id}: no widened check: {}", e.to_string().lines().last().unwrap_or("")));
+                        Vec::new()
+                    });
+                    for w in &wide {
+                        log(&format!("mutant {id}: {} [{}, {:.1} s]", w.verdict.describe(), w.label, w.seconds));
+                    }
+                    widen::combine(&c.module, c.verdict, &wide)
+                };
+                if let FormalVerdict::ModuleDiffers { trace, .. } = &verdict {
+                    let lines: Vec<String> = trace.iter().map(|t| format!("{} {} {}", t.step, t.port, t.value)).collect();
+                    let p = work.join(format!("mutant-{id}/trace.txt"));
+                    std::fs::write(&p, lines.join("\n") + "\n").map_err(|source| MutateError::Io { what: format!("writing {}", p.display()), source })?;
+                }
+                report.formal.push((id, verdict));
+            }
+            Err(why) => {
+                log(&format!("mutant {id}: not checked per module ({why:?}): whole-core bounded check"));
+                let mut one = Report { mutants: report.mutants.iter().filter(|r| r.id == id).cloned().collect(), formal: Vec::new(), ..report.clone() };
+                check_survivors(&mut one, inst, f, out, log)?;
+                report.formal.extend(one.formal);
+            }
+        }
     }
     Ok(())
 }

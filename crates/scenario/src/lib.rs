@@ -127,6 +127,7 @@ pub use run::{DutSpec, RunOptions, RunOutcome, run};
 use can_proto::timing::BusTiming;
 use diagnose::Category;
 use format::*;
+pub use format::file_schema;
 use regmap::{Access, Mode, OpMode};
 use std::path::{Path, PathBuf};
 

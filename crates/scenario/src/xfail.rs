@@ -82,6 +82,7 @@ pub fn waiver_dut(o: &RunOutcome, opts: &RunOptions) -> DutInfo {
     DutInfo {
         name: o.waivers.as_ref().map(|r| r.dut.clone()).unwrap_or_else(|| o.dut.clone()),
         revision: opts.dut_revision.clone(),
+        family: o.waivers.as_ref().map(|r| r.family.clone()).unwrap_or_default(),
     }
 }
 

@@ -11,6 +11,8 @@ use std::process::Command;
 use std::sync::Arc;
 use std::sync::atomic::{AtomicU64, Ordering};
 
+use crate::error::BridgeError;
+use crate::external::ExternalCore;
 use crate::shimgen::{self, PortDecl, PortDir};
 
 /// The entry points of one top's generated shim ([`shimgen::gen_shim`]).
@@ -34,110 +36,6 @@ pub struct VTable {
     pub trace_dump: unsafe extern "C" fn(*mut c_void, u64),
     /// `trace_close(instance)`.
     pub trace_close: unsafe extern "C" fn(*mut c_void),
-}
-
-/// What can go wrong building, loading or binding a model. Each variant
-/// prints as one paragraph, including Verilator's or the compiler's own words.
-#[derive(Debug, thiserror::Error)]
-pub enum BridgeError {
-    /// The top is not in the table of linked-in tops.
-    #[error("no bundled top `{name}`; this build has: {available}")]
-    UnknownTop {
-        /// Requested top.
-        name: String,
-        /// Tops that exist.
-        available: String,
-    },
-    /// The core's directory cannot hold the core ([`ExternalCore::check`]).
-    #[error("external core {dir}: {problem}")]
-    BadSources {
-        /// Source directory.
-        dir: String,
-        /// What is wrong, in one line.
-        problem: String,
-    },
-    /// Verilator rejected the sources.
-    #[error("Verilator could not build top `{top}` from {dir}; Verilator said:\n{message}")]
-    Verilate {
-        /// Top module.
-        top: String,
-        /// Source directory.
-        dir: String,
-        /// Verilator's output.
-        message: String,
-    },
-    /// The C++ compiler or linker failed on the Verilated model.
-    #[error("compiling the Verilated model of `{top}` failed ({step}):\n{message}")]
-    Compile {
-        /// Top module.
-        top: String,
-        /// Which step.
-        step: String,
-        /// Compiler output.
-        message: String,
-    },
-    /// A port the caller needs is absent.
-    #[error(
-        "top `{top}` has no port `{port}` (it has: {available}){}",
-        wanted_by(.kind)
-    )]
-    MissingPort {
-        /// Top module.
-        top: String,
-        /// Missing port.
-        port: String,
-        /// Ports it has.
-        available: String,
-        /// Which port list was expected (the caller's words).
-        kind: String,
-    },
-    /// A port has an unexpected width or direction.
-    #[error("port `{port}` of top `{top}` is {got}; expected {want}")]
-    PortShape {
-        /// Top module.
-        top: String,
-        /// Port.
-        port: String,
-        /// What it is.
-        got: String,
-        /// What it should be.
-        want: String,
-    },
-    /// The shared library could not be loaded.
-    #[error("could not load {path}: {message}")]
-    Load {
-        /// Library path.
-        path: String,
-        /// Loader message.
-        message: String,
-    },
-    /// Tracing could not start.
-    #[error("could not open VCD trace {path}: {reason}")]
-    Trace {
-        /// VCD path.
-        path: String,
-        /// Why.
-        reason: String,
-    },
-    /// The GHDL step of a core with VHDL sources failed ([`crate::vhdl`]).
-    #[error(transparent)]
-    Vhdl(#[from] crate::vhdl::VhdlError),
-    /// File-system trouble.
-    #[error("{context}: {source}")]
-    Io {
-        /// What was being done.
-        context: String,
-        /// The error.
-        source: std::io::Error,
-    },
-}
-
-fn wanted_by(kind: &str) -> String {
-    if kind.is_empty() {
-        String::new()
-    } else {
-        format!("; the {kind} port list needs it")
-    }
 }
 
 fn io_err(context: impl Into<String>) -> impl FnOnce(std::io::Error) -> BridgeError {
@@ -485,40 +383,6 @@ impl Drop for Model {
         // SAFETY: handle is live and dropped once.
         unsafe { (self.vt.delete)(self.handle) }
     }
-}
-
-/// A Verilog top built at run time with Verilator's own makefile into a
-/// shared library cached by a hash of its sources and options
-/// ([`ExternalCore::build_in`]).
-#[derive(Clone, Debug, Default)]
-pub struct ExternalCore {
-    /// Directory holding the sources.
-    pub dir: PathBuf,
-    /// Top module name.
-    pub top: String,
-    /// Source files; empty means every `*.v` / `*.sv` in `dir`.
-    pub files: Vec<PathBuf>,
-    /// `NAME` or `NAME=VALUE` macros.
-    pub defines: Vec<String>,
-    /// Extra include directories (`dir` is always one).
-    pub include_dirs: Vec<PathBuf>,
-    /// Build with Verilator's line, toggle and branch coverage (`--coverage`;
-    /// a cache entry of its own): instances made with
-    /// [`CompiledCore::instantiate_with_coverage`] write a `.dat` when dropped.
-    pub coverage: bool,
-    /// Extra Verilator arguments. `*.v` files are read as Verilog-2005
-    /// (`+1364-2005ext+v`, so identifiers such as `do` that SystemVerilog
-    /// reserves still parse); `*.sv` as SystemVerilog. `--coverage` and
-    /// the like go here (the runtime classes they need are linked).
-    pub extra_args: Vec<String>,
-    /// C++ body of the inner loop ([`Model::run_inner_loop`]), if any.
-    pub inner_loop: Option<String>,
-    /// How VHDL sources (`*.vhd`, `*.vhdl`) go through GHDL ([`crate::vhdl`]).
-    pub vhdl: crate::vhdl::VhdlOptions,
-    /// Inputs held at a constant for the whole run, set on every instance
-    /// before its first eval (the run-time mutant select of `cancosim
-    /// mutate`). Not part of the cache key: one build serves every value.
-    pub held_inputs: Vec<(String, u64)>,
 }
 
 /// A built external core: the loaded library and the symbol prefix.

@@ -14,77 +14,10 @@
 use std::path::{Path, PathBuf};
 use std::process::Command;
 
-use crate::model::{BridgeError, ExternalCore};
-
-/// The VHDL language revision GHDL analyses with (`--std=`).
-#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
-pub enum VhdlStandard {
-    /// VHDL-93 (`--std=93`), strict.
-    V93,
-    /// VHDL-93 with GHDL's relaxations (`--std=93c`, GHDL's own default),
-    /// which much VHDL-93 code in the field needs.
-    #[default]
-    V93c,
-    /// VHDL-2008 (`--std=08`).
-    V08,
-}
-
-impl VhdlStandard {
-    /// From a profile's `standard` value: `93`, `93c`, `08` (or `2008`).
-    pub fn from_name(s: &str) -> Option<VhdlStandard> {
-        match s {
-            "93" | "1993" => Some(VhdlStandard::V93),
-            "93c" => Some(VhdlStandard::V93c),
-            "08" | "2008" => Some(VhdlStandard::V08),
-            _ => None,
-        }
-    }
-
-    /// GHDL's option.
-    pub fn ghdl_flag(self) -> &'static str {
-        match self {
-            VhdlStandard::V93 => "--std=93",
-            VhdlStandard::V93c => "--std=93c",
-            VhdlStandard::V08 => "--std=08",
-        }
-    }
-
-    /// In words, for messages.
-    pub fn describe(self) -> &'static str {
-        match self {
-            VhdlStandard::V93 => "VHDL-93",
-            VhdlStandard::V93c => "VHDL-93 (GHDL's relaxed 93c)",
-            VhdlStandard::V08 => "VHDL-2008",
-        }
-    }
-}
-
-/// How a core's VHDL is analysed (a profile's `[vhdl]` table).
-#[derive(Clone, Debug, Default, PartialEq, Eq)]
-pub struct VhdlOptions {
-    /// Language revision.
-    pub standard: VhdlStandard,
-    /// VHDL files in analysis order, relative to the core's directory;
-    /// empty: every `.vhd`/`.vhdl` there, ordered by `ghdl --elab-order`.
-    pub files: Vec<PathBuf>,
-    /// Extra GHDL options for analysis and synthesis (e.g. `-fsynopsys`
-    /// for `ieee.std_logic_arith`).
-    pub ghdl_args: Vec<String>,
-}
-
-impl VhdlOptions {
-    /// The options in one line, for report headers.
-    pub fn describe(&self) -> String {
-        let mut s = self.standard.describe().to_string();
-        if !self.files.is_empty() {
-            s.push_str(&format!(", {} file(s) in the profile's order", self.files.len()));
-        }
-        if !self.ghdl_args.is_empty() {
-            s.push_str(&format!(", GHDL options {}", self.ghdl_args.join(" ")));
-        }
-        s
-    }
-}
+pub use crate::error::VhdlError;
+use crate::error::BridgeError;
+pub use crate::external::{VhdlOptions, VhdlStandard};
+use crate::external::ExternalCore;
 
 fn is_vhdl(p: &Path) -> bool {
     matches!(p.extension().and_then(|e| e.to_str()), Some("vhd" | "vhdl"))
@@ -176,43 +109,6 @@ pub(crate) fn check(core: &ExternalCore) -> Option<Result<(), BridgeError>> {
             vhdl.len() + verilog.len()
         )))
     })
-}
-
-/// What went wrong in the GHDL step, in one paragraph.
-#[derive(Debug, thiserror::Error)]
-pub enum VhdlError {
-    /// GHDL is not installed.
-    #[error(
-        "external core {dir} has VHDL sources, and `ghdl` was not found: install GHDL (scripts/setup.sh, or apt-get install ghdl)"
-    )]
-    NoGhdl {
-        /// Core directory.
-        dir: String,
-    },
-    /// GHDL rejected the sources: its first message (`file:line:col: ...`).
-    #[error("GHDL could not {step} ({standard}): {first}{more}")]
-    Ghdl {
-        /// "analyse x.vhd", "order the VHDL of top", "synthesise top".
-        step: String,
-        /// The standard used.
-        standard: &'static str,
-        /// GHDL's first error line, with file and line.
-        first: String,
-        /// "(and n more lines from GHDL)" or empty.
-        more: String,
-    },
-    /// No VHDL entity to synthesise.
-    #[error(
-        "external core {dir}: `{top}` is a Verilog module and none of its Verilog files instantiates a VHDL entity ({entities}); give the VHDL top with --top"
-    )]
-    NoRoot {
-        /// Core directory.
-        dir: String,
-        /// Top.
-        top: String,
-        /// Entities seen.
-        entities: String,
-    },
 }
 
 /// GHDL's output reduced to its first diagnostic line (`file:line:col:

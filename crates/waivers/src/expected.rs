@@ -48,7 +48,7 @@ use serde::{Deserialize, Serialize};
 use toml::Spanned;
 
 use crate::file::{DutGlob, KindName, RevRange, WaiverError};
-use crate::set::DutInfo;
+use crate::dut::DutInfo;
 
 /// The hosts an entry may name (as `cancosim --host` and `[host] bfm` spell them).
 pub const HOSTS: &[&str] = &["wishbone", "avalon", "avalon-begintransfer", "pio", "pio-edge", "i8051"];
@@ -57,26 +57,48 @@ pub const HOSTS: &[&str] = &["wishbone", "avalon", "avalon-begintransfer", "pio"
 pub const LINE_KINDS: &[&str] = &["divergence", "expectation", "verdict"];
 
 /// One host or several (`host = "wishbone"` or `host = ["wishbone", "avalon"]`).
-#[derive(Debug, Deserialize)]
+#[derive(Debug, Deserialize, schemars::JsonSchema)]
 #[serde(untagged)]
 pub(crate) enum OneOrMany {
     One(String),
     Many(Vec<String>),
 }
 
-/// One `[[expected-failure]]` table as written.
-#[derive(Debug, Deserialize)]
+/// `[[expected-failure]]`: a scenario that fails on a DUT for a documented deviation
+/// the model will not imitate, with the exact set of lines its failure shows.
+#[derive(Debug, Deserialize, schemars::JsonSchema)]
 #[serde(deny_unknown_fields, rename_all = "kebab-case")]
 pub(crate) struct RawExpectedFailure {
+    /// Unique id among the file's expected failures. Required.
+    #[schemars(with = "String")]
     pub id: Spanned<String>,
+    /// The scenario's `name`. Required.
+    #[schemars(with = "String")]
     pub scenario: Spanned<String>,
+    /// DUT name globs, as for waivers (matched through the DUT's profile family too). Required.
+    #[schemars(with = "Vec<String>")]
     pub dut: Spanned<Vec<DutGlob>>,
+    /// Revision ranges, as for waivers. Default: any revision.
     #[serde(default)]
+    #[schemars(with = "Vec<String>")]
     pub revisions: Vec<RevRange>,
+    /// The run's host bus (its own or `--host`): `wishbone`, `avalon`,
+    /// `avalon-begintransfer`, `pio`, `pio-edge`, `i8051`, or a list of them. Default: any host.
+    #[schemars(with = "Option<OneOrMany>")]
     pub host: Option<Spanned<OneOrMany>>,
+    /// The deviation's row in the deviations table (`"D6"`). Required, not empty.
+    #[schemars(with = "String")]
     pub deviation: Spanned<String>,
+    /// The datasheet or CAN 2.0B clause the deviation breaks. Required, not empty.
+    #[schemars(with = "String")]
     pub clause: Spanned<String>,
+    /// Why the scenario fails and why this is not waived, in plain words. Required, not empty.
+    #[schemars(with = "String")]
     pub reason: Spanned<String>,
+    /// The set of lines the run shows (`divergence ...`, `expectation step N: ...`,
+    /// `verdict ...`); order does not matter. Write it with
+    /// `cancosim regress --record-expected-failures FILE`. Required.
+    #[schemars(with = "Vec<String>")]
     pub signature: Spanned<Vec<Spanned<String>>>,
 }
 
@@ -164,18 +186,10 @@ pub fn signature_line(d: &Divergence) -> String {
 }
 
 impl ExpectedFailure {
-    /// True if the entry is for this DUT (name glob and revision range).
+    /// True if the entry is for this DUT (name glob, through the DUT's
+    /// profile family too, and revision range).
     pub fn applies_to(&self, dut: &DutInfo) -> bool {
-        if !self.dut.iter().any(|g| g.matches(&dut.name)) {
-            return false;
-        }
-        if self.revisions.is_empty() {
-            return true;
-        }
-        match dut.revision.as_deref().map(str::parse::<crate::file::Revision>) {
-            Some(Ok(r)) => self.revisions.iter().any(|rr| rr.contains(&r)),
-            _ => false,
-        }
+        dut.matched_by(&self.dut, &self.revisions).is_some()
     }
 
     /// True if the entry is for a run of `scenario` through `host`.

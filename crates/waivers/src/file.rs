@@ -672,52 +672,107 @@ impl From<Consequence> for String {
     }
 }
 
-/// One `[[waiver]]` table as written (see the module doc for the keys).
-#[derive(Debug, Deserialize)]
+/// `[[waiver]]`: a known deviation of a DUT from the golden model, accepted and bounded.
+#[derive(Debug, Deserialize, schemars::JsonSchema)]
 #[serde(deny_unknown_fields, rename_all = "kebab-case")]
 pub(crate) struct RawWaiver {
+    /// Unique id among the file's waivers, named in reports. Required.
+    #[schemars(with = "String")]
     pub id: Spanned<String>,
+    /// What differs: `"tx-bit"`, `"register-read"`, `"irq"`, `"bus-off"` or `"clkout"`. Required.
+    #[schemars(with = "String")]
     pub kind: KindName,
+    /// Why the deviation is accepted; its first sentence is the deviation in plain
+    /// words in reports. Required.
+    #[schemars(with = "String")]
     pub explanation: Spanned<String>,
+    /// The datasheet or CAN 2.0B clause the deviation breaks, for reports. Default: none.
     #[serde(default)]
     pub clause: Option<String>,
+    /// DUT name globs (`*`, `?`, `[..]`), at least one. An external core is named
+    /// `"<profile> (<dir>)"`; a glob also matches through the DUT's profile family (the
+    /// profiles its profile `extends`), so `"opencores-can (*)"` covers a fork whose
+    /// profile extends `opencores-can`, and the report says "applied via family member
+    /// opencores-can". Required.
+    #[schemars(with = "Vec<String>")]
     pub dut: Spanned<Vec<DutGlob>>,
+    /// Inclusive revision ranges (`"r3..r7"`, `"r3.."`, `"..r7"`, `"r5"`); a DUT of
+    /// unknown revision never matches one. Default: any revision.
     #[serde(default)]
+    #[schemars(with = "Vec<String>")]
     pub revisions: Vec<RevRange>,
+    /// tx-bit, irq, bus-off: the CAN fields the model was in (`can_proto::Field` names,
+    /// `"ActiveErrorFlag"`). Default: any field.
     #[serde(default)]
+    #[schemars(with = "Option<Vec<String>>")]
     pub fields: Option<Spanned<Vec<FieldName>>>,
+    /// register-read: the register's datasheet name (`"SR"`). Default: any register.
+    #[schemars(with = "Option<String>")]
     pub register: Option<Spanned<String>>,
+    /// register-read: the register's address; needed by `adopt-dut-register`. Default: any.
     pub address: Option<u8>,
+    /// register-read: the bits (0..7) that may differ. Default: any bit.
+    #[schemars(with = "Option<Vec<u8>>")]
     pub bits: Option<Spanned<Vec<u8>>>,
+    /// Allowed model values. Default: any.
     pub expected: Option<Vec<u32>>,
+    /// Allowed DUT values. Default: any.
     pub seen: Option<Vec<u32>>,
+    /// Allowed DUT transmit error counts (TEC); with one value it is also what
+    /// `adopt-dut-tec` adopts. Default: any.
     pub dut_tec: Option<Vec<u16>>,
+    /// Allowed DUT receive error counts (REC). Default: any.
     pub dut_rec: Option<Vec<u16>>,
+    /// Frame numbers the divergence may be in (`"2..5"`). Default: any frame.
+    #[schemars(with = "Option<String>")]
     pub frames: Option<FrameRange>,
+    /// Text the divergence's context must contain. Default: any.
     pub context: Option<String>,
+    /// One deviation lasts at most this many bit times; longer, the rest is not waived. Default: unbounded.
+    #[schemars(with = "Option<u32>")]
     pub late_bits: Option<Spanned<u32>>,
+    /// irq and bus-off: the DUT's pin lags the model's by at most this (`"1 bit"`,
+    /// `"16 clocks"`, `"1 bit + 16 clocks"`). Default: unbounded.
+    #[schemars(with = "Option<String>")]
     pub late_by: Option<Spanned<Lateness>>,
+    /// irq only: a pin difference the host's read of this register ends (only `"IR"`);
+    /// `max-hits` then counts episodes. Not with `late-by` or `late-bits`. Default: none.
+    #[schemars(with = "Option<String>")]
     pub until_read: Option<Spanned<String>>,
+    /// Applies only once the model has lost a message to an RX FIFO overrun
+    /// (`"data-overrun"`, `"2 data-overruns"`). Default: always.
+    #[schemars(with = "Option<String>")]
     pub after: Option<Spanned<String>>,
+    /// register-read: the model's value, MSB first, each character `0`, `1` or `x`
+    /// (`_` separates): `"xx01_xxxx"`. Default: any.
+    #[schemars(with = "Option<String>")]
     pub expected_bits: Option<Spanned<BitPattern>>,
+    /// register-read: the DUT's value as a pattern, like `expected-bits`. Default: any.
+    #[schemars(with = "Option<String>")]
     pub seen_bits: Option<Spanned<BitPattern>>,
+    /// register-read: the DUT's value is the model's plus this. Default: any.
+    #[schemars(with = "Option<i64>")]
     pub seen_offset: Option<Spanned<i64>>,
+    /// The model's PeliCAN MOD at the divergence matches this pattern (`"xxxx_xx1x"`). Default: any.
+    #[schemars(with = "Option<String>")]
     pub model_mod_bits: Option<BitPattern>,
+    /// The model's mode at the divergence: `"basic"` or `"pelican"`. Default: either.
+    #[schemars(with = "Option<String>")]
     pub model_mode: Option<Spanned<String>>,
+    /// At most this many hits (episodes with `until-read`) are waived. Default: unbounded.
+    #[schemars(with = "Option<u32>")]
     pub max_hits: Option<Spanned<u32>>,
+    /// What the bench does once the divergence is waived, in order: `"none"`,
+    /// `"skip-bits N"`, `"adopt-dut-tec"`, `"adopt-dut-rec"`, `"adopt-dut-register"`,
+    /// `"model-skips-sleep"`, `"model-waits-bus-free-after-bus-on"`. Required.
+    #[schemars(with = "Vec<String>")]
     pub resync: Spanned<Vec<ResyncSpec>>,
+    /// Scenario expectations that follow from this deviation though DUT and model agree
+    /// (`"<scenario>:step <n>"`, `"<scenario>:received by <node>"`); waived only after
+    /// this waiver was hit in the run. Default: none.
     #[serde(default)]
+    #[schemars(with = "Option<Vec<String>>")]
     pub consequences: Option<Spanned<Vec<Consequence>>>,
-}
-
-#[derive(Debug, Deserialize)]
-#[serde(deny_unknown_fields)]
-pub(crate) struct RawFile {
-    #[serde(default)]
-    pub waiver: Vec<RawWaiver>,
-    /// `[[expected-failure]]` tables (crate::expected).
-    #[serde(default, rename = "expected-failure")]
-    pub expected_failure: Vec<crate::expected::RawExpectedFailure>,
 }
 
 /// Suggested entry, written by [`crate::suggest`] (same keys as the file).

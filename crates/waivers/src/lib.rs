@@ -40,6 +40,7 @@
 //! ```
 #![warn(missing_docs)]
 
+pub mod dut;
 pub mod expected;
 pub mod file;
 pub mod report;
@@ -51,5 +52,7 @@ pub use expected::{ExpectedFailure, SignatureDiff, signature_line};
 pub use file::{BitPattern, Consequence, ConsequenceOf, KindName, Lateness, ResyncSpec, RevRange, Revision, WaiverError};
 pub use report::{Counts, Stale, WaivedExpectation, Waived, WaiverReport, describe};
 pub use run::{Action, CollectMode, Session};
-pub use set::{DutInfo, Observed, Resync, Verdict, Waiver, WaiverSet, summary_of};
+pub use dut::{DutInfo, DutMatch, FamilyMember};
+pub use set::{EXAMPLE, file_schema};
+pub use set::{Observed, Resync, Verdict, Waiver, WaiverSet, summary_of};
 pub use suggest::suggest;

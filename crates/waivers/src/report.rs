@@ -7,7 +7,8 @@ use diagnose::{Divergence, DivergenceKind};
 use serde::{Deserialize, Serialize};
 
 use crate::file::KindName;
-use crate::set::{DutInfo, WaiverSet};
+use crate::dut::{DutInfo, DutMatch, FamilyMember};
+use crate::set::WaiverSet;
 
 /// A divergence a waiver covered.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
@@ -59,6 +60,9 @@ pub struct WaiverReport {
     pub dut: String,
     /// DUT revision.
     pub revision: Option<String>,
+    /// The DUT's names through its profile family (profiles it extends).
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub family: Vec<FamilyMember>,
     /// Waiver file (empty if none).
     pub waiver_file: String,
     /// Divergences covered by a waiver, in the order seen.
@@ -131,6 +135,7 @@ impl WaiverReport {
         WaiverReport {
             dut: dut.name.clone(),
             revision: dut.revision.clone(),
+            family: dut.family.clone(),
             waiver_file: set.name.clone(),
             ..Default::default()
         }
@@ -143,7 +148,19 @@ impl WaiverReport {
             .into_iter()
             .map(|w| Stale { waiver_id: w.id.clone(), location: format!("{}:{}", w.file, w.line) })
             .collect();
-        self.deviations = set.waivers().iter().filter(|w| w.hits > 0).map(|w| w.deviation(w.hits)).collect();
+        let dut = self.dut_info();
+        self.deviations = set
+            .waivers()
+            .iter()
+            .filter(|w| w.hits > 0)
+            .map(|w| {
+                let mut d = w.deviation(w.hits);
+                if let Some(DutMatch::Via(p)) = w.matched_by(&dut) {
+                    d.via = Some(p.to_string());
+                }
+                d
+            })
+            .collect();
     }
 
     /// Counts.
@@ -172,6 +189,11 @@ impl WaiverReport {
             .iter()
             .map(|s| format!("stale waiver `{}` ({}) never matched{why}", s.waiver_id, s.location))
             .collect()
+    }
+
+    /// The DUT the report is for, as the waivers saw it.
+    pub fn dut_info(&self) -> DutInfo {
+        DutInfo { name: self.dut.clone(), revision: self.revision.clone(), family: self.family.clone() }
     }
 
     fn dut_label(&self) -> String {
@@ -204,6 +226,9 @@ impl WaiverReport {
         }
         for w in &self.waived {
             let _ = writeln!(s, "WAIVED [{}] {}", w.waiver_id, describe(&w.divergence));
+        }
+        for d in self.deviations.iter().filter(|d| d.via.is_some()) {
+            let _ = writeln!(s, "VIA    waiver {} applied via family member {}", d.waiver_id, d.via.as_deref().unwrap_or_default());
         }
         for e in &self.waived_expectations {
             let _ = writeln!(

@@ -7,7 +7,8 @@ use serde::{Deserialize, Serialize};
 
 use crate::file::ConsequenceOf;
 use crate::report::{WaivedExpectation, Waived, WaiverReport};
-use crate::set::{DutInfo, Observed, Resync, Verdict, WaiverSet};
+use crate::dut::DutInfo;
+use crate::set::{Observed, Resync, Verdict, WaiverSet};
 
 /// What the comparator does with an unwaived divergence
 /// (`--stop-at-first` / `--collect`).

@@ -6,40 +6,11 @@ use std::path::Path;
 use diagnose::{Divergence, DivergenceKind};
 use serde::{Deserialize, Serialize};
 
+use crate::dut::{DutInfo, DutMatch};
+use crate::expected::{ExpectedFailure, RawExpectedFailure};
 use crate::file::{
-    self, BitPattern, Consequence, DutGlob, FrameRange, KindName, Lateness, RawFile, RawWaiver, ResyncSpec, RevRange, Revision,
-    WaiverError,
+    self, BitPattern, Consequence, DutGlob, FrameRange, KindName, Lateness, RawWaiver, ResyncSpec, RevRange, WaiverError,
 };
-
-/// The DUT a run compares: its name (as `RunRecord::dut`) and revision.
-#[derive(Clone, Debug, Default, PartialEq, Eq, Serialize, Deserialize)]
-pub struct DutInfo {
-    /// DUT name, matched against the waivers' `dut` globs.
-    pub name: String,
-    /// Revision (`r5`, `v1.2`), matched against `revisions`; a waiver with
-    /// revision ranges never matches a DUT of unknown revision.
-    pub revision: Option<String>,
-}
-
-impl DutInfo {
-    /// A DUT of unknown revision.
-    pub fn new(name: &str) -> Self {
-        DutInfo { name: name.into(), revision: None }
-    }
-
-    /// Sets the revision.
-    pub fn revision(mut self, rev: &str) -> Self {
-        self.revision = Some(rev.into());
-        self
-    }
-
-    fn label(&self) -> String {
-        match &self.revision {
-            Some(r) => format!("{} {r}", self.name),
-            None => self.name.clone(),
-        }
-    }
-}
 
 /// What the comparator can see of the DUT at the divergence, beyond the
 /// divergence itself. Used for the `dut-tec`/`dut-rec` bounds and to fill
@@ -260,6 +231,7 @@ impl Waiver {
             hits,
             episodes: if self.until_read.is_some() { self.episodes } else { 0 },
             bound: self.bound(),
+            via: None,
         }
     }
 
@@ -283,18 +255,16 @@ impl Waiver {
         (!parts.is_empty()).then(|| parts.join(", "))
     }
 
-    /// True if the waiver is for this DUT (name glob and revision range).
+    /// True if the waiver is for this DUT (name glob, through the DUT's
+    /// profile family too, and revision range).
     pub fn applies_to(&self, dut: &DutInfo) -> bool {
-        if !self.dut.iter().any(|g| g.matches(&dut.name)) {
-            return false;
-        }
-        if self.revisions.is_empty() {
-            return true;
-        }
-        match dut.revision.as_deref().map(str::parse::<Revision>) {
-            Some(Ok(r)) => self.revisions.iter().any(|rr| rr.contains(&r)),
-            _ => false,
-        }
+        self.matched_by(dut).is_some()
+    }
+
+    /// How the waiver's `dut` globs and `revisions` take this DUT: by its
+    /// own name or through a member of its profile family (`None`: not for it).
+    pub fn matched_by<'a>(&self, dut: &'a DutInfo) -> Option<DutMatch<'a>> {
+        dut.matched_by(&self.dut, &self.revisions)
     }
 
     /// Why the waiver does not cover `d` (bounds included, the `late-bits`
@@ -490,13 +460,47 @@ fn single(v: &Option<Vec<u16>>) -> Option<u8> {
     }
 }
 
+/// A waiver file (`tb/waivers/*.toml`, `--waivers FILE`, a scenario's `[run] waivers`):
+/// known deviations of a DUT, each accepted only within its bounds. Unknown keys are
+/// rejected; every error reads `file:line: key: message`.
+#[derive(Debug, Deserialize, schemars::JsonSchema)]
+#[serde(deny_unknown_fields)]
+pub(crate) struct RawFile {
+    /// The waivers, checked in file order: the first that covers a divergence takes it. Default: none.
+    #[serde(default)]
+    pub waiver: Vec<RawWaiver>,
+    /// Strict expected failures of whole scenarios ([`crate::expected`]). Default: none.
+    #[serde(default, rename = "expected-failure")]
+    pub expected_failure: Vec<RawExpectedFailure>,
+}
+
+/// The JSON schema of a waiver file, for the generated reference
+/// (`cancosim gen reference`): doc comments are the descriptions.
+pub fn file_schema() -> schemars::Schema {
+    schemars::schema_for!(RawFile)
+}
+
+/// A waiver file for the reference (tested to load).
+pub const EXAMPLE: &str = r#"# Waivers for the opencores core; a fork whose profile says
+# extends = "opencores-can" gets them too (matched via its family).
+[[waiver]]
+id = "tec-after-error-passive"
+kind = "tx-bit"
+fields = ["PassiveErrorFlag"]
+dut = ["opencores-can (*)"]
+explanation = "The core sends one more recessive bit after a passive error flag. Accepted: the next frame is unaffected."
+clause = "CAN 2.0B §7.1"
+late-bits = 1
+resync = ["skip-bits 1"]
+"#;
+
 /// The waivers of one file, with their hit counts.
 #[derive(Clone, Debug, Default)]
 pub struct WaiverSet {
     /// File name (for messages).
     pub name: String,
     waivers: Vec<Waiver>,
-    expected_failures: Vec<crate::expected::ExpectedFailure>,
+    expected_failures: Vec<ExpectedFailure>,
 }
 
 impl WaiverSet {
@@ -535,7 +539,7 @@ impl WaiverSet {
             }
             waivers.push(validate(name, src, w)?);
         }
-        let mut expected_failures: Vec<crate::expected::ExpectedFailure> = Vec::with_capacity(raw.expected_failure.len());
+        let mut expected_failures: Vec<ExpectedFailure> = Vec::with_capacity(raw.expected_failure.len());
         for x in raw.expected_failure {
             let e = crate::expected::validate(name, src, x)?;
             if let Some(old) = expected_failures.iter().find(|o| o.id == e.id) {
@@ -579,7 +583,7 @@ impl WaiverSet {
     }
 
     /// The `[[expected-failure]]` entries, in file order.
-    pub fn expected_failures(&self) -> &[crate::expected::ExpectedFailure] {
+    pub fn expected_failures(&self) -> &[ExpectedFailure] {
         &self.expected_failures
     }
 
@@ -1054,7 +1058,19 @@ pub fn summary_of(explanation: &str) -> String {
 
 #[cfg(test)]
 mod summary_tests {
-    use super::summary_of;
+    use super::{DutInfo, DutMatch, EXAMPLE, WaiverSet, file_schema, summary_of};
+
+    #[test]
+    fn the_reference_example_parses_and_covers_a_fork_via_its_family() {
+        let set = WaiverSet::parse(EXAMPLE, "example").unwrap();
+        let w = &set.waivers()[0];
+        let fork = DutInfo::new("my-can (/src/my-can)").in_family("my-can", &["opencores-can".into()]);
+        assert_eq!(w.matched_by(&fork), Some(DutMatch::Via("opencores-can")));
+        assert_eq!(w.matched_by(&DutInfo::new("opencores-can (/src/can)")), Some(DutMatch::Own));
+        let other = DutInfo::new("ctu (/src/ctu)").in_family("ctu", &["ctu-can-fd".into()]);
+        assert!(!w.applies_to(&other), "another family's DUT");
+        assert!(file_schema().as_value().to_string().contains("family"), "the schema documents families");
+    }
 
     #[test]
     fn the_summary_is_the_first_sentence_without_the_row_tag() {

@@ -9,7 +9,7 @@ use diagnose::{Divergence, DivergenceKind};
 
 use crate::file::{FieldName, KindName, OutFile, OutWaiver, ResyncSpec, Revision};
 use crate::report::describe;
-use crate::set::DutInfo;
+use crate::dut::DutInfo;
 
 /// Grouping key: divergences of the same kind at the same place.
 #[derive(Clone, Debug, PartialEq, Eq, PartialOrd, Ord)]

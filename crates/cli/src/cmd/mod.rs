@@ -6,9 +6,11 @@ pub mod decode;
 pub mod diagnose;
 pub mod regress;
 pub mod run;
+pub mod formats;
 pub mod generate;
 pub mod gitcore;
 pub mod mutate;
+pub mod reference;
 
 /// Parses "24MHz", "16e6", "500k", "125000", "1M" into a number.
 pub fn parse_si(s: &str) -> Result<u32, String> {
