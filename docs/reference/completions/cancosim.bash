@@ -194,7 +194,7 @@ _cancosim() {
             return 0
             ;;
         cancosim__subcmd__campaign)
-            opts="-h --seed --frames --first-frame --dut --fault-rate --nodes --strict --vcd --help"
+            opts="-j -h --seed --frames --minutes --first-index --dut --external --profile --top --host --waivers --dut-revision --collect --stop-at-first --jobs --shard --nodes --frames-per-run --fault-rate --max-brp --shrink-runs --max-failures --save-failures --json --junit --html --help"
             if [[ ${cur} == -* || ${COMP_CWORD} -eq 2 ]] ; then
                 COMPREPLY=( $(compgen -W "${opts}" -- "${cur}") )
                 return 0
@@ -208,7 +208,11 @@ _cancosim() {
                     COMPREPLY=($(compgen -f "${cur}"))
                     return 0
                     ;;
-                --first-frame)
+                --minutes)
+                    COMPREPLY=($(compgen -f "${cur}"))
+                    return 0
+                    ;;
+                --first-index)
                     COMPREPLY=($(compgen -f "${cur}"))
                     return 0
                     ;;
@@ -216,7 +220,39 @@ _cancosim() {
                     COMPREPLY=($(compgen -W "rtl model" -- "${cur}"))
                     return 0
                     ;;
-                --fault-rate)
+                --external)
+                    COMPREPLY=($(compgen -f "${cur}"))
+                    return 0
+                    ;;
+                --profile)
+                    COMPREPLY=($(compgen -f "${cur}"))
+                    return 0
+                    ;;
+                --top)
+                    COMPREPLY=($(compgen -f "${cur}"))
+                    return 0
+                    ;;
+                --host)
+                    COMPREPLY=($(compgen -W "wishbone avalon pio pio-edge i8051" -- "${cur}"))
+                    return 0
+                    ;;
+                --waivers)
+                    COMPREPLY=($(compgen -f "${cur}"))
+                    return 0
+                    ;;
+                --dut-revision)
+                    COMPREPLY=($(compgen -f "${cur}"))
+                    return 0
+                    ;;
+                --jobs)
+                    COMPREPLY=($(compgen -f "${cur}"))
+                    return 0
+                    ;;
+                -j)
+                    COMPREPLY=($(compgen -f "${cur}"))
+                    return 0
+                    ;;
+                --shard)
                     COMPREPLY=($(compgen -f "${cur}"))
                     return 0
                     ;;
@@ -224,7 +260,39 @@ _cancosim() {
                     COMPREPLY=($(compgen -f "${cur}"))
                     return 0
                     ;;
-                --vcd)
+                --frames-per-run)
+                    COMPREPLY=($(compgen -f "${cur}"))
+                    return 0
+                    ;;
+                --fault-rate)
+                    COMPREPLY=($(compgen -f "${cur}"))
+                    return 0
+                    ;;
+                --max-brp)
+                    COMPREPLY=($(compgen -f "${cur}"))
+                    return 0
+                    ;;
+                --shrink-runs)
+                    COMPREPLY=($(compgen -f "${cur}"))
+                    return 0
+                    ;;
+                --max-failures)
+                    COMPREPLY=($(compgen -f "${cur}"))
+                    return 0
+                    ;;
+                --save-failures)
+                    COMPREPLY=($(compgen -f "${cur}"))
+                    return 0
+                    ;;
+                --json)
+                    COMPREPLY=($(compgen -f "${cur}"))
+                    return 0
+                    ;;
+                --junit)
+                    COMPREPLY=($(compgen -f "${cur}"))
+                    return 0
+                    ;;
+                --html)
                     COMPREPLY=($(compgen -f "${cur}"))
                     return 0
                     ;;
@@ -716,7 +784,7 @@ _cancosim() {
             return 0
             ;;
         cancosim__subcmd__regress)
-            opts="-j -h --dut --external --baseline --profile --top --jobs --shard --junit --json --record-expected-failures --html --coverage --funcov --funcov-json --max-bits --host --waivers --dut-revision --collect --stop-at-first --help"
+            opts="-j -h --dut --external --profile --top --baseline --jobs --shard --junit --json --record-expected-failures --html --coverage --funcov --funcov-json --max-bits --host --waivers --dut-revision --collect --stop-at-first --help"
             if [[ ${cur} == -* || ${COMP_CWORD} -eq 2 ]] ; then
                 COMPREPLY=( $(compgen -W "${opts}" -- "${cur}") )
                 return 0
@@ -730,15 +798,15 @@ _cancosim() {
                     COMPREPLY=($(compgen -f "${cur}"))
                     return 0
                     ;;
-                --baseline)
-                    COMPREPLY=($(compgen -f "${cur}"))
-                    return 0
-                    ;;
                 --profile)
                     COMPREPLY=($(compgen -f "${cur}"))
                     return 0
                     ;;
                 --top)
+                    COMPREPLY=($(compgen -f "${cur}"))
+                    return 0
+                    ;;
+                --baseline)
                     COMPREPLY=($(compgen -f "${cur}"))
                     return 0
                     ;;

@@ -34,7 +34,7 @@ complete -c cancosim -n "__fish_cancosim_needs_command" -f -a "cosim" -d 'Same a
 complete -c cancosim -n "__fish_cancosim_needs_command" -f -a "regress" -d 'Run every scenario of a list against one or more DUTs: table, JUnit, shards'
 complete -c cancosim -n "__fish_cancosim_needs_command" -f -a "diagnose" -d 'Explain a saved run record (from run --record)'
 complete -c cancosim -n "__fish_cancosim_needs_command" -f -a "bench" -d 'Performance: golden model, co-simulation, raw C++ Verilator harness and Icarus, ratios in one run'
-complete -c cancosim -n "__fish_cancosim_needs_command" -f -a "campaign" -d 'Seeded random fault-injection campaign, DUT vs golden model'
+complete -c cancosim -n "__fish_cancosim_needs_command" -f -a "campaign" -d 'Constrained-random co-simulation against any core: random bus and host programs, a scoreboard, failures shrunk to scenarios'
 complete -c cancosim -n "__fish_cancosim_needs_command" -f -a "mutate" -d 'Mutation testing: yosys mutants behind one run-time select, verilated once, killed by the first failing scenario'
 complete -c cancosim -n "__fish_cancosim_needs_command" -f -a "help" -d 'Print this message or the help of the given subcommand(s)'
 complete -c cancosim -n "__fish_cancosim_using_subcommand bittiming" -l clock -d 'CAN clock (the SJA1000\'s XTAL / our clk_i), e.g. 24MHz' -r
@@ -114,9 +114,9 @@ complete -c cancosim -n "__fish_cancosim_using_subcommand cosim" -s h -l help -d
 complete -c cancosim -n "__fish_cancosim_using_subcommand regress" -l dut -d 'Bundled DUTs to run against (repeatable): rtl, model' -r -f -a "rtl\t''
 model\t''"
 complete -c cancosim -n "__fish_cancosim_using_subcommand regress" -l external -d 'External core as NAME=DIR or NAME=DIR@PROFILE (repeatable; define CAN_WISHBONE_IF, DIR as include dir). Each needs a profile: its own @PROFILE, else --profile. DIR may be `git:REPO@REV[:SUBDIR]` (exported with git archive into the build cache)' -r
-complete -c cancosim -n "__fish_cancosim_using_subcommand regress" -l baseline -d 'The old revision to compare the (one) --external with, NAME=DIR[@PROFILE] or NAME=git:REPO@REV[:SUBDIR]: per scenario fixed / broken / still failing / still passing; exit 1 only when something broke' -r
 complete -c cancosim -n "__fish_cancosim_using_subcommand regress" -l profile -d 'Core profile (tb/profiles/NAME.toml or a file) of every --external without @PROFILE (e.g. --profile opencores-can); the column is then named "<profile> (<dir>)"' -r
 complete -c cancosim -n "__fish_cancosim_using_subcommand regress" -l top -d 'Top module of the external cores (the opencores `can_top` port list)' -r
+complete -c cancosim -n "__fish_cancosim_using_subcommand regress" -l baseline -d 'The old revision to compare the (one) --external with, NAME=DIR[@PROFILE] or NAME=git:REPO@REV[:SUBDIR]: per scenario fixed / broken / still failing / still passing; exit 1 only when something broke' -r
 complete -c cancosim -n "__fish_cancosim_using_subcommand regress" -s j -l jobs -d 'Worker threads (0 = one per core)' -r
 complete -c cancosim -n "__fish_cancosim_using_subcommand regress" -l shard -d 'Run only shard k of n (e.g. 2/4)' -r
 complete -c cancosim -n "__fish_cancosim_using_subcommand regress" -l junit -d 'Write JUnit XML here (an expected failure is a skipped testcase whose message names its entry)' -r -F
@@ -151,15 +151,36 @@ complete -c cancosim -n "__fish_cancosim_using_subcommand bench" -l mutant-scena
 complete -c cancosim -n "__fish_cancosim_using_subcommand bench" -l smoke -d 'CI-sized run (seconds): tiny frame counts, same table'
 complete -c cancosim -n "__fish_cancosim_using_subcommand bench" -l json -d 'Print JSON instead of the table'
 complete -c cancosim -n "__fish_cancosim_using_subcommand bench" -s h -l help -d 'Print help'
-complete -c cancosim -n "__fish_cancosim_using_subcommand campaign" -l seed -d 'Seed of every random choice; a failing seed reproduces exactly' -r
-complete -c cancosim -n "__fish_cancosim_using_subcommand campaign" -l frames -d 'Frames to run' -r
-complete -c cancosim -n "__fish_cancosim_using_subcommand campaign" -l first-frame -d 'Index of the first frame (re-run a later segment)' -r
-complete -c cancosim -n "__fish_cancosim_using_subcommand campaign" -l dut -d 'DUT: `rtl` (our can_top) or `model` (self-check of the bench)' -r -f -a "rtl\t''
+complete -c cancosim -n "__fish_cancosim_using_subcommand campaign" -l seed -d 'Seed of every random choice; a run is reproduced by (seed, index) alone' -r
+complete -c cancosim -n "__fish_cancosim_using_subcommand campaign" -l frames -d 'Stop once this many frames (the model nodes\' and the DUT\'s) were run' -r
+complete -c cancosim -n "__fish_cancosim_using_subcommand campaign" -l minutes -d 'Stop starting runs after this many minutes (with --frames: whichever comes first)' -r
+complete -c cancosim -n "__fish_cancosim_using_subcommand campaign" -l first-index -d 'Index of the first run (a later part of a campaign)' -r
+complete -c cancosim -n "__fish_cancosim_using_subcommand campaign" -l dut -d 'Bundled DUTs to run against (repeatable): rtl, model' -r -f -a "rtl\t''
 model\t''"
-complete -c cancosim -n "__fish_cancosim_using_subcommand campaign" -l fault-rate -d 'Probability that a frame carries a fault' -r
-complete -c cancosim -n "__fish_cancosim_using_subcommand campaign" -l nodes -d 'Golden-model nodes besides the DUT (1..=4)' -r
-complete -c cancosim -n "__fish_cancosim_using_subcommand campaign" -l vcd -d 'Write the bench\'s VCD here (rewritten by each segment: use it with --first-frame to look at one disagreement)' -r -F
-complete -c cancosim -n "__fish_cancosim_using_subcommand campaign" -l strict -d 'No lockstep tolerance at all (tx, SOF, status and pins compared to the clock); the model against itself passes it, our RTL\'s status pipeline (up to ~16 CAN clocks) does not'
+complete -c cancosim -n "__fish_cancosim_using_subcommand campaign" -l external -d 'External core as NAME=DIR or NAME=DIR@PROFILE (repeatable; define CAN_WISHBONE_IF, DIR as include dir). Each needs a profile: its own @PROFILE, else --profile. DIR may be `git:REPO@REV[:SUBDIR]` (exported with git archive into the build cache)' -r
+complete -c cancosim -n "__fish_cancosim_using_subcommand campaign" -l profile -d 'Core profile (tb/profiles/NAME.toml or a file) of every --external without @PROFILE (e.g. --profile opencores-can); the column is then named "<profile> (<dir>)"' -r
+complete -c cancosim -n "__fish_cancosim_using_subcommand campaign" -l top -d 'Top module of the external cores (the opencores `can_top` port list)' -r
+complete -c cancosim -n "__fish_cancosim_using_subcommand campaign" -l host -d 'Drive the DUT through this host instead of the scenario\'s own: `wishbone` (can_top), `avalon` (our can_avalon wrapper with the Avalon-MM BFM), `pio` (GPIO bit-banging, can_top_pio; the thesis\'s program polls ack as a level), `pio-edge` (the same program polling the ack PIO\'s edge capture register: for a core with a one-clock ack), `i8051` (the SJA1000\'s Intel-mode multiplexed bus, can_top_8051). Scenarios whose point is their host wiring (`[host] fixed`) are skipped' -r -f -a "wishbone\t''
+avalon\t''
+pio\t''
+pio-edge\t''
+i8051\t''"
+complete -c cancosim -n "__fish_cancosim_using_subcommand campaign" -l waivers -d 'Waiver file (repeatable), added to the scenario\'s own `[run] waivers`' -r -F
+complete -c cancosim -n "__fish_cancosim_using_subcommand campaign" -l dut-revision -d 'DUT revision the waivers\' `revisions` ranges are matched against' -r
+complete -c cancosim -n "__fish_cancosim_using_subcommand campaign" -s j -l jobs -d 'Worker threads (0 = one per core)' -r
+complete -c cancosim -n "__fish_cancosim_using_subcommand campaign" -l shard -d 'Run only shard k of n (e.g. 2/4): run indices first + k - 1 + j n' -r
+complete -c cancosim -n "__fish_cancosim_using_subcommand campaign" -l nodes -d 'Model nodes on the bus besides the DUT, as MIN..MAX' -r
+complete -c cancosim -n "__fish_cancosim_using_subcommand campaign" -l frames-per-run -d 'Frames per run, as MIN..MAX' -r
+complete -c cancosim -n "__fish_cancosim_using_subcommand campaign" -l fault-rate -d 'Probability that a frame of a run carries a fault (flip, stuck, glitch)' -r
+complete -c cancosim -n "__fish_cancosim_using_subcommand campaign" -l max-brp -d 'Largest BRP drawn (0..63; a run\'s cost grows with the quantum)' -r
+complete -c cancosim -n "__fish_cancosim_using_subcommand campaign" -l shrink-runs -d 'Plans tried when shrinking one failure (0: no shrinking)' -r
+complete -c cancosim -n "__fish_cancosim_using_subcommand campaign" -l max-failures -d 'Stop after this many failing runs' -r
+complete -c cancosim -n "__fish_cancosim_using_subcommand campaign" -l save-failures -d 'Write each failure, shrunk, as a scenario here (`cancosim run` replays it)' -r -F
+complete -c cancosim -n "__fish_cancosim_using_subcommand campaign" -l json -d 'Write the results as JSON here (totals, failures with their shrinking, waivers hit, every run)' -r -F
+complete -c cancosim -n "__fish_cancosim_using_subcommand campaign" -l junit -d 'Write JUnit XML here (one testcase per run)' -r -F
+complete -c cancosim -n "__fish_cancosim_using_subcommand campaign" -l html -d 'Write the HTML report here (DIR/index.html; each failing run, shrunk, with its waveform)' -r -F
+complete -c cancosim -n "__fish_cancosim_using_subcommand campaign" -l collect -d 'Keep comparing after an unwaived divergence to see them all (default: stop at the first)'
+complete -c cancosim -n "__fish_cancosim_using_subcommand campaign" -l stop-at-first -d 'Stop the comparison at the first unwaived divergence (the default)'
 complete -c cancosim -n "__fish_cancosim_using_subcommand campaign" -s h -l help -d 'Print help'
 complete -c cancosim -n "__fish_cancosim_using_subcommand mutate" -l external -d 'External core directory (default: this repository\'s rtl/, top can_top)' -r -F
 complete -c cancosim -n "__fish_cancosim_using_subcommand mutate" -l profile -d 'Profile of the external core (tb/profiles/NAME.toml or a file); our rtl/ uses rtl' -r
@@ -190,7 +211,7 @@ complete -c cancosim -n "__fish_cancosim_using_subcommand help; and not __fish_s
 complete -c cancosim -n "__fish_cancosim_using_subcommand help; and not __fish_seen_subcommand_from bittiming decode gen run cosim regress diagnose bench campaign mutate help" -f -a "regress" -d 'Run every scenario of a list against one or more DUTs: table, JUnit, shards'
 complete -c cancosim -n "__fish_cancosim_using_subcommand help; and not __fish_seen_subcommand_from bittiming decode gen run cosim regress diagnose bench campaign mutate help" -f -a "diagnose" -d 'Explain a saved run record (from run --record)'
 complete -c cancosim -n "__fish_cancosim_using_subcommand help; and not __fish_seen_subcommand_from bittiming decode gen run cosim regress diagnose bench campaign mutate help" -f -a "bench" -d 'Performance: golden model, co-simulation, raw C++ Verilator harness and Icarus, ratios in one run'
-complete -c cancosim -n "__fish_cancosim_using_subcommand help; and not __fish_seen_subcommand_from bittiming decode gen run cosim regress diagnose bench campaign mutate help" -f -a "campaign" -d 'Seeded random fault-injection campaign, DUT vs golden model'
+complete -c cancosim -n "__fish_cancosim_using_subcommand help; and not __fish_seen_subcommand_from bittiming decode gen run cosim regress diagnose bench campaign mutate help" -f -a "campaign" -d 'Constrained-random co-simulation against any core: random bus and host programs, a scoreboard, failures shrunk to scenarios'
 complete -c cancosim -n "__fish_cancosim_using_subcommand help; and not __fish_seen_subcommand_from bittiming decode gen run cosim regress diagnose bench campaign mutate help" -f -a "mutate" -d 'Mutation testing: yosys mutants behind one run-time select, verilated once, killed by the first failing scenario'
 complete -c cancosim -n "__fish_cancosim_using_subcommand help; and not __fish_seen_subcommand_from bittiming decode gen run cosim regress diagnose bench campaign mutate help" -f -a "help" -d 'Print this message or the help of the given subcommand(s)'
 complete -c cancosim -n "__fish_cancosim_using_subcommand help; and __fish_seen_subcommand_from gen" -f -a "reference" -d 'Write (or --check) the reference generated from the code: man pages, shell completions, the command line and the scenario, profile and waiver file formats in Markdown'
