@@ -67,10 +67,44 @@ pub struct MutateConfig {
     pub campaign: CampaignOptions,
     /// Formal check of survivors (None: skipped).
     pub formal: Option<FormalOptions>,
+    /// Each mutant that survives the scenarios gets a random campaign of
+    /// this many frames (0: none) with this seed, on the same DUT, host
+    /// and waivers; a failing run kills it.
+    pub campaign_frames: u64,
+    /// Seed of those campaigns.
+    pub campaign_seed: u64,
     /// Output directory: journal-<build>.jsonl, report.json, report.md, skeletons/.
     pub out: PathBuf,
     /// Build cache.
     pub cache: PathBuf,
+}
+
+/// Gives each survivor a random campaign (`::campaign::random`, the one
+/// `cancosim campaign` runs) on the mutated build with its select held; the
+/// first failing run kills it, named by its seed and run index.
+fn random_campaign_kills(mutants: &mut [MutantResult], dut: scenario::DutSpec, cfg: &MutateConfig, log: &mut dyn FnMut(&str)) {
+    let survivors: Vec<usize> = (0..mutants.len()).filter(|&i| mutants[i].verdict == Verdict::Survived).collect();
+    log(&format!("random campaign of {} frames (seed {}) on {} survivor(s)", cfg.campaign_frames, cfg.campaign_seed, survivors.len()));
+    let mut killed = 0;
+    for i in survivors {
+        let m = &mut mutants[i];
+        let mut rc = ::campaign::random::RandomConfig::new(cfg.campaign_seed, cfg.campaign_frames, dut.clone());
+        rc.waivers = cfg.run.waivers.clone();
+        rc.host = cfg.run.host;
+        rc.held_inputs = vec![(instrument::SELECT.into(), m.id as u64)];
+        rc.jobs = cfg.campaign.jobs;
+        rc.max_failures = 1;
+        rc.shrink_runs = 0;
+        let t = Instant::now();
+        let r = ::campaign::random::run_campaign(&rc);
+        m.seconds += t.elapsed().as_secs_f64();
+        if let Some(f) = r.failures.first() {
+            killed += 1;
+            m.verdict = Verdict::Killed { test: format!("campaign seed {} run {}", cfg.campaign_seed, f.index), why: f.what.clone(), field: None };
+            log(&format!("  mutant {} killed by campaign run {}: {}", m.id, f.index, f.what));
+        }
+    }
+    log(&format!("random campaign killed {killed}"));
 }
 
 fn io(what: impl Into<String>) -> impl FnOnce(std::io::Error) -> MutateError {
@@ -114,7 +148,10 @@ pub fn mutate(cfg: &MutateConfig, log: &mut dyn FnMut(&str)) -> Result<Report, M
     // mutant; with other scenarios or waivers a survivor must run again.
     let key = inst.dir.file_name().map(|n| n.to_string_lossy().into_owned()).unwrap_or_default();
     copts.journal.get_or_insert_with(|| cfg.out.join(journal_name(&key, &cfg.scenarios, &cfg.run)));
-    let mutants = campaign::run_mutants(&suite, &base, &inst.mutations, &inst.build_errors, &copts).map_err(io("mutant loop"))?;
+    let mut mutants = campaign::run_mutants(&suite, &base, &inst.mutations, &inst.build_errors, &copts).map_err(io("mutant loop"))?;
+    if cfg.campaign_frames > 0 {
+        random_campaign_kills(&mut mutants, scenarios.options.dut.clone().expect("set above"), cfg, log);
+    }
     let (hidden, audit) = waiver_audit::audit(&suite, &base, &mutants, log);
     let run_seconds = t1.elapsed().as_secs_f64();
     let mut report = Report {

@@ -84,6 +84,8 @@ fn config(work: &Path, list: &Path, waivers: Vec<PathBuf>, out: &str) -> MutateC
         formal: None,
         out: work.join(out),
         cache: cosim::cache_dir(),
+        campaign_frames: 0,
+        campaign_seed: 1,
     }
 }
 

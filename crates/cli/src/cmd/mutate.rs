@@ -58,6 +58,13 @@ pub struct Args {
     /// the baseline's total (raise it on a loaded machine).
     #[arg(long, default_value_t = 4.0, value_name = "X")]
     budget_factor: f64,
+    /// Give each mutant that survives the scenarios a random campaign of this many frames
+    /// (`cancosim campaign`'s runs, on the same host and waivers); a failing run kills it.
+    #[arg(long, default_value_t = 0)]
+    campaign_frames: u64,
+    /// Seed of those campaigns.
+    #[arg(long, default_value_t = 1)]
+    campaign_seed: u64,
     /// Waiver file (repeatable), added to the scenarios' own.
     #[arg(long = "waivers", value_name = "FILE")]
     waivers: Vec<PathBuf>,
@@ -123,6 +130,8 @@ pub fn run(a: Args) -> anyhow::Result<i32> {
         formal: (!a.no_formal).then_some(mutate::FormalOptions { steps: a.formal_steps, induction: a.formal_steps, ..Default::default() }),
         out: a.out.clone(),
         cache: cosim::cache_dir(),
+        campaign_frames: a.campaign_frames,
+        campaign_seed: a.campaign_seed,
     };
     let report = mutate::mutate(&cfg, &mut |l| eprintln!("{l}"))?;
     println!("{}", report.summary());
