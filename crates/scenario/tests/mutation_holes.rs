@@ -1,5 +1,5 @@
 //! The scenarios that close protocol-side mutation-testing holes
-//! (`tb/mutation-holes.list`, docs/mutation-holes-protocol.md) cannot rot:
+//! (`tb/mutation-holes.list`, docs/guide/results/mutation-scores.md) cannot rot:
 //! every one passes on the golden model and on our RTL (lockstep, zero
 //! divergences), and their key counter checks are live.
 
