@@ -317,7 +317,7 @@ def generate(name, m):
         "The code itself is accepted at the end of each configuration; " + m["unused"],
         "RMC (BasicCAN: RBS) is 0 after each configuration's last frame: no rejected frame entered the FIFO",
     ]
-    head = f"""# Acceptance-filter bit walk (session 9, mutants 47, 116, 178 of today's rtl/,
+    head = f"""# Acceptance-filter bit walk (mutants 47, 116, 178 of rtl/'s seed-1 sample,
 # seed 1, all in can_acf.v's match function), written from the SJA1000
 # datasheet (6.3.9 and 6.4.15: ACR bits must equal the received bits where
 # the AMR bit is 0, AMR = 1 is "don't care"), here: {m['title'].split(':')[0]}.

@@ -41,7 +41,7 @@ if [ ${#need_pkgs[@]} -gt 0 ]; then
   fi
 fi
 
-# Optional viewers for the outputs of issue 17, checked by tests that skip
+# Optional viewers for the VCD, GTKWave and HTML outputs, checked by tests that skip
 # without them: headless Chromium (renders `regress --html`), GTKWave and
 # Xvfb, xwd and netpbm (open the .gtkw views and take a screenshot). About
 # 90 MB download, 310 MB on disk, under 2 min on this machine kind; SETUP_VIEWERS=0 leaves them out. A failure here

@@ -1,5 +1,5 @@
 // Icarus Verilog test bench for the bench's self-test loopback workload
-// (crates/bench, issue 7): the same RTL, clocking and register sequence as
+// (crates/bench): the same RTL, clocking and register sequence as
 // tb/bench/harness.cpp and the co-simulation. One 24 MHz clock drives
 // wb_clk_i and clk_i, rx_i is tied to tx_o, and Wishbone tasks play the
 // sequence; frames come from the shared xorshift32 generator.

@@ -1,5 +1,5 @@
 // Raw C++ Verilator harness for the bench's self-test loopback workload
-// (crates/bench, issue 7): the physical limit of RTL co-simulation. One
+// (crates/bench): the physical limit of RTL co-simulation. One
 // clock drives both wb_clk_i and clk_i (24 MHz, 40 clocks per bit with
 // BTR0/BTR1 = 0x41/0x25), rx_i is tied to tx_o, and a blocking Wishbone
 // classic master plays the same register sequence as crates/bench

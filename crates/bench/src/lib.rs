@@ -1,5 +1,5 @@
 //! Fixed, seeded performance workloads and the table of ratios, measured
-//! in one run (issue 7). The CLI exposes it as `cancosim bench [--smoke]`.
+//! in one run. The CLI exposes it as `cancosim bench [--smoke]`.
 //!
 //! Workloads:
 //! 1. the golden model alone, 1, 2, 8 and 64 nodes exchanging seeded
@@ -217,7 +217,7 @@ pub struct SelfTestRow {
     pub frames_per_s: f64,
 }
 
-/// A target of issue 7 and where we stand.
+/// A target and where we stand.
 #[derive(Clone, Debug, Serialize)]
 pub struct Target {
     /// What is measured.
@@ -243,7 +243,7 @@ pub struct BenchReport {
     pub scaling: Vec<ScalingRow>,
     /// The self-test workload, by simulator.
     pub selftest: Vec<SelfTestRow>,
-    /// Ratios and rates against the issue's targets.
+    /// Ratios and rates against the targets.
     pub targets: Vec<Target>,
 }
 

@@ -91,7 +91,7 @@ fn repeated_rows_keep_their_least_cpu_time_and_the_same_workload() {
 }
 
 /// Two threads compile the Icarus bench into one empty cache at once (the
-/// raw harness shares the same `cached_build`; issue 18): both get the one
+/// raw harness shares the same `cached_build`): both get the one
 /// complete image, and nothing else is left in the cache.
 #[test]
 fn two_threads_build_one_bench_image_at_once_on_an_empty_cache() {

@@ -1,5 +1,5 @@
 //! The 8051 host bus's timing in nanoseconds, and its host-clock cycles at
-//! a given host clock (issue 20 item 3): an [`I8051AcTiming`] names each
+//! a given host clock: an [`I8051AcTiming`] names each
 //! phase of an Intel-mode access the way an AC-characteristics table
 //! does (ALE pulse width, address hold after ALE, RD and WR pulse widths,
 //! data set-up before and hold after WR), and

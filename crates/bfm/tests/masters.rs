@@ -165,7 +165,7 @@ where
     (r.cycles, w.cycles, per)
 }
 
-/// The figures of issue 3: host cycles per register access for each BFM
+/// The figures: host cycles per register access for each BFM
 /// against the RAM targets, asserted exactly.
 #[test]
 fn cycle_cost_per_access() {

@@ -3,7 +3,7 @@
 //! complete entry. The build stands in for `make`: it writes an object,
 //! waits until the other builder is building too, then reads its object
 //! back and links the product from it. Builders sharing a work directory
-//! (the bug of issue 18: `<key>.tmp<pid>` for two threads) delete each
+//! (the bug: `<key>.tmp<pid>` for two threads) delete each
 //! other's objects and fail here.
 
 use buildcache::{Entry, Origin, build_once};

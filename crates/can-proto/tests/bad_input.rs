@@ -1,4 +1,4 @@
-//! Issue 8 item 3 through the frame API: identifiers out of range, DLC
+//! Bad input through the frame API: identifiers out of range, DLC
 //! above 15, data not matching the DLC, and what DLC 9..15 means (the CAN
 //! rule: 8 data bytes, the DLC kept as sent). Each is `None`, never a
 //! panic or a silently truncated frame.

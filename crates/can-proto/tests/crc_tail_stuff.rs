@@ -5,7 +5,7 @@
 //! field. A stuff error there is captured in ECC with segment 01000 "CRC
 //! sequence" (SJA1000 §6.4.9). The frame found here, by the kit's own CRC
 //! and stuffing code, is the one tb/mutation-holes/ecc-stuff-after-crc-rx.toml
-//! and -tx.toml send (rtl/ mutant 20 of session 7's sample: that segment
+//! and -tx.toml send (rtl/ mutant 20 of an earlier rtl/'s seed-1 sample: that segment
 //! read as 11000, CRC delimiter).
 
 use can_proto::{BusError, CanFrame, DecodeEvent, Decoder, Field, FrameTrait, RECESSIVE};

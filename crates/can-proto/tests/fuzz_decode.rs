@@ -1,4 +1,4 @@
-//! Fuzz of the bit-stream decoder (issue 8 item 2): whatever the bus
+//! Fuzz of the bit-stream decoder: whatever the bus
 //! levels, [`Decoder::push`] never panics, never loses its place, and
 //! always gets back onto the bus: after any input, enough recessive bits
 //! and one valid frame, that frame is decoded. Inputs: arbitrary bits,

@@ -1,4 +1,4 @@
-//! Issue 8 item 3, end to end: the built `cancosim` binary, given bad
+//! End to end: the built `cancosim` binary, given bad
 //! input, exits non-zero with a one-line message that names the file and
 //! the key (or the argument), and never panics or prints a backtrace.
 //! Inputs: malformed and unknown keys, DLC > 8, IDs out of range, register

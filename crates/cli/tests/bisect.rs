@@ -1,4 +1,4 @@
-//! `cancosim regress` under `git bisect run` (issue 14 item 4): its exit
+//! `cancosim regress` under `git bisect run`: its exit
 //! codes (0 passed, 1 failed, 2 the user's input, 125 the core does not
 //! build, for plain and `git:` cores), and a real bisection over a small
 //! git repository made here from our `rtl/`, with a bug at a known commit

@@ -1,4 +1,4 @@
-//! `cancosim bittiming` end to end (issue 18 item 4): registers alone give
+//! `cancosim bittiming` end to end: registers alone give
 //! the bit rate they make (the seed-002 parking network's 117.6 kbit/s),
 //! `--rate` searches, or with registers reports their deviation.
 

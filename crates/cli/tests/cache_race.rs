@@ -1,5 +1,5 @@
 //! Two `cancosim` processes started at once on the same external core and
-//! an empty cache (two terminals, two CI jobs; issue 18): both build it
+//! an empty cache (two terminals, two CI jobs): both build it
 //! (each in a work directory of its own), both run the scenario on it, and
 //! the cache ends with one complete entry.
 

@@ -1,4 +1,4 @@
-//! VHDL cores on the command line (issue 20 item 4), end to end on the
+//! VHDL cores on the command line, end to end on the
 //! built `cancosim`: a GHDL error is one line with GHDL's file:line:column
 //! (exit 2 from `run`, 125 from `regress`: the core does not build), before any
 //! scenario; the VHDL echo fixture (`tb/fixtures/vhdl/`, its profile

@@ -1,7 +1,7 @@
 //! Speed baseline: the same Verilated top in a raw C++ loop (no Rust, no
 //! FFI), built with Verilator's own `--exe --build` at `-O3`, clocked the
 //! way the kernel clocks it. The co-simulation's cycles/s divided by this
-//! one's is the bridge's efficiency (issue 7 uses it too).
+//! one's is the bridge's efficiency (the bench uses it too).
 
 use std::path::PathBuf;
 use std::process::Command;

@@ -146,7 +146,7 @@ fn models_run_on_their_own_threads_from_one_build() {
 }
 
 /// Two threads build one external core at once into an empty cache (regress
-/// workers do, issue 18): both load a working model, and the cache holds one
+/// workers do): both load a working model, and the cache holds one
 /// entry and no work directory.
 #[test]
 fn two_threads_build_one_external_core_at_once_on_an_empty_cache() {

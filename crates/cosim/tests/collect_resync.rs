@@ -1,4 +1,4 @@
-//! Issue 19 item 4: after a divergence listed in collect mode the reference
+//! After a divergence listed in collect mode the reference
 //! resynchronises where it can (it adopts the DUT's value of the read that
 //! differed), so the next report is the next real difference, not the
 //! cascade of the first. The DUT is the golden model behind a wrapper with

@@ -1,4 +1,4 @@
-//! Issue 19, kit defect 3: every register read the host makes in a
+//! Every register read the host makes in a
 //! lockstep run is compared, up to the last one, in collect mode too, and
 //! after an earlier divergence. The DUT is the golden model behind a
 //! wrapper with one deliberate deviation (the opencores core's: an abort
@@ -94,7 +94,7 @@ fn the_last_read_of_a_run_is_compared() {
 /// values) is a counted repeat, also after reads that agreed; a different
 /// difference on the same register is listed: reads are compared afresh,
 /// never latched. After each listed read the model adopts what it can of
-/// the DUT's value (here SR.TCS, issue 19 item 4), so the read right after
+/// the DUT's value (here SR.TCS), so the read right after
 /// the first agrees; the last read, after the model's abort cleared its
 /// TCS again, is the same difference as the first: a repeat.
 #[test]

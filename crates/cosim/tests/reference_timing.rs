@@ -178,7 +178,7 @@ fn reference_tx_follows_the_model_dut_over_pio_clock_for_clock() {
     run_on(DutChoice::Model, HostBfm::Pio(bfm::PioTiming::default()), "model-pio");
 }
 
-/// Kit defect 1 (issue 19): a core whose bit timing runs from the hardware
+/// Kit defect 1: a core whose bit timing runs from the hardware
 /// reset (here the golden model as DUT, configured so) is a legal SJA1000:
 /// a reference that restarts its prescaler when reset mode is left (the
 /// old, only behaviour) drifts from it by up to a bit after every
@@ -195,7 +195,7 @@ fn phase_origin_hardware_reset_needs_the_profile() {
     assert!(right.is_empty(), "declared: tx differs at {} instants: {:?}", right.len(), &right[..right.len().min(20)]);
 }
 
-/// Kit defect 2 (issue 19): when a host access takes effect comes from the
+/// Kit defect 2: when a host access takes effect comes from the
 /// profile. Our `can_top` given as a plain bundled top has no implicit
 /// profile: the reference takes each access at the ack (what every
 /// external core got before), leaves reset mode CAN clocks after the DUT

@@ -1,4 +1,4 @@
-//! Issue 19, deliverable 4 (the shadow stays aligned): `model-skips-sleep`.
+//! The shadow stays aligned: `model-skips-sleep`.
 //! The DUT is the golden model behind a wrapper with two deliberate
 //! deviations: it has no sleep mode (a MOD write never sets SM, as the
 //! opencores core), and its reads of RXB[1] (address 17) come back with bit

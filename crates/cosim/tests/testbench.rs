@@ -309,7 +309,7 @@ fn vcd_has_ports_bus_and_fields_and_verilator_trace_works() {
 }
 
 /// The deviant fixture's two deviations (address 4 bit 7 stuck at 0; tx
-/// stuck recessive) against its Rust twin, with 0, 1 and 2 waivers (issue 9).
+/// stuck recessive) against its Rust twin, with 0, 1 and 2 waivers.
 const DEVIANT_WAIVERS: &str = r#"
 [[waiver]]
 id = "reg4-bit7"
@@ -429,7 +429,7 @@ fn waivers_let_the_deviant_fixture_run_past_its_deviations() {
     assert!(tb.record().divergence.is_none());
     // Collect mode without waivers: both deviations, each once: the lasting
     // tx one, and the register one; after the listed read the reference
-    // adopts the DUT's value (issue 19 item 4), so the second read of the
+    // adopts the DUT's value, so the second read of the
     // same state agrees: no repeat, no second listing.
     let mut tb = deviant_with(&[], Collect);
     deviant_sequence(&mut tb).unwrap_or_else(|e| panic!("collect mode does not stop: {e}"));
@@ -528,7 +528,7 @@ resync = ["adopt-dut-tec"]
     );
 }
 
-/// Issue 19: a scenario expectation that fails on a read whose divergence a
+/// A scenario expectation that fails on a read whose divergence a
 /// waiver covered counts as waived and is listed, never passed silently; an
 /// expectation the model would have missed too, or one on a read that did
 /// not diverge, still fails.
@@ -633,7 +633,7 @@ fn a_listed_consequence_is_waived_only_after_its_waiver_was_hit() {
     assert!(!exp[2].passed, "{exp:?}");
 }
 
-/// Issue 19 (pelican-self-test-abort): a listed consequence may also be a
+/// A listed consequence may also be a
 /// read that itself diverged (waived) where the model misses the
 /// expectation too, as when a waived deviation ends the host's wait early
 /// and its reads land where the scenario did not mean them. Waived only when

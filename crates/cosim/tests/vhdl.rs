@@ -1,4 +1,4 @@
-//! VHDL cores through GHDL (issue 20 item 4), on the VHDL twin of the echo
+//! VHDL cores through GHDL, on the VHDL twin of the echo
 //! fixture (`tb/fixtures/vhdl/`: a package and the entity, VHDL-2008):
 //! analysed in dependency order, `ghdl --synth --out=verilog`, verilated
 //! and run in lockstep with the echo fixture's Rust twin; a one-line

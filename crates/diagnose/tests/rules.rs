@@ -12,7 +12,7 @@ fn thesis_wiring() -> Wiring {
 }
 
 /// TEC per attempt as the upstream opencores core counts it with rx tied
-/// recessive (issue 5, measured): 136 after attempt 1, +8 per attempt,
+/// recessive (measured): 136 after attempt 1, +8 per attempt,
 /// bus-off during attempt 16.
 fn upstream_tied_trace(side: Side) -> Vec<TecStep> {
     (1..=16u32)
@@ -481,7 +481,7 @@ fn pio_timeout_says_missed_pulse_only_when_the_dut_answered() {
     assert!(d.root_cause.contains("never raised wb_ack_o"), "{}", d.root_cause);
 }
 
-/// Issue 19 defect 4: a record with a first divergence (tx bit at bit 21)
+/// A record with a first divergence (tx bit at bit 21)
 /// and, later, a read the derailed model names in its own register view
 /// (RXFI intended, ACR0 in the model's reset mode) and a TX-buffer write it
 /// calls locked.
@@ -605,7 +605,7 @@ fn counters_taken_from_the_model_are_marked_and_dropped_after_a_divergence() {
     assert!(d.to_text().contains("TEC 160 (the model's); REC 0 (the model's)"), "{}", d.to_text());
 }
 
-/// Issue 19: an access the core performed again (the PIO master held its
+/// An access the core performed again (the PIO master held its
 /// request past the core's one-clock ack) is named beside the primary
 /// finding, and never becomes the primary one itself.
 #[test]

@@ -1,5 +1,5 @@
 //! Mutation testing of a CAN core against a regression list (`cancosim
-//! mutate`, issue 14): mutations from `yosys mutate -list` over the core's
+//! mutate`): mutations from `yosys mutate -list` over the core's
 //! sources, all inserted behind one run-time select input (as mcy does),
 //! the core verilated once, each mutant one simulation per scenario with
 //! the select held ([`cosim::ExternalCore::held_inputs`]), killed at the

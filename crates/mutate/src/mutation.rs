@@ -149,7 +149,7 @@ impl Mutation {
         let what = format!("{port} bit {} of {}{wire}", self.portbit, self.cell_kind());
         // A register's output is also its own hold input after `proc`, so an
         // inverted Q is not "stored inverted": the bit flips on every clock
-        // the register keeps its value (session 9, mutants 14 and 17).
+        // the register keeps its value (mutants 14 and 17).
         let held = if self.port == "Q" && self.cell_kind() == "register" {
             ", its own hold path included (the bit toggles on each clock it is not written)"
         } else {

@@ -1,4 +1,4 @@
-//! The waiver audit (issue 14: "waivers must not turn mutants into
+//! The waiver audit ("waivers must not turn mutants into
 //! survivors"). A waiver lets a known deviation of an external core pass;
 //! a mutant that only changes what happens at a waived point passes too.
 //! So every scenario run records the waivers it hit (id and values), the

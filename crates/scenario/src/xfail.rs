@@ -1,4 +1,4 @@
-//! Strict expected failures in a regression (issue 19; the file format is
+//! Strict expected failures in a regression (the file format is
 //! `waivers::expected`). A (scenario, DUT, host) that an
 //! `[[expected-failure]]` entry names is run in collect mode, so the whole
 //! scenario is judged, and its failure signature is compared with the

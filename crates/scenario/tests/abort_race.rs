@@ -254,7 +254,7 @@ fn abort_at_every_clock_around_the_intermission_start_agrees_with_the_model() {
 }
 
 #[test]
-#[ignore = "open finding (session 8): at the end of bus-off recovery rtl/ decides bus-on about 2 CAN clocks after the model (its start is `st == S_BUSOFF && !bus_off`, after can_fce clears bus_off; the model starts at the sample point): AT landing at the model's start clock or one after is dropped by rtl/ (IR 06H, no frame) and taken as in progress by the model (IR 04H); landings 4 to 6 clocks before it differ on irq_on; the lead decides which side moves"]
+#[ignore = "open finding: at the end of bus-off recovery rtl/ decides bus-on about 2 CAN clocks after the model (its start is `st == S_BUSOFF && !bus_off`, after can_fce clears bus_off; the model starts at the sample point): AT landing at the model's start clock or one after is dropped by rtl/ (IR 06H, no frame) and taken as in progress by the model (IR 04H); landings 4 to 6 clocks before it differ on irq_on; the lead decides which side moves"]
 fn abort_at_every_clock_around_the_end_of_bus_off_recovery_agrees_with_the_model() {
     let dir = dut_dir();
     let landings = sweep(Site::BusOffEnd, dir.as_deref());

@@ -1,4 +1,4 @@
-//! Issue 8 item 4 in the scenario runner: with two or more golden-model
+//! The bus's frame accounting in the scenario runner: with two or more golden-model
 //! nodes, the bus's frame accounting runs at the end of every run; a
 //! frame a node never received, with no error frame, overrun or off-bus
 //! time to explain it, fails the run with a mismatch that names it.

@@ -1,4 +1,4 @@
-//! Issue 8 item 3, what `parse.rs` does not already cover: bad values in
+//! What `parse.rs` does not already cover: bad values in
 //! `[[node]]` tables (DLC > 8 in node traffic, IDs out of range, BTR with
 //! no valid bit timing, clocks), reads at out-of-range addresses, what
 //! DLC 9..15 means when sent on purpose, and "loses nothing": a bad

@@ -104,7 +104,7 @@ fn passes_with(file: &str, edits: &[(&str, &str)]) -> bool {
     run(&s, &RunOptions { dut: Some(DutSpec::model()), ..Default::default() }).passed
 }
 
-/// The raw-node scenarios (branch rawsend) fail with their value changed:
+/// The raw-node scenarios fail with their value changed:
 /// the CRC of the nominal frame sent with a recessive r0 (a CRC error), the
 /// start of frame one bit early in intermission bit 2 (an overload frame:
 /// the raw node's monitor sees the overload flag where the identifier
@@ -214,7 +214,7 @@ fn idle_pulse_and_transmitter_sample_point_depend_on_the_pulse_length() {
     assert!(!passes_with("tx-8.7.1-sample-point.toml", &[("offset_clocks = 0\nwidth_clocks = 24", "offset_clocks = 0\nwidth_clocks = 32")]));
 }
 
-/// The session-7 items (branch isoitems) sit on their boundaries, on the
+/// The items 7.7.11 (e >= 2), 8.7.2, 8.7.3 and 8.5.10 sit on their boundaries, on the
 /// model: 7.7.11 for e >= 2 fails with its ACK-slot pulse one quantum
 /// earlier, with the early edge one quantum shorter (e - 1: a DUT that
 /// resynchronised by less), and with its pulses on the bench's grid, which
@@ -224,7 +224,7 @@ fn idle_pulse_and_transmitter_sample_point_depend_on_the_pulse_length() {
 /// 112 dominant bits after the passive flag (TEC 240, not 248) and with its
 /// lower tester's frame expected acknowledged by the bus-off DUT.
 #[test]
-fn session_7_iso_items_fail_with_their_fault_moved_by_a_quantum() {
+fn iso_timing_items_fail_with_their_fault_moved_by_a_quantum() {
     let e2 = "rx-7.7.11-ack-negative-phase-error-e2-sjw-btr-0x41-0x25.toml";
     assert!(passes_with(e2, &[]));
     // frame 1, e = 2: the ACK slot recessive from nominal quantum 5 (7 - e)

@@ -1,4 +1,4 @@
-//! The session-9 scenarios for our rtl/'s mutants 8, 105 (RX FIFO) and 133
+//! The scenarios for our rtl/'s mutants 8, 105 (RX FIFO) and 133
 //! (bit timing prescaler) check what they claim: on the golden model the
 //! deciding stimulus moved by one byte, or the overrun cleared or not, turns
 //! the run into a failure, and the large-BRP frames take the time the

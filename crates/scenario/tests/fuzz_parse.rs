@@ -1,4 +1,4 @@
-//! Issue 8 item 2: the scenario parser never panics or hangs, whatever the
+//! The scenario parser never panics or hangs, whatever the
 //! input: random text; shipped files with lines dropped, duplicated or
 //! bytes changed; shipped files with values replaced by out-of-range,
 //! wrongly typed or absurd ones and keys misspelt; and valid-looking

@@ -1,5 +1,5 @@
 //! The scenarios that close protocol-side mutation-testing holes
-//! (`tb/mutation-holes.list`, docs/mutation-holes-protocol.md) cannot rot:
+//! (`tb/mutation-holes.list`, docs/guide/results/mutation-scores.md) cannot rot:
 //! every one passes on the golden model and on our RTL (lockstep, zero
 //! divergences), and their key counter checks are live.
 
@@ -65,7 +65,7 @@ fn quantum_placed_glitches_hit_what_they_aim_at() {
     }
 }
 
-/// The opencores seed-1 holes closed in session 7 (`up-` scenarios) are
+/// The opencores seed-1 holes closed (`up-` scenarios) are
 /// live: with the deciding frame or register moved each fails on the model,
 /// through the filter's or the counter's outcome (none of these values is
 /// read back). The DLC-0 frame given a mismatching byte (153), byte 2 bit 7
@@ -93,7 +93,7 @@ fn up_scenarios_fail_with_their_deciding_stimulus_moved() {
     }
 }
 
-/// The `up-` scenarios (opencores seed-1 survivors of session 7) check what
+/// The `up-` scenarios (opencores seed-1 survivors) check what
 /// they claim: on the model, the bit error moved from ID.11 to ID.13 gives
 /// another ECC segment, DOIE set makes the overrun raise DOI, the ID.20 or
 /// ID.12 term made don't care lets the frame between the two accepted ones
@@ -140,7 +140,7 @@ fn doi_alone_holds_the_interrupt_output_only_with_doie() {
     }
 }
 
-/// The session-7 holes of today's rtl/ sample (`rtl-*.toml`): a wrong value
+/// The holes of today's rtl/ sample (`rtl-*.toml`): a wrong value
 /// where each scenario reads what its mutant changes fails on the model.
 #[test]
 fn rtl_sample_hole_expectations_are_live() {

@@ -1,5 +1,5 @@
 //! Every shipped scenario parses; bad input gives file:line:key errors
-//! (issue 8 item 3: unknown key, DLC > 8, ID out of range, register address
+//! (unknown key, DLC > 8, ID out of range, register address
 //! out of range, clocks with no valid bit timing).
 
 use scenario::{Action, HostBfm, RxWire, Scenario, ScenarioError};

@@ -66,7 +66,7 @@ fn a_txerr_write_during_bus_off_is_checked_where_the_datasheet_says() {
     }
 }
 
-/// The two register checks of session 8 are live on the model and on our
+/// The two register checks are live on the model and on our
 /// RTL: PeliCAN ACR3 bit 7 after a BasicCAN ACR write (mutant 119 reads
 /// 7FH) and the BasicCAN AMR read in operating mode (mutant 125 reads F7H),
 /// each expected as the mutant reads it, fail.

@@ -1,4 +1,4 @@
-//! The session-9 checks for can_regs mutants 45, 111 (a reset-mode write
+//! The checks for can_regs mutants 45, 111 (a reset-mode write
 //! that also lands at a second address) and 72 (sleep taken with an
 //! interrupt pending) are live: each expected value set to what the mutant
 //! reads fails on the golden model and on our RTL; so do the other sleep

@@ -1,4 +1,4 @@
-//! A profile's `segment-lag` (issue 15, tx-8.7.9 at maximum BTR): a BTR
+//! A profile's `segment-lag` (tx-8.7.9 at maximum BTR): a BTR
 //! write in reset mode landing that many clocks or fewer after a quantum's
 //! end redoes the quantum in the reference's model, as the core's segment
 //! logic does, so that at BRP 0 (2 clocks a quantum) the write meets the

@@ -1,4 +1,4 @@
-//! The suspend-transmission scenarios of session 7 (issue 15) see the bit
+//! The suspend-transmission scenarios see the bit
 //! they are about, on the golden model (the model and our RTL pass them as
 //! shipped: tests/conformance.rs runs the whole list on both):
 //!

@@ -1,4 +1,4 @@
-//! The real opencores `can` core (issue 19), through the built `cancosim`:
+//! The real opencores `can` core, through the built `cancosim`:
 //! the regression passes with the core's profile and its waiver file, on the
 //! scenarios' own hosts and through Wishbone: every scenario passes but
 //! basic-sleep-wakeup (D6) and basic-overrun-abort (D8c/D8d in BasicCAN),

@@ -1,11 +1,11 @@
 //! The real opencores `can` core on the conformance, registers,
-//! mutation-holes and coverage lists (issues 15/19, session 6), with its profile and
+//! mutation-holes and coverage lists, with its profile and
 //! waiver file: every scenario passes or fails exactly as its strict
 //! `[[expected-failure]]` entry records (docs/opencores-deviations.md D8a,
-//! D20-D27, D30; the coverage list since session 8: D1/D2, D21, D8a, D10b, D10f,
+//! D20-D27, D30; the coverage list: D1/D2, D21, D8a, D10b, D10f,
 //! D29), on the scenarios' own host (Wishbone), the coverage list also
 //! through Avalon and pio-edge; a scenario left open
-//! (none since session 7: tx-8.7.9 at the maximum BTR passes with the
+//! (none: tx-8.7.9 at the maximum BTR passes with the
 //! profile's `segment-lag`, tx-8.5.14 is D27's) would be asserted by name.
 //! The main list is `upstream.rs`'s.
 //!
@@ -84,7 +84,7 @@ fn set(v: &[(&str, &str)]) -> BTreeSet<(String, String)> {
 fn conformance_registers_and_mutation_holes_are_judged_on_the_upstream_core() {
     // (list, exit 0, summary, expected failures, scenarios left open (not
     // waived, not an expected failure: docs/opencores-deviations.md,
-    // sections "Session 6, branch conf6" and "Session 7, branch coreconf"))
+    // docs/opencores-deviations.md))
     let want = [
         (
             "tb/conformance/list",
@@ -132,7 +132,7 @@ fn conformance_registers_and_mutation_holes_are_judged_on_the_upstream_core() {
             names(&[]),
         ),
         (
-            // session 8, branch covjudge: the six failures judged
+            // the six failures judged
             "tb/coverage.list",
             true,
             "13 run, 7 passed, 6 expected failure(s), 0 not passed",
@@ -154,7 +154,7 @@ fn conformance_registers_and_mutation_holes_are_judged_on_the_upstream_core() {
 }
 
 /// The coverage list's expected failures on the core (docs/opencores-deviations.md,
-/// section "Session 8, branch covjudge"): (id, deviation), those in `skip` left out.
+/// docs/opencores-deviations.md): (id, deviation), those in `skip` left out.
 fn coverage_xfails(skip: &[&str]) -> BTreeSet<(String, String)> {
     [
         ("coverage-frame-kinds-all-d1-d2-beyond-their-counts", "D1/D2"),

@@ -20,7 +20,7 @@
 //!   no repeat, none failed), and `regress` with the profile and waivers
 //!   gives what Wishbone gives: 25 passed + the 2 expected failures (D6,
 //!   D8c/D8d, their `-pio-edge` entries) + 1 skipped, exit 0. Before the
-//!   kit's two fixes of session 7 (the reference's BTR retime within two
+//!   kit's two fixes (the reference's BTR retime within two
 //!   clocks of a quantum's end, then the profile's `count-from = "wires"`)
 //!   it was 15 passed, then 21.
 

@@ -1,4 +1,4 @@
-//! D20 on the real opencores `can` core (issues 15/19): an early edge beyond
+//! D20 on the real opencores `can` core: an early edge beyond
 //! SJW does not shorten phase segment 2, so tb/conformance's two fast-sender
 //! rx-7.7.4 scenarios fail, as strict `[[expected-failure]]` entries in
 //! tb/waivers/opencores-upstream.toml record (docs/opencores-deviations.md).

@@ -1,4 +1,4 @@
-//! Waivers at scenario level (issue 9): the deviant fixture (address 4 bit 7
+//! Waivers at scenario level: the deviant fixture (address 4 bit 7
 //! stuck at 0) as an external DUT against the golden model, with waiver
 //! files named in `[run] waivers` and in `RunOptions::waivers`.
 

@@ -801,7 +801,7 @@ impl Bus {
         }
     }
 
-    /// The accounting check (issue 8 item 4), for a bus whose nodes share
+    /// The accounting check, for a bus whose nodes share
     /// one bit timing (on a bus mixing bit rates, a node reads the others'
     /// frames as noise at its own pace, and what it makes of them is not a
     /// delivery question): every frame a node finished
@@ -981,8 +981,7 @@ impl Bus {
     }
 }
 
-/// Every run with the journal on ends with the accounting check (issue 8
-/// item 4): a test cannot forget it. A bus whose accounting is on and that
+/// Every run with the journal on ends with the accounting check: a test cannot forget it. A bus whose accounting is on and that
 /// is dropped with a frame the check cannot explain panics with the
 /// [`AccountingError`] (unless the thread is already panicking, so the
 /// first failure is the one reported). Buses with accounting off (the

@@ -1,4 +1,4 @@
-//! Property tests of the register-access path (issue 8 item 2): random
+//! Property tests of the register-access path: random
 //! host accesses, at any address, in any mode, interleaved with bus
 //! traffic, never panic, never hang, keep the status invariants, and the
 //! accounting check still explains every frame.

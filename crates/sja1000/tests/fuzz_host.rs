@@ -1,4 +1,4 @@
-//! Fuzz of the register-access path (issue 8 item 2), both views: random
+//! Fuzz of the register-access path, both views: random
 //! host reads and writes at every address 0..=255, in BasicCAN and
 //! PeliCAN, with reset/operating switching, BasicCAN <-> PeliCAN switching
 //! through CDR.7, every command (TR, AT, RRB, CDO, SRR, GTS), sleep and

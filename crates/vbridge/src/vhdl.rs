@@ -1,4 +1,4 @@
-//! VHDL sources of an external core, through GHDL (issue 20 item 4): the
+//! VHDL sources of an external core, through GHDL: the
 //! `.vhd`/`.vhdl` files are analysed in dependency order (`ghdl
 //! --elab-order`, or the order a profile's `[vhdl] files` gives), the VHDL
 //! top (or each VHDL entity the Verilog sources instantiate) is turned

@@ -1,4 +1,4 @@
-//! Strict expected failures (issue 19): a scenario that fails on a DUT for
+//! Strict expected failures: a scenario that fails on a DUT for
 //! a documented deviation the golden model will not imitate, and that no
 //! waiver should swallow, is declared with its exact failure SIGNATURE.
 //!

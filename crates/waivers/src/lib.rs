@@ -1,4 +1,4 @@
-//! Known deviations of a DUT from the golden model (issue 9).
+//! Known deviations of a DUT from the golden model.
 //!
 //! A waiver file ([`file`]) lists the deviations an engineer accepts for a
 //! DUT or a range of its revisions, each with an explanation, optional

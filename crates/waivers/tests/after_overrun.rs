@@ -2,7 +2,7 @@
 //! a message was lost to an RX FIFO overrun (the opencores core's D8: the
 //! lost message keeps an entry in its FIFO until reset mode) applies only
 //! after the reference (the model) lost one, counted since its FIFO was
-//! last emptied. Session 6's waiver audit found mutant 74 (a message the
+//! last emptied. The waiver audit found mutant 74 (a message the
 //! filter must reject, stored) hidden by the two D8 waivers in a run with
 //! no overrun at all (RMC model 0x02, DUT 0x03; SR model 0x0C, DUT 0x0D):
 //! those reads now fail. Each test shows what is still caught.
@@ -34,7 +34,7 @@ fn shipped() -> WaiverSet {
     WaiverSet::load(concat!(env!("CARGO_MANIFEST_DIR"), "/../../tb/waivers/opencores-upstream.toml")).unwrap()
 }
 
-/// Mutant 74's reads (session 6's audit): with no message lost in the run,
+/// Mutant 74's reads (the waiver audit): with no message lost in the run,
 /// the D8 waivers no longer take them; after a loss they still do.
 #[test]
 fn the_d8_waivers_take_rmc_and_rbs_only_after_the_model_lost_a_message() {

@@ -1,4 +1,4 @@
-//! D10g (issue 19): the opencores core waits for one more bus-free sequence
+//! D10g: the opencores core waits for one more bus-free sequence
 //! after bus-on. The shipped waiver `bus-free-wait-after-bus-on` takes the
 //! first SR read that shows it and resynchronises the model
 //! (`model-waits-bus-free-after-bus-on`); what it still catches.

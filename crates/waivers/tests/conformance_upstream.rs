@@ -1,5 +1,5 @@
-//! The waivers added for tb/conformance on the opencores core (issue 19/15,
-//! docs/opencores-deviations.md D13-D15 and D18, the freedoms D16/D17/D19, D11 on IR, D3 and D10f
+//! The waivers added for tb/conformance on the opencores core
+//! (docs/opencores-deviations.md D13-D15 and D18, the freedoms D16/D17/D19, D11 on IR, D3 and D10f
 //! variants), read from the shipped file: each waives the divergence that
 //! was measured and still catches its near neighbours.
 

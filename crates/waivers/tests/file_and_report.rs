@@ -351,7 +351,7 @@ fn suggestions_are_candidates_that_need_an_explanation() {
 
 #[test]
 fn an_unobserved_tec_is_assumed_only_from_a_single_measured_value() {
-    // The issue-9 pair (dropped from the shipped file as stale), kept as data.
+    // The pair (dropped from the shipped file as stale), kept as data.
     let path = concat!(env!("CARGO_MANIFEST_DIR"), "/tests/data/issue9-tec-pair.toml");
     let mut set = WaiverSet::load(path).unwrap();
     let dut = DutInfo::new("/cores/opencores-can");
@@ -401,9 +401,9 @@ fn several_files_load_into_one_set_and_ids_stay_unique() {
     std::fs::remove_dir_all(&dir).unwrap();
 }
 
-/// Issue 19: every entry of the shipped upstream file is bounded by a count,
-/// names its row in docs/opencores-deviations.md (or is one of the issue-9
-/// pair), is for the upstream core only, and the row exists in the doc.
+/// Every entry of the shipped upstream file is bounded by a count,
+/// names its row in docs/opencores-deviations.md (or is one of the two
+/// original TEC entries), is for the upstream core only, and the row exists in the doc.
 #[test]
 fn every_shipped_upstream_waiver_is_bounded_documented_and_for_upstream_only() {
     let root = concat!(env!("CARGO_MANIFEST_DIR"), "/../..");
@@ -429,7 +429,7 @@ fn every_shipped_upstream_waiver_is_bounded_documented_and_for_upstream_only() {
     }
 }
 
-/// The bus-off and self-reception waivers of branch busoff take only their
+/// The bus-off and self-reception waivers take only their
 /// pattern, and only as often as measured.
 #[test]
 fn bus_off_and_self_reception_waivers_catch_the_rest() {
@@ -550,7 +550,7 @@ fn irq_pin_waivers_take_only_their_own_scenario() {
     assert_ne!(by(&set.check_observed(&read_div("SR", 0x0C, 0x0D), &dut, &lost)), Some(rbs), "max-hits 2");
 }
 
-/// Issue 19 (up-rest): D5 on IR (no WUI) and D12 (abort in an error frame:
+/// D5 on IR (no WUI) and D12 (abort in an error frame:
 /// TBS, TCS and TI at the start of the attempt still sent) take only their
 /// own bits, modes, frames and counts.
 #[test]

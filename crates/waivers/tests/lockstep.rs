@@ -17,7 +17,7 @@ use waivers::{Action, CollectMode, DutInfo, Observed, Resync, Session, WaiverRep
 const ATTEMPTS: u32 = 24;
 const FLAG_BITS: u64 = 2;
 const SR_ES: u8 = 0x40;
-/// The issue-9 TEC pair (tests/data), as first shipped for the upstream core.
+/// The TEC pair (tests/data), as first shipped for the upstream core.
 const UPSTREAM: &str = include_str!("data/issue9-tec-pair.toml");
 const UPSTREAM_NAME: &str = "tests/data/issue9-tec-pair.toml";
 
@@ -194,7 +194,7 @@ fn both() -> WaiverSet {
     set
 }
 
-// ---- the issue's "done means" ----
+// ---- what done means ----
 
 #[test]
 fn the_strict_pair_never_diverges() {

@@ -1,4 +1,4 @@
-//! The narrow bounds added for the upstream core's deviations (issue 19):
+//! The narrow bounds added for the upstream core's deviations:
 //! bit patterns on a register read, a pin's lateness in bit times and CAN
 //! clocks, and expectations that failed on a waived read. Each test shows
 //! what the bound still catches.

@@ -1,5 +1,5 @@
 //! The opencores core on tb/registers.list and tb/mutation-holes.list
-//! (session 6, docs/opencores-deviations.md D8c and D22), read from the
+//! (docs/opencores-deviations.md D8c and D22), read from the
 //! shipped waiver file: `rmc-counts-lost-message` takes one more message
 //! only (it used to take any RMC pair, and hid RMC 0 for 1, a frame the
 //! core never stored), two more is its own waiver, and D22's waivers take
@@ -72,7 +72,7 @@ fn self_reception_d22_only_rbs_and_one_rmc_message_in_self_test_mode() {
     assert_eq!(by(&mut set, &read("RMC", 1, 0), SELF_TEST), None);
 }
 
-/// The shipped file's tx-bit waivers in bus idle (session 7): D6's GTS start
+/// The shipped file's tx-bit waivers in bus idle: D6's GTS start
 /// of frame only in BasicCAN, D28's late release only with the model bus-off
 /// (reset mode), once.
 #[test]

@@ -1,5 +1,5 @@
 #!/bin/sh
-# Our rtl/'s mutant 12 of the session-8 sample (seed 1, rtl at b8f2c75 and
+# Our rtl/'s mutant 12 of today's seed-1 sample (rtl at b8f2c75 and
 # after): `mutate -mode const1 -module can_top -cell $flatten\u_cdc.$procmux$6953
 # -port A -portbit 4 -wire wb_dat_o -wirebit 4`, rtl/can_wb_cdc.v:93. In the
 # flattened design.il that cell is the mux with A = \u_cdc.wb_dat_o (HOLD),

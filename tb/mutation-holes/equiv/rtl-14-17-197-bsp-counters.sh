@@ -1,6 +1,6 @@
 #!/bin/sh
 # Our rtl/'s mutants 14, 17 and 197 of seed 1 (rtl/can_bsp.v; the one-line
-# lists are those of session 9):
+# mutation lines):
 #   14  mutate -mode inv -cell $flatten\u_bsp.$procdff$7026 -port Q -portbit 0   (rcnt bit 0)
 #   17  mutate -mode inv -cell $flatten\u_bsp.$procdff$7019 -port Q -portbit 0   (eq_cnt bit 0)
 #   197 mutate -mode cnot1 -cell $flatten\u_bsp.$procmux$2833 -port Y -portbit 3 -ctrlbit 1

@@ -1,4 +1,4 @@
-//! Per-case time bound for the fuzz targets (issue 8 item 2): a case that
+//! Per-case time bound for the fuzz targets: a case that
 //! runs longer than its bound fails, and one that never returns (an
 //! infinite loop) is reported by a watchdog thread, which names the input
 //! and ends the process with a failure code instead of hanging CI.

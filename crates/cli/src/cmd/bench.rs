@@ -1,4 +1,4 @@
-//! `bench`: the performance table of issue 7, every ratio measured in one run.
+//! `bench`: the performance table, every ratio measured in one run.
 
 use bench::{BenchOptions, run};
 

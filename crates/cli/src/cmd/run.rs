@@ -65,7 +65,7 @@ impl DutArgs {
     }
 }
 
-/// Waivers of known DUT deviations (issue 9), shared by `run`/`cosim` and `regress`.
+/// Waivers of known DUT deviations, shared by `run`/`cosim` and `regress`.
 #[derive(clap::Args, Clone, Debug, Default)]
 pub struct WaiverArgs {
     /// Waiver file (repeatable), added to the scenario's own `[run] waivers`.

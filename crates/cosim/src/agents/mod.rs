@@ -1,4 +1,4 @@
-//! The lockstep test bench's agents, one job each (issue 16). The
+//! The lockstep test bench's agents, one job each. The
 //! [`crate::Testbench`] owns one of each, wires them to the DUT and steps
 //! time; it keeps no state of a role itself.
 //!

@@ -242,7 +242,7 @@ impl ComparatorAgent {
                     // then takes the DUT's value where it can (storage
                     // registers, TXERR/RXERR, SR's latched flags), so later
                     // reads show the next real difference, not this one's
-                    // cascade (issue 19 item 4). Derived registers keep the
+                    // cascade. Derived registers keep the
                     // model's value.
                     if let Some((addr, value)) = c.taken_read()
                         && let Some(r) = &mut reference.model

@@ -97,7 +97,7 @@ fn a_start_of_frame_from_bus_idle_may_lag_within_the_sof_tolerance() {
 
 #[test]
 fn an_ir_read_is_not_matched_by_the_value_the_reference_read_left_behind() {
-    // Issue 19: the reference takes a read when the DUT's CAN side does,
+    // The reference takes a read when the DUT's CAN side does,
     // before the ack; reading IR clears DOI, so for the clocks up to the
     // ack the model's IR is 0x01. A DUT that never raised DOI returned
     // 0x01 and the window took it (pelican-fifo-overrun steps 23, 38).
@@ -441,7 +441,7 @@ fn collect_mode_lists_each_tx_difference_once() {
     }
 }
 
-/// Differential test against the declared tolerance (issue 19): on
+/// Differential test against the declared tolerance: on
 /// random status sequences with random reads, interleaved with tx and
 /// irq divergences at random clocks, a read diverges exactly when its
 /// DUT value differs from the model's at the read and from every value
