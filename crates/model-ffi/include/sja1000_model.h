@@ -38,6 +38,8 @@ sja1000_model *sja1000_model_new(const char *profile, double can_hz);
 const char *sja1000_model_last_error(void);
 void sja1000_model_free(sja1000_model *m);
 
+/* The test's name, for the diagnosis's first line. */
+void sja1000_model_set_name(sja1000_model *m, const char *name);
 /* Hardware reset of the model (the DUT's reset input). */
 void sja1000_model_reset(sja1000_model *m);
 

@@ -95,6 +95,18 @@ pub extern "C" fn sja1000_model_free(m: *mut Sja1000Model) {
     }
 }
 
+/// The test's name, for the diagnosis's first line (NULL is ignored).
+#[unsafe(no_mangle)]
+pub extern "C" fn sja1000_model_set_name(m: *mut Sja1000Model, name: *const c_char) {
+    if let Some(m) = model(m)
+        && !name.is_null()
+    {
+        // SAFETY: the caller passes a NUL-terminated string (header).
+        let n = unsafe { CStr::from_ptr(name) }.to_string_lossy();
+        m.shadow.set_test_name(&n);
+    }
+}
+
 /// Hardware reset of the model (the DUT's reset input).
 #[unsafe(no_mangle)]
 pub extern "C" fn sja1000_model_reset(m: *mut Sja1000Model) {

@@ -79,7 +79,6 @@ pub struct Shadow {
     events: Vec<EventKind>,
     /// The last transmission request not yet completed: (ps, bit).
     last_tr: Option<(u64, u64)>,
-    attempts: u32,
     /// Sample points at which the model drove dominant: how often rx read
     /// dominant and recessive then (the wiring, as the pins show it).
     tx_dom_rx_dom: u64,
@@ -110,7 +109,7 @@ impl Shadow {
         let mut reference = ModelRef::with_phase_origin(p.phase_origin).with_segment_lag(p.segment_lag);
         reference.hard_reset();
         let timing = Timing { can_clock_hz: can_hz, host_clock_hz: 0.0, btr0: 0, btr1: 0 };
-        let mut record = RunRecord::new("cocotb/SV bench", &p.name).with_timing(timing);
+        let mut record = RunRecord::new("bench", &p.name).with_timing(timing);
         record.host_bus = HostBus::Wishbone;
         Ok(Shadow {
             reference,
@@ -126,7 +125,6 @@ impl Shadow {
             record,
             events: Vec::new(),
             last_tr: None,
-            attempts: 0,
             tx_dom_rx_dom: 0,
             tx_dom_rx_rec: 0,
             rx_ever_dominant: false,
@@ -144,6 +142,11 @@ impl Shadow {
         p.wishbone = AccessTiming::AtAck;
         p.phase_origin = PhaseOrigin::ResetModeExit;
         Shadow::with_profile(&p, can_hz)
+    }
+
+    /// The test's name, as the diagnosis's first line names it ("bench" until set).
+    pub fn set_test_name(&mut self, name: &str) {
+        self.record.scenario = name.to_string();
     }
 
     /// The profile's name.
@@ -352,7 +355,7 @@ impl Shadow {
                 requested_bit,
                 waited_bits: self.bits().saturating_sub(requested_bit),
                 sr,
-                attempts: self.attempts,
+                attempts: scenario::run::tec_trace_from_events(&self.record, Side::Model).len() as u32,
             });
             self.diagnose_now();
         }
@@ -362,6 +365,7 @@ impl Shadow {
     /// The run record so far (with the wiring the pins showed).
     pub fn record(&self) -> RunRecord {
         let mut r = self.record.clone();
+        r.tec_trace = scenario::run::tec_trace_from_events(&r, Side::Model);
         r.bits_simulated = self.bits();
         r.wiring = self.wiring();
         if let Some((mode, _)) = self.reference.mode() {
@@ -448,22 +452,12 @@ impl Shadow {
         self.record.host_ops.push(op);
     }
 
-    /// The model's engine events into the record, with a TEC per attempt.
+    /// The model's engine events into the record (the TEC per attempt is
+    /// derived from them in [`Shadow::record`], as the scenario runner does).
     fn reference_events(&mut self, bit: u64) {
         self.reference.drain_events(&mut self.events);
         let counters = self.reference.counters();
         for k in self.events.drain(..) {
-            if matches!(k, EventKind::TxComplete | EventKind::BusError { .. }) && self.last_tr.is_some() {
-                self.attempts += 1;
-                let (tec, _) = counters.unwrap_or((0, 0));
-                self.record.tec_trace.push(diagnose::TecStep {
-                    node: Side::Model,
-                    attempt: self.attempts,
-                    bit,
-                    tec,
-                    bus_off: tec > 255,
-                });
-            }
             if matches!(k, EventKind::TxComplete) {
                 self.last_tr = None;
             }
