@@ -1,0 +1,144 @@
+"""cocotb bench of rtl/can_top with the golden SJA1000 as scoreboard.
+
+Run by examples/run.py (Icarus or Verilator). SCOREBOARD=0 leaves the
+scoreboard out (for the benchmark); everything else stays the same.
+"""
+
+import os
+
+import cocotb
+from cocotb.clock import Clock
+from cocotb.triggers import ClockCycles, Timer
+
+from cocotbext.sja1000 import CanBus, CanFrame, CanMonitor, Sja1000Mismatch, Sja1000Scoreboard, WishboneMaster
+
+CAN_HZ = 24e6
+WITH_SCOREBOARD = os.environ.get("SCOREBOARD", "1") != "0"
+
+
+def clock(sig, period_ps):
+    try:  # cocotb 2.x
+        return Clock(sig, period_ps, unit="ps")
+    except TypeError:  # cocotb 1.9
+        return Clock(sig, period_ps, units="ps")
+
+
+async def start(dut, rx_tied=None, name=None):
+    """Clocks (50 MHz host, 24 MHz CAN), reset, bus, monitor, scoreboard."""
+    cocotb.start_soon(clock(dut.wb_clk_i, 20_000).start())
+    await Timer(3001, "ps")  # no CAN edge on a host edge
+    cocotb.start_soon(clock(dut.clk_i, 41_666).start())
+    dut.wb_rst_i.value = 1
+    wb = WishboneMaster(dut, "wb_")
+    bus = CanBus(dut, rx_tied=rx_tied)
+    mon = CanMonitor(dut)
+    sb = Sja1000Scoreboard(dut, profile="rtl", can_hz=CAN_HZ, name=name) if WITH_SCOREBOARD else None
+    await ClockCycles(dut.wb_clk_i, 4)
+    dut.wb_rst_i.value = 0
+    await ClockCycles(dut.wb_clk_i, 4)
+    return wb, bus, mon, sb
+
+
+async def pelican(wb, mod):
+    """PeliCAN, accept all, 600 kbit/s at 24 MHz, every interrupt, then MOD = mod."""
+    await wb.write(0, 0x01)
+    await wb.write(31, 0x80)
+    await wb.write(0, 0x01 | mod)
+    for a in range(16, 20):
+        await wb.write(a, 0x00)
+    for a in range(20, 24):
+        await wb.write(a, 0xFF)
+    await wb.write(6, 0x41)
+    await wb.write(7, 0x25)
+    await wb.write(8, 0x1A)
+    await wb.write(4, 0xFF)
+    await wb.write(0, mod)
+
+
+async def send(wb, ident, data, cmd):
+    await wb.write(16, len(data))
+    await wb.write(17, ident >> 3)
+    await wb.write(18, (ident & 7) << 5)
+    for i, b in enumerate(data):
+        await wb.write(19 + i, b)
+    await wb.write(1, cmd)
+
+
+async def wait_sr(wb, mask, max_polls=400):
+    for _ in range(max_polls):
+        sr = await wb.read(2)
+        if sr & mask == mask:
+            return sr
+        await ClockCycles(wb.p.clk_i, 80)
+    raise AssertionError(f"SR & 0x{mask:02X} never set (last SR 0x{sr:02X})")
+
+
+async def read_rx(wb):
+    info = await wb.read(16)
+    ident = (await wb.read(17)) << 3 | (await wb.read(18)) >> 5
+    data = bytes([await wb.read(19 + i) for i in range(info & 0x0F)])
+    await wb.write(1, 0x04)  # release receive buffer
+    return CanFrame(ident, data)
+
+
+@cocotb.test()
+async def self_test_frame(dut):
+    """PeliCAN self-test: the DUT sends a frame to itself (rx = tx, no other node)."""
+    wb, bus, mon, sb = await start(dut, name="self_test_frame")
+    await pelican(wb, 0x04)
+    await send(wb, 0x123, b"\xA5\x5A", 0x10)  # self reception request
+    await wait_sr(wb, 0x09)  # TCS and RBS
+    await wb.read(3)
+    got = await read_rx(wb)
+    assert got == CanFrame(0x123, b"\xA5\x5A"), got
+    f = await mon.recv()
+    assert f.arbitration_id == 0x123 and bytes(f.data) == b"\xA5\x5A", f
+    if sb:
+        await sb.finish()
+
+
+@cocotb.test()
+async def frame_exchange_with_two_model_nodes(dut):
+    """The DUT sends to two model nodes; one model node answers; the DUT receives it."""
+    wb, bus, mon, sb = await start(dut, name="frame_exchange_with_two_model_nodes")
+    a, b = bus.add_node("a"), bus.add_node("b")
+    await pelican(wb, 0x00)
+    await send(wb, 0x2A5, b"\x01\x02\x03", 0x01)  # transmission request
+    for node in (a, b):
+        f = await node.recv()
+        assert f.arbitration_id == 0x2A5 and bytes(f.data) == b"\x01\x02\x03", f
+    a.send_nowait(CanFrame(0x0F0, b"\xCA\xFE"))
+    await wait_sr(wb, 0x01)
+    got = await read_rx(wb)
+    assert got == CanFrame(0x0F0, b"\xCA\xFE"), got
+    f = await b.recv()
+    assert f.arbitration_id == 0x0F0, f
+    assert mon.count == 2 and not mon.errors, (mon.count, mon.errors)
+    if sb:
+        await sb.finish()
+
+
+@cocotb.test()
+async def thesis_rx_tied_recessive_is_diagnosed(dut):
+    """The DE2 thesis: BasicCAN, rx tied recessive; the frame never completes
+    and the scoreboard says why (tb/de2-thesis.toml on the command line)."""
+    wb, bus, mon, sb = await start(dut, rx_tied=True, name="thesis_rx_tied_recessive")
+    for a, d in [(0, 0x01), (31, 0x00), (4, 0xFF), (5, 0xFF), (6, 0x41), (7, 0x25), (8, 0xDB), (0, 0x00),
+                 (10, 0xA5), (11, 0x21), (12, 0x51)]:
+        await wb.write(a, d)
+    assert await wb.read(12) == 0x51
+    await wb.write(1, 0x01)  # transmission request
+    await ClockCycles(dut.clk_i, 200 * 40)
+    sr = await wb.read(2)
+    assert sr & 0x08 == 0, f"SR 0x{sr:02X}: TCS with rx tied?"
+    if not sb:
+        return
+    try:
+        await sb.finish()
+    except Sja1000Mismatch as e:
+        text = str(e)
+        dut._log.info("diagnosis, as expected:\n%s", text)
+        assert "RxNotFollowingTx" in text and "rx_i is tied to 1" in text, text
+        assert "TEC after attempt 1 = 136" in text, text
+    else:
+        raise AssertionError("the scoreboard did not report the frame that never went out")
