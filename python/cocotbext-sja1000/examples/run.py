@@ -71,7 +71,9 @@ def main() -> int:
         sources=sources, includes=[rtl], hdl_toplevel="can_top", build_dir=build_dir,
         timescale=("1ps", "1ps"), build_args=extra, always=True,
     )
-    env = {"SCOREBOARD": "0" if a.no_scoreboard else "1"}
+    reports = build_dir / "reports"
+    shutil.rmtree(reports, ignore_errors=True)
+    env = {"SCOREBOARD": "0" if a.no_scoreboard else "1", "REPORT_DIR": str(reports)}
     t0 = time.monotonic()
     xml = runner.test(
         hdl_toplevel="can_top", test_module="test_can_top", test_dir=HERE, build_dir=build_dir,
@@ -85,12 +87,13 @@ def main() -> int:
         for name, text in fails:
             print(f"FAILED {name}:\n{text}")
         return 1 if fails else 0
-    # The mutant: the self-test must fail, with the diagnosis naming SR and TCS.
-    named = [t for n, t in fails if n == "self_test_frame"]
-    if not named:
+    # The mutant: the self-test must fail, and the scoreboard's diagnosis
+    # (written to REPORT_DIR) must name SR and TCS.
+    if "self_test_frame" not in [n for n, _ in fails]:
         print("the mutant was not caught by self_test_frame")
         return 1
-    text = named[0]
+    report = reports / "self_test_frame.diagnosis.txt"
+    text = report.read_text() if report.is_file() else ""
     ok = "DutDeviatesFromModel" in text and "register SR" in text and "TCS" in text
     print(("mutant caught, diagnosis:\n" if ok else "mutant failed without the diagnosis:\n") + text)
     return 0 if ok else 1

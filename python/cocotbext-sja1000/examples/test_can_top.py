@@ -32,7 +32,9 @@ async def start(dut, rx_tied=None, name=None):
     wb = WishboneMaster(dut, "wb_")
     bus = CanBus(dut, rx_tied=rx_tied)
     mon = CanMonitor(dut)
-    sb = Sja1000Scoreboard(dut, profile="rtl", can_hz=CAN_HZ, name=name) if WITH_SCOREBOARD else None
+    sb = None
+    if WITH_SCOREBOARD:
+        sb = Sja1000Scoreboard(dut, profile="rtl", can_hz=CAN_HZ, name=name, report_dir=os.environ.get("REPORT_DIR"))
     await ClockCycles(dut.wb_clk_i, 4)
     dut.wb_rst_i.value = 0
     await ClockCycles(dut.wb_clk_i, 4)

@@ -150,6 +150,11 @@ impl Model {
         self.inner.bits()
     }
 
+    /// The run record as JSON (what `cancosim diagnose` reads back).
+    fn record_json(&self) -> String {
+        self.inner.record().to_json()
+    }
+
     #[getter]
     fn tolerances(&self) -> String {
         self.inner.tolerances().to_string()

@@ -27,3 +27,13 @@ def value(sig: Any) -> int:
     except ValueError:
         v = str(sig.value)
         return int("".join("1" if c == "1" else "0" for c in v), 2)
+
+
+def stop_task(task: Any) -> None:
+    """Ends a background task (``cancel`` in cocotb 2.x, ``kill`` in 1.9)."""
+    import cocotb
+
+    if int(cocotb.__version__.split(".")[0]) >= 2:
+        task.cancel()
+    else:
+        task.kill()

@@ -8,7 +8,7 @@ from cocotb.queue import Queue
 from cocotb.triggers import FallingEdge
 
 from ._native import Node
-from ._signals import bind, level
+from ._signals import bind, level, stop_task
 from .frame import CanFrame
 
 
@@ -109,7 +109,7 @@ class CanBus:
         self._force_level, self._force_left = bool(level), int(clocks)
 
     def stop(self) -> None:
-        self._task.cancel()
+        stop_task(self._task)
 
     async def _run(self) -> None:
         while True:

@@ -8,7 +8,7 @@ from cocotb.queue import Queue
 from cocotb.triggers import FallingEdge
 
 from ._native import Decoder
-from ._signals import bind, level
+from ._signals import bind, level, stop_task
 from .frame import CanFrame
 
 
@@ -62,7 +62,7 @@ class CanMonitor:
         return f.to_message()
 
     def stop(self) -> None:
-        self._task.cancel()
+        stop_task(self._task)
 
     def _event(self, e: Tuple[Any, ...]) -> Optional[BusEvent]:
         kind = e[0]

@@ -1,13 +1,14 @@
 """The golden SJA1000 shadowing a DUT: a scoreboard whose failure is the diagnosis."""
 
 import logging
+from pathlib import Path
 from typing import Any, Optional
 
 import cocotb
 from cocotb.triggers import FallingEdge
 
 from ._native import Model
-from ._signals import bind, level
+from ._signals import bind, level, stop_task
 from .wishbone import WishboneAccess, WishboneMonitor
 
 
@@ -34,6 +35,9 @@ class Sja1000Scoreboard:
     Wishbone monitor sees each launch half a host cycle late, which can move
     an access by one CAN clock (inside the tolerances).
 
+    With ``report_dir``, a failure also writes the diagnosis text and the
+    run record (JSON) there, named after ``name``.
+
     The first divergence raises :class:`Sja1000Mismatch` from the
     scoreboard's task (which fails the running test); ``await finish()`` at
     the end judges the last reads and reports a transmission that never
@@ -55,9 +59,13 @@ class Sja1000Scoreboard:
         bus_off: Optional[str] = "bus_off_on",
         reset: Optional[str] = "wb_rst_i",
         name: Optional[str] = None,
+        report_dir: Optional[str] = None,
     ) -> None:
         self.log = logging.getLogger(f"cocotb.{dut._name}.sja1000sb")
-        self.model = Model(profile, can_hz, name or dut._name)
+        self.name = name or dut._name
+        self.model = Model(profile, can_hz, self.name)
+        self.report_dir = report_dir
+        self._reported = False
         self.clock = bind(dut, prefix, clk)
         self.rx = bind(dut, prefix, rx)
         self.tx = bind(dut, prefix, tx)
@@ -98,7 +106,19 @@ class Sja1000Scoreboard:
 
     def _check(self) -> None:
         if self.model.failed:
+            self._report()
             raise Sja1000Mismatch(self.model.diagnosis)
+
+    def _report(self) -> None:
+        """With ``report_dir``: ``<name>.diagnosis.txt`` and the run record
+        ``<name>.record.json`` (``cancosim diagnose`` reads it back)."""
+        if self.report_dir is None or self._reported:
+            return
+        self._reported = True
+        d = Path(self.report_dir)
+        d.mkdir(parents=True, exist_ok=True)
+        (d / f"{self.name}.diagnosis.txt").write_text(self.model.diagnosis or "")
+        (d / f"{self.name}.record.json").write_text(self.model.record_json())
 
     async def _run(self) -> None:
         m = self.model
@@ -120,7 +140,7 @@ class Sja1000Scoreboard:
         end-of-test check; raises :class:`Sja1000Mismatch` on a failure."""
         for _ in range(self.model.open_clocks + 2):
             await FallingEdge(self.clock)
-        self._task.cancel()
+        stop_task(self._task)
         if self.wishbone is not None:
             self.wishbone.stop()
         self.model.finish()

@@ -6,7 +6,7 @@ from typing import Any, Callable, List, NamedTuple
 import cocotb
 from cocotb.triggers import FallingEdge
 
-from ._signals import bind, level, value
+from ._signals import bind, level, stop_task, value
 
 
 class WishboneAccess(NamedTuple):
@@ -78,7 +78,7 @@ class WishboneMonitor:
         self._callbacks.append(fn)
 
     def stop(self) -> None:
-        self._task.cancel()
+        stop_task(self._task)
 
     async def _run(self) -> None:
         p = self.p
