@@ -73,6 +73,10 @@ run_pair() {
     echo "== $name: without the scoreboard =="
     "$py/bin/python" "$ex/run.py" --sim "$sim" --no-scoreboard --build-dir "$work/nosb" > "$work/nosb.log" 2>&1 || { cat "$work/nosb.log"; fail=1; }
     grep -E "TESTS=|run time" "$work/nosb.log"
+    local with without
+    with=$(sed -n 's/^run time \([0-9.]*\) s.*/\1/p' "$work/rtl.log")
+    without=$(sed -n 's/^run time \([0-9.]*\) s.*/\1/p' "$work/nosb.log")
+    awk -v a="$with" -v b="$without" -v n="$name" 'BEGIN { if (b > 0) printf "bench %s: with the scoreboard %.2f s, without %.2f s, ratio %.2f (one run)\n", n, a, b, a / b }'
   fi
   rm -rf "$work"
 }
