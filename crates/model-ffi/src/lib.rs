@@ -30,7 +30,6 @@ pub use shadow::{DutPins, Shadow, ShadowError};
 use std::cell::RefCell;
 use std::ffi::{CStr, CString, c_char, c_double, c_int};
 
-
 /// A model behind a C handle: the shadow and the last strings handed out.
 pub struct Sja1000Model {
     shadow: Shadow,
@@ -47,7 +46,10 @@ fn set_error(e: &str) {
 }
 
 /// Borrows the model behind `m`; None for a null handle.
-fn model<'a>(m: *mut Sja1000Model) -> Option<&'a mut Sja1000Model> {
+///
+/// # Safety
+/// `m` is NULL or a live handle (the callers' own contract).
+unsafe fn model<'a>(m: *mut Sja1000Model) -> Option<&'a mut Sja1000Model> {
     // SAFETY: a non-null handle comes from `sja1000_model_new` and is
     // live until `sja1000_model_free` (the header's contract).
     unsafe { m.as_mut() }
@@ -56,8 +58,14 @@ fn model<'a>(m: *mut Sja1000Model) -> Option<&'a mut Sja1000Model> {
 /// A new model for a DUT described by `profile` (a shipped profile name
 /// such as "rtl", a `.toml` path; NULL or "" = "rtl") whose CAN clock
 /// runs at `can_hz`. NULL on error: `sja1000_model_last_error` says why.
+///
+/// # Safety
+/// `profile` is NULL or a NUL-terminated string.
 #[unsafe(no_mangle)]
-pub extern "C" fn sja1000_model_new(profile: *const c_char, can_hz: c_double) -> *mut Sja1000Model {
+pub unsafe extern "C" fn sja1000_model_new(
+    profile: *const c_char,
+    can_hz: c_double,
+) -> *mut Sja1000Model {
     let name = if profile.is_null() {
         String::new()
     } else {
@@ -70,9 +78,16 @@ pub extern "C" fn sja1000_model_new(profile: *const c_char, can_hz: c_double) ->
             }
         }
     };
-    let made = if name == "immediate" { Shadow::immediate(can_hz) } else { Shadow::new(&name, can_hz) };
+    let made = if name == "immediate" {
+        Shadow::immediate(can_hz)
+    } else {
+        Shadow::new(&name, can_hz)
+    };
     match made {
-        Ok(shadow) => Box::into_raw(Box::new(Sja1000Model { shadow, diagnosis: CString::default() })),
+        Ok(shadow) => Box::into_raw(Box::new(Sja1000Model {
+            shadow,
+            diagnosis: CString::default(),
+        })),
         Err(e) => {
             set_error(&e.to_string());
             std::ptr::null_mut()
@@ -87,8 +102,11 @@ pub extern "C" fn sja1000_model_last_error() -> *const c_char {
 }
 
 /// Frees a model (NULL is allowed).
+///
+/// # Safety
+/// `m` is NULL or a live handle from `sja1000_model_new`, not used by another thread.
 #[unsafe(no_mangle)]
-pub extern "C" fn sja1000_model_free(m: *mut Sja1000Model) {
+pub unsafe extern "C" fn sja1000_model_free(m: *mut Sja1000Model) {
     if !m.is_null() {
         // SAFETY: made by Box::into_raw in sja1000_model_new, freed once.
         drop(unsafe { Box::from_raw(m) });
@@ -96,9 +114,12 @@ pub extern "C" fn sja1000_model_free(m: *mut Sja1000Model) {
 }
 
 /// The test's name, for the diagnosis's first line (NULL is ignored).
+///
+/// # Safety
+/// `m` is NULL or a live handle from `sja1000_model_new`; `name` is NULL or a NUL-terminated string.
 #[unsafe(no_mangle)]
-pub extern "C" fn sja1000_model_set_name(m: *mut Sja1000Model, name: *const c_char) {
-    if let Some(m) = model(m)
+pub unsafe extern "C" fn sja1000_model_set_name(m: *mut Sja1000Model, name: *const c_char) {
+    if let Some(m) = unsafe { model(m) }
         && !name.is_null()
     {
         // SAFETY: the caller passes a NUL-terminated string (header).
@@ -108,18 +129,24 @@ pub extern "C" fn sja1000_model_set_name(m: *mut Sja1000Model, name: *const c_ch
 }
 
 /// Hardware reset of the model (the DUT's reset input).
+///
+/// # Safety
+/// `m` is NULL or a live handle from `sja1000_model_new`, not used by another thread.
 #[unsafe(no_mangle)]
-pub extern "C" fn sja1000_model_reset(m: *mut Sja1000Model) {
-    if let Some(m) = model(m) {
+pub unsafe extern "C" fn sja1000_model_reset(m: *mut Sja1000Model) {
+    if let Some(m) = unsafe { model(m) } {
         m.shadow.hard_reset();
     }
 }
 
 /// One CAN clock (a rising edge of the DUT's clk_i) with rx level `rx`
 /// (1 = recessive), nothing compared. Returns the model's tx.
+///
+/// # Safety
+/// `m` is NULL or a live handle from `sja1000_model_new`, not used by another thread.
 #[unsafe(no_mangle)]
-pub extern "C" fn sja1000_model_clock(m: *mut Sja1000Model, rx: c_int) -> c_int {
-    model(m).map_or(1, |m| m.shadow.clock(rx != 0, None) as c_int)
+pub unsafe extern "C" fn sja1000_model_clock(m: *mut Sja1000Model, rx: c_int) -> c_int {
+    unsafe { model(m) }.map_or(1, |m| m.shadow.clock(rx != 0, None) as c_int)
 }
 
 /// One CAN clock with rx level `rx`, then the DUT's pins compared with the
@@ -127,42 +154,65 @@ pub extern "C" fn sja1000_model_clock(m: *mut Sja1000Model, rx: c_int) -> c_int 
 /// tolerances), `irq_on` and `bus_off_on` (active low / high while on the
 /// bus) within the pin tolerance. A pin given as -1 is not compared.
 /// Returns the model's tx.
+///
+/// # Safety
+/// `m` is NULL or a live handle from `sja1000_model_new`, not used by another thread.
 #[unsafe(no_mangle)]
-pub extern "C" fn sja1000_model_clock_compare(
+pub unsafe extern "C" fn sja1000_model_clock_compare(
     m: *mut Sja1000Model,
     rx: c_int,
     dut_tx: c_int,
     dut_irq_n: c_int,
     dut_bus_on: c_int,
 ) -> c_int {
-    let Some(m) = model(m) else { return 1 };
+    let Some(m) = (unsafe { model(m) }) else {
+        return 1;
+    };
     let pin = |v: c_int| (v >= 0).then_some(v != 0);
-    let dut = DutPins { tx: pin(dut_tx), irq_n: pin(dut_irq_n), bus_on: pin(dut_bus_on) };
+    let dut = DutPins {
+        tx: pin(dut_tx),
+        irq_n: pin(dut_irq_n),
+        bus_on: pin(dut_bus_on),
+    };
     m.shadow.clock(rx != 0, Some(dut)) as c_int
 }
 
 /// A host access the DUT has just seen presented (`write` 1 = write),
 /// reported at the host clock edge at which the DUT samples the request.
 /// The model takes it at the CAN clock the profile declares.
+///
+/// # Safety
+/// `m` is NULL or a live handle from `sja1000_model_new`, not used by another thread.
 #[unsafe(no_mangle)]
-pub extern "C" fn sja1000_model_request(m: *mut Sja1000Model, write: c_int, addr: u8, data: u8) {
-    if let Some(m) = model(m) {
+pub unsafe extern "C" fn sja1000_model_request(
+    m: *mut Sja1000Model,
+    write: c_int,
+    addr: u8,
+    data: u8,
+) {
+    if let Some(m) = unsafe { model(m) } {
         m.shadow.request(write != 0, addr, data);
     }
 }
 
 /// A write the model takes now.
+///
+/// # Safety
+/// `m` is NULL or a live handle from `sja1000_model_new`, not used by another thread.
 #[unsafe(no_mangle)]
-pub extern "C" fn sja1000_model_write(m: *mut Sja1000Model, addr: u8, data: u8) {
-    if let Some(m) = model(m) {
+pub unsafe extern "C" fn sja1000_model_write(m: *mut Sja1000Model, addr: u8, data: u8) {
+    if let Some(m) = unsafe { model(m) } {
         m.shadow.write(addr, data);
     }
 }
 
 /// A read the model takes now; its value (-1 for a NULL handle).
+///
+/// # Safety
+/// `m` is NULL or a live handle from `sja1000_model_new`, not used by another thread.
 #[unsafe(no_mangle)]
-pub extern "C" fn sja1000_model_read(m: *mut Sja1000Model, addr: u8) -> c_int {
-    model(m).map_or(-1, |m| m.shadow.read(addr) as c_int)
+pub unsafe extern "C" fn sja1000_model_read(m: *mut Sja1000Model, addr: u8) -> c_int {
+    unsafe { model(m) }.map_or(-1, |m| m.shadow.read(addr) as c_int)
 }
 
 /// The DUT's read of `addr` returned `dut_data` (at its ack): compared
@@ -170,55 +220,86 @@ pub extern "C" fn sja1000_model_read(m: *mut Sja1000Model, addr: u8) -> c_int {
 /// tolerance). Returns the model's value (-1 for a NULL handle). Check
 /// `sja1000_model_failed` after it and after each clock: an SR read may
 /// diverge only when its window closes.
+///
+/// # Safety
+/// `m` is NULL or a live handle from `sja1000_model_new`, not used by another thread.
 #[unsafe(no_mangle)]
-pub extern "C" fn sja1000_model_compare_read(m: *mut Sja1000Model, addr: u8, dut_data: u8) -> c_int {
-    model(m).map_or(-1, |m| m.shadow.compare_read(addr, dut_data) as c_int)
+pub unsafe extern "C" fn sja1000_model_compare_read(
+    m: *mut Sja1000Model,
+    addr: u8,
+    dut_data: u8,
+) -> c_int {
+    unsafe { model(m) }.map_or(-1, |m| m.shadow.compare_read(addr, dut_data) as c_int)
 }
 
 /// CAN clocks still needed before every comparison made so far is judged.
+///
+/// # Safety
+/// `m` is NULL or a live handle from `sja1000_model_new`, not used by another thread.
 #[unsafe(no_mangle)]
-pub extern "C" fn sja1000_model_open_clocks(m: *mut Sja1000Model) -> c_int {
-    model(m).map_or(0, |m| m.shadow.open_clocks() as c_int)
+pub unsafe extern "C" fn sja1000_model_open_clocks(m: *mut Sja1000Model) -> c_int {
+    unsafe { model(m) }.map_or(0, |m| m.shadow.open_clocks() as c_int)
 }
 
 /// End of the test: a transmission still pending becomes a diagnosis.
 /// Returns 1 if the run failed (a divergence or that), else 0.
+///
+/// # Safety
+/// `m` is NULL or a live handle from `sja1000_model_new`, not used by another thread.
 #[unsafe(no_mangle)]
-pub extern "C" fn sja1000_model_finish(m: *mut Sja1000Model) -> c_int {
-    model(m).map_or(1, |m| m.shadow.finish() as c_int)
+pub unsafe extern "C" fn sja1000_model_finish(m: *mut Sja1000Model) -> c_int {
+    unsafe { model(m) }.map_or(1, |m| m.shadow.finish() as c_int)
 }
 
 /// 1 once the DUT diverged from the model (or `finish` found a stuck
 /// transfer), else 0.
+///
+/// # Safety
+/// `m` is NULL or a live handle from `sja1000_model_new`, not used by another thread.
 #[unsafe(no_mangle)]
-pub extern "C" fn sja1000_model_failed(m: *mut Sja1000Model) -> c_int {
-    model(m).map_or(1, |m| m.shadow.failed() as c_int)
+pub unsafe extern "C" fn sja1000_model_failed(m: *mut Sja1000Model) -> c_int {
+    unsafe { model(m) }.map_or(1, |m| m.shadow.failed() as c_int)
 }
 
 /// The diagnosis text ("" if none): what happened, figures, root cause,
 /// fix, the profile and tolerances. Valid until the next call on `m`.
+///
+/// # Safety
+/// `m` is NULL or a live handle from `sja1000_model_new`, not used by another thread.
 #[unsafe(no_mangle)]
-pub extern "C" fn sja1000_model_diagnosis(m: *mut Sja1000Model) -> *const c_char {
+pub unsafe extern "C" fn sja1000_model_diagnosis(m: *mut Sja1000Model) -> *const c_char {
     static EMPTY: &CStr = c"";
-    let Some(m) = model(m) else { return EMPTY.as_ptr() };
-    m.diagnosis = CString::new(m.shadow.diagnosis().unwrap_or("").replace('\0', " ")).unwrap_or_default();
+    let Some(m) = (unsafe { model(m) }) else {
+        return EMPTY.as_ptr();
+    };
+    m.diagnosis =
+        CString::new(m.shadow.diagnosis().unwrap_or("").replace('\0', " ")).unwrap_or_default();
     m.diagnosis.as_ptr()
 }
 
 /// Register value without a read's side effects.
+///
+/// # Safety
+/// `m` is NULL or a live handle from `sja1000_model_new`, not used by another thread.
 #[unsafe(no_mangle)]
-pub extern "C" fn sja1000_model_peek(m: *mut Sja1000Model, addr: u8) -> c_int {
-    model(m).map_or(-1, |m| m.shadow.peek(addr) as c_int)
+pub unsafe extern "C" fn sja1000_model_peek(m: *mut Sja1000Model, addr: u8) -> c_int {
+    unsafe { model(m) }.map_or(-1, |m| m.shadow.peek(addr) as c_int)
 }
 
 /// Register reads compared so far.
+///
+/// # Safety
+/// `m` is NULL or a live handle from `sja1000_model_new`, not used by another thread.
 #[unsafe(no_mangle)]
-pub extern "C" fn sja1000_model_compared_reads(m: *mut Sja1000Model) -> u64 {
-    model(m).map_or(0, |m| m.shadow.compared_reads())
+pub unsafe extern "C" fn sja1000_model_compared_reads(m: *mut Sja1000Model) -> u64 {
+    unsafe { model(m) }.map_or(0, |m| m.shadow.compared_reads())
 }
 
 /// Sample points at which tx was compared so far.
+///
+/// # Safety
+/// `m` is NULL or a live handle from `sja1000_model_new`, not used by another thread.
 #[unsafe(no_mangle)]
-pub extern "C" fn sja1000_model_compared_bits(m: *mut Sja1000Model) -> u64 {
-    model(m).map_or(0, |m| m.shadow.compared_bits())
+pub unsafe extern "C" fn sja1000_model_compared_bits(m: *mut Sja1000Model) -> u64 {
+    unsafe { model(m) }.map_or(0, |m| m.shadow.compared_bits())
 }

@@ -16,8 +16,8 @@ use cosim::bitclock::BitClock;
 use cosim::compare::Stamp;
 use cosim::{AccessTiming, CanPins, Comparator, ModelRef, PhaseOrigin, Profile, Reference};
 use diagnose::{
-    BusBit, CanMode, EngineEvent, EventKind, FinalRegs, HostBus, HostOp, RunRecord, RxWiring, Side, StuckTransfer,
-    Timing, Wiring,
+    BusBit, CanMode, EngineEvent, EventKind, FinalRegs, HostBus, HostOp, RunRecord, RxWiring, Side,
+    StuckTransfer, Timing, Wiring,
 };
 
 /// SR and IR addresses (both register views).
@@ -106,9 +106,15 @@ impl Shadow {
         if !(can_hz.is_finite() && can_hz > 0.0) {
             return Err(ShadowError::Clock(can_hz));
         }
-        let mut reference = ModelRef::with_phase_origin(p.phase_origin).with_segment_lag(p.segment_lag);
+        let mut reference =
+            ModelRef::with_phase_origin(p.phase_origin).with_segment_lag(p.segment_lag);
         reference.hard_reset();
-        let timing = Timing { can_clock_hz: can_hz, host_clock_hz: 0.0, btr0: 0, btr1: 0 };
+        let timing = Timing {
+            can_clock_hz: can_hz,
+            host_clock_hz: 0.0,
+            btr0: 0,
+            btr1: 0,
+        };
         let mut record = RunRecord::new("bench", &p.name).with_timing(timing);
         record.host_bus = HostBus::Wishbone;
         Ok(Shadow {
@@ -225,7 +231,13 @@ impl Shadow {
     /// timing, now.
     pub fn request(&mut self, write: bool, addr: u8, data: u8) {
         let edges = self.timing.edges(write, addr).unwrap_or(0);
-        let p = Pending { write, addr, data, edges_left: edges, t_ps: self.now_ps() };
+        let p = Pending {
+            write,
+            addr,
+            data,
+            edges_left: edges,
+            t_ps: self.now_ps(),
+        };
         if edges == 0 {
             self.take(p);
         } else {
@@ -236,7 +248,13 @@ impl Shadow {
     /// A write the model takes now, whatever the profile says.
     pub fn write(&mut self, addr: u8, data: u8) {
         let t_ps = self.now_ps();
-        self.take(Pending { write: true, addr, data, edges_left: 0, t_ps });
+        self.take(Pending {
+            write: true,
+            addr,
+            data,
+            edges_left: 0,
+            t_ps,
+        });
     }
 
     /// A read the model takes now; its value. The caller compares it
@@ -244,7 +262,13 @@ impl Shadow {
     /// status tolerance.
     pub fn read(&mut self, addr: u8) -> u8 {
         let t_ps = self.now_ps();
-        self.take(Pending { write: false, addr, data: 0, edges_left: 0, t_ps });
+        self.take(Pending {
+            write: false,
+            addr,
+            data: 0,
+            edges_left: 0,
+            t_ps,
+        });
         self.taken_reads.pop_back().map(|(_, v)| v).unwrap_or(0)
     }
 
@@ -267,14 +291,26 @@ impl Shadow {
                     }
                     None => {
                         let t_ps = self.now_ps();
-                        self.take(Pending { write: false, addr, data: 0, edges_left: 0, t_ps });
+                        self.take(Pending {
+                            write: false,
+                            addr,
+                            data: 0,
+                            edges_left: 0,
+                            t_ps,
+                        });
                     }
                 }
                 self.taken_reads.pop_back().map(|(_, v)| v).unwrap_or(0)
             }
         };
         let name = self.reference.reg_name(addr, false);
-        if let Some(op) = self.record.host_ops.iter_mut().rev().find(|o| o.addr == addr && o.access == diagnose::Access::Read) {
+        if let Some(op) = self
+            .record
+            .host_ops
+            .iter_mut()
+            .rev()
+            .find(|o| o.addr == addr && o.access == diagnose::Access::Read)
+        {
             op.data = dut;
         }
         self.compared_reads += 1;
@@ -312,7 +348,15 @@ impl Shadow {
             }
             let d = dut.unwrap_or(view.pins);
             self.record.push_bit(
-                BusBit { bit, bus: rx, dut_tx: d.tx, model_tx: view.pins.tx, dut_rx: rx, field: view.field, frame: None },
+                BusBit {
+                    bit,
+                    bus: rx,
+                    dut_tx: d.tx,
+                    model_tx: view.pins.tx,
+                    dut_rx: rx,
+                    field: view.field,
+                    frame: None,
+                },
                 KEEP_BITS,
             );
         }
@@ -320,8 +364,14 @@ impl Shadow {
             self.reference_events(bit);
         }
         if let Some(d) = dut {
-            let stamp = Stamp { t_ps: self.now_ps(), bit, field: view.field, frame: None };
-            self.cmp.can_clock(stamp, sample, &view.pins, &d, view.sr, view.ir);
+            let stamp = Stamp {
+                t_ps: self.now_ps(),
+                bit,
+                field: view.field,
+                frame: None,
+            };
+            self.cmp
+                .can_clock(stamp, sample, &view.pins, &d, view.sr, view.ir);
         }
         // Accesses whose CAN edge this was.
         let mut i = 0;
@@ -355,7 +405,8 @@ impl Shadow {
                 requested_bit,
                 waited_bits: self.bits().saturating_sub(requested_bit),
                 sr,
-                attempts: scenario::run::tec_trace_from_events(&self.record, Side::Model).len() as u32,
+                attempts: scenario::run::tec_trace_from_events(&self.record, Side::Model).len()
+                    as u32,
             });
             self.diagnose_now();
         }
@@ -388,7 +439,11 @@ impl Shadow {
     fn wiring(&self) -> Wiring {
         let mut w = Wiring::default();
         // PeliCAN MOD.STM (self-test: no acknowledge needed).
-        if self.reference.mode().is_some_and(|(m, _)| m == CanMode::PeliCan) {
+        if self
+            .reference
+            .mode()
+            .is_some_and(|(m, _)| m == CanMode::PeliCan)
+        {
             w.self_test = self.reference.peek(0) & 0x04 != 0;
             w.listen_only = self.reference.peek(0) & 0x02 != 0;
         }
@@ -408,14 +463,23 @@ impl Shadow {
     }
 
     fn stamp(&self) -> Stamp {
-        Stamp { t_ps: self.now_ps(), bit: self.bits(), field: self.reference.field(), frame: None }
+        Stamp {
+            t_ps: self.now_ps(),
+            bit: self.bits(),
+            field: self.reference.field(),
+            frame: None,
+        }
     }
 
     /// The model takes an access.
     fn take(&mut self, p: Pending) {
         let name = self.reference.reg_name(p.addr, p.write);
         let (mode, reset_mode) = self.reference.mode().unwrap_or((CanMode::BasicCan, true));
-        let mut op = if p.write { HostOp::write(p.addr, p.data) } else { HostOp::read(p.addr, 0) };
+        let mut op = if p.write {
+            HostOp::write(p.addr, p.data)
+        } else {
+            HostOp::read(p.addr, 0)
+        };
         op = op.at(p.t_ps).mode(mode, reset_mode);
         op.bfm = HostBus::Wishbone;
         if let Some(n) = &name {
@@ -433,14 +497,17 @@ impl Shadow {
                 } else {
                     t.btr1 = p.data
                 }
-                self.bitclock.set_timing(BusTiming::from_btr(t.btr0, t.btr1));
+                self.bitclock
+                    .set_timing(BusTiming::from_btr(t.btr0, t.btr1));
             }
             // A transmission (or self reception) request the model accepted.
             if p.addr == CMR && p.data & 0x11 != 0 && !reset_mode {
                 self.last_tr = Some((p.t_ps, self.bits()));
             }
             // An abort, or reset mode, ends the request on purpose.
-            if (p.addr == CMR && p.data & 0x02 != 0) || self.reference.mode().is_some_and(|(_, rm)| rm) {
+            if (p.addr == CMR && p.data & 0x02 != 0)
+                || self.reference.mode().is_some_and(|(_, rm)| rm)
+            {
                 self.last_tr = None;
             }
         } else {
@@ -492,7 +559,10 @@ impl Shadow {
         if text.contains("tolerances:") {
             text.push_str(&format!("Profile: {}\n", self.profile_name));
         } else {
-            text.push_str(&format!("Profile: {}; tolerances: {}\n", self.profile_name, self.tolerances));
+            text.push_str(&format!(
+                "Profile: {}; tolerances: {}\n",
+                self.profile_name, self.tolerances
+            ));
         }
         self.diagnosis = Some(text);
     }

@@ -14,24 +14,41 @@ const SELF_TEST: &[(u8, u8)] = &[
     (0, 0x05),  // MOD: reset + self-test
     (6, 0x41),  // BTR0
     (7, 0x25),  // BTR1
-    (16, 0xFF), (17, 0xFF), (18, 0xFF), (19, 0xFF), // ACR0..3
-    (20, 0xFF), (21, 0xFF), (22, 0xFF), (23, 0xFF), // AMR0..3
+    (16, 0xFF),
+    (17, 0xFF),
+    (18, 0xFF),
+    (19, 0xFF), // ACR0..3
+    (20, 0xFF),
+    (21, 0xFF),
+    (22, 0xFF),
+    (23, 0xFF), // AMR0..3
     (0, 0x04),  // MOD: operating, self-test
     (16, 0x01), // TX frame info: standard, DLC 1
-    (17, 0x24), (18, 0x60), // ID 0x123
+    (17, 0x24),
+    (18, 0x60), // ID 0x123
     (19, 0x5A), // data
     (1, 0x10),  // CMR: self reception request
 ];
 
 /// Runs `n` CAN clocks of `shadow` and a model `dut` with tx looped to rx
 /// (unless `rx_tied`); `dut_tx` may distort the DUT's tx.
-fn run(shadow: &mut Shadow, dut: &mut Sja1000, n: u64, rx_tied: bool, dut_tx: impl Fn(bool, u64) -> bool) {
+fn run(
+    shadow: &mut Shadow,
+    dut: &mut Sja1000,
+    n: u64,
+    rx_tied: bool,
+    dut_tx: impl Fn(bool, u64) -> bool,
+) {
     let mut tx = true;
     for _ in 0..n {
         let rx = rx_tied || tx;
         let t = dut.clock(rx);
         tx = dut_tx(t, shadow.bits());
-        let pins = DutPins { tx: Some(tx), irq_n: Some(!dut.irq()), bus_on: Some(!dut.bus_off()) };
+        let pins = DutPins {
+            tx: Some(tx),
+            irq_n: Some(!dut.irq()),
+            bus_on: Some(!dut.bus_off()),
+        };
         shadow.clock(rx, Some(pins));
         if shadow.failed() {
             return;
@@ -57,7 +74,11 @@ fn the_same_core_agrees_through_a_self_test_frame() {
     assert_eq!(sr & 0x08, 0x08, "the frame completed (SR.TCS)");
     run(&mut shadow, &mut dut, 100, false, |t, _| t);
     assert!(!shadow.finish(), "{:?}", shadow.diagnosis());
-    assert!(shadow.compared_bits() > 40, "tx compared at each sample point: {}", shadow.compared_bits());
+    assert!(
+        shadow.compared_bits() > 40,
+        "tx compared at each sample point: {}",
+        shadow.compared_bits()
+    );
     assert_eq!(shadow.compared_reads(), 1);
 }
 
@@ -96,7 +117,9 @@ fn an_sr_read_within_the_status_tolerance_passes_and_one_beyond_it_fails() {
     // A value the model never held: judged when the look-ahead closes.
     shadow.compare_read(2, 0x80 | shadow.peek(2));
     run(&mut shadow, &mut dut, 60, false, |t, _| t);
-    let d = shadow.diagnosis().expect("an SR value the model never held");
+    let d = shadow
+        .diagnosis()
+        .expect("an SR value the model never held");
     assert!(d.contains("SR"), "{d}");
 }
 
@@ -115,8 +138,20 @@ fn rx_tied_recessive_leaves_the_frame_pending_and_names_the_wiring() {
     let mut shadow = Shadow::new("rtl", 24e6).unwrap();
     // The thesis's BasicCAN set-up; the DUT is the model itself (so the
     // comparison agrees), the wiring is what fails.
-    let steps: &[(u8, u8)] =
-        &[(0, 0x01), (31, 0x00), (4, 0xFF), (5, 0xFF), (6, 0x41), (7, 0x25), (8, 0xDB), (0, 0x00), (10, 0xA5), (11, 0x21), (12, 0x51), (1, 0x01)];
+    let steps: &[(u8, u8)] = &[
+        (0, 0x01),
+        (31, 0x00),
+        (4, 0xFF),
+        (5, 0xFF),
+        (6, 0x41),
+        (7, 0x25),
+        (8, 0xDB),
+        (0, 0x00),
+        (10, 0xA5),
+        (11, 0x21),
+        (12, 0x51),
+        (1, 0x01),
+    ];
     for &(a, d) in steps {
         shadow.request(true, a, d);
         for _ in 0..4 {
@@ -129,49 +164,70 @@ fn rx_tied_recessive_leaves_the_frame_pending_and_names_the_wiring() {
     assert!(!shadow.failed());
     assert!(shadow.finish());
     let d = shadow.diagnosis().unwrap();
-    assert!(d.contains("RxNotFollowingTx") || d.contains("rx_i is tied"), "{d}");
+    assert!(
+        d.contains("RxNotFollowingTx") || d.contains("rx_i is tied"),
+        "{d}"
+    );
     assert!(d.contains("tied to 1"), "{d}");
 }
 
 #[test]
 fn the_c_abi_refuses_bad_input_with_a_message() {
-    let p = CString::new("no-such-profile").unwrap();
-    let m = sja1000_model_new(p.as_ptr(), 24e6);
-    assert!(m.is_null());
-    let e = unsafe { CStr::from_ptr(sja1000_model_last_error()) }.to_str().unwrap().to_string();
-    assert!(e.contains("no-such-profile"), "{e}");
-    let m = sja1000_model_new(std::ptr::null(), -1.0);
-    assert!(m.is_null());
-    let e = unsafe { CStr::from_ptr(sja1000_model_last_error()) }.to_str().unwrap().to_string();
-    assert!(e.contains("positive"), "{e}");
-    // A NULL handle is answered, never dereferenced.
-    assert_eq!(sja1000_model_read(std::ptr::null_mut(), 0), -1);
-    assert_eq!(sja1000_model_failed(std::ptr::null_mut()), 1);
-    sja1000_model_free(std::ptr::null_mut());
+    // SAFETY: handles come from sja1000_model_new and are freed once; strings are NUL-terminated.
+    unsafe {
+        let p = CString::new("no-such-profile").unwrap();
+        let m = sja1000_model_new(p.as_ptr(), 24e6);
+        assert!(m.is_null());
+        let e = (CStr::from_ptr(sja1000_model_last_error()))
+            .to_str()
+            .unwrap()
+            .to_string();
+        assert!(e.contains("no-such-profile"), "{e}");
+        let m = sja1000_model_new(std::ptr::null(), -1.0);
+        assert!(m.is_null());
+        let e = (CStr::from_ptr(sja1000_model_last_error()))
+            .to_str()
+            .unwrap()
+            .to_string();
+        assert!(e.contains("positive"), "{e}");
+        // A NULL handle is answered, never dereferenced.
+        assert_eq!(sja1000_model_read(std::ptr::null_mut(), 0), -1);
+        assert_eq!(sja1000_model_failed(std::ptr::null_mut()), 1);
+        sja1000_model_free(std::ptr::null_mut());
+    }
 }
 
 #[test]
 fn the_c_abi_compares_a_read_and_hands_out_the_diagnosis() {
-    let m = sja1000_model_new(std::ptr::null(), 24e6);
-    assert!(!m.is_null());
-    // rtl profile: a write lands at the 4th CAN edge, a read at the 3rd.
-    for (w, a, d) in [(1, 0, 0x01), (1, 6, 0x41), (0, 6, 0)] {
-        sja1000_model_request(m, w, a, d);
-        for _ in 0..4 {
-            sja1000_model_clock_compare(m, 1, -1, -1, -1);
+    // SAFETY: handles come from sja1000_model_new and are freed once; strings are NUL-terminated.
+    unsafe {
+        let m = sja1000_model_new(std::ptr::null(), 24e6);
+        assert!(!m.is_null());
+        // rtl profile: a write lands at the 4th CAN edge, a read at the 3rd.
+        for (w, a, d) in [(1, 0, 0x01), (1, 6, 0x41), (0, 6, 0)] {
+            sja1000_model_request(m, w, a, d);
+            for _ in 0..4 {
+                sja1000_model_clock_compare(m, 1, -1, -1, -1);
+            }
         }
+        assert_eq!(sja1000_model_compare_read(m, 6, 0x41), 0x41);
+        assert_eq!(sja1000_model_failed(m), 0);
+        let text = (CStr::from_ptr(sja1000_model_diagnosis(m)))
+            .to_str()
+            .unwrap()
+            .to_string();
+        assert_eq!(text, "");
+        sja1000_model_request(m, 0, 6, 0);
+        for _ in 0..3 {
+            sja1000_model_clock(m, 1);
+        }
+        assert_eq!(sja1000_model_compare_read(m, 6, 0x43), 0x41);
+        assert_eq!(sja1000_model_failed(m), 1);
+        let text = (CStr::from_ptr(sja1000_model_diagnosis(m)))
+            .to_str()
+            .unwrap()
+            .to_string();
+        assert!(text.contains("BTR0") && text.contains("rtl"), "{text}");
+        sja1000_model_free(m);
     }
-    assert_eq!(sja1000_model_compare_read(m, 6, 0x41), 0x41);
-    assert_eq!(sja1000_model_failed(m), 0);
-    let text = unsafe { CStr::from_ptr(sja1000_model_diagnosis(m)) }.to_str().unwrap().to_string();
-    assert_eq!(text, "");
-    sja1000_model_request(m, 0, 6, 0);
-    for _ in 0..3 {
-        sja1000_model_clock(m, 1);
-    }
-    assert_eq!(sja1000_model_compare_read(m, 6, 0x43), 0x41);
-    assert_eq!(sja1000_model_failed(m), 1);
-    let text = unsafe { CStr::from_ptr(sja1000_model_diagnosis(m)) }.to_str().unwrap().to_string();
-    assert!(text.contains("BTR0") && text.contains("rtl"), "{text}");
-    sja1000_model_free(m);
 }

@@ -7,7 +7,10 @@ use std::path::{Path, PathBuf};
 use std::process::Command;
 
 fn root() -> PathBuf {
-    Path::new(env!("CARGO_MANIFEST_DIR")).join("../..").canonicalize().unwrap()
+    Path::new(env!("CARGO_MANIFEST_DIR"))
+        .join("../..")
+        .canonicalize()
+        .unwrap()
 }
 
 /// The directory of the libsja1000_model.so built with this test: cargo
@@ -29,10 +32,20 @@ fn build(rtl: &Path, work: &Path) -> PathBuf {
     let lib = lib_dir();
     std::fs::create_dir_all(work).unwrap();
     let mut cmd = Command::new("verilator");
-    cmd.args(["--binary", "--timing", "-Wno-fatal", "-Wno-lint", "-Wno-style", "--top-module", "tb_can_top", "-j", "2"])
-        .arg(format!("-I{}", rtl.display()))
-        .arg(sv.join("sja1000_model_pkg.sv"))
-        .arg(sv.join("examples/tb_can_top.sv"));
+    cmd.args([
+        "--binary",
+        "--timing",
+        "-Wno-fatal",
+        "-Wno-lint",
+        "-Wno-style",
+        "--top-module",
+        "tb_can_top",
+        "-j",
+        "2",
+    ])
+    .arg(format!("-I{}", rtl.display()))
+    .arg(sv.join("sja1000_model_pkg.sv"))
+    .arg(sv.join("examples/tb_can_top.sv"));
     for e in std::fs::read_dir(rtl).unwrap() {
         let p = e.unwrap().path();
         let name = p.file_name().unwrap().to_str().unwrap().to_string();
@@ -41,19 +54,34 @@ fn build(rtl: &Path, work: &Path) -> PathBuf {
         }
     }
     cmd.arg("-LDFLAGS")
-        .arg(format!("-L{0} -lsja1000_model -Wl,-rpath,{0}", lib.display()))
+        .arg(format!(
+            "-L{0} -lsja1000_model -Wl,-rpath,{0}",
+            lib.display()
+        ))
         .arg("--Mdir")
         .arg(work.join("obj"));
     let out = cmd.output().expect("verilator runs");
-    assert!(out.status.success(), "verilator failed:\n{}", String::from_utf8_lossy(&out.stderr));
+    assert!(
+        out.status.success(),
+        "verilator failed:\n{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
     work.join("obj/Vtb_can_top")
 }
 
 fn run(bin: &Path, args: &[&str]) -> (bool, String) {
     // cargo's LD_LIBRARY_PATH may name an older copy of the library
     // (target/<profile>), which would win over the binary's rpath.
-    let out = Command::new(bin).args(args).env("LD_LIBRARY_PATH", lib_dir()).output().unwrap();
-    let text = format!("{}{}", String::from_utf8_lossy(&out.stdout), String::from_utf8_lossy(&out.stderr));
+    let out = Command::new(bin)
+        .args(args)
+        .env("LD_LIBRARY_PATH", lib_dir())
+        .output()
+        .unwrap();
+    let text = format!(
+        "{}{}",
+        String::from_utf8_lossy(&out.stdout),
+        String::from_utf8_lossy(&out.stderr)
+    );
     (out.status.success(), text)
 }
 
@@ -65,7 +93,10 @@ fn the_sv_scoreboard_passes_our_rtl_and_diagnoses_the_thesis_wiring_and_a_mutant
     assert!(ok && text.contains("SCOREBOARD PASS"), "{text}");
     let (ok, text) = run(&bin, &["+tied_rx"]);
     assert!(!ok, "{text}");
-    assert!(text.contains("SCOREBOARD FAIL") && text.contains("RxNotFollowingTx"), "{text}");
+    assert!(
+        text.contains("SCOREBOARD FAIL") && text.contains("RxNotFollowingTx"),
+        "{text}"
+    );
     assert!(text.contains("rx_i is tied to 1"), "{text}");
 
     // A one-line mutant: a completed transmission no longer sets SR.TCS.
@@ -78,11 +109,25 @@ fn the_sv_scoreboard_passes_our_rtl_and_diagnoses_the_thesis_wiring_and_a_mutant
     let regs = mutant.join("can_regs.v");
     let src = std::fs::read_to_string(&regs).unwrap();
     let line = "if (tx_done) begin tbs <= 1'b1; tcs <= 1'b1; end";
-    assert_eq!(src.matches(line).count(), 1, "the line to mutate is in rtl/can_regs.v once");
-    std::fs::write(&regs, src.replace(line, "if (tx_done) begin tbs <= 1'b1; end")).unwrap();
+    assert_eq!(
+        src.matches(line).count(),
+        1,
+        "the line to mutate is in rtl/can_regs.v once"
+    );
+    std::fs::write(
+        &regs,
+        src.replace(line, "if (tx_done) begin tbs <= 1'b1; end"),
+    )
+    .unwrap();
     let bin = build(&mutant, &work.path().join("mutant"));
     let (ok, text) = run(&bin, &[]);
     assert!(!ok, "{text}");
-    assert!(text.contains("SCOREBOARD FAIL") && text.contains("DutDeviatesFromModel"), "{text}");
-    assert!(text.contains("register SR") && text.contains("TCS"), "{text}");
+    assert!(
+        text.contains("SCOREBOARD FAIL") && text.contains("DutDeviatesFromModel"),
+        "{text}"
+    );
+    assert!(
+        text.contains("register SR") && text.contains("TCS"),
+        "{text}"
+    );
 }

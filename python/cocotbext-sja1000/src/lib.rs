@@ -27,27 +27,47 @@ fn frame_of(f: &CanFrame) -> PyFrame {
         Id::Standard(s) => s.as_raw() as u32,
         Id::Extended(e) => e.as_raw(),
     };
-    let data = if f.is_remote_frame() { Vec::new() } else { f.data().to_vec() };
+    let data = if f.is_remote_frame() {
+        Vec::new()
+    } else {
+        f.data().to_vec()
+    };
     (id, f.is_extended(), f.is_remote_frame(), data)
 }
 
-fn make_frame(id: u32, data: &[u8], extended: bool, remote: bool, dlc: Option<u8>) -> PyResult<CanFrame> {
+fn make_frame(
+    id: u32,
+    data: &[u8],
+    extended: bool,
+    remote: bool,
+    dlc: Option<u8>,
+) -> PyResult<CanFrame> {
     let bad = |what: String| PyValueError::new_err(what);
     let ident: Id = if extended {
-        CanFrame::ext_id(id).ok_or_else(|| bad(format!("extended id 0x{id:X} does not fit 29 bits")))?
+        CanFrame::ext_id(id)
+            .ok_or_else(|| bad(format!("extended id 0x{id:X} does not fit 29 bits")))?
     } else {
-        let raw = u16::try_from(id).map_err(|_| bad(format!("standard id 0x{id:X} does not fit 11 bits")))?;
-        CanFrame::std_id(raw).ok_or_else(|| bad(format!("standard id 0x{id:X} does not fit 11 bits")))?
+        let raw = u16::try_from(id)
+            .map_err(|_| bad(format!("standard id 0x{id:X} does not fit 11 bits")))?;
+        CanFrame::std_id(raw)
+            .ok_or_else(|| bad(format!("standard id 0x{id:X} does not fit 11 bits")))?
     };
     if data.len() > 8 {
-        return Err(bad(format!("{} data bytes: a CAN 2.0 frame holds at most 8", data.len())));
+        return Err(bad(format!(
+            "{} data bytes: a CAN 2.0 frame holds at most 8",
+            data.len()
+        )));
     }
     let dlc = dlc.unwrap_or(data.len() as u8);
     if dlc > 15 {
         return Err(bad(format!("DLC {dlc} does not fit 4 bits")));
     }
-    CanFrame::with_dlc(ident, remote, dlc, if remote { &[] } else { data })
-        .ok_or_else(|| bad(format!("no CAN frame with id 0x{id:X}, DLC {dlc}, {} data bytes", data.len())))
+    CanFrame::with_dlc(ident, remote, dlc, if remote { &[] } else { data }).ok_or_else(|| {
+        bad(format!(
+            "no CAN frame with id 0x{id:X}, DLC {dlc}, {} data bytes",
+            data.len()
+        ))
+    })
 }
 
 /// The golden SJA1000 shadowing one DUT.
@@ -63,7 +83,11 @@ impl Model {
     #[new]
     #[pyo3(signature = (profile = "rtl", can_hz = 24e6, name = None))]
     fn new(profile: &str, can_hz: f64, name: Option<&str>) -> PyResult<Self> {
-        let made = if profile == "immediate" { Shadow::immediate(can_hz) } else { Shadow::new(profile, can_hz) };
+        let made = if profile == "immediate" {
+            Shadow::immediate(can_hz)
+        } else {
+            Shadow::new(profile, can_hz)
+        };
         let mut inner = made.map_err(|e| PyValueError::new_err(e.to_string()))?;
         if let Some(n) = name {
             inner.set_test_name(n);
@@ -104,7 +128,14 @@ impl Model {
     /// One CAN clock with rx level `rx` and, to compare, the DUT's pins
     /// after it (None: not compared). Returns the model's tx.
     #[pyo3(signature = (rx, tx = None, irq_n = None, bus_on = None, compare = true))]
-    fn clock(&mut self, rx: bool, tx: Option<bool>, irq_n: Option<bool>, bus_on: Option<bool>, compare: bool) -> bool {
+    fn clock(
+        &mut self,
+        rx: bool,
+        tx: Option<bool>,
+        irq_n: Option<bool>,
+        bus_on: Option<bool>,
+        compare: bool,
+    ) -> bool {
         let pins = compare.then_some(DutPins { tx, irq_n, bus_on });
         self.inner.clock(rx, pins)
     }
@@ -174,14 +205,26 @@ impl Node {
     #[pyo3(signature = (btr0 = 0x41, btr1 = 0x25, listen_only = false))]
     fn new(btr0: u8, btr1: u8, listen_only: bool) -> Self {
         let mut m = Sja1000::new();
-        let cfg = Config { btr0, btr1, listen_only, ..Config::pelican() };
+        let cfg = Config {
+            btr0,
+            btr1,
+            listen_only,
+            ..Config::pelican()
+        };
         host::configure(&mut m, &cfg);
         Node { m, tx: true }
     }
 
     /// Queues a frame (TX buffer + CMR.TR). False if the TX buffer is busy.
     #[pyo3(signature = (id, data, extended = false, remote = false, dlc = None))]
-    fn send(&mut self, id: u32, data: Vec<u8>, extended: bool, remote: bool, dlc: Option<u8>) -> PyResult<bool> {
+    fn send(
+        &mut self,
+        id: u32,
+        data: Vec<u8>,
+        extended: bool,
+        remote: bool,
+        dlc: Option<u8>,
+    ) -> PyResult<bool> {
         let f = make_frame(id, &data, extended, remote, dlc)?;
         Ok(host::transmit(&mut self.m, &f, regmap::peli::cmr::TR).is_ok())
     }
@@ -237,7 +280,10 @@ impl Decoder {
     #[new]
     #[pyo3(signature = (btr0 = 0x41, btr1 = 0x25))]
     fn new(btr0: u8, btr1: u8) -> Self {
-        Decoder { clock: BitClock::new(BusTiming::from_btr(btr0, btr1)), dec: BitDecoder::new() }
+        Decoder {
+            clock: BitClock::new(BusTiming::from_btr(btr0, btr1)),
+            dec: BitDecoder::new(),
+        }
     }
 
     /// One CAN clock with bus `level`; the events of a sample point, each a
@@ -250,12 +296,25 @@ impl Decoder {
         }
         for e in self.dec.push(level) {
             let o = match e {
-                DecodeEvent::Frame(d) => ("frame", frame_of(&d.frame), d.ack, d.start_bit, d.end_bit).into_pyobject(py)?.into_any().unbind(),
-                DecodeEvent::Error { error, field, bit } => {
-                    ("error", format!("{error:?}"), field.to_string(), bit).into_pyobject(py)?.into_any().unbind()
+                DecodeEvent::Frame(d) => {
+                    ("frame", frame_of(&d.frame), d.ack, d.start_bit, d.end_bit)
+                        .into_pyobject(py)?
+                        .into_any()
+                        .unbind()
                 }
-                DecodeEvent::FieldStart { field, bit } => ("field", field.to_string(), bit).into_pyobject(py)?.into_any().unbind(),
-                DecodeEvent::StuffBit { bit } => ("stuff", bit).into_pyobject(py)?.into_any().unbind(),
+                DecodeEvent::Error { error, field, bit } => {
+                    ("error", format!("{error:?}"), field.to_string(), bit)
+                        .into_pyobject(py)?
+                        .into_any()
+                        .unbind()
+                }
+                DecodeEvent::FieldStart { field, bit } => ("field", field.to_string(), bit)
+                    .into_pyobject(py)?
+                    .into_any()
+                    .unbind(),
+                DecodeEvent::StuffBit { bit } => {
+                    ("stuff", bit).into_pyobject(py)?.into_any().unbind()
+                }
             };
             out.push(o);
         }
