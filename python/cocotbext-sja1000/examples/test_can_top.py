@@ -97,6 +97,9 @@ async def self_test_frame(dut):
     assert f.arbitration_id == 0x123 and bytes(f.data) == b"\xA5\x5A", f
     if sb:
         await sb.finish()
+        # The scoreboard compared something: every read, every sample point.
+        assert sb.model.compared_reads >= 30, sb.model.compared_reads
+        assert sb.model.compared_bits >= 60, sb.model.compared_bits
 
 
 @cocotb.test()
