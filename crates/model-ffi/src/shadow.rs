@@ -11,8 +11,10 @@
 
 use std::collections::VecDeque;
 
+use can_proto::decode::{DecodeEvent, Decoder};
 use can_proto::timing::BusTiming;
 use cosim::bitclock::BitClock;
+use cosim::candump::BusLog;
 use cosim::compare::Stamp;
 use cosim::{AccessTiming, CanPins, Comparator, ModelRef, PhaseOrigin, Profile, Reference};
 use diagnose::{
@@ -87,6 +89,10 @@ pub struct Shadow {
     diagnosis: Option<String>,
     /// Reads and sample points compared.
     compared_reads: u64,
+    /// The DUT's rx decoded at the bench's sample points, and the bus log
+    /// the CLI's `--candump` writes (frames seen, the model's error frames).
+    decoder: Decoder,
+    bus_log: BusLog,
 }
 
 impl Shadow {
@@ -136,6 +142,8 @@ impl Shadow {
             rx_ever_dominant: false,
             diagnosis: None,
             compared_reads: 0,
+            decoder: Decoder::new(),
+            bus_log: BusLog::new(),
         })
     }
 
@@ -336,6 +344,11 @@ impl Shadow {
         });
         let bit = self.bitclock.bits();
         if sample {
+            for e in self.decoder.push(rx) {
+                if let DecodeEvent::Frame(d) = e {
+                    self.bus_log.frame(self.now_ps(), d.frame);
+                }
+            }
             if !rx {
                 self.rx_ever_dominant = true;
             }
@@ -411,6 +424,14 @@ impl Shadow {
             self.diagnose_now();
         }
         self.failed()
+    }
+
+    /// The bus log in can-utils `candump -l` format on interface `iface`,
+    /// as `cancosim run --candump` writes it: every frame completed on the
+    /// DUT's rx, and the error frames the Linux `sja1000` driver would raise
+    /// for the DUT, from the model's events.
+    pub fn candump_log(&self, iface: &str) -> String {
+        cosim::candump::write_log(self.bus_log.entries(), iface)
     }
 
     /// The run record so far (with the wiring the pins showed).
@@ -524,10 +545,12 @@ impl Shadow {
     fn reference_events(&mut self, bit: u64) {
         self.reference.drain_events(&mut self.events);
         let counters = self.reference.counters();
+        let t_ps = self.now_ps();
         for k in self.events.drain(..) {
             if matches!(k, EventKind::TxComplete) {
                 self.last_tr = None;
             }
+            self.bus_log.event(t_ps, &k, counters);
             let mut e = EngineEvent::new(bit, Side::Model, k);
             if let Some((tec, rec)) = counters {
                 e.tec = Some(tec);
@@ -538,6 +561,11 @@ impl Shadow {
                 self.record.events.push(e);
             }
         }
+        // SR.ES (error warning) for the bus log's state frames, as the CLI's
+        // observer does: the model's journal has no warning event of its own.
+        let es = self.reference.peek(SR) & 0x40 != 0;
+        self.bus_log
+            .event(t_ps, &EventKind::ErrorWarning(es), counters);
     }
 
     /// A divergence found: the diagnosis (the first only; the comparison

@@ -172,6 +172,46 @@ fn rx_tied_recessive_leaves_the_frame_pending_and_names_the_wiring() {
 }
 
 #[test]
+fn the_candump_log_holds_the_self_test_frame_and_reads_back() {
+    let mut shadow = Shadow::immediate(24e6).unwrap();
+    let mut dut = Sja1000::new();
+    set_up(&mut shadow, &mut dut);
+    run(&mut shadow, &mut dut, 150 * 40, false, |t, _| t);
+    let log = shadow.candump_log("can0");
+    let lines = cosim::candump::parse_log(&log, "run.log").expect("the log parses");
+    let frames: Vec<String> = lines
+        .iter()
+        .map(|l| cosim::candump::frame_text(&l.kind))
+        .collect();
+    assert_eq!(frames, ["123#5A"], "{log}");
+}
+
+#[test]
+fn the_candump_log_reports_the_bus_errors_of_a_tied_rx_with_the_counters() {
+    let mut shadow = Shadow::immediate(24e6).unwrap();
+    let mut dut = Sja1000::new();
+    set_up(&mut shadow, &mut dut);
+    // Normal mode: rx tied recessive, so every attempt ends in a bit error.
+    for &(a, d) in &[(0, 0x01), (0, 0x00), (1, 0x01)] {
+        shadow.request(true, a, d);
+        dut.write(a, d);
+    }
+    run(&mut shadow, &mut dut, 2 * 40 * 40, true, |t, _| t);
+    let log = shadow.candump_log("can0");
+    let lines = cosim::candump::parse_log(&log, "run.log").expect("the log parses");
+    let errors: Vec<String> = lines
+        .iter()
+        .map(|l| cosim::candump::frame_text(&l.kind))
+        .filter(|t| t.starts_with("2000"))
+        .collect();
+    // CAN_ERR_PROT | CAN_ERR_BUSERROR | CAN_ERR_CNT, bit error while
+    // transmitting (PROT_BIT | PROT_TX), TXERR 8 after the first attempt.
+    assert!(!errors.is_empty(), "{log}");
+    assert!(errors[0].starts_with("20000288#000081"), "{log}");
+    assert_eq!(&errors[0][errors[0].len() - 4..], "0800", "{log}");
+}
+
+#[test]
 fn the_c_abi_refuses_bad_input_with_a_message() {
     // SAFETY: handles come from sja1000_model_new and are freed once; strings are NUL-terminated.
     unsafe {
