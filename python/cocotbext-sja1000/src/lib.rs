@@ -8,6 +8,10 @@
 //! - `Node`: a golden SJA1000 node on the bus (sends and receives frames).
 //! - `Decoder`: the bench's bit clock and the bit-stream decoder, fed the
 //!   bus level once per CAN clock.
+//! - `Faults`: bit flips, glitches and a stuck bus, with the command line's
+//!   semantics, placed by frame bit or by field.
+
+mod faults;
 
 use can_proto::decode::{DecodeEvent, Decoder as BitDecoder};
 use can_proto::timing::BusTiming;
@@ -181,6 +185,13 @@ impl Model {
         self.inner.bits()
     }
 
+    /// The bus log in can-utils `candump -l` format, as `cancosim run
+    /// --candump` writes it (frames on the DUT's rx, the model's error frames).
+    #[pyo3(signature = (iface = "can0"))]
+    fn candump_log(&self, iface: &str) -> String {
+        self.inner.candump_log(iface)
+    }
+
     /// The run record as JSON (what `cancosim diagnose` reads back).
     fn record_json(&self) -> String {
         self.inner.record().to_json()
@@ -333,5 +344,6 @@ fn _native(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_class::<Model>()?;
     m.add_class::<Node>()?;
     m.add_class::<Decoder>()?;
+    m.add_class::<faults::Faults>()?;
     Ok(())
 }

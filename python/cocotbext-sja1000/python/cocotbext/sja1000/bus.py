@@ -1,13 +1,13 @@
 """The wired-AND CAN bus as a cocotb agent, with golden-model nodes."""
 
 import logging
-from typing import Any, List, Optional
+from typing import Any, List, Optional, Union
 
 import cocotb
 from cocotb.queue import Queue
 from cocotb.triggers import FallingEdge
 
-from ._native import Node
+from ._native import Faults, Node
 from ._signals import bind, level, stop_task
 from .frame import CanFrame
 
@@ -61,9 +61,19 @@ class CanBus:
     (for a core without an rx synchroniser, like our ``can_top`` with
     ``RX_SYNC = 0``).
 
-    Faults: :meth:`force` holds the bus at a level for some clocks (a stuck
-    bus or a glitch); ``rx_tied`` ties the DUT's rx (the DE2 thesis wiring)
-    while the model nodes still see the wired-AND.
+    Faults, with the command line's semantics (``[[fault]]`` of a scenario):
+    :meth:`flip` inverts a bit, :meth:`glitch` puts a pulse of some CAN
+    clocks inside a bit, :meth:`stuck` holds a level for some bits. Each is
+    placed in frame ``frame`` (counted from 1, the first SOF on the bus) at
+    wire bit ``bit`` (SOF = 0, stuff bits counted, as ``bit_in_frame``), or
+    at bit ``bit`` of ``field`` (``"crc"``, ``"data"``, ``"ack_slot"``...;
+    stuff bits not counted). ``target`` says who receives the fault:
+    ``"bus"`` (everyone, the DUT included), ``"dut-rx"`` (the DUT only) or a
+    model node's name. Positions are the bench's: its bit clock and decoder
+    on the wired-AND level, bits counted from bit boundary to boundary.
+    :meth:`force` holds the bus at a level for some clocks from now;
+    ``rx_tied`` ties the DUT's rx (the DE2 thesis wiring) while the model
+    nodes still see the wired-AND.
     """
 
     def __init__(
@@ -90,6 +100,9 @@ class CanBus:
         self.clocks = 0
         self._force_level = True
         self._force_left = 0
+        # Kept from the start, so frames are counted from the first SOF.
+        self._faults = Faults(btr0, btr1)
+        self._node_rx: Optional[List[bool]] = None
         self.rx.value = 1
         self.log.info(
             "CAN bus on %s/%s, clock %s, BTR0=0x%02X BTR1=0x%02X%s",
@@ -104,6 +117,77 @@ class CanBus:
         self.nodes.append(node)
         return node
 
+    @property
+    def clocks_per_bit(self) -> int:
+        """CAN clocks per bit of the bus's BTR0/BTR1."""
+        tq = 2 * ((self.btr0 & 0x3F) + 1)
+        return tq * (3 + (self.btr1 & 0x0F) + ((self.btr1 >> 4) & 0x07))
+
+    def _target(self, target: str) -> Optional[int]:
+        if target == "bus":
+            return None
+        if target in ("dut-rx", "dut"):
+            return 0
+        for i, n in enumerate(self.nodes):
+            if n.name == target:
+                return 1 + i
+        names = ", ".join(repr(n.name) for n in self.nodes) or "none yet"
+        raise ValueError(f"fault target {target!r} is neither 'bus', 'dut-rx' nor a node name (nodes: {names})")
+
+    def _fault_list(self) -> Faults:
+        return self._faults
+
+    def flip(self, *, frame: int, bit: int, field: Optional[str] = None, target: str = "bus") -> None:
+        """Inverts one bit: wire bit ``bit`` of frame ``frame``, or bit
+        ``bit`` of ``field`` in that frame, for ``target``."""
+        self._fault_list().flip(frame, bit, field, self._target(target))
+
+    def glitch(
+        self,
+        *,
+        frame: int,
+        bit: int,
+        field: Optional[str] = None,
+        offset: Optional[int] = None,
+        width: Optional[int] = None,
+        level: Union[None, bool, str] = None,
+        target: str = "bus",
+    ) -> None:
+        """A pulse of ``width`` CAN clocks starting ``offset`` clocks into the
+        bit (default: 1/8 of a bit, 1/4 into it, as the command line), of the
+        inverted level, or of ``level`` ("dominant"/"recessive") if given."""
+        cpb = self.clocks_per_bit
+        off = cpb // 4 if offset is None else offset
+        w = max(cpb // 8, 1) if width is None else width
+        lv = None if level is None else _level(level)
+        self._fault_list().glitch(frame, bit, off, w, field, lv, self._target(target))
+
+    def stuck(
+        self,
+        level: Union[bool, str],
+        bits: int,
+        *,
+        frame: Optional[int] = None,
+        bit: int = 0,
+        field: Optional[str] = None,
+        target: str = "bus",
+    ) -> None:
+        """The bus stuck at ``level`` ("dominant"/"recessive", or True for
+        recessive) for ``bits`` bit times, from a frame bit or (no
+        ``frame``) from the next CAN clock."""
+        self._fault_list().stuck(_level(level), bits, frame, bit, field, self._target(target))
+
+    @property
+    def faults_applied(self) -> int:
+        """CAN clocks at which a fault changed what some receiver got (0:
+        no fault has acted yet)."""
+        return self._faults.applied
+
+    @property
+    def faults_waiting(self) -> int:
+        """Faults placed by field whose bit has not come yet."""
+        return self._faults.waiting
+
     def force(self, level: bool, clocks: int) -> None:
         """Holds the bus at ``level`` for the next ``clocks`` CAN clocks."""
         self._force_level, self._force_left = bool(level), int(clocks)
@@ -117,10 +201,25 @@ class CanBus:
             self.clocks += 1
             rx = self.level  # what every node and the DUT sampled at the rising edge
             bus = level(self.tx)
-            for n in self.nodes:
-                bus = n._clock(rx) and bus
+            node_rx = self._node_rx
+            for i, n in enumerate(self.nodes):
+                r = node_rx[i] if node_rx is not None and i < len(node_rx) else rx
+                bus = n._clock(r) and bus
             if self._force_left > 0:
                 self._force_left -= 1
                 bus = self._force_level
             self.level = bus
-            self.rx.value = int(bus if self.rx_tied is None else self.rx_tied)
+            dut_rx = bus
+            got = self._faults.clock(bus, 1 + len(self.nodes))
+            if got is not None:
+                dut_rx, self._node_rx = got[0], got[1:]
+            self.rx.value = int(dut_rx if self.rx_tied is None else self.rx_tied)
+
+
+def _level(level: Union[bool, str]) -> bool:
+    """A bus level: "dominant" / "recessive", or a bool (True = recessive)."""
+    if isinstance(level, str):
+        if level not in ("dominant", "recessive"):
+            raise ValueError(f"level {level!r}: use 'dominant' or 'recessive'")
+        return level == "recessive"
+    return bool(level)

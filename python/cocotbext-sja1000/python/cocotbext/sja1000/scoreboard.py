@@ -35,8 +35,13 @@ class Sja1000Scoreboard:
     Wishbone monitor sees each launch half a host cycle late, which can move
     an access by one CAN clock (inside the tolerances).
 
-    With ``report_dir``, a failure also writes the diagnosis text and the
-    run record (JSON) there, named after ``name``.
+    With ``report_dir``, the scoreboard writes there, named after ``name``,
+    what ``cancosim run`` writes: the run record (``<name>.record.json``,
+    which ``cancosim diagnose`` reads back), the bus log in can-utils
+    ``candump -l`` format (``<name>.log``: frames on the DUT's rx and the
+    error frames the Linux ``sja1000`` driver would raise for the DUT, from
+    the model), and on a failure the diagnosis (``<name>.diagnosis.txt``).
+    It writes them at :meth:`finish` or at the first divergence.
 
     The first divergence raises :class:`Sja1000Mismatch` from the
     scoreboard's task (which fails the running test); ``await finish()`` at
@@ -60,11 +65,13 @@ class Sja1000Scoreboard:
         reset: Optional[str] = "wb_rst_i",
         name: Optional[str] = None,
         report_dir: Optional[str] = None,
+        candump_iface: str = "can0",
     ) -> None:
         self.log = logging.getLogger(f"cocotb.{dut._name}.sja1000sb")
         self.name = name or dut._name
         self.model = Model(profile, can_hz, self.name)
         self.report_dir = report_dir
+        self.candump_iface = candump_iface
         self._reported = False
         self.clock = bind(dut, prefix, clk)
         self.rx = bind(dut, prefix, rx)
@@ -109,16 +116,22 @@ class Sja1000Scoreboard:
             self._report()
             raise Sja1000Mismatch(self.model.diagnosis)
 
+    def candump_log(self) -> str:
+        """The bus log so far, in can-utils ``candump -l`` format."""
+        return self.model.candump_log(self.candump_iface)
+
     def _report(self) -> None:
-        """With ``report_dir``: ``<name>.diagnosis.txt`` and the run record
-        ``<name>.record.json`` (``cancosim diagnose`` reads it back)."""
+        """With ``report_dir``: the run record, the candump log and, on a
+        failure, the diagnosis text (once)."""
         if self.report_dir is None or self._reported:
             return
         self._reported = True
         d = Path(self.report_dir)
         d.mkdir(parents=True, exist_ok=True)
-        (d / f"{self.name}.diagnosis.txt").write_text(self.model.diagnosis or "")
+        if self.model.failed:
+            (d / f"{self.name}.diagnosis.txt").write_text(self.model.diagnosis or "")
         (d / f"{self.name}.record.json").write_text(self.model.record_json())
+        (d / f"{self.name}.log").write_text(self.candump_log())
 
     async def _run(self) -> None:
         m = self.model
@@ -145,6 +158,7 @@ class Sja1000Scoreboard:
             self.wishbone.stop()
         self.model.finish()
         self._check()
+        self._report()
         self.log.info(
             "scoreboard: %d register reads and %d tx sample points compared, no divergence",
             self.model.compared_reads, self.model.compared_bits,
