@@ -177,10 +177,7 @@ impl Faults {
         BusContext {
             clock: self.clocks,
             frame: self.frames.checked_sub(1).map(u64::from),
-            frame_bit: self
-                .clock
-                .bit_in_progress()
-                .saturating_sub(self.sof_bit) as u32,
+            frame_bit: self.clock.bit_in_progress().saturating_sub(self.sof_bit) as u32,
             sub: self.clock.sub(),
             clocks_per_bit: self.clock.clocks_per_bit(),
         }
@@ -238,12 +235,8 @@ impl Faults {
         while i < self.by_field.len() {
             let p = self.by_field[i];
             if p.frame == frame && p.field == field && p.bit == index {
-                self.active.push(injector(
-                    p.kind,
-                    u64::from(frame - 1),
-                    frame_bit,
-                    p.target,
-                ));
+                self.active
+                    .push(injector(p.kind, u64::from(frame - 1), frame_bit, p.target));
                 self.by_field.remove(i);
             } else {
                 i += 1;
