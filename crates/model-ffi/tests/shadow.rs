@@ -1,0 +1,273 @@
+//! The shadow against a second golden model standing in for the DUT: the
+//! same stimulus agrees; a DUT that differs in one register bit, in its tx,
+//! or a bench whose rx does not follow tx is diagnosed.
+
+use std::ffi::{CStr, CString};
+
+use sja1000::Sja1000;
+use sja1000_model::*;
+
+/// PeliCAN self-test set-up, then a self-reception request: (addr, data).
+const SELF_TEST: &[(u8, u8)] = &[
+    (0, 0x01),  // MOD: reset mode
+    (31, 0x80), // CDR: PeliCAN
+    (0, 0x05),  // MOD: reset + self-test
+    (6, 0x41),  // BTR0
+    (7, 0x25),  // BTR1
+    (16, 0xFF),
+    (17, 0xFF),
+    (18, 0xFF),
+    (19, 0xFF), // ACR0..3
+    (20, 0xFF),
+    (21, 0xFF),
+    (22, 0xFF),
+    (23, 0xFF), // AMR0..3
+    (0, 0x04),  // MOD: operating, self-test
+    (16, 0x01), // TX frame info: standard, DLC 1
+    (17, 0x24),
+    (18, 0x60), // ID 0x123
+    (19, 0x5A), // data
+    (1, 0x10),  // CMR: self reception request
+];
+
+/// Runs `n` CAN clocks of `shadow` and a model `dut` with tx looped to rx
+/// (unless `rx_tied`); `dut_tx` may distort the DUT's tx.
+fn run(
+    shadow: &mut Shadow,
+    dut: &mut Sja1000,
+    n: u64,
+    rx_tied: bool,
+    dut_tx: impl Fn(bool, u64) -> bool,
+) {
+    let mut tx = true;
+    for _ in 0..n {
+        let rx = rx_tied || tx;
+        let t = dut.clock(rx);
+        tx = dut_tx(t, shadow.bits());
+        let pins = DutPins {
+            tx: Some(tx),
+            irq_n: Some(!dut.irq()),
+            bus_on: Some(!dut.bus_off()),
+        };
+        shadow.clock(rx, Some(pins));
+        if shadow.failed() {
+            return;
+        }
+    }
+}
+
+fn set_up(shadow: &mut Shadow, dut: &mut Sja1000) {
+    for &(a, d) in SELF_TEST {
+        shadow.request(true, a, d);
+        dut.write(a, d);
+    }
+}
+
+#[test]
+fn the_same_core_agrees_through_a_self_test_frame() {
+    let mut shadow = Shadow::immediate(24e6).unwrap();
+    let mut dut = Sja1000::new();
+    set_up(&mut shadow, &mut dut);
+    run(&mut shadow, &mut dut, 150 * 40, false, |t, _| t);
+    let sr = dut.read(2);
+    shadow.compare_read(2, sr);
+    assert_eq!(sr & 0x08, 0x08, "the frame completed (SR.TCS)");
+    run(&mut shadow, &mut dut, 100, false, |t, _| t);
+    assert!(!shadow.finish(), "{:?}", shadow.diagnosis());
+    assert!(
+        shadow.compared_bits() > 40,
+        "tx compared at each sample point: {}",
+        shadow.compared_bits()
+    );
+    assert_eq!(shadow.compared_reads(), 1);
+}
+
+#[test]
+fn a_wrong_register_bit_is_diagnosed_with_the_register_and_values() {
+    let mut shadow = Shadow::immediate(24e6).unwrap();
+    let mut dut = Sja1000::new();
+    set_up(&mut shadow, &mut dut);
+    // BTR0 read back with one bit flipped (a planted register-file bug).
+    let v = dut.read(6) ^ 0x01;
+    let _ = shadow.compare_read(6, v);
+    let d = shadow.diagnosis().expect("a divergence");
+    assert!(d.contains("BTR0"), "{d}");
+    assert!(d.contains("0x40") && d.contains("0x41"), "{d}");
+}
+
+#[test]
+fn an_sr_read_within_the_status_tolerance_passes_and_one_beyond_it_fails() {
+    let mut shadow = Shadow::immediate(24e6).unwrap();
+    let mut dut = Sja1000::new();
+    for &(a, d) in &SELF_TEST[..SELF_TEST.len() - 1] {
+        shadow.request(true, a, d);
+        dut.write(a, d);
+    }
+    // SR as the model had it before the request (transmit buffer free, no
+    // transmission): a DUT whose status lags a few clocks reads that.
+    run(&mut shadow, &mut dut, 4, false, |t, _| t);
+    let early = shadow.peek(2);
+    shadow.request(true, 1, 0x10);
+    dut.write(1, 0x10);
+    run(&mut shadow, &mut dut, 30, false, |t, _| t);
+    assert_ne!(shadow.peek(2), early, "SR moved within the 30 clocks");
+    shadow.compare_read(2, early);
+    run(&mut shadow, &mut dut, 60, false, |t, _| t);
+    assert!(!shadow.failed(), "{:?}", shadow.diagnosis());
+    // A value the model never held: judged when the look-ahead closes.
+    shadow.compare_read(2, 0x80 | shadow.peek(2));
+    run(&mut shadow, &mut dut, 60, false, |t, _| t);
+    let d = shadow
+        .diagnosis()
+        .expect("an SR value the model never held");
+    assert!(d.contains("SR"), "{d}");
+}
+
+#[test]
+fn a_tx_stuck_recessive_is_a_tx_divergence_at_the_start_of_frame() {
+    let mut shadow = Shadow::immediate(24e6).unwrap();
+    let mut dut = Sja1000::new();
+    set_up(&mut shadow, &mut dut);
+    run(&mut shadow, &mut dut, 150 * 40, false, |_, _| true);
+    let d = shadow.diagnosis().expect("tx differs");
+    assert!(d.contains("tx"), "{d}");
+}
+
+#[test]
+fn rx_tied_recessive_leaves_the_frame_pending_and_names_the_wiring() {
+    let mut shadow = Shadow::new("rtl", 24e6).unwrap();
+    // The thesis's BasicCAN set-up; the DUT is the model itself (so the
+    // comparison agrees), the wiring is what fails.
+    let steps: &[(u8, u8)] = &[
+        (0, 0x01),
+        (31, 0x00),
+        (4, 0xFF),
+        (5, 0xFF),
+        (6, 0x41),
+        (7, 0x25),
+        (8, 0xDB),
+        (0, 0x00),
+        (10, 0xA5),
+        (11, 0x21),
+        (12, 0x51),
+        (1, 0x01),
+    ];
+    for &(a, d) in steps {
+        shadow.request(true, a, d);
+        for _ in 0..4 {
+            shadow.clock(true, None);
+        }
+    }
+    for _ in 0..(3000 * 10) {
+        shadow.clock(true, None);
+    }
+    assert!(!shadow.failed());
+    assert!(shadow.finish());
+    let d = shadow.diagnosis().unwrap();
+    assert!(
+        d.contains("RxNotFollowingTx") || d.contains("rx_i is tied"),
+        "{d}"
+    );
+    assert!(d.contains("tied to 1"), "{d}");
+}
+
+#[test]
+fn the_candump_log_holds_the_self_test_frame_and_reads_back() {
+    let mut shadow = Shadow::immediate(24e6).unwrap();
+    let mut dut = Sja1000::new();
+    set_up(&mut shadow, &mut dut);
+    run(&mut shadow, &mut dut, 150 * 40, false, |t, _| t);
+    let log = shadow.candump_log("can0");
+    let lines = cosim::candump::parse_log(&log, "run.log").expect("the log parses");
+    let frames: Vec<String> = lines
+        .iter()
+        .map(|l| cosim::candump::frame_text(&l.kind))
+        .collect();
+    assert_eq!(frames, ["123#5A"], "{log}");
+}
+
+#[test]
+fn the_candump_log_reports_the_bus_errors_of_a_tied_rx_with_the_counters() {
+    let mut shadow = Shadow::immediate(24e6).unwrap();
+    let mut dut = Sja1000::new();
+    set_up(&mut shadow, &mut dut);
+    // Normal mode: rx tied recessive, so every attempt ends in a bit error.
+    for &(a, d) in &[(0, 0x01), (0, 0x00), (1, 0x01)] {
+        shadow.request(true, a, d);
+        dut.write(a, d);
+    }
+    run(&mut shadow, &mut dut, 2 * 40 * 40, true, |t, _| t);
+    let log = shadow.candump_log("can0");
+    let lines = cosim::candump::parse_log(&log, "run.log").expect("the log parses");
+    let errors: Vec<String> = lines
+        .iter()
+        .map(|l| cosim::candump::frame_text(&l.kind))
+        .filter(|t| t.starts_with("2000"))
+        .collect();
+    // CAN_ERR_PROT | CAN_ERR_BUSERROR | CAN_ERR_CNT, bit error while
+    // transmitting (PROT_BIT | PROT_TX), TXERR 8 after the first attempt.
+    assert!(!errors.is_empty(), "{log}");
+    assert!(errors[0].starts_with("20000288#000081"), "{log}");
+    assert_eq!(&errors[0][errors[0].len() - 4..], "0800", "{log}");
+}
+
+#[test]
+fn the_c_abi_refuses_bad_input_with_a_message() {
+    // SAFETY: handles come from sja1000_model_new and are freed once; strings are NUL-terminated.
+    unsafe {
+        let p = CString::new("no-such-profile").unwrap();
+        let m = sja1000_model_new(p.as_ptr(), 24e6);
+        assert!(m.is_null());
+        let e = (CStr::from_ptr(sja1000_model_last_error()))
+            .to_str()
+            .unwrap()
+            .to_string();
+        assert!(e.contains("no-such-profile"), "{e}");
+        let m = sja1000_model_new(std::ptr::null(), -1.0);
+        assert!(m.is_null());
+        let e = (CStr::from_ptr(sja1000_model_last_error()))
+            .to_str()
+            .unwrap()
+            .to_string();
+        assert!(e.contains("positive"), "{e}");
+        // A NULL handle is answered, never dereferenced.
+        assert_eq!(sja1000_model_read(std::ptr::null_mut(), 0), -1);
+        assert_eq!(sja1000_model_failed(std::ptr::null_mut()), 1);
+        sja1000_model_free(std::ptr::null_mut());
+    }
+}
+
+#[test]
+fn the_c_abi_compares_a_read_and_hands_out_the_diagnosis() {
+    // SAFETY: handles come from sja1000_model_new and are freed once; strings are NUL-terminated.
+    unsafe {
+        let m = sja1000_model_new(std::ptr::null(), 24e6);
+        assert!(!m.is_null());
+        // rtl profile: a write lands at the 4th CAN edge, a read at the 3rd.
+        for (w, a, d) in [(1, 0, 0x01), (1, 6, 0x41), (0, 6, 0)] {
+            sja1000_model_request(m, w, a, d);
+            for _ in 0..4 {
+                sja1000_model_clock_compare(m, 1, -1, -1, -1);
+            }
+        }
+        assert_eq!(sja1000_model_compare_read(m, 6, 0x41), 0x41);
+        assert_eq!(sja1000_model_failed(m), 0);
+        let text = (CStr::from_ptr(sja1000_model_diagnosis(m)))
+            .to_str()
+            .unwrap()
+            .to_string();
+        assert_eq!(text, "");
+        sja1000_model_request(m, 0, 6, 0);
+        for _ in 0..3 {
+            sja1000_model_clock(m, 1);
+        }
+        assert_eq!(sja1000_model_compare_read(m, 6, 0x43), 0x41);
+        assert_eq!(sja1000_model_failed(m), 1);
+        let text = (CStr::from_ptr(sja1000_model_diagnosis(m)))
+            .to_str()
+            .unwrap()
+            .to_string();
+        assert!(text.contains("BTR0") && text.contains("rtl"), "{text}");
+        sja1000_model_free(m);
+    }
+}

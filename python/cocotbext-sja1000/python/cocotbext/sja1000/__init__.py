@@ -1,0 +1,40 @@
+"""CAN for cocotb: a wired-AND bus agent with golden-model nodes, a bus
+monitor, and the golden SJA1000 as a scoreboard whose failures carry the
+diagnoser's text.
+
+- :class:`CanBus`: drives the DUT's rx from the wired-AND of its tx and the
+  model nodes' (:class:`CanNode`), takes faults (a forced level).
+- :class:`CanMonitor`: decodes the bus into frames, errors, fields and stuff
+  bits; ``await recv()``, callbacks.
+- :class:`Sja1000Scoreboard`: the golden SJA1000 shadowing the DUT, fed by
+  its own Wishbone monitor or by ``request``/``read_data`` from any bus;
+  compares register reads, tx bits and the irq/bus-off pins with the
+  command line's tolerances; raises :class:`Sja1000Mismatch` with the
+  diagnosis.
+- :class:`WishboneMaster`, :class:`WishboneMonitor`: a classic Wishbone
+  driver and monitor (8-bit data), enough for an SJA1000-style core.
+"""
+
+from ._native import Decoder, Model, Node
+from .bus import CanBus, CanNode
+from .frame import CanFrame
+from .monitor import CanMonitor, BusEvent
+from .scoreboard import Sja1000Mismatch, Sja1000Scoreboard
+from .wishbone import WishboneMaster, WishboneMonitor, WishboneAccess
+
+__all__ = [
+    "BusEvent",
+    "CanBus",
+    "CanFrame",
+    "CanMonitor",
+    "CanNode",
+    "Decoder",
+    "Model",
+    "Node",
+    "Sja1000Mismatch",
+    "Sja1000Scoreboard",
+    "WishboneAccess",
+    "WishboneMaster",
+    "WishboneMonitor",
+]
+__version__ = "0.1.0"

@@ -1,0 +1,165 @@
+"""The golden SJA1000 shadowing a DUT: a scoreboard whose failure is the diagnosis."""
+
+import logging
+from pathlib import Path
+from typing import Any, Optional
+
+import cocotb
+from cocotb.triggers import FallingEdge
+
+from ._native import Model
+from ._signals import bind, level, stop_task
+from .wishbone import WishboneAccess, WishboneMonitor
+
+
+class Sja1000Mismatch(AssertionError):
+    """The DUT diverged from the golden model (or a requested frame never
+    went out); the message is the diagnoser's text: what happened, the
+    figures (bit, field, expected, seen), the root cause and the fix."""
+
+
+class Sja1000Scoreboard:
+    """Shadows an SJA1000-compatible DUT with the golden model.
+
+    Host side: a :class:`WishboneMonitor` on ``dut.<wb_prefix>*`` (default),
+    or ``wb_prefix=None`` and calls to :meth:`request` / :meth:`read_data`
+    from a monitor of any bus (Avalon-MM, a processor model...).
+
+    CAN side: once per CAN clock (falling edge of ``<prefix><clk>``) the
+    model takes the rx level the DUT sampled and compares the DUT's
+    ``tx_o`` (at sample points), ``irq_on`` and ``bus_off_on``.
+
+    Each access reaches the model at the CAN clock the core's ``profile``
+    declares (``"rtl"``: our ``can_top``; ``"opencores-can"``; a .toml
+    path). Tolerances are the profile's, as on the command line; the
+    Wishbone monitor sees each launch half a host cycle late, which can move
+    an access by one CAN clock (inside the tolerances).
+
+    With ``report_dir``, the scoreboard writes there, named after ``name``,
+    what ``cancosim run`` writes: the run record (``<name>.record.json``,
+    which ``cancosim diagnose`` reads back), the bus log in can-utils
+    ``candump -l`` format (``<name>.log``: frames on the DUT's rx and the
+    error frames the Linux ``sja1000`` driver would raise for the DUT, from
+    the model), and on a failure the diagnosis (``<name>.diagnosis.txt``).
+    It writes them at :meth:`finish` or at the first divergence.
+
+    The first divergence raises :class:`Sja1000Mismatch` from the
+    scoreboard's task (which fails the running test); ``await finish()`` at
+    the end judges the last reads and reports a transmission that never
+    completed.
+    """
+
+    def __init__(
+        self,
+        dut: Any,
+        *,
+        profile: str = "rtl",
+        can_hz: float = 24e6,
+        prefix: str = "",
+        wb_prefix: Optional[str] = "wb_",
+        clk: str = "clk_i",
+        rx: str = "rx_i",
+        tx: str = "tx_o",
+        irq: Optional[str] = "irq_on",
+        bus_off: Optional[str] = "bus_off_on",
+        reset: Optional[str] = "wb_rst_i",
+        name: Optional[str] = None,
+        report_dir: Optional[str] = None,
+        candump_iface: str = "can0",
+    ) -> None:
+        self.log = logging.getLogger(f"cocotb.{dut._name}.sja1000sb")
+        self.name = name or dut._name
+        self.model = Model(profile, can_hz, self.name)
+        self.report_dir = report_dir
+        self.candump_iface = candump_iface
+        self._reported = False
+        self.clock = bind(dut, prefix, clk)
+        self.rx = bind(dut, prefix, rx)
+        self.tx = bind(dut, prefix, tx)
+        self.irq = bind(dut, prefix, irq) if irq else None
+        self.bus_off = bind(dut, prefix, bus_off) if bus_off else None
+        self.reset = bind(dut, "", reset) if reset else None
+        self.log.info("golden SJA1000, profile %s; %s", profile, self.model.tolerances)
+        self.wishbone = None
+        if wb_prefix is not None:
+            self.wishbone = WishboneMonitor(dut, wb_prefix, reset="rst_i")
+            self.wishbone.add_callback(self._on_wishbone)
+        self._task = cocotb.start_soon(self._run())
+
+    # The host-side hook, for a monitor of any bus.
+    def request(self, write: bool, addr: int, data: int = 0) -> None:
+        """An access presented to the DUT, at the host edge that first presents it."""
+        self.model.request(write, addr, data)
+
+    def read_data(self, addr: int, data: int) -> int:
+        """The DUT's read data at the ack; returns the model's value."""
+        v = self.model.compare_read(addr, data)
+        self._check()
+        return v
+
+    def _on_wishbone(self, a: WishboneAccess) -> None:
+        if a.launch:
+            self.request(a.write, a.addr, a.data)
+        elif not a.write:
+            self.read_data(a.addr, a.data)
+
+    @property
+    def failed(self) -> bool:
+        return self.model.failed
+
+    @property
+    def diagnosis(self) -> Optional[str]:
+        return self.model.diagnosis
+
+    def _check(self) -> None:
+        if self.model.failed:
+            self._report()
+            raise Sja1000Mismatch(self.model.diagnosis)
+
+    def candump_log(self) -> str:
+        """The bus log so far, in can-utils ``candump -l`` format."""
+        return self.model.candump_log(self.candump_iface)
+
+    def _report(self) -> None:
+        """With ``report_dir``: the run record, the candump log and, on a
+        failure, the diagnosis text (once)."""
+        if self.report_dir is None or self._reported:
+            return
+        self._reported = True
+        d = Path(self.report_dir)
+        d.mkdir(parents=True, exist_ok=True)
+        if self.model.failed:
+            (d / f"{self.name}.diagnosis.txt").write_text(self.model.diagnosis or "")
+        (d / f"{self.name}.record.json").write_text(self.model.record_json())
+        (d / f"{self.name}.log").write_text(self.candump_log())
+
+    async def _run(self) -> None:
+        m = self.model
+        while True:
+            await FallingEdge(self.clock)
+            if self.reset is not None and level(self.reset):
+                continue
+            m.clock(
+                level(self.rx),
+                level(self.tx),
+                level(self.irq) if self.irq is not None else None,
+                level(self.bus_off) if self.bus_off is not None else None,
+            )
+            if m.failed:
+                self._check()
+
+    async def finish(self) -> None:
+        """Runs the CAN clocks that still decide open comparisons, then the
+        end-of-test check; raises :class:`Sja1000Mismatch` on a failure."""
+        for _ in range(self.model.open_clocks + 2):
+            await FallingEdge(self.clock)
+        stop_task(self._task)
+        if self.wishbone is not None:
+            self.wishbone.stop()
+        self.model.finish()
+        self._check()
+        self._report()
+        self.log.info(
+            "scoreboard: %d register reads and %d tx sample points compared, no divergence",
+            self.model.compared_reads, self.model.compared_bits,
+        )
