@@ -710,7 +710,7 @@ _cancosim() {
             return 0
             ;;
         cancosim__subcmd__mutate)
-            opts="-j -h --external --profile --top --define --count --seed --list --jobs --shard --out --fresh --no-formal --formal-steps --host --budget-factor --waivers --help"
+            opts="-j -h --external --profile --top --define --count --seed --list --jobs --shard --out --fresh --no-formal --formal-steps --host --budget-factor --campaign-frames --campaign-seed --waivers --help"
             if [[ ${cur} == -* || ${COMP_CWORD} -eq 2 ]] ; then
                 COMPREPLY=( $(compgen -W "${opts}" -- "${cur}") )
                 return 0
@@ -769,6 +769,14 @@ _cancosim() {
                     return 0
                     ;;
                 --budget-factor)
+                    COMPREPLY=($(compgen -f "${cur}"))
+                    return 0
+                    ;;
+                --campaign-frames)
+                    COMPREPLY=($(compgen -f "${cur}"))
+                    return 0
+                    ;;
+                --campaign-seed)
                     COMPREPLY=($(compgen -f "${cur}"))
                     return 0
                     ;;

@@ -199,6 +199,8 @@ pio\t''
 pio-edge\t''
 i8051\t''"
 complete -c cancosim -n "__fish_cancosim_using_subcommand mutate" -l budget-factor -d 'A mutant times out when its scenarios take longer than this many times the baseline\'s total (raise it on a loaded machine)' -r
+complete -c cancosim -n "__fish_cancosim_using_subcommand mutate" -l campaign-frames -d 'Give each mutant that survives the scenarios a random campaign of this many frames (`cancosim campaign`\'s runs, on the same host and waivers); a failing run kills it' -r
+complete -c cancosim -n "__fish_cancosim_using_subcommand mutate" -l campaign-seed -d 'Seed of those campaigns' -r
 complete -c cancosim -n "__fish_cancosim_using_subcommand mutate" -l waivers -d 'Waiver file (repeatable), added to the scenarios\' own' -r -F
 complete -c cancosim -n "__fish_cancosim_using_subcommand mutate" -l fresh -d 'Start over: ignore the journal of an earlier run in --out'
 complete -c cancosim -n "__fish_cancosim_using_subcommand mutate" -l no-formal -d 'Skip the formal check of survivors'
