@@ -2,7 +2,7 @@
 # The test command of the README: installs what is missing, runs the RTL's
 # Icarus self-checks, then the whole workspace's tests (unit, property,
 # co-simulation of rtl/ against the golden model, generators, C driver,
-# bench smoke run).
+# bench smoke run), then the cocotb example benches (scripts/test-python.sh).
 set -euo pipefail
 cd "$(dirname "$0")/.."
 bash scripts/setup.sh
@@ -28,3 +28,5 @@ echo "== RTL self-checks (Icarus) =="
 sh tb/rtl/run.sh
 echo "== Rust workspace tests =="
 cargo test --workspace --release "$@"
+echo "== cocotb benches of rtl/ with the model as scoreboard (Python wheel) =="
+bash scripts/test-python.sh --quick

@@ -369,6 +369,9 @@ pub fn draw(seed: u64, index: u64, lim: &DrawLimits) -> Plan {
     let t = draw_timing(&mut r, lim.max_brp);
     let nodes_n = r.random_range(lim.nodes.0..=lim.nodes.1);
     let frames_n = r.random_range(lim.frames.0..=lim.frames.1);
+    // A run costs CAN clocks: with long quanta, fewer frames (the extremes
+    // stay covered, the campaign keeps its pace).
+    let frames_n = if t.brp > 15 { frames_n.min(lim.frames.0.max(4)) } else { frames_n };
     // Filters: open, random, or built around the base identifier.
     let mut acr = [0u8; 4];
     let mut amr = [0xFFu8; 4];
