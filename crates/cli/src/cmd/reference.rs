@@ -190,7 +190,7 @@ fn section(s: &mut String, path: &str, c: &clap::Command) {
 
 /// Text fit for one Markdown table cell.
 fn cell(t: &str) -> String {
-    t.trim().replace('|', "\\|").replace("\n\n", "<br>").replace('\n', " ")
+    t.trim().replace('|', "\\|").replace('[', "\\[").replace(']', "\\]").replace("\n\n", "<br>").replace('\n', " ")
 }
 
 /// GitHub's anchor of a heading.
