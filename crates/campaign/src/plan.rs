@@ -408,7 +408,10 @@ pub fn draw(seed: u64, index: u64, lim: &DrawLimits) -> Plan {
             // Within the tolerance the timing allows, kept to 40 % of it:
             // two nodes may differ by twice this.
             let max = (tol * 0.4 * 1e6) as i32;
-            PlanNode { ppm: if max > 0 { r.random_range(-max..=max) } else { 0 }, frames: Vec::new() }
+            let ppm = if max > 0 { r.random_range(-max..=max) } else { 0 };
+            // A node never runs above the CAN 2.0 maximum bit rate.
+            let ppm = if t.bit_rate(CAN_HZ) * (1.0 + ppm as f64 * 1e-6) > MAX_BIT_RATE as f64 { -ppm.abs() } else { ppm };
+            PlanNode { ppm, frames: Vec::new() }
         })
         .collect();
     let frame_bits = 140u64;

@@ -148,18 +148,45 @@ pub fn judge(plan: &Plan, o: &RunOutcome) -> Judged {
     Judged { failure, signature: sig, scoreboard: sb }
 }
 
-/// The scenario a plan is run as.
-pub fn scenario_of(plan: &Plan, purpose: &str) -> Scenario {
+/// The scenario a plan is run as (an error is a kit defect: the draw made
+/// a plan the scenario format refuses; the render tests check many).
+pub fn scenario_of(plan: &Plan, purpose: &str) -> Result<Scenario, scenario::ScenarioError> {
     let text = render::to_toml(plan, purpose, &[]);
-    Scenario::parse(&text, format!("campaign/campaign-s{}-r{}.toml", plan.seed, plan.index)).expect("a rendered plan is a valid scenario (checked by the render tests)")
+    Scenario::parse(&text, format!("campaign/campaign-s{}-r{}.toml", plan.seed, plan.index))
 }
 
-/// Runs one plan and judges it.
+/// Runs one plan and judges it. A plan that does not load is a failed run
+/// (named as a kit defect), not a panic of the whole campaign.
 pub fn run_plan(plan: &Plan, opts: &RunOptions) -> (RunOutcome, Judged) {
-    let s = scenario_of(plan, &format!("Random run {} of seed {}: {}", plan.index, plan.seed, render::summary(plan)));
-    let o = scenario::run::run(&s, opts);
-    let j = judge(plan, &o);
-    (o, j)
+    let purpose = format!("Random run {} of seed {}: {}", plan.index, plan.seed, render::summary(plan));
+    match scenario_of(plan, &purpose) {
+        Ok(s) => {
+            let o = scenario::run::run(&s, opts);
+            let j = judge(plan, &o);
+            (o, j)
+        }
+        Err(e) => {
+            let mut r = diagnose::RunRecord::new(&format!("campaign-s{}-r{}", plan.seed, plan.index), opts.dut.as_ref().map(|d| d.name.as_str()).unwrap_or(""));
+            let what = format!("kit defect: the drawn plan is not a valid scenario: {e}");
+            r.error = Some(what.clone());
+            let diagnosis = diagnose::diagnose(&r);
+            let o = RunOutcome {
+                record: r,
+                diagnosis,
+                passed: false,
+                mismatches: vec![what.clone()],
+                received: Vec::new(),
+                dut: opts.dut.as_ref().map(|d| d.name.clone()).unwrap_or_default(),
+                wall: Duration::ZERO,
+                waivers: None,
+                warnings: Vec::new(),
+                skipped: None,
+                bus_log: Vec::new(),
+                delivered: Vec::new(),
+            };
+            (o, Judged { failure: Some(what), signature: Some(Signature("kit defect: invalid plan".into())), scoreboard: Vec::new() })
+        }
+    }
 }
 
 /// The result of shrinking one failure.
@@ -524,8 +551,11 @@ pub fn run_campaign(cfg: &RandomConfig) -> CampaignResult {
             // What a correct core does is what the golden model does: its
             // diagnosis category becomes the scenario's [expect], so the file
             // passes on a core without the defect and joins a list as it is.
-            let model = scenario::run::run(&scenario_of(small, &purpose), &RunOptions { dut: Some(DutSpec::model()), ..Default::default() });
-            let text = render::to_toml_expecting(small, &purpose, &header, model.diagnosis.category);
+            let category = match scenario_of(small, &purpose) {
+                Ok(s) => scenario::run::run(&s, &RunOptions { dut: Some(DutSpec::model()), ..Default::default() }).diagnosis.category,
+                Err(_) => diagnose::Category::Pass,
+            };
+            let text = render::to_toml_expecting(small, &purpose, &header, category);
             let saved = std::fs::create_dir_all(dir).and_then(|_| std::fs::write(&path, &text));
             if saved.is_ok() {
                 // Saving is serialisation: the file, loaded back, must fail the same way.
@@ -539,7 +569,7 @@ pub fn run_campaign(cfg: &RandomConfig) -> CampaignResult {
             }
         }
         let _ = o;
-        failing_scenarios.push(scenario_of(small, &purpose));
+        failing_scenarios.extend(scenario_of(small, &purpose).ok());
         failures.push(failure);
     }
     let runs = results.len() as u64;

@@ -238,10 +238,10 @@ mod tests {
 
     #[test]
     fn every_drawn_plan_is_a_valid_scenario_that_keeps_its_contents() {
-        for i in 0..300 {
-            let p = draw(11, i, &DrawLimits { fault_rate: 0.5, ..DrawLimits::default() });
+        for (seed, i) in [11u64, 100, 2026].into_iter().flat_map(|s| (0..400).map(move |i| (s, i))) {
+            let p = draw(seed, i, &DrawLimits { fault_rate: 0.5, ..DrawLimits::default() });
             let text = to_toml(&p, "a \"quoted\" purpose", &["header".into()]);
-            let s = scenario::Scenario::parse(&text, format!("campaign/r{i}.toml")).unwrap_or_else(|e| panic!("run {i}: {e}\n{text}"));
+            let s = scenario::Scenario::parse(&text, format!("campaign/r{i}.toml")).unwrap_or_else(|e| panic!("seed {seed} run {i}: {e}\n{text}"));
             assert_eq!(s.nodes.len(), p.nodes.len());
             assert_eq!(s.faults.len(), p.faults.len());
             assert_eq!(s.purpose, "a \"quoted\" purpose");
