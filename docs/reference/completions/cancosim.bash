@@ -118,7 +118,7 @@ _cancosim() {
             return 0
             ;;
         cancosim__subcmd__bench)
-            opts="-h --smoke --frames --icarus-frames --seed --repeat --json --mutants --rebuild --mutant-scenarios --help"
+            opts="-h --smoke --frames --icarus-frames --seed --repeat --json --mutants --rebuild --mutant-scenarios --campaign-frames --campaign-external --help"
             if [[ ${cur} == -* || ${COMP_CWORD} -eq 2 ]] ; then
                 COMPREPLY=( $(compgen -W "${opts}" -- "${cur}") )
                 return 0
@@ -149,6 +149,14 @@ _cancosim() {
                     return 0
                     ;;
                 --mutant-scenarios)
+                    COMPREPLY=($(compgen -f "${cur}"))
+                    return 0
+                    ;;
+                --campaign-frames)
+                    COMPREPLY=($(compgen -f "${cur}"))
+                    return 0
+                    ;;
+                --campaign-external)
                     COMPREPLY=($(compgen -f "${cur}"))
                     return 0
                     ;;

@@ -148,6 +148,8 @@ complete -c cancosim -n "__fish_cancosim_using_subcommand bench" -l repeat -d 'I
 complete -c cancosim -n "__fish_cancosim_using_subcommand bench" -l mutants -d 'Add the mutation rows: time per mutant for K mutants of our rtl/ in one `-ctrl` build (build shared by the K, plus each one\'s simulations) vs a build per mutant (measured on --rebuild of them; cold Verilator builds: minutes). `--mutants` alone: 200, the size of the README\'s campaign' -r
 complete -c cancosim -n "__fish_cancosim_using_subcommand bench" -l rebuild -d 'Mutants rebuilt alone for the comparison (their mean per mutant is used)' -r
 complete -c cancosim -n "__fish_cancosim_using_subcommand bench" -l mutant-scenarios -d 'Scenario set every mutant runs on both paths (scenario files or lists, repeatable; default tb/de2-pelican-selftest.toml)' -r -F
+complete -c cancosim -n "__fish_cancosim_using_subcommand bench" -l campaign-frames -d 'Frames of the campaign rows (`cancosim campaign`, seed 1, quanta up to BRP 3, one job): frames per CPU second on our rtl/ and, with --campaign-external, on that core (0: no rows)' -r
+complete -c cancosim -n "__fish_cancosim_using_subcommand bench" -l campaign-external -d 'A second campaign row on this core: DIR@PROFILE (e.g. path/to/can@opencores-can; defines CAN_WISHBONE_IF, DIR as include dir)' -r
 complete -c cancosim -n "__fish_cancosim_using_subcommand bench" -l smoke -d 'CI-sized run (seconds): tiny frame counts, same table'
 complete -c cancosim -n "__fish_cancosim_using_subcommand bench" -l json -d 'Print JSON instead of the table'
 complete -c cancosim -n "__fish_cancosim_using_subcommand bench" -s h -l help -d 'Print help'
