@@ -367,8 +367,11 @@ impl Reference for ModelRef {
         Some((can_mode(&self.m), self.m.in_reset_mode()))
     }
     fn clkout_setting(&self) -> crate::clkout::ClkoutSetting {
-        // CDR sits at 31 in both views.
-        if self.m.is_sleeping() { crate::clkout::ClkoutSetting::Unchecked } else { crate::clkout::ClkoutSetting::from_cdr(self.m.peek(31)) }
+        // Asked every CAN clock: the stored CDR, whose low nibble is what a
+        // read of address 31 shows in both views and modes (checked by
+        // `clkout_setting_is_the_setting_of_the_cdr_read`), without the
+        // register map's decoding.
+        if self.m.is_sleeping() { crate::clkout::ClkoutSetting::Unchecked } else { crate::clkout::ClkoutSetting::from_cdr(self.m.cdr()) }
     }
     fn reg_name(&self, addr: u8, write: bool) -> Option<String> {
         reg_name(&self.m, addr, write)
@@ -463,6 +466,32 @@ mod tests {
     /// model says uncached: self-test frames looped back with glitches on
     /// rx (errors, error frames, retransmissions), host reads and writes
     /// between clocks, bit timing changes and a hard reset.
+    /// The per-clock CLKOUT setting reads the stored CDR instead of
+    /// decoding a register read: the same setting as from the read, for
+    /// every CDR value, in both views, in reset and operating mode.
+    #[test]
+    fn clkout_setting_is_the_setting_of_the_cdr_read() {
+        use crate::clkout::ClkoutSetting;
+        let mut checked = 0;
+        for v in 0..=255u8 {
+            let mut r = ModelRef::new();
+            // Reset mode (the default after a hardware reset): every bit writable.
+            Reference::write(&mut r, 31, v);
+            assert_eq!(r.clkout_setting(), ClkoutSetting::from_cdr(r.peek(31)), "CDR 0x{v:02X} in reset mode");
+            // Operating mode (MOD.RM / CR.RR is bit 0 at address 0 in both views):
+            // only CD.2..0 writable.
+            Reference::write(&mut r, 0, 0x00);
+            Reference::write(&mut r, 31, v ^ 0x05);
+            assert_eq!(r.clkout_setting(), ClkoutSetting::from_cdr(r.peek(31)), "CDR 0x{v:02X} ^ 5 in operating mode");
+            checked += 2;
+        }
+        assert_eq!(checked, 512);
+        // The setting still follows the value: a clock-off CDR is Off.
+        let mut r = ModelRef::new();
+        Reference::write(&mut r, 31, 0x88);
+        assert_eq!(r.clkout_setting(), ClkoutSetting::Off);
+    }
+
     #[test]
     fn step_view_is_always_the_uncached_view() {
         let mut r = ModelRef::new();

@@ -661,10 +661,13 @@ impl Testbench {
         let (lv, ot, tm) = (&levels[..made], &out[..made], &times[..made]);
         // The DUT's tx of the instant before (for the first, as of now).
         let mut prev_tx = self.dut_pins.tx;
+        // `clkout_levels`, kept in a register between CAN edges (only
+        // `can_edge` reads it, and leaves it 0).
+        let mut clkout_levels = self.clkout_levels;
         for i in 0..made {
             let l = lv[i];
             let o = ot[i];
-            self.clkout_levels |= 1 << (o >> 3 & 1);
+            clkout_levels |= 1 << (o >> 3 & 1);
             if l & 0b1100 == 0 {
                 prev_tx = o & 1 != 0;
                 continue;
@@ -689,6 +692,7 @@ impl Testbench {
                 }
             }
             if l & 4 != 0 {
+                self.clkout_levels = std::mem::take(&mut clkout_levels);
                 self.can_edge(tm[i], VerilatedDut::batch_pins(o, active_high));
             }
             if self.checks.stopped()
@@ -699,6 +703,7 @@ impl Testbench {
                 break;
             }
         }
+        self.clkout_levels |= clkout_levels;
         if replayed > 0 {
             self.dut_pins = VerilatedDut::batch_pins(out[replayed - 1], active_high);
         }

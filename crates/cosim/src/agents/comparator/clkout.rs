@@ -141,7 +141,11 @@ impl ClkoutCheck {
             }),
             ClkoutSetting::Divide { half_period } => self.divide(half_period, toggled),
         };
-        self.pending = found.map(|m| (m, 0));
+        // `pending` is None here (see above): only a finding is stored, so a
+        // clock that finds nothing writes nothing.
+        if let Some(m) = found {
+            self.pending = Some((m, 0));
+        }
         None
     }
 
@@ -175,6 +179,7 @@ impl ClkoutCheck {
         })
     }
 
+    #[inline]
     fn divide(&mut self, half_period: u32, toggled: bool) -> Option<ClkoutMismatch> {
         let run = self.since_toggle.map_or(self.since_change - SETTLE_CLOCKS, |n| n + 1);
         let wrong = |seen: u32, what: String| Some(ClkoutMismatch { expected: half_period, seen, what });
