@@ -34,10 +34,10 @@ use crate::agents::observer::Observer;
 use crate::agents::reference::{DutKind, HostKind, RefTiming, ReferenceAgent};
 pub use crate::agents::reference::ReferenceChoice;
 use crate::bridge::{BridgeError, ExternalCore};
-use crate::compare::{Comparator, ComparatorAgent, CompareConfig, IR_ADDR, Now, SR_ADDR, Stamp};
+use crate::compare::{Comparator, ComparatorAgent, CompareConfig, IR_ADDR, Now, RefView, SR_ADDR, Stamp};
 use crate::dut::{AnyDut, CanPins, EchoModel, HostPort, VerilatedDut};
 use crate::kernel::{Kernel, KernelError, Tick};
-use crate::model::ModelDut;
+use crate::model::{AnyRef, ModelDut};
 use crate::profile::{PhaseOrigin, PortMap, Profile};
 use crate::wave::{Wave, WaveSample};
 use waivers::{CollectMode, DutInfo, Session, WaiverReport, WaiverSet};
@@ -664,6 +664,10 @@ impl Testbench {
         // `clkout_levels`, kept in a register between CAN edges (only
         // `can_edge` reads it, and leaves it 0).
         let mut clkout_levels = self.clkout_levels;
+        // A quiet stretch (see `quiet_clocks_ahead`): CAN edges left in it,
+        // and the DUT's pins (out bits 0..2), bus level and reference view
+        // it holds for.
+        let (mut ahead, mut ahead_out, mut ahead_level, mut ahead_view) = (0u32, 0u8, true, RefView::default());
         for i in 0..made {
             let l = lv[i];
             let o = ot[i];
@@ -689,11 +693,23 @@ impl Testbench {
                 } else {
                     self.host_edge();
                     quiet = quiet_wires && self.host.monitor_saw(s0);
+                    // Not promised anything about a host edge taken in full.
+                    ahead = 0;
                 }
             }
             if l & 4 != 0 {
                 self.clkout_levels = std::mem::take(&mut clkout_levels);
-                self.can_edge(tm[i], VerilatedDut::batch_pins(o, active_high));
+                let pins = VerilatedDut::batch_pins(o, active_high);
+                if ahead > 0 && o & 7 == ahead_out && self.bus.level() == ahead_level {
+                    ahead -= 1;
+                    if !self.quiet_can_edge(tm[i], pins, &ahead_view) {
+                        ahead = 0;
+                    }
+                } else {
+                    self.can_edge(tm[i], pins);
+                    (ahead, ahead_view) = self.quiet_clocks_ahead(pins);
+                    (ahead_out, ahead_level) = (o & 7, self.bus.level());
+                }
             }
             if self.checks.stopped()
                 && let Err(e) = self.check_stopped()
@@ -800,6 +816,64 @@ impl Testbench {
                 self.handle_divergences();
             }
         }
+    }
+
+    /// After a CAN edge taken in full (`can_edge`, the DUT's pins `pins`):
+    /// how many of the next CAN edges, while the DUT's tx, irq and bus-off
+    /// pins and the bus level stay as they are now, can take
+    /// [`Testbench::quiet_can_edge`], and the reference's view on them.
+    /// Only in lockstep with the golden model: none of them is a quantum
+    /// boundary of the reference (it only counts: `ModelRef::counting_clocks`,
+    /// so its view stays), none is a sample point of the bench's bit clock
+    /// (`Observer::clocks_before_sample`), no frame waits for the DUT's SOF,
+    /// and the comparator takes its short path with these inputs
+    /// (`ComparatorAgent::quiet_ahead`, which that path keeps true).
+    fn quiet_clocks_ahead(&self, pins: CanPins) -> (u32, RefView) {
+        let none = (0, RefView::default());
+        let Some(AnyRef::Model(m)) = &self.reference.model else { return none };
+        if self.reference.awaiting_dut_sof() {
+            return none;
+        }
+        let n = m.counting_clocks().min(self.obs.clocks_before_sample(self.bus.level()));
+        if n == 0 {
+            return none;
+        }
+        let v = m.view_now();
+        if !self.checks.quiet_ahead(&v, &pins) {
+            return none;
+        }
+        (n, v)
+    }
+
+    /// A CAN edge promised by [`Testbench::quiet_clocks_ahead`] (`v`: the
+    /// reference's view then): what [`Testbench::can_edge`] does on it, in
+    /// the same order, without what cannot happen there (a sample point,
+    /// the reference's quantum work and events, the comparator's long
+    /// path). False when a CLKOUT finding ended the stretch (handled as
+    /// `can_edge` does).
+    #[inline]
+    fn quiet_can_edge(&mut self, t_ps: u64, pins: CanPins, v: &RefView) -> bool {
+        self.can_clocks += 1;
+        self.host.on_can_edge();
+        let sample = self.obs.clock(self.bus.level());
+        debug_assert!(!sample, "a promised clock is no sample point");
+        let rx = self.bus.dut_rx();
+        let Some(AnyRef::Model(m)) = &mut self.reference.model else {
+            unreachable!("quiet_clocks_ahead checked the reference");
+        };
+        m.counting_clock(rx);
+        if self.clkout_levels != 0 {
+            self.checks.clkout_instants(std::mem::take(&mut self.clkout_levels));
+        }
+        let bit = self.obs.bits();
+        let field = v.field.or(self.obs.field());
+        let (obs, r) = (&self.obs, &self.reference.model);
+        let clkout = || r.as_ref().map_or(crate::clkout::ClkoutSetting::Unchecked, |r| r.clkout_setting());
+        if self.checks.quiet_clock(|| obs.stamp(t_ps, bit, v.field), field, bit, v, &pins, clkout) {
+            self.handle_divergences();
+            return false;
+        }
+        true
     }
 
     fn check_stopped(&self) -> Result<(), TbError> {
