@@ -823,7 +823,9 @@ impl Testbench {
         }
     }
 
-    /// After a CAN edge taken in full (`can_edge`, the DUT's pins `pins`):
+    /// After a CAN edge taken in full (`can_edge`, the DUT's pins `pins`;
+    /// work added to `can_edge` goes into `quiet_can_edge` too, or ends the
+    /// stretch here):
     /// how many of the next CAN edges, while the DUT's tx, irq and bus-off
     /// pins and the bus level stay as they are now, can take
     /// [`Testbench::quiet_can_edge`], and the reference's view on them.
