@@ -79,6 +79,22 @@ impl BitClock {
         self.bits - u64::from(self.count > self.sample_at)
     }
 
+    /// How many of the next clocks, with the bus staying at `level`, are
+    /// not sample points (0 if the level differs from the last clock's: an
+    /// edge may hard-synchronise). `count` is below `per_bit` and
+    /// `sample_at` below `per_bit` (see `set_timing`).
+    #[inline]
+    pub fn clocks_before_sample(&self, level: bool) -> u32 {
+        if self.prev != level {
+            return 0;
+        }
+        if self.count <= self.sample_at {
+            self.sample_at - self.count
+        } else {
+            self.per_bit - self.count + self.sample_at
+        }
+    }
+
     /// One CAN clock with bus `level`; true if this clock is a sample point.
     #[inline]
     pub fn clock(&mut self, level: bool) -> bool {
@@ -101,6 +117,28 @@ impl BitClock {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn clocks_before_sample_counts_exactly_the_clocks_that_do_not_sample() {
+        let t = BusTiming::from_btr(0x41, 0x25);
+        let mut c = BitClock::new(t);
+        for level in [true, false] {
+            // A level change first (its falling edge hard-synchronises): no promise.
+            if c.prev != level {
+                assert_eq!(c.clocks_before_sample(level), 0);
+                c.clock(level);
+            }
+            for _ in 0..200 {
+                let n = c.clocks_before_sample(level);
+                let mut probe = c.clone();
+                for k in 0..n {
+                    assert!(!probe.clock(level), "clock {k} of {n} promised quiet sampled");
+                }
+                assert!(probe.clock(level), "the clock after the {n} quiet ones samples");
+                c.clock(level);
+            }
+        }
+    }
 
     #[test]
     fn samples_once_per_bit_at_the_end_of_tseg1_after_hard_sync() {

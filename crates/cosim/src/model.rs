@@ -234,6 +234,37 @@ impl ModelRef {
         self
     }
 
+    /// How many of the next CAN clocks only count in the model: before its
+    /// next time-quantum boundary, with no host access or resync since the
+    /// view was read (`stale`) and no event waiting. On such a clock `step`
+    /// clocks the model and returns the view it returned last, with only
+    /// CLKOUT moved ([`ModelRef::counting_clock`]).
+    #[inline]
+    pub fn counting_clocks(&self) -> u32 {
+        if self.stale || self.view.events || self.m.engine().has_events() {
+            return 0;
+        }
+        self.m.engine().clocks_to_next_tq() - 1
+    }
+
+    /// One of the [`ModelRef::counting_clocks`]: what `step` does on it
+    /// (the model's clock; the view stays as it is), without building the
+    /// view.
+    #[inline]
+    pub fn counting_clock(&mut self, rx: bool) {
+        debug_assert!(!self.stale && self.m.engine().clocks_to_next_tq() > 1);
+        self.m.clock(rx);
+    }
+
+    /// The view `step` returned last, with tx and CLKOUT as they are now.
+    #[inline]
+    pub fn view_now(&self) -> RefView {
+        RefView {
+            pins: CanPins { tx: self.m.tx(), clkout: self.m.clkout(), ..self.view.pins },
+            ..self.view
+        }
+    }
+
     /// Recomputes the cached view from the model (its `tx` and `clkout`
     /// are read afresh by `step` at every clock).
     fn observe(&mut self) {
@@ -367,8 +398,11 @@ impl Reference for ModelRef {
         Some((can_mode(&self.m), self.m.in_reset_mode()))
     }
     fn clkout_setting(&self) -> crate::clkout::ClkoutSetting {
-        // CDR sits at 31 in both views.
-        if self.m.is_sleeping() { crate::clkout::ClkoutSetting::Unchecked } else { crate::clkout::ClkoutSetting::from_cdr(self.m.peek(31)) }
+        // Asked every CAN clock: the stored CDR, whose low nibble is what a
+        // read of address 31 shows in both views and modes (checked by
+        // `clkout_setting_is_the_setting_of_the_cdr_read`), without the
+        // register map's decoding.
+        if self.m.is_sleeping() { crate::clkout::ClkoutSetting::Unchecked } else { crate::clkout::ClkoutSetting::from_cdr(self.m.cdr()) }
     }
     fn reg_name(&self, addr: u8, write: bool) -> Option<String> {
         reg_name(&self.m, addr, write)
@@ -463,6 +497,99 @@ mod tests {
     /// model says uncached: self-test frames looped back with glitches on
     /// rx (errors, error frames, retransmissions), host reads and writes
     /// between clocks, bit timing changes and a hard reset.
+    /// A clock promised by `counting_clocks` behaves as `step` on it:
+    /// a model that takes its promised clocks through `counting_clock`
+    /// shows at every clock the view of a twin that steps every clock,
+    /// through self-test frames with glitches on rx, reads and writes.
+    #[test]
+    fn counting_clocks_are_steps_that_keep_the_view() {
+        let (mut a, mut b) = (ModelRef::new(), ModelRef::new());
+        let mut seed = 0x9E37_79B9_7F4A_7C15u64;
+        let mut rnd = move |n: u64| {
+            seed ^= seed << 13;
+            seed ^= seed >> 7;
+            seed ^= seed << 17;
+            seed % n
+        };
+        let config: &[(u8, u8)] =
+            &[(0, 0x01), (31, 0xC0), (0, 0x01), (6, 0x41), (7, 0x25), (20, 0xFF), (21, 0xFF), (22, 0xFF), (23, 0xFF), (4, 0xFF), (0, 0x04)];
+        let both = |a: &mut ModelRef, b: &mut ModelRef, addr: u8, d: u8| {
+            assert_eq!(Reference::write(a, addr, d), Reference::write(b, addr, d));
+        };
+        for &(addr, d) in config {
+            both(&mut a, &mut b, addr, d);
+        }
+        let (mut left, mut promised) = (0u32, 0u64);
+        let (mut ev_a, mut ev_b) = (Vec::new(), Vec::new());
+        for clk in 0..200_000u64 {
+            if clk % 6_000 == 100 {
+                both(&mut a, &mut b, 16, 0x08);
+                for addr in 17..27 {
+                    let d = rnd(256) as u8;
+                    both(&mut a, &mut b, addr, d);
+                }
+                both(&mut a, &mut b, 1, 0x10);
+                // A host access ends any promise (it made the view stale).
+                assert_eq!(b.counting_clocks(), 0);
+                left = 0;
+            }
+            if rnd(3_000) == 0 {
+                let addr = [2, 3, 11, 12, 14][rnd(5) as usize];
+                assert_eq!(Reference::read(&mut a, addr), Reference::read(&mut b, addr));
+                left = 0;
+            }
+            let rx = a.m.tx() ^ (rnd(2_500) == 0);
+            let va = a.step(rx);
+            let vb = if left > 0 {
+                left -= 1;
+                promised += 1;
+                b.counting_clock(rx);
+                b.view_now()
+            } else {
+                b.step(rx)
+            };
+            assert_eq!(va, vb, "clock {clk}");
+            if va.events {
+                a.drain_events(&mut ev_a);
+                b.drain_events(&mut ev_b);
+                assert_eq!(ev_a, ev_b, "clock {clk}");
+                ev_a.clear();
+                ev_b.clear();
+            }
+            if left == 0 {
+                left = b.counting_clocks();
+            }
+        }
+        // 4 clocks per quantum: most clocks are counting ones.
+        assert!(promised > 100_000, "clocks taken as counting: {promised}");
+    }
+
+    /// The per-clock CLKOUT setting reads the stored CDR instead of
+    /// decoding a register read: the same setting as from the read, for
+    /// every CDR value, in both views, in reset and operating mode.
+    #[test]
+    fn clkout_setting_is_the_setting_of_the_cdr_read() {
+        use crate::clkout::ClkoutSetting;
+        let mut checked = 0;
+        for v in 0..=255u8 {
+            let mut r = ModelRef::new();
+            // Reset mode (the default after a hardware reset): every bit writable.
+            Reference::write(&mut r, 31, v);
+            assert_eq!(r.clkout_setting(), ClkoutSetting::from_cdr(r.peek(31)), "CDR 0x{v:02X} in reset mode");
+            // Operating mode (MOD.RM / CR.RR is bit 0 at address 0 in both views):
+            // only CD.2..0 writable.
+            Reference::write(&mut r, 0, 0x00);
+            Reference::write(&mut r, 31, v ^ 0x05);
+            assert_eq!(r.clkout_setting(), ClkoutSetting::from_cdr(r.peek(31)), "CDR 0x{v:02X} ^ 5 in operating mode");
+            checked += 2;
+        }
+        assert_eq!(checked, 512);
+        // The setting still follows the value: a clock-off CDR is Off.
+        let mut r = ModelRef::new();
+        Reference::write(&mut r, 31, 0x88);
+        assert_eq!(r.clkout_setting(), ClkoutSetting::Off);
+    }
+
     #[test]
     fn step_view_is_always_the_uncached_view() {
         let mut r = ModelRef::new();

@@ -33,10 +33,10 @@ pub use crate::agents::bus::NodeConfig;
 use crate::agents::observer::Observer;
 use crate::agents::reference::{DutKind, HostKind, RefTiming, ReferenceAgent};
 pub use crate::agents::reference::ReferenceChoice;
-use crate::compare::{Comparator, ComparatorAgent, CompareConfig, IR_ADDR, Now, SR_ADDR, Stamp};
+use crate::compare::{Comparator, ComparatorAgent, CompareConfig, IR_ADDR, Now, RefView, SR_ADDR, Stamp};
 use crate::dut::{AnyDut, CanPins, EchoModel, HostPort, VerilatedDut};
 use crate::kernel::{Kernel, Tick};
-use crate::model::ModelDut;
+use crate::model::{AnyRef, ModelDut};
 use crate::profile::{PhaseOrigin, PortMap, Profile};
 use crate::wave::{Wave, WaveSample};
 pub use crate::dut::{CustomDut, DutChoice};
@@ -587,10 +587,20 @@ impl Testbench {
         let (lv, ot, tm) = (&levels[..made], &out[..made], &times[..made]);
         // The DUT's tx of the instant before (for the first, as of now).
         let mut prev_tx = self.dut_pins.tx;
+        // `clkout_levels`, kept in a register between CAN edges (only
+        // `can_edge` reads it, and leaves it 0).
+        let mut clkout_levels = self.clkout_levels;
+        // A quiet stretch (see `quiet_clocks_ahead`): CAN edges left in it,
+        // and the DUT's pins (out bits 0..2), bus level and reference view
+        // it holds for.
+        let (mut ahead, mut ahead_out, mut ahead_level, mut ahead_view) = (0u32, 0u8, true, RefView::default());
+        // Only a lockstep run with the golden model has quiet stretches:
+        // without one, not even asked.
+        let stretches = matches!(self.reference.model, Some(AnyRef::Model(_)));
         for i in 0..made {
             let l = lv[i];
             let o = ot[i];
-            self.clkout_levels |= 1 << (o >> 3 & 1);
+            clkout_levels |= 1 << (o >> 3 & 1);
             if l & 0b1100 == 0 {
                 prev_tx = o & 1 != 0;
                 continue;
@@ -612,10 +622,25 @@ impl Testbench {
                 } else {
                     self.host_edge();
                     quiet = quiet_wires && self.host.monitor_saw(s0);
+                    // Not promised anything about a host edge taken in full.
+                    ahead = 0;
                 }
             }
             if l & 4 != 0 {
-                self.can_edge(tm[i], VerilatedDut::batch_pins(o, active_high));
+                self.clkout_levels = std::mem::take(&mut clkout_levels);
+                let pins = VerilatedDut::batch_pins(o, active_high);
+                if ahead > 0 && o & 7 == ahead_out && self.bus.level() == ahead_level {
+                    ahead -= 1;
+                    if !self.quiet_can_edge(tm[i], pins, &ahead_view) {
+                        ahead = 0;
+                    }
+                } else {
+                    self.can_edge(tm[i], pins);
+                    if stretches {
+                        (ahead, ahead_view) = self.quiet_clocks_ahead(pins);
+                        (ahead_out, ahead_level) = (o & 7, self.bus.level());
+                    }
+                }
             }
             if self.checks.stopped()
                 && let Err(e) = self.check_stopped()
@@ -625,6 +650,7 @@ impl Testbench {
                 break;
             }
         }
+        self.clkout_levels |= clkout_levels;
         if replayed > 0 {
             self.dut_pins = VerilatedDut::batch_pins(out[replayed - 1], active_high);
         }
@@ -721,6 +747,66 @@ impl Testbench {
                 self.handle_divergences();
             }
         }
+    }
+
+    /// After a CAN edge taken in full (`can_edge`, the DUT's pins `pins`;
+    /// work added to `can_edge` goes into `quiet_can_edge` too, or ends the
+    /// stretch here):
+    /// how many of the next CAN edges, while the DUT's tx, irq and bus-off
+    /// pins and the bus level stay as they are now, can take
+    /// [`Testbench::quiet_can_edge`], and the reference's view on them.
+    /// Only in lockstep with the golden model: none of them is a quantum
+    /// boundary of the reference (it only counts: `ModelRef::counting_clocks`,
+    /// so its view stays), none is a sample point of the bench's bit clock
+    /// (`Observer::clocks_before_sample`), no frame waits for the DUT's SOF,
+    /// and the comparator takes its short path with these inputs
+    /// (`ComparatorAgent::quiet_ahead`, which that path keeps true).
+    fn quiet_clocks_ahead(&self, pins: CanPins) -> (u32, RefView) {
+        let none = (0, RefView::default());
+        let Some(AnyRef::Model(m)) = &self.reference.model else { return none };
+        if self.reference.awaiting_dut_sof() {
+            return none;
+        }
+        let n = m.counting_clocks().min(self.obs.clocks_before_sample(self.bus.level()));
+        if n == 0 {
+            return none;
+        }
+        let v = m.view_now();
+        if !self.checks.quiet_ahead(&v, &pins) {
+            return none;
+        }
+        (n, v)
+    }
+
+    /// A CAN edge promised by [`Testbench::quiet_clocks_ahead`] (`v`: the
+    /// reference's view then): what [`Testbench::can_edge`] does on it, in
+    /// the same order, without what cannot happen there (a sample point,
+    /// the reference's quantum work and events, the comparator's long
+    /// path). False when a CLKOUT finding ended the stretch (handled as
+    /// `can_edge` does).
+    #[inline]
+    fn quiet_can_edge(&mut self, t_ps: u64, pins: CanPins, v: &RefView) -> bool {
+        self.can_clocks += 1;
+        self.host.on_can_edge();
+        let sample = self.obs.clock(self.bus.level());
+        debug_assert!(!sample, "a promised clock is no sample point");
+        let rx = self.bus.dut_rx();
+        let Some(AnyRef::Model(m)) = &mut self.reference.model else {
+            unreachable!("quiet_clocks_ahead checked the reference");
+        };
+        m.counting_clock(rx);
+        if self.clkout_levels != 0 {
+            self.checks.clkout_instants(std::mem::take(&mut self.clkout_levels));
+        }
+        let bit = self.obs.bits();
+        let field = v.field.or(self.obs.field());
+        let (obs, r) = (&self.obs, &self.reference.model);
+        let clkout = || r.as_ref().map_or(crate::clkout::ClkoutSetting::Unchecked, |r| r.clkout_setting());
+        if self.checks.quiet_clock(|| obs.stamp(t_ps, bit, v.field), field, bit, v, &pins, clkout) {
+            self.handle_divergences();
+            return false;
+        }
+        true
     }
 
     fn check_stopped(&self) -> Result<(), TbError> {

@@ -631,6 +631,15 @@ impl Sja1000 {
         self.bs
     }
 
+    /// The clock divider register as stored, without a register read's
+    /// decoding: its CD (2..0) and clock-off (3) bits are what `peek(31)`
+    /// shows in every view and mode, at the cost of a field load (a test
+    /// bench asks for them every CAN clock).
+    #[inline]
+    pub fn cdr(&self) -> u8 {
+        self.cdr
+    }
+
     /// CLKOUT pin level (CDR.2..0 divider, CDR.3 clock off holds it high).
     /// With CD = 7 (fosc itself) the level within one clk_i period cannot
     /// be shown at one call per period; it reads high.

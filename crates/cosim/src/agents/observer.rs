@@ -106,6 +106,13 @@ impl Observer {
         s
     }
 
+    /// CAN clocks ahead, with the bus staying at `level`, that are not
+    /// sample points of the bench's bit clock ([`BitClock::clocks_before_sample`]).
+    #[inline]
+    pub fn clocks_before_sample(&self, level: bool) -> u32 {
+        self.bitclock.clocks_before_sample(level)
+    }
+
     /// Where a comparison of this clock happens: the reference's field if
     /// it knows one, else the decoder's.
     #[inline]

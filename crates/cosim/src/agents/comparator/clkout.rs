@@ -111,6 +111,32 @@ impl ClkoutCheck {
     /// One CAN clock: the reference's setting now, the DUT's `clkout_o`.
     #[inline]
     pub fn clock(&mut self, setting: ClkoutSetting, dut_level: bool) -> Option<ClkoutMismatch> {
+        // Most clocks: a divider setting that has settled, with nothing found
+        // yet. `clock_general` then does exactly this: no reset (same
+        // setting), the instants dropped (only `Fosc` reads them), past the
+        // settle time (`since_change` only grows), no finding ageing, and
+        // the divider check, whose finding starts ageing.
+        if let ClkoutSetting::Divide { half_period } = setting
+            && setting == self.setting
+            && !self.reported
+            && self.pending.is_none()
+            && self.since_change > SETTLE_CLOCKS
+        {
+            self.instant_levels = 0;
+            let toggled = self.last_level.is_some_and(|l| l != dut_level);
+            self.last_level = Some(dut_level);
+            self.since_change = self.since_change.saturating_add(1);
+            if let Some(m) = self.divide(half_period, toggled) {
+                self.pending = Some((m, 0));
+            }
+            return None;
+        }
+        self.clock_general(setting, dut_level)
+    }
+
+    /// [`ClkoutCheck::clock`] in full.
+    #[inline(never)]
+    fn clock_general(&mut self, setting: ClkoutSetting, dut_level: bool) -> Option<ClkoutMismatch> {
         let instants = std::mem::take(&mut self.instant_levels);
         if setting != self.setting {
             *self = ClkoutCheck { setting, sub_clock: self.sub_clock, ..ClkoutCheck::default() };
@@ -141,7 +167,11 @@ impl ClkoutCheck {
             }),
             ClkoutSetting::Divide { half_period } => self.divide(half_period, toggled),
         };
-        self.pending = found.map(|m| (m, 0));
+        // `pending` is None here (see above): only a finding is stored, so a
+        // clock that finds nothing writes nothing.
+        if let Some(m) = found {
+            self.pending = Some((m, 0));
+        }
         None
     }
 
@@ -175,22 +205,44 @@ impl ClkoutCheck {
         })
     }
 
+    #[inline]
     fn divide(&mut self, half_period: u32, toggled: bool) -> Option<ClkoutMismatch> {
         let run = self.since_toggle.map_or(self.since_change - SETTLE_CLOCKS, |n| n + 1);
-        let wrong = |seen: u32, what: String| Some(ClkoutMismatch { expected: half_period, seen, what });
         if toggled {
             let measured = self.since_toggle.is_some();
             self.since_toggle = Some(0);
             if measured && run != half_period {
-                return wrong(run, format!("clkout_o toggled after {run} CAN clocks; CDR.2..0 = {} gives a toggle every {half_period}", half_period - 1));
+                return Some(divide_mismatch(half_period, run, true));
             }
         } else {
             self.since_toggle = self.since_toggle.map(|n| n + 1);
             if run > half_period {
-                return wrong(0, format!("clkout_o did not toggle for {run} CAN clocks; CDR.2..0 = {} gives a toggle every {half_period}", half_period - 1));
+                return Some(divide_mismatch(half_period, run, false));
             }
         }
         None
+    }
+}
+
+/// The finding of [`ClkoutCheck::divide`]: a toggle after `run` CAN
+/// clocks (`toggled`), or none for `run` clocks. Out of line: the check's
+/// per-clock path stays small.
+#[cold]
+#[inline(never)]
+fn divide_mismatch(half_period: u32, run: u32, toggled: bool) -> ClkoutMismatch {
+    let cd = half_period - 1;
+    if toggled {
+        ClkoutMismatch {
+            expected: half_period,
+            seen: run,
+            what: format!("clkout_o toggled after {run} CAN clocks; CDR.2..0 = {cd} gives a toggle every {half_period}"),
+        }
+    } else {
+        ClkoutMismatch {
+            expected: half_period,
+            seen: 0,
+            what: format!("clkout_o did not toggle for {run} CAN clocks; CDR.2..0 = {cd} gives a toggle every {half_period}"),
+        }
     }
 }
 

@@ -403,12 +403,28 @@ impl Comparator {
             // then, in short: no tx edge (so no start of frame, and the
             // offsets stay 0), no window change to check, no new status run,
             // the pins agree.
-            self.tx.quiet_clock(reference, dut, idle(stamp.field));
-            self.reads.quiet_clock();
-            self.pins.quiet_clock(stamp.bit < self.skip_until_bit);
+            self.quiet_clock(stamp.field, stamp.bit, reference, dut);
             return;
         }
         self.can_clock_general(stamp, sample, reference, dut, sr, ir);
+    }
+
+    /// A clock that is not a sample point, with these inputs, takes the
+    /// short path of [`Comparator::can_clock`]. The short path changes
+    /// nothing this condition reads, so with the same inputs it holds at
+    /// the next such clock too (the test bench's quiet stretches).
+    #[inline]
+    pub(crate) fn quiet_ahead(&self, reference: &CanPins, dut: &CanPins, sr: u8, ir: u8) -> bool {
+        !self.halted && self.tx.quiet(false, reference, dut) && self.reads.quiet(sr, ir) && PinChecker::agree(reference, dut)
+    }
+
+    /// The short path of [`Comparator::can_clock`] (its condition holds):
+    /// `field` and `bit` as in the clock's stamp.
+    #[inline]
+    pub(crate) fn quiet_clock(&mut self, field: Option<Field>, bit: u64, reference: &CanPins, dut: &CanPins) {
+        self.tx.quiet_clock(reference, dut, idle(field));
+        self.reads.quiet_clock();
+        self.pins.quiet_clock(bit < self.skip_until_bit);
     }
 
     /// [`Comparator::can_clock`] on the clocks its short path does not
@@ -499,10 +515,16 @@ impl Comparator {
     /// the reference's setting now and the DUT's `clkout_o`.
     #[inline]
     pub fn clkout_clock(&mut self, stamp: Stamp, setting: clkout::ClkoutSetting, dut_level: bool) {
+        self.clkout_clock_with(|| stamp, setting, dut_level);
+    }
+
+    /// [`Comparator::clkout_clock`] with the stamp made only for a finding.
+    #[inline]
+    pub(crate) fn clkout_clock_with(&mut self, stamp: impl FnOnce() -> Stamp, setting: clkout::ClkoutSetting, dut_level: bool) {
         if self.cfg.compare_clkout
             && let Some(m) = self.clkout.clock(setting, dut_level)
         {
-            self.clkout_divergence(stamp, m);
+            self.clkout_divergence(stamp(), m);
         }
     }
 

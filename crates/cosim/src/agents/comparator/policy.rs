@@ -105,6 +105,44 @@ impl ComparatorAgent {
         }
     }
 
+    /// The next CAN clocks, if none is a sample point and the reference's
+    /// view `v` and the DUT's pins `dut` stay as they are, take the
+    /// comparator's short path ([`Comparator::quiet_ahead`]); false without
+    /// lockstep or once stopped.
+    #[inline]
+    pub fn quiet_ahead(&self, v: &RefView, dut: &CanPins) -> bool {
+        match &self.comparator {
+            Some(c) if !self.stopped => c.quiet_ahead(&v.pins, dut, v.sr, v.ir),
+            _ => false,
+        }
+    }
+
+    /// One of those clocks: what [`ComparatorAgent::can_clock`] does on it
+    /// (`field`, `bit`: the stamp's; the stamp itself is made only for a
+    /// CLKOUT finding): true when a divergence waits for
+    /// [`ComparatorAgent::handle_divergences`].
+    #[inline]
+    pub fn quiet_clock(
+        &mut self,
+        stamp: impl FnOnce() -> Stamp,
+        field: Option<can_proto::Field>,
+        bit: u64,
+        v: &RefView,
+        dut: &CanPins,
+        clkout: impl FnOnce() -> super::clkout::ClkoutSetting,
+    ) -> bool {
+        match &mut self.comparator {
+            Some(c) if !self.stopped => {
+                c.quiet_clock(field, bit, &v.pins, dut);
+                if c.config().compare_clkout {
+                    c.clkout_clock_with(stamp, clkout(), dut.clkout);
+                }
+                c.halted()
+            }
+            _ => false,
+        }
+    }
+
     /// A register read completed on both sides (see [`Comparator::read`]):
     /// true when a divergence waits for [`ComparatorAgent::handle_divergences`].
     pub fn read(&mut self, stamp: Stamp, addr: u8, dut: u8, model: u8, name: Option<String>) -> bool {
