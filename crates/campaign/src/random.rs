@@ -403,6 +403,18 @@ impl CampaignResult {
             self.failures.len()
         )
         .unwrap();
+        if self.failures.len() > 1 {
+            // Failures by signature: how many kinds of defect, not how many runs.
+            let mut by: std::collections::BTreeMap<&str, Vec<u64>> = std::collections::BTreeMap::new();
+            for f in &self.failures {
+                by.entry(f.signature.0.as_str()).or_default().push(f.index);
+            }
+            writeln!(s, "failures by signature:").unwrap();
+            for (sig, runs) in &by {
+                let shown: Vec<String> = runs.iter().take(8).map(|r| r.to_string()).collect();
+                writeln!(s, "  {:>4} x {sig} (runs {}{})", runs.len(), shown.join(", "), if runs.len() > 8 { ", ..." } else { "" }).unwrap();
+            }
+        }
         let w = self.report.waivers_text();
         if !w.trim().is_empty() {
             s += &w;
