@@ -576,7 +576,7 @@ impl BenchReport {
             "  (cycles: CAN clock cycles; host and CAN clocks both 24 MHz except cosim-de2-clocks. Peak RSS: a child's own VmHWM; for the \
              in-process rows, the bench process's peak while the row ran, which includes what it already held)"
         );
-        let _ = writeln!(s, "\n3. targets (issue 7)");
+        let _ = writeln!(s, "\n3. targets");
         for t in &self.targets {
             let _ = writeln!(
                 s,

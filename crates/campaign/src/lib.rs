@@ -1,4 +1,4 @@
-//! Seeded random fault-injection campaign (issue 8): random frames between
+//! Seeded random fault-injection campaign: random frames between
 //! the DUT and golden-model nodes, with random bit flips, stuck levels and
 //! glitches aimed at every part of a frame (stuff bits, CRC delimiter, ACK
 //! slot, EOF, error flags, intermission included).

@@ -648,7 +648,7 @@ pub fn run(s: &Scenario, opts: &RunOptions) -> RunOutcome {
     let mut received = Vec::new();
     let mut waived_received: Vec<String> = Vec::new();
     let mut report = None;
-    // Issue 8 item 4: with two or more golden-model nodes, every frame one
+    // With two or more golden-model nodes, every frame one
     // of them sends must reach the others or be explained (error frame,
     // overrun, off the bus); checked at the end of every run.
     let mut lost = None;
@@ -993,7 +993,8 @@ pub fn divergence_is_the_symptom(c: diagnose::Category) -> bool {
 /// A scenario expecting `Pass` or a bus-level outcome that DUT and model
 /// share (e.g. `NoAcknowledge`: a lone node; both see the ACK errors) must
 /// not pass with an unwaived difference: the category alone would be a
-/// false pass (issue 19: pelican-self-test-abort "passed" with 44).
+/// false pass (pelican-self-test-abort on the opencores core would
+/// "pass" with 44 unwaived divergences).
 pub fn unwaived_divergence_mismatch(expected: Option<diagnose::Category>, rep: &waivers::WaiverReport) -> Option<String> {
     let want = expected.unwrap_or(diagnose::Category::Pass);
     (!rep.passed() && !divergence_is_the_symptom(want))
