@@ -155,38 +155,52 @@ pub fn scenario_of(plan: &Plan, purpose: &str) -> Result<Scenario, scenario::Sce
     Scenario::parse(&text, format!("campaign/campaign-s{}-r{}.toml", plan.seed, plan.index))
 }
 
-/// Runs one plan and judges it. A plan that does not load is a failed run
-/// (named as a kit defect), not a panic of the whole campaign.
+/// Runs one plan and judges it. A plan that does not load, or a run that
+/// panics, is a failed run named as a kit defect (so it is reported and
+/// shrunk like any failure), never the end of the whole campaign.
 pub fn run_plan(plan: &Plan, opts: &RunOptions) -> (RunOutcome, Judged) {
     let purpose = format!("Random run {} of seed {}: {}", plan.index, plan.seed, render::summary(plan));
-    match scenario_of(plan, &purpose) {
-        Ok(s) => {
-            let o = scenario::run::run(&s, opts);
-            let j = judge(plan, &o);
-            (o, j)
-        }
-        Err(e) => {
-            let mut r = diagnose::RunRecord::new(&format!("campaign-s{}-r{}", plan.seed, plan.index), opts.dut.as_ref().map(|d| d.name.as_str()).unwrap_or(""));
-            let what = format!("kit defect: the drawn plan is not a valid scenario: {e}");
-            r.error = Some(what.clone());
-            let diagnosis = diagnose::diagnose(&r);
-            let o = RunOutcome {
-                record: r,
-                diagnosis,
-                passed: false,
-                mismatches: vec![what.clone()],
-                received: Vec::new(),
-                dut: opts.dut.as_ref().map(|d| d.name.clone()).unwrap_or_default(),
-                wall: Duration::ZERO,
-                waivers: None,
-                warnings: Vec::new(),
-                skipped: None,
-                bus_log: Vec::new(),
-                delivered: Vec::new(),
-            };
-            (o, Judged { failure: Some(what), signature: Some(Signature("kit defect: invalid plan".into())), scoreboard: Vec::new() })
+    let s = match scenario_of(plan, &purpose) {
+        Ok(s) => s,
+        Err(e) => return kit_defect(plan, opts, "invalid plan", format!("the drawn plan is not a valid scenario: {e}")),
+    };
+    let run = std::panic::catch_unwind(std::panic::AssertUnwindSafe(|| {
+        let o = scenario::run::run(&s, opts);
+        let j = judge(plan, &o);
+        (o, j)
+    }));
+    match run {
+        Ok(r) => r,
+        Err(p) => {
+            let msg = p.downcast_ref::<String>().cloned().or_else(|| p.downcast_ref::<&str>().map(|s| s.to_string())).unwrap_or_else(|| "a panic".into());
+            let first = msg.lines().next().unwrap_or("").to_string();
+            kit_defect(plan, opts, &format!("panic: {}", first.chars().take(60).collect::<String>()), format!("the run panicked: {msg}"))
         }
     }
+}
+
+/// A run that could not be made: a failure with the signature `kit defect: <kind>`.
+fn kit_defect(plan: &Plan, opts: &RunOptions, kind: &str, what: String) -> (RunOutcome, Judged) {
+    let dut = opts.dut.as_ref().map(|d| d.name.clone()).unwrap_or_default();
+    let mut r = diagnose::RunRecord::new(&format!("campaign-s{}-r{}", plan.seed, plan.index), &dut);
+    let what = format!("kit defect: {what}");
+    r.error = Some(what.clone());
+    let diagnosis = diagnose::diagnose(&r);
+    let o = RunOutcome {
+        record: r,
+        diagnosis,
+        passed: false,
+        mismatches: vec![what.clone()],
+        received: Vec::new(),
+        dut,
+        wall: Duration::ZERO,
+        waivers: None,
+        warnings: Vec::new(),
+        skipped: None,
+        bus_log: Vec::new(),
+        delivered: Vec::new(),
+    };
+    (o, Judged { failure: Some(what), signature: Some(Signature(format!("kit defect: {kind}"))), scoreboard: Vec::new() })
 }
 
 /// The result of shrinking one failure.
@@ -572,8 +586,10 @@ pub fn run_campaign(cfg: &RandomConfig) -> CampaignResult {
             if saved.is_ok() {
                 // Saving is serialisation: the file, loaded back, must fail the same way.
                 let replayed = Scenario::load(&path).ok().map(|s| {
-                    let o2 = scenario::run::run(&s, &opts);
-                    judge(small, &o2).signature.as_ref() == Some(sig)
+                    std::panic::catch_unwind(std::panic::AssertUnwindSafe(|| judge(small, &scenario::run::run(&s, &opts)).signature))
+                        .map(|got| got.as_ref() == Some(sig))
+                        // A panic replays a panic only through run_plan's signature.
+                        .unwrap_or_else(|_| sig.0.starts_with("kit defect: panic"))
                 });
                 failure.replayed = replayed;
                 failure.replay = Some(format!("cancosim run {}{}", path.display(), replay_flags(cfg)));
