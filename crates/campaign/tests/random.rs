@@ -85,3 +85,19 @@ fn the_found_scenarios_pass_on_model_and_rtl() {
         }
     }
 }
+
+/// A run that panics (here: a DUT that cannot be made) is a failed run
+/// named as a kit defect, and the campaign goes on to its budget.
+#[test]
+fn a_panicking_run_is_a_failure_not_the_end_of_the_campaign() {
+    let dut = cosim::CustomDut { name: "panics".into(), make: std::sync::Arc::new(|| panic!("this DUT cannot be made")) };
+    let mut c = RandomConfig::new(5, 20, DutSpec::model());
+    c.custom_dut = Some(dut);
+    c.shrink_runs = 0;
+    c.max_failures = 3;
+    c.jobs = 1;
+    let r = run_campaign(&c);
+    assert_eq!(r.failures.len(), 3, "{}", r.to_text(&c));
+    assert!(r.failures.iter().all(|f| f.signature.0.starts_with("kit defect: panic")), "{}", r.to_text(&c));
+    assert!(r.failures[0].what.contains("this DUT cannot be made"));
+}
