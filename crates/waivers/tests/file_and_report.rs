@@ -352,7 +352,7 @@ fn suggestions_are_candidates_that_need_an_explanation() {
 #[test]
 fn an_unobserved_tec_is_assumed_only_from_a_single_measured_value() {
     // The pair (dropped from the shipped file as stale), kept as data.
-    let path = concat!(env!("CARGO_MANIFEST_DIR"), "/tests/data/issue9-tec-pair.toml");
+    let path = concat!(env!("CARGO_MANIFEST_DIR"), "/tests/data/tec-pair.toml");
     let mut set = WaiverSet::load(path).unwrap();
     let dut = DutInfo::new("/cores/opencores-can");
     // The comparator sees pins only: the measured 136 is what gets adopted.

@@ -18,8 +18,8 @@ const ATTEMPTS: u32 = 24;
 const FLAG_BITS: u64 = 2;
 const SR_ES: u8 = 0x40;
 /// The TEC pair (tests/data), as first shipped for the upstream core.
-const UPSTREAM: &str = include_str!("data/issue9-tec-pair.toml");
-const UPSTREAM_NAME: &str = "tests/data/issue9-tec-pair.toml";
+const UPSTREAM: &str = include_str!("data/tec-pair.toml");
+const UPSTREAM_NAME: &str = "tests/data/tec-pair.toml";
 
 /// SR.ES one attempt late, `late-bits = 1`, no resync (the next read agrees).
 const ES_WAIVER: &str = r#"
