@@ -359,6 +359,9 @@ pub struct Failure {
     pub replayed: Option<bool>,
     /// The command that replays it.
     pub replay: Option<String>,
+    /// The shrunk plan run with the golden model as DUT agreed with the
+    /// reference (false: a kit defect, the model disagrees with itself).
+    pub model_self_check: Option<bool>,
 }
 
 /// A whole campaign's result.
@@ -463,6 +466,9 @@ impl CampaignResult {
             if let Some(c) = &f.replay {
                 writeln!(s, "  replay: {c}").unwrap();
             }
+            if f.model_self_check == Some(false) {
+                writeln!(s, "  KIT DEFECT: the golden model as DUT diverges from the model as reference on this plan").unwrap();
+            }
         }
         if self.failures.is_empty() {
             writeln!(s, "PASS: no divergence from the golden model, the scoreboard satisfied on every run").unwrap();
@@ -564,7 +570,7 @@ pub fn run_campaign(cfg: &RandomConfig) -> CampaignResult {
         let small = shrunk.as_ref().map(|s| &s.plan).unwrap_or(plan);
         let (o, jj) = run_plan(small, &opts);
         let purpose = format!("Random run {index} of seed {}{}: {}", cfg.seed, if shrunk.is_some() { ", shrunk" } else { "" }, jj.failure.clone().unwrap_or_else(|| what.clone()));
-        let mut failure = Failure { index: *index, what: what.clone(), signature: sig.clone(), plan: render::summary(plan), shrunk: shrunk.clone(), saved: None, replayed: None, replay: None };
+        let mut failure = Failure { index: *index, what: what.clone(), signature: sig.clone(), plan: render::summary(plan), shrunk: shrunk.clone(), saved: None, replayed: None, replay: None, model_self_check: None };
         let _ = cell;
         if let Some(dir) = &cfg.save_failures {
             let path = dir.join(format!("campaign-s{}-r{index}.toml", cfg.seed));
@@ -581,6 +587,9 @@ pub fn run_campaign(cfg: &RandomConfig) -> CampaignResult {
                 Ok(s) => scenario::run::run(&s, &RunOptions { dut: Some(DutSpec::model()), ..Default::default() }).diagnosis.category,
                 Err(_) => diagnose::Category::Pass,
             };
+            // The model as DUT against the model as reference must agree; if
+            // not, the kit (not the core) is at fault, and the file says so.
+            failure.model_self_check = Some(category != diagnose::Category::DutDeviatesFromModel);
             let text = render::to_toml_expecting(small, &purpose, &header, category);
             let saved = std::fs::create_dir_all(dir).and_then(|_| std::fs::write(&path, &text));
             if saved.is_ok() {

@@ -168,6 +168,9 @@ pub struct Engine {
     tx_out: bool,
     /// Bits sampled since creation (both paths).
     bits: u64,
+    /// Wake-ups by the bus seen outside a sample point (the bit timing
+    /// stopped in sleep).
+    wakes: u64,
     /// Where the bit timing's phase starts from.
     origin: PhaseOrigin,
     /// CAN clocks after a quantum's end in which a bit-timing change still
@@ -184,6 +187,7 @@ impl Engine {
             bsp: Bsp::new(options),
             tx_out: RECESSIVE,
             bits: 0,
+            wakes: 0,
             origin: PhaseOrigin::ResetModeExit,
             segment_lag: 0,
         }
@@ -323,12 +327,13 @@ impl Engine {
     /// Work happens only at time-quantum boundaries.
     #[inline]
     pub fn clock(&mut self, rx: bool) -> bool {
-        if self.origin == PhaseOrigin::ResetModeExit && self.bsp.phase == bsp::Phase::Sleep {
+        if self.halted() {
             // The bit timing stands still; a dominant level wakes the node
             // at once and the prescaler starts from zero.
             if !rx {
                 self.bsp.wake_by_bus();
                 self.restart_after_sleep();
+                self.wakes += 1;
             }
             return self.tx_out;
         }
@@ -342,7 +347,22 @@ impl Engine {
     /// next `n - 1` calls of [`Engine::clock`] only count and return the
     /// same level.
     pub fn clocks_to_next_tq(&self) -> u32 {
-        self.btl.clocks_to_next_tq()
+        // Asleep with the bit timing stopped, every clock may wake the node.
+        if self.halted() { 1 } else { self.btl.clocks_to_next_tq() }
+    }
+
+    /// Asleep with the reset-mode-exit origin: the bit timing stands still
+    /// and each clock's rx level is looked at (a dominant one wakes the node).
+    #[inline]
+    fn halted(&self) -> bool {
+        self.origin == PhaseOrigin::ResetModeExit && self.bsp.phase == bsp::Phase::Sleep
+    }
+
+    /// Sample points plus wake-ups by the bus since creation: when it moves,
+    /// the bit stream processor did something a caller may want to look at
+    /// (status, events); between two moves a clock only counts or moves tx.
+    pub fn activity(&self) -> u64 {
+        self.bits + self.wakes
     }
 
     fn tq(&mut self, rx: bool) -> bool {

@@ -334,14 +334,14 @@ impl Reference for ModelRef {
         // time quantum (`clocks_to_next_tq() == 1`). At a quantum's end
         // the bit stream processor (and so the field, the status and the
         // events the controller turns into flags and interrupts) runs only
-        // at a sample point (`bits_sampled()` counts them); otherwise the
+        // at a sample point or a wake-up (`activity()` counts them); otherwise the
         // quantum may only start a bit, which moves tx. Host accesses set
         // `stale`. CLKOUT moves on its own.
         let engine = self.m.engine();
         let boundary = engine.clocks_to_next_tq() <= 1;
-        let bits = engine.bits_sampled();
+        let bits = engine.activity();
         self.m.clock(rx);
-        if self.stale || (boundary && self.m.engine().bits_sampled() != bits) {
+        if self.stale || (boundary && self.m.engine().activity() != bits) {
             self.observe();
         }
         // tx and CLKOUT read afresh, the rest from the cache. Not stored
