@@ -559,15 +559,28 @@ fn draw_program(r: &mut StdRng, cfg: &HostConfig, dut_frames: Vec<PlanFrame>, ho
         }
     }
     // The end: no request left pending, everything received read out.
-    prog.push(HostOp::Wait(200));
-    prog.push(HostOp::Abort);
-    prog.push(HostOp::Wait(200));
-    prog.push(HostOp::Drain(64));
-    prog.push(HostOp::Read(2));
+    prog.extend(TAIL.iter().cloned());
     if cfg.pelican {
         prog.extend([14, 15, 29].map(HostOp::Read));
     }
     prog
+}
+
+/// Every program's end: abort what is pending, let the bus settle, read
+/// out everything received, read SR. The scoreboard owes the host the
+/// frames complete before this drain; shrinking keeps it.
+pub const TAIL: [HostOp; 5] = [HostOp::Wait(200), HostOp::Abort, HostOp::Wait(200), HostOp::Drain(64), HostOp::Read(2)];
+
+/// Where the program's tail starts (its length less the tail and the
+/// PeliCAN counter reads after it), if it ends with one.
+pub fn tail_start(program: &[HostOp]) -> Option<usize> {
+    let at = program.windows(TAIL.len()).rposition(|w| w == TAIL)?;
+    program[at + TAIL.len()..].iter().all(|o| matches!(o, HostOp::Read(_))).then_some(at)
+}
+
+/// The program ends with [`TAIL`].
+pub fn has_tail(program: &[HostOp]) -> bool {
+    tail_start(program).is_some()
 }
 
 /// Error-counter values near the limits that matter (EWL 96, passive 128,

@@ -263,8 +263,9 @@ fn candidates(p: &Plan) -> Vec<Plan> {
             out.push(q);
         }
     }
-    // The program without its last four operations (the final drain and reads) is cut like the rest.
-    let n = p.program.len();
+    // The program is cut up to its tail (the final abort and drain the
+    // scoreboard relies on), which stays.
+    let n = crate::plan::tail_start(&p.program).unwrap_or(p.program.len());
     let mut chunk = n / 2;
     while chunk >= 1 {
         let mut start = 0;
@@ -291,7 +292,7 @@ fn candidates(p: &Plan) -> Vec<Plan> {
     if changed {
         out.push(q);
     }
-    for (i, o) in p.program.iter().enumerate() {
+    for (i, o) in p.program.iter().enumerate().take(n) {
         match o {
             HostOp::Wait(b) | HostOp::WaitIrq(b) if *b > 8 => {
                 let mut q = p.clone();
