@@ -569,7 +569,8 @@ pub fn run_campaign(cfg: &RandomConfig) -> CampaignResult {
         let (Some(what), Some(sig)) = (&j.failure, &j.signature) else { continue };
         let shrunk = (cfg.shrink_runs > 0).then(|| shrink(plan, sig, &opts, cfg.shrink_runs));
         let small = shrunk.as_ref().map(|s| &s.plan).unwrap_or(plan);
-        let (o, jj) = run_plan(small, &opts);
+        // The failure as the shrunk plan shows it (no second run when nothing was shrunk or saved).
+        let jj = if shrunk.is_some() || cfg.save_failures.is_some() { run_plan(small, &opts).1 } else { j.clone() };
         let purpose = format!("Random run {index} of seed {}{}: {}", cfg.seed, if shrunk.is_some() { ", shrunk" } else { "" }, jj.failure.clone().unwrap_or_else(|| what.clone()));
         let mut failure = Failure { index: *index, what: what.clone(), signature: sig.clone(), plan: render::summary(plan), shrunk: shrunk.clone(), saved: None, replayed: None, replay: None, model_self_check: None };
         let _ = cell;
@@ -606,7 +607,6 @@ pub fn run_campaign(cfg: &RandomConfig) -> CampaignResult {
                 failure.saved = Some(path);
             }
         }
-        let _ = o;
         failing_scenarios.extend(scenario_of(small, &purpose).ok());
         failures.push(failure);
     }
