@@ -6,33 +6,7 @@
 
 use sja1000::{BusContext, FaultInjector, Target};
 
-/// `width` CAN clocks of `level` from clock `offset` of wire bit `bit` of
-/// frame `frame` (0 = the first SOF on the bus), counted like
-/// [`sja1000::Glitch`].
-#[derive(Clone, Copy, Debug)]
-pub(crate) struct ForcedPulse {
-    pub(crate) frame: u64,
-    pub(crate) bit: u32,
-    pub(crate) offset: u32,
-    pub(crate) width: u32,
-    pub(crate) level: bool,
-    pub(crate) target: Target,
-}
-
-impl FaultInjector for ForcedPulse {
-    fn apply(&mut self, ctx: &BusContext, node: usize, level: bool) -> bool {
-        let inside = ctx.frame == Some(self.frame) && ctx.frame_bit == self.bit && ctx.sub >= self.offset && ctx.sub < self.offset + self.width;
-        let hits = match self.target {
-            Target::All => true,
-            Target::Node(n) => n == node,
-        };
-        if inside && hits { self.level } else { level }
-    }
-
-    fn needs_clocks(&self) -> bool {
-        true
-    }
-}
+pub(crate) use sja1000::ForcedPulse;
 
 /// A pulse counted on the nominal bit grid from its frame's start of frame
 /// (`grid = "sof"`): bit `bit` starts `bit` bit times after the SOF edge,

@@ -132,42 +132,10 @@ pub struct RunOutcome {
     pub delivered: Vec<(u64, can_proto::CanFrame)>,
 }
 
-/// A level forced from a bit of a frame on, for `bits` bit times (a
-/// frame-relative stuck-dominant / stuck-recessive fault).
-#[derive(Debug)]
-struct StuckInFrame {
-    level: bool,
-    target: Target,
-    /// Frame index (0 = first SOF on the bus).
-    frame: u64,
-    /// Wire bit of that frame where the fault starts.
-    bit: u32,
-    /// Length in bit times.
-    bits: u64,
-    /// First clock after the fault, once started.
-    until: Option<u64>,
-}
-
-impl FaultInjector for StuckInFrame {
-    fn apply(&mut self, ctx: &sja1000::BusContext, node: usize, level: bool) -> bool {
-        if self.until.is_none() && ctx.frame == Some(self.frame) && ctx.frame_bit == self.bit {
-            self.until = Some(ctx.clock + self.bits * u64::from(ctx.clocks_per_bit));
-        }
-        let hits = match self.target {
-            Target::All => true,
-            Target::Node(n) => n == node,
-        };
-        match self.until {
-            Some(u) if hits && ctx.clock < u => self.level,
-            _ => level,
-        }
-    }
-}
-
 /// Frame and bit of a frame-relative fault (frames counted from 1 in files, from 0 on the bus).
 fn injector(f: &FaultSpec, target: Target, clocks_per_bit: u64) -> Box<dyn FaultInjector> {
     match (f.kind, f.frame_bit) {
-        (FaultKind::StuckDominant | FaultKind::StuckRecessive, Some((fr, b))) => Box::new(StuckInFrame {
+        (FaultKind::StuckDominant | FaultKind::StuckRecessive, Some((fr, b))) => Box::new(sja1000::StuckInFrame {
             level: f.kind == FaultKind::StuckRecessive,
             target,
             frame: fr as u64 - 1,

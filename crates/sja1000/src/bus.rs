@@ -131,6 +131,67 @@ impl FaultInjector for FlipBit {
     }
 }
 
+/// `width` CAN clocks of `level` from clock `offset` of wire bit `bit` of
+/// frame `frame`, counted like [`Glitch`]. A glitch inverts the wire's
+/// level, which turns back into the opposite one as soon as the target
+/// drives the wire itself inside the pulse; a forced pulse stays `level`.
+#[derive(Clone, Copy, Debug)]
+pub struct ForcedPulse {
+    /// Frame index (0 = first frame on the bus).
+    pub frame: u64,
+    /// Wire bit within the frame.
+    pub bit: u32,
+    /// First clock of the pulse within the bit.
+    pub offset: u32,
+    /// Pulse length in clocks.
+    pub width: u32,
+    /// The level forced.
+    pub level: bool,
+    /// Who sees it.
+    pub target: Target,
+}
+
+impl FaultInjector for ForcedPulse {
+    fn apply(&mut self, ctx: &BusContext, node: usize, level: bool) -> bool {
+        let inside = ctx.frame == Some(self.frame) && ctx.frame_bit == self.bit && ctx.sub >= self.offset && ctx.sub < self.offset + self.width;
+        if inside && self.target.hits(node) { self.level } else { level }
+    }
+
+    fn needs_clocks(&self) -> bool {
+        true
+    }
+}
+
+/// `level` forced from wire bit `bit` of frame `frame` on, for `bits` bit
+/// times (a stuck-dominant or stuck-recessive fault placed in a frame).
+#[derive(Clone, Copy, Debug)]
+pub struct StuckInFrame {
+    /// The level forced.
+    pub level: bool,
+    /// Who sees it.
+    pub target: Target,
+    /// Frame index (0 = first frame on the bus).
+    pub frame: u64,
+    /// Wire bit of that frame where the fault starts.
+    pub bit: u32,
+    /// Length in bit times.
+    pub bits: u64,
+    /// First clock after the fault, once started (None before).
+    pub until: Option<u64>,
+}
+
+impl FaultInjector for StuckInFrame {
+    fn apply(&mut self, ctx: &BusContext, node: usize, level: bool) -> bool {
+        if self.until.is_none() && ctx.frame == Some(self.frame) && ctx.frame_bit == self.bit {
+            self.until = Some(ctx.clock + self.bits * u64::from(ctx.clocks_per_bit));
+        }
+        match self.until {
+            Some(u) if self.target.hits(node) && ctx.clock < u => self.level,
+            _ => level,
+        }
+    }
+}
+
 /// A short pulse of the opposite level inside one bit: `width` clocks
 /// starting `offset` clocks into bit `bit` of frame `frame`.
 #[derive(Clone, Copy, Debug)]

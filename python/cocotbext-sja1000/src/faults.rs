@@ -13,61 +13,7 @@ use cosim::bitclock::BitClock;
 use diagnose::named::Named;
 use pyo3::exceptions::PyValueError;
 use pyo3::prelude::*;
-use sja1000::{BusContext, FaultInjector, FlipBit, Glitch, StuckAt, Target};
-
-/// A level forced from a frame bit on for `bits` bit times (the CLI's
-/// stuck-dominant / stuck-recessive with `frame` + `bit_in_frame`).
-#[derive(Debug)]
-struct StuckInFrame {
-    level: bool,
-    target: Target,
-    frame: u64,
-    bit: u32,
-    bits: u64,
-    until: Option<u64>,
-}
-
-impl FaultInjector for StuckInFrame {
-    fn apply(&mut self, ctx: &BusContext, node: usize, level: bool) -> bool {
-        if self.until.is_none() && ctx.frame == Some(self.frame) && ctx.frame_bit == self.bit {
-            self.until = Some(ctx.clock + self.bits * u64::from(ctx.clocks_per_bit));
-        }
-        let hits = match self.target {
-            Target::All => true,
-            Target::Node(n) => n == node,
-        };
-        match self.until {
-            Some(u) if hits && ctx.clock < u => self.level,
-            _ => level,
-        }
-    }
-}
-
-/// A pulse forcing `level` for `width` clocks from `offset` clocks into a
-/// frame bit (the CLI's glitch with `level`).
-#[derive(Debug)]
-struct ForcedPulse {
-    frame: u64,
-    bit: u32,
-    offset: u32,
-    width: u32,
-    level: bool,
-    target: Target,
-}
-
-impl FaultInjector for ForcedPulse {
-    fn apply(&mut self, ctx: &BusContext, node: usize, level: bool) -> bool {
-        let inside = ctx.frame == Some(self.frame)
-            && ctx.frame_bit == self.bit
-            && ctx.sub >= self.offset
-            && ctx.sub < self.offset + self.width;
-        let hits = match self.target {
-            Target::All => true,
-            Target::Node(n) => n == node,
-        };
-        if inside && hits { self.level } else { level }
-    }
-}
+use sja1000::{BusContext, FaultInjector, FlipBit, ForcedPulse, Glitch, StuckAt, StuckInFrame, Target};
 
 #[derive(Clone, Copy, Debug)]
 enum Kind {

@@ -4,8 +4,8 @@
 # cell is the HOLD mux of `dat_q` (the latched write data) in the
 # `busy && ack_edge` branch, so the mutant inverts dat_q[0] at every ack.
 # (Not the `served` flop: with ACK_LEVEL = 0 that branch assigns no `served`,
-# there is no such mux; the flattened design.il of /work/main and of a
-# worktree both name $procmux$6885 with B = \u_cdc.dat_q.)
+# there is no such mux; the flattened design.il names $procmux$6885 with
+# B = \u_cdc.dat_q.)
 #
 # Three checks with yosys + ABC's PDR (both clocks free inputs through
 # clk2fflogic, registers from zero), run from the repository root:
