@@ -296,19 +296,10 @@ impl Shadow {
                     Some(i) => {
                         let p = self.pending.remove(i).expect("index from position");
                         self.take(p);
+                        self.taken_reads.pop_back().map(|(_, v)| v).unwrap_or(0)
                     }
-                    None => {
-                        let t_ps = self.now_ps();
-                        self.take(Pending {
-                            write: false,
-                            addr,
-                            data: 0,
-                            edges_left: 0,
-                            t_ps,
-                        });
-                    }
+                    None => self.read(addr),
                 }
-                self.taken_reads.pop_back().map(|(_, v)| v).unwrap_or(0)
             }
         };
         let name = self.reference.reg_name(addr, false);
