@@ -432,7 +432,6 @@ pub fn draw(seed: u64, index: u64, lim: &DrawLimits) -> Plan {
         n.frames.sort_by_key(|f| f.0);
     }
     let program = draw_program(&mut r, &config, dut_frames, horizon);
-    let cpb = t.clocks_per_bit();
     let faults = (0..frames_n as u32 + 2)
         .filter_map(|i| {
             if !r.random_bool(lim.fault_rate) {
@@ -443,7 +442,6 @@ pub fn draw(seed: u64, index: u64, lim: &DrawLimits) -> Plan {
                 5..6 => FaultWhat::StuckDominant { bits: r.random_range(1..=12u32) },
                 _ => glitch(&mut r, &t)?,
             };
-            let _ = cpb;
             Some(PlanFault {
                 frame: i + 1,
                 bit: r.random_range(0..130u32),

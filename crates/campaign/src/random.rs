@@ -565,7 +565,7 @@ pub fn run_campaign(cfg: &RandomConfig) -> CampaignResult {
     results.sort_by_key(|r| r.0);
     let mut failures = Vec::new();
     let mut failing_scenarios = Vec::new();
-    for (index, plan, cell, j) in &results {
+    for (index, plan, _, j) in &results {
         let (Some(what), Some(sig)) = (&j.failure, &j.signature) else { continue };
         let shrunk = (cfg.shrink_runs > 0).then(|| shrink(plan, sig, &opts, cfg.shrink_runs));
         let small = shrunk.as_ref().map(|s| &s.plan).unwrap_or(plan);
@@ -573,7 +573,6 @@ pub fn run_campaign(cfg: &RandomConfig) -> CampaignResult {
         let jj = if shrunk.is_some() || cfg.save_failures.is_some() { run_plan(small, &opts).1 } else { j.clone() };
         let purpose = format!("Random run {index} of seed {}{}: {}", cfg.seed, if shrunk.is_some() { ", shrunk" } else { "" }, jj.failure.clone().unwrap_or_else(|| what.clone()));
         let mut failure = Failure { index: *index, what: what.clone(), signature: sig.clone(), plan: render::summary(plan), shrunk: shrunk.clone(), saved: None, replayed: None, replay: None, model_self_check: None };
-        let _ = cell;
         if let Some(dir) = &cfg.save_failures {
             let path = dir.join(format!("campaign-s{}-r{index}.toml", cfg.seed));
             let header = vec![
