@@ -274,11 +274,20 @@ pub struct DrawLimits {
     /// Largest BRP drawn (a quantum of 2 (BRP + 1) CAN clocks: the run's
     /// cost grows with it).
     pub max_brp: u8,
+    /// Triggers of known deviations kept out of the plans (a core's
+    /// `[[avoid]]` entries): names of `waivers::CAMPAIGN_TRIGGERS`.
+    pub avoid: Vec<String>,
+}
+
+impl DrawLimits {
+    fn avoids(&self, trigger: &str) -> bool {
+        self.avoid.iter().any(|a| a == trigger)
+    }
 }
 
 impl Default for DrawLimits {
     fn default() -> Self {
-        DrawLimits { nodes: (2, 8), frames: (3, 16), fault_rate: 0.25, max_brp: 63 }
+        DrawLimits { nodes: (2, 8), frames: (3, 16), fault_rate: 0.25, max_brp: 63, avoid: Vec::new() }
     }
 }
 
@@ -431,7 +440,21 @@ pub fn draw(seed: u64, index: u64, lim: &DrawLimits) -> Plan {
     for n in &mut nodes {
         n.frames.sort_by_key(|f| f.0);
     }
-    let program = draw_program(&mut r, &config, dut_frames, horizon);
+    let mut program = draw_program(&mut r, &config, dut_frames, horizon);
+    // Avoided triggers are taken out after the draw, so every other choice
+    // of the run stays what it is without them.
+    if !pelican && lim.avoids("extended-frames-in-basiccan") {
+        for n in &mut nodes {
+            n.frames.retain(|(_, f)| !f.extended);
+        }
+    }
+    if lim.avoids("software-reset-mode") {
+        for op in &mut program {
+            if let HostOp::ResetToggle { bits, .. } = op {
+                *op = HostOp::Wait(*bits);
+            }
+        }
+    }
     let faults = (0..frames_n as u32 + 2)
         .filter_map(|i| {
             if !r.random_bool(lim.fault_rate) {

@@ -382,6 +382,9 @@ pub struct CampaignResult {
     pub busy: Duration,
     /// The failing runs' scenarios (their shrunk plans), for the HTML page.
     pub failing_scenarios: Vec<Scenario>,
+    /// Triggers of known deviations kept out of the plans on this DUT (its
+    /// `[[avoid]]` entries), one line each.
+    pub avoided: Vec<String>,
 }
 
 impl CampaignResult {
@@ -421,6 +424,12 @@ impl CampaignResult {
             self.failures.len()
         )
         .unwrap();
+        if !self.avoided.is_empty() {
+            writeln!(s, "kept out of the plans on this DUT (its [[avoid]] entries: known deviations no waiver can bound):").unwrap();
+            for a in &self.avoided {
+                writeln!(s, "  {a}").unwrap();
+            }
+        }
         if self.failures.len() > 1 {
             // Failures by signature: how many kinds of defect, not how many runs.
             let mut by: std::collections::BTreeMap<&str, Vec<u64>> = std::collections::BTreeMap::new();
@@ -491,6 +500,7 @@ impl CampaignResult {
             "cpu_s": self.busy.as_secs_f64(),
             "frames_per_cpu_second": self.frames_per_cpu_second(),
             "passed": self.passed(),
+            "avoided": self.avoided,
             "failures": self.failures,
             "waivers_hit": self.report.waivers_hit(&cfg.dut.name).iter().map(|w| serde_json::json!({"waiver": w.deviation.waiver_id, "clause": w.deviation.clause, "hits": w.deviation.hits, "runs": w.scenarios.len()})).collect::<Vec<_>>(),
             "regression": serde_json::from_str::<serde_json::Value>(&self.report.to_json()).unwrap_or_default(),
@@ -499,10 +509,35 @@ impl CampaignResult {
     }
 }
 
+/// The draw limits with the DUT's `[[avoid]]` triggers (from the waiver
+/// files, matched by its name and profile family), and their report lines.
+/// A waiver file that does not load avoids nothing here: every run then
+/// reports the file's error.
+pub fn avoided_limits(cfg: &RandomConfig) -> (DrawLimits, Vec<String>) {
+    let mut limits = cfg.limits.clone();
+    let Ok(set) = waivers::WaiverSet::load_all(&cfg.waivers) else {
+        return (limits, Vec::new());
+    };
+    let mut dut = waivers::DutInfo::new(&cfg.dut.name);
+    dut.revision = cfg.dut_revision.clone();
+    if let Some(p) = &cfg.dut.profile {
+        dut = dut.in_family(&p.name, &p.ancestors);
+    }
+    let mut lines = Vec::new();
+    for a in set.avoids_for(&dut) {
+        if !limits.avoid.contains(&a.trigger) {
+            limits.avoid.push(a.trigger.clone());
+        }
+        lines.push(a.describe());
+    }
+    (limits, lines)
+}
+
 /// Runs a campaign: plans in parallel until the frame or time budget is
 /// spent, failures shrunk and saved.
 pub fn run_campaign(cfg: &RandomConfig) -> CampaignResult {
     let opts = cfg.run_options();
+    let (limits, avoided) = avoided_limits(cfg);
     let t0 = Instant::now();
     let jobs = if cfg.jobs == 0 { std::thread::available_parallelism().map(|n| n.get()).unwrap_or(1) } else { cfg.jobs };
     let next = AtomicU64::new(0);
@@ -533,7 +568,7 @@ pub fn run_campaign(cfg: &RandomConfig) -> CampaignResult {
                     }
                     let k = next.fetch_add(1, Ordering::SeqCst);
                     let index = cfg.index(k);
-                    let plan = draw(cfg.seed, index, &cfg.limits);
+                    let plan = draw(cfg.seed, index, &limits);
                     let t = thread_cpu();
                     let (o, j) = run_plan(&plan, &opts);
                     busy_us.fetch_add(thread_cpu().saturating_sub(t).as_micros() as u64, Ordering::SeqCst);
@@ -617,7 +652,7 @@ pub fn run_campaign(cfg: &RandomConfig) -> CampaignResult {
         cells: results.into_iter().map(|r| r.2).collect(),
         unloadable: Vec::new(),
     };
-    CampaignResult { report, failures, runs, frames: frames.into_inner(), wall, busy: Duration::from_micros(busy_us.into_inner()), failing_scenarios }
+    CampaignResult { report, failures, runs, frames: frames.into_inner(), wall, busy: Duration::from_micros(busy_us.into_inner()), failing_scenarios, avoided }
 }
 
 /// CPU time of the calling thread (what a run cost, whatever else the

@@ -40,6 +40,7 @@
 //! ```
 #![warn(missing_docs)]
 
+pub mod avoid;
 pub mod dut;
 pub mod expected;
 pub mod file;
@@ -52,6 +53,7 @@ pub use expected::{ExpectedFailure, SignatureDiff, signature_line};
 pub use file::{BitPattern, Consequence, ConsequenceOf, KindName, Lateness, ResyncSpec, RevRange, Revision, WaiverError};
 pub use report::{Counts, Stale, WaivedExpectation, Waived, WaiverReport, describe};
 pub use run::{Action, CollectMode, Session};
+pub use avoid::{Avoid, CAMPAIGN_TRIGGERS};
 pub use dut::{DutInfo, DutMatch, FamilyMember};
 pub use set::{EXAMPLE, file_schema};
 pub use set::{Observed, Resync, Verdict, Waiver, WaiverSet, summary_of};

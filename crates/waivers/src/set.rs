@@ -472,6 +472,9 @@ pub(crate) struct RawFile {
     /// Strict expected failures of whole scenarios ([`crate::expected`]). Default: none.
     #[serde(default, rename = "expected-failure")]
     pub expected_failure: Vec<RawExpectedFailure>,
+    /// Triggers of known deviations the random campaign keeps out of its plans ([`crate::avoid`]). Default: none.
+    #[serde(default)]
+    pub avoid: Vec<crate::avoid::RawAvoid>,
 }
 
 /// The JSON schema of a waiver file, for the generated reference
@@ -501,6 +504,7 @@ pub struct WaiverSet {
     pub name: String,
     waivers: Vec<Waiver>,
     expected_failures: Vec<ExpectedFailure>,
+    avoids: Vec<crate::avoid::Avoid>,
 }
 
 impl WaiverSet {
@@ -547,7 +551,15 @@ impl WaiverSet {
             }
             expected_failures.push(e);
         }
-        Ok(WaiverSet { name: name.into(), waivers, expected_failures })
+        let mut avoids: Vec<crate::avoid::Avoid> = Vec::with_capacity(raw.avoid.len());
+        for a in raw.avoid {
+            let a = crate::avoid::validate(name, src, a)?;
+            if let Some(old) = avoids.iter().find(|o| o.id == a.id) {
+                return Err(invalid(name, a.line, "id", format!("duplicate avoid id `{}` (first at line {})", a.id, old.line)));
+            }
+            avoids.push(a);
+        }
+        Ok(WaiverSet { name: name.into(), waivers, expected_failures, avoids })
     }
 
     /// Adds the waivers of another file after these (`--waivers a --waivers b`).
@@ -574,6 +586,12 @@ impl WaiverSet {
             }
             self.expected_failures.push(e);
         }
+        for a in other.avoids {
+            if let Some(old) = self.avoids.iter().find(|o| o.id == a.id) {
+                return Err(invalid(&a.file, a.line, "id", format!("avoid id `{}` already defined at {}:{}", a.id, old.file, old.line)));
+            }
+            self.avoids.push(a);
+        }
         if self.name.is_empty() {
             self.name = other.name;
         } else if !other.name.is_empty() {
@@ -585,6 +603,12 @@ impl WaiverSet {
     /// The `[[expected-failure]]` entries, in file order.
     pub fn expected_failures(&self) -> &[ExpectedFailure] {
         &self.expected_failures
+    }
+
+    /// The `[[avoid]]` entries for this DUT: triggers the random campaign
+    /// keeps out of its plans on it.
+    pub fn avoids_for(&self, dut: &DutInfo) -> Vec<&crate::avoid::Avoid> {
+        self.avoids.iter().filter(|a| a.applies_to(dut)).collect()
     }
 
     /// The waivers, in file order.
@@ -764,7 +788,7 @@ fn mode_key(basic: bool) -> &'static str {
     if basic { "basic" } else { "pelican" }
 }
 
-fn invalid(file: &str, line: usize, key: &str, message: String) -> WaiverError {
+pub(crate) fn invalid(file: &str, line: usize, key: &str, message: String) -> WaiverError {
     WaiverError::Invalid { file: file.into(), line, key: key.into(), message }
 }
 
