@@ -689,4 +689,27 @@ mod tests {
         }
         assert!(seen > 20);
     }
+
+    #[test]
+    fn an_avoided_trigger_is_taken_out_and_nothing_else_changes() {
+        let avoid = DrawLimits { avoid: vec!["software-reset-mode".into(), "extended-frames-in-basiccan".into()], ..DrawLimits::default() };
+        let (mut toggles, mut basic_ext) = (0, 0);
+        for i in 0..300 {
+            let (p, q) = (draw(11, i, &DrawLimits::default()), draw(11, i, &avoid));
+            toggles += p.program.iter().filter(|o| matches!(o, HostOp::ResetToggle { .. })).count();
+            assert!(!q.program.iter().any(|o| matches!(o, HostOp::ResetToggle { .. })), "run {i}: a reset toggle left");
+            assert_eq!(p.program.len(), q.program.len(), "run {i}: a toggle becomes a wait of its length");
+            assert_eq!((p.config.clone(), p.faults.clone()), (q.config.clone(), q.faults.clone()), "run {i}");
+            for (a, b) in p.nodes.iter().zip(&q.nodes) {
+                if p.config.pelican {
+                    assert_eq!(a.frames, b.frames, "run {i}: PeliCAN plans keep their extended frames");
+                } else {
+                    basic_ext += a.frames.iter().filter(|f| f.1.extended).count();
+                    assert!(b.frames.iter().all(|f| !f.1.extended), "run {i}");
+                    assert_eq!(b.frames, a.frames.iter().filter(|f| !f.1.extended).cloned().collect::<Vec<_>>(), "run {i}");
+                }
+            }
+        }
+        assert!(toggles > 20 && basic_ext > 5, "the draw has both triggers to take out: {toggles} {basic_ext}");
+    }
 }
