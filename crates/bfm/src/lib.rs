@@ -1,6 +1,6 @@
 //! Host bus-functional models for the SJA1000-compatible core: Wishbone
-//! classic, Avalon-MM, PIO (GPIO bit-banging) and Intel-mode 8051
-//! multiplexed-bus masters, passive protocol
+//! classic, Avalon-MM, AXI4-Lite, APB3/APB4, PIO (GPIO bit-banging) and
+//! Intel-mode 8051 multiplexed-bus masters, passive protocol
 //! monitors, RAM targets to test them, and fault wrappers.
 //!
 //! The crate knows no simulator and no async runtime: every role is a plain
@@ -69,7 +69,9 @@
 
 #![warn(missing_docs)]
 
+mod apb;
 mod avalon;
+mod axi4lite;
 pub mod faults;
 mod i8051;
 mod i8051_ac;
@@ -80,6 +82,11 @@ mod pio;
 pub mod wiring;
 mod wishbone;
 
+pub use apb::{ApbBridge, ApbConfig, ApbMaster, ApbMasterOut, ApbMonitor, ApbRam, ApbSlaveOut};
+pub use axi4lite::{
+    Axi4LiteBridge, Axi4LiteConfig, Axi4LiteMaster, Axi4LiteMonitor, Axi4LiteRam, AxiMasterOut,
+    AxiSlaveOut, resp_name,
+};
 pub use avalon::{AvalonMaster, AvalonMasterConfig, AvalonRam, AvalonTiming};
 pub use i8051_ac::I8051AcTiming;
 pub use i8051::{

@@ -50,6 +50,22 @@ pub enum Rule {
     /// 8051 bus: the slave drives the port outside an RD strobe with chip
     /// select (beyond its float time).
     ReadOutsideStrobe,
+    /// AXI: a VALID fell before its READY (APB: PSEL or PENABLE fell
+    /// before PREADY).
+    ValidDroppedBeforeReady,
+    /// AXI: a channel's payload changed while its VALID waited for READY
+    /// (APB: address, direction or data changed during a transfer).
+    ChangedWhileValid,
+    /// AXI: VALID waited for READY beyond the monitor's limit (APB: PREADY
+    /// low beyond it).
+    HandshakeStuck,
+    /// AXI: a B or R response with no accepted request to answer.
+    ResponseWithoutRequest,
+    /// AXI: a response other than OKAY (APB: PSLVERR).
+    ErrorResponse,
+    /// APB: the phases out of order (PENABLE without a setup phase, or
+    /// in the setup phase's cycle).
+    PhaseOrder,
 }
 
 impl fmt::Display for Rule {
@@ -72,6 +88,12 @@ impl fmt::Display for Rule {
             Rule::DataNotHeld => "address/data not held",
             Rule::PortContention => "port contention",
             Rule::ReadOutsideStrobe => "slave drives outside RD",
+            Rule::ValidDroppedBeforeReady => "valid dropped before ready",
+            Rule::ChangedWhileValid => "payload changed while waiting",
+            Rule::HandshakeStuck => "handshake stuck",
+            Rule::ResponseWithoutRequest => "response without request",
+            Rule::ErrorResponse => "error response",
+            Rule::PhaseOrder => "phases out of order",
         })
     }
 }

@@ -89,6 +89,30 @@ pub enum BfmError {
         /// Cycles waited.
         cycles: u64,
     },
+    /// The target stopped answering part-way through a multi-phase
+    /// transfer (AXI4-Lite, APB): `at` says where.
+    #[error("{op} at 0x{addr:02X} timed out after {cycles} host cycles: {at}")]
+    Stopped {
+        /// Read or write.
+        op: OpKind,
+        /// Register address.
+        addr: u8,
+        /// Cycles waited.
+        cycles: u64,
+        /// Where it stopped ("AW accepted at 1.20 us, W never ready").
+        at: String,
+    },
+    /// The target answered with an error response (AXI SLVERR/DECERR,
+    /// APB PSLVERR).
+    #[error("{op} at 0x{addr:02X} answered {response}")]
+    ErrorResponse {
+        /// Read or write.
+        op: OpKind,
+        /// Register address.
+        addr: u8,
+        /// The response's name.
+        response: &'static str,
+    },
     /// The master was reset while the operation was queued or in flight.
     #[error("{op} at 0x{addr:02X} flushed by a master reset")]
     Flushed {

@@ -7,7 +7,7 @@
 
 use std::path::Path;
 
-use bfm::{AvMasterOut, AvSlaveOut, I8051Out, I8051SlaveOut, WbMasterOut, WbSlaveOut};
+use bfm::{ApbMasterOut, ApbSlaveOut, AvMasterOut, AvSlaveOut, AxiMasterOut, AxiSlaveOut, I8051Out, I8051SlaveOut, WbMasterOut, WbSlaveOut};
 
 use crate::bridge::{BridgeError, Model, Port};
 use crate::verilated::BatchPins;
@@ -24,6 +24,12 @@ pub enum HostPort {
     /// active high, and the shared port: `port_0_i`/`port_0_o`/`port_0_oe`
     /// as on our `can_top_8051`). Sampled by `clk_i`: no host clock port.
     I8051,
+    /// AXI4-Lite, Xilinx names (`s_axi_aclk`, `s_axi_aresetn` active low,
+    /// `s_axi_awaddr` ... `s_axi_rready`), as on our `can_axi4lite`.
+    Axi4Lite,
+    /// APB3/APB4 (`pclk`, `presetn` active low, `psel` ... `pslverr`), as
+    /// on our `can_apb`; `pstrb`/`pprot` bound when the top has them.
+    Apb,
 }
 
 /// Name of the top [`i8051_inout_shell`] writes.
@@ -102,6 +108,18 @@ pub trait Dut {
     fn i8051(&self) -> I8051SlaveOut {
         I8051SlaveOut::default()
     }
+    /// AXI4-Lite pins (ignored by other DUTs, the default).
+    fn set_axi(&mut self, _m: &AxiMasterOut) {}
+    /// AXI4-Lite slave outputs (idle for other DUTs, the default).
+    fn axi(&self) -> AxiSlaveOut {
+        AxiSlaveOut::default()
+    }
+    /// APB pins (ignored by other DUTs, the default).
+    fn set_apb(&mut self, _m: &ApbMasterOut) {}
+    /// APB completer outputs (idle for other DUTs, the default).
+    fn apb(&self) -> ApbSlaveOut {
+        ApbSlaveOut::default()
+    }
     /// `rx_i`: `true` = recessive.
     fn set_rx(&mut self, rx: bool);
     /// CAN-side outputs.
@@ -155,10 +173,30 @@ struct I8051Ports {
     port_oe: Port,
 }
 
+struct AxiPorts {
+    clk: Port,
+    rst: Port,
+    /// AWVALID AWADDR AWPROT WVALID WDATA WSTRB BREADY ARVALID ARADDR ARPROT RREADY.
+    ins: [Port; 11],
+    /// AWREADY WREADY BVALID BRESP ARREADY RVALID RDATA RRESP.
+    outs: [Port; 8],
+}
+
+struct ApbPorts {
+    clk: Port,
+    rst: Port,
+    /// PSEL PENABLE PWRITE PADDR PWDATA, then PSTRB PPROT if the top has them.
+    ins: Vec<Port>,
+    /// PREADY PRDATA PSLVERR.
+    outs: [Port; 3],
+}
+
 enum HostPorts {
     Wb(WbPorts),
     Av(AvPorts),
     I8051(I8051Ports),
+    Axi(AxiPorts),
+    Apb(ApbPorts),
 }
 
 /// A Verilated top with the `can_top` Wishbone port list or the
@@ -201,6 +239,8 @@ struct OutCache {
     wb: WbSlaveOut,
     av: AvSlaveOut,
     i8051: I8051SlaveOut,
+    axi: AxiSlaveOut,
+    apb: ApbSlaveOut,
 }
 
 impl VerilatedDut {
@@ -245,6 +285,24 @@ impl VerilatedDut {
                     ad: get(p.port_o),
                     ad_oe: get(p.port_oe) != 0,
                 }
+            }
+            HostPorts::Axi(a) => {
+                let g = |p: Port| m.get(p);
+                let o = &a.outs;
+                self.out.axi = AxiSlaveOut {
+                    awready: g(o[0]) != 0,
+                    wready: g(o[1]) != 0,
+                    bvalid: g(o[2]) != 0,
+                    bresp: g(o[3]) as u8,
+                    arready: g(o[4]) != 0,
+                    rvalid: g(o[5]) != 0,
+                    rdata: g(o[6]) as u32,
+                    rresp: g(o[7]) as u8,
+                }
+            }
+            HostPorts::Apb(a) => {
+                let g = |p: Port| m.get(p);
+                self.out.apb = ApbSlaveOut { pready: g(a.outs[0]) != 0, prdata: g(a.outs[1]) as u32, pslverr: g(a.outs[2]) != 0 }
             }
         }
         can
@@ -320,6 +378,8 @@ impl VerilatedDut {
             HostPorts::Av(a) => Some(a.clk),
             // The 8051 bus has no clock: clk_i samples it.
             HostPorts::I8051(_) => None,
+            HostPorts::Axi(a) => Some(a.clk),
+            HostPorts::Apb(a) => Some(a.clk),
         };
         let cc = self.can_clk;
         assert!(self.m.owns(cc), "VerilatedDut: the model was replaced");
@@ -402,8 +462,33 @@ impl VerilatedDut {
                 let pol = OutPolarity { irq_active_high: false, bus_off_active_high: false };
                 (host, ["clk_i", "rx_i", "tx_o", "irq_on", "bus_off_on", "clkout_o"], pol, false, k)
             }
+            HostPort::Axi4Lite => {
+                let k = "AXI4-Lite (can_axi4lite)";
+                let p = |n: &str| m.port(&format!("s_axi_{n}"), None, k);
+                let host = HostPorts::Axi(AxiPorts {
+                    clk: p("aclk")?,
+                    rst: p("aresetn")?,
+                    ins: [p("awvalid")?, p("awaddr")?, p("awprot")?, p("wvalid")?, p("wdata")?, p("wstrb")?, p("bready")?, p("arvalid")?, p("araddr")?, p("arprot")?, p("rready")?],
+                    outs: [p("awready")?, p("wready")?, p("bvalid")?, p("bresp")?, p("arready")?, p("rvalid")?, p("rdata")?, p("rresp")?],
+                });
+                let pol = OutPolarity { irq_active_high: false, bus_off_active_high: false };
+                (host, ["clk_i", "rx_i", "tx_o", "irq_on", "bus_off_on", "clkout_o"], pol, true, k)
+            }
+            HostPort::Apb => {
+                let k = "APB (can_apb)";
+                let p = |n: &str| m.port(n, None, k);
+                let mut ins = vec![p("psel")?, p("penable")?, p("pwrite")?, p("paddr")?, p("pwdata")?];
+                // APB3 tops have no PSTRB/PPROT.
+                if let (Ok(a), Ok(b)) = (p("pstrb"), p("pprot")) {
+                    ins.extend([a, b]);
+                }
+                let host = HostPorts::Apb(ApbPorts { clk: p("pclk")?, rst: p("presetn")?, ins, outs: [p("pready")?, p("prdata")?, p("pslverr")?] });
+                let pol = OutPolarity { irq_active_high: false, bus_off_active_high: false };
+                (host, ["clk_i", "rx_i", "tx_o", "irq_on", "bus_off_on", "clkout_o"], pol, true, k)
+            }
         };
         let p = |i: usize| m.port(can_names[i], Some(1), k);
+        let reset_active_low = reset_active_low || matches!(host, HostPorts::Axi(_) | HostPorts::Apb(_));
         Ok(VerilatedDut::cached(VerilatedDut {
             host,
             can_clk: p(0)?,
@@ -448,6 +533,8 @@ impl Dut for VerilatedDut {
             HostPorts::Wb(_) => HostPort::Wishbone,
             HostPorts::Av(_) => HostPort::Avalon,
             HostPorts::I8051(_) => HostPort::I8051,
+            HostPorts::Axi(_) => HostPort::Axi4Lite,
+            HostPorts::Apb(_) => HostPort::Apb,
         }
     }
     fn set_reset(&mut self, on: bool) {
@@ -455,6 +542,8 @@ impl Dut for VerilatedDut {
             HostPorts::Wb(w) => w.rst,
             HostPorts::Av(a) => a.reset,
             HostPorts::I8051(p) => p.rst,
+            HostPorts::Axi(a) => a.rst,
+            HostPorts::Apb(a) => a.rst,
         };
         self.m.set(p, (on != self.reset_active_low) as u64);
     }
@@ -503,6 +592,30 @@ impl Dut for VerilatedDut {
     }
     fn i8051(&self) -> I8051SlaveOut {
         self.out.i8051
+    }
+    fn set_axi(&mut self, x: &AxiMasterOut) {
+        if let HostPorts::Axi(a) = &self.host {
+            let v = [x.awvalid as u64, x.awaddr as u64, x.awprot as u64, x.wvalid as u64, x.wdata as u64, x.wstrb as u64, x.bready as u64, x.arvalid as u64, x.araddr as u64, x.arprot as u64, x.rready as u64];
+            let ins = a.ins;
+            for (p, v) in ins.into_iter().zip(v) {
+                self.m.set(p, v);
+            }
+        }
+    }
+    fn axi(&self) -> AxiSlaveOut {
+        self.out.axi
+    }
+    fn set_apb(&mut self, x: &ApbMasterOut) {
+        if let HostPorts::Apb(a) = &self.host {
+            let v = [x.psel as u64, x.penable as u64, x.pwrite as u64, x.paddr as u64, x.pwdata as u64, x.pstrb as u64, x.pprot as u64];
+            let ins = a.ins.clone();
+            for (p, v) in ins.into_iter().zip(v) {
+                self.m.set(p, v);
+            }
+        }
+    }
+    fn apb(&self) -> ApbSlaveOut {
+        self.out.apb
     }
     #[inline]
     fn set_rx(&mut self, rx: bool) {

@@ -285,6 +285,22 @@ impl PortMap {
     }
 }
 
+/// Where register `n` sits on a bus wider than a byte: at byte address
+/// `n * stride`, in byte lane `byte_lane` of the data bus (Linux's
+/// sja1000 platform binding: `reg-io-width`).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct RegLayout {
+    /// Bytes between registers: 1, 2 or 4.
+    pub stride: u32,
+    /// Byte lane of the data bus that carries the register (0 to 3).
+    pub byte_lane: u32,
+}
+
+impl RegLayout {
+    /// One register per 32-bit word, data in bits 7:0 (AXI4-Lite and APB).
+    pub const WORD: RegLayout = RegLayout { stride: 4, byte_lane: 0 };
+}
+
 /// A core's declared freedoms.
 #[derive(Clone, Debug, PartialEq, Eq)]
 pub struct Profile {
@@ -321,6 +337,18 @@ pub struct Profile {
     /// The 8051 top's `port_0_io` is an `inout` driven when this Verilog
     /// expression of its inputs holds (`[access.i8051] inout-drive`).
     pub i8051_inout_drive: Option<String>,
+    /// When an AXI4-Lite access takes effect (`[access.axi4-lite]`; None:
+    /// as `wishbone`), counted from the first host edge with AWVALID and
+    /// WVALID (a write) or ARVALID (a read) on the wires.
+    pub axi4lite: Option<AccessTiming>,
+    /// When an APB access takes effect (`[access.apb]`; None: as
+    /// `wishbone`), counted from the first host edge of the access phase.
+    pub apb: Option<AccessTiming>,
+    /// Register stride and byte lane on AXI4-Lite (`stride`, `byte-lane`
+    /// under `[access.axi4-lite]`; default 4 and 0).
+    pub axi4lite_layout: RegLayout,
+    /// Register stride and byte lane on APB (default 4 and 0).
+    pub apb_layout: RegLayout,
     /// When the core has committed to an access, per bus (for the host
     /// bus monitor: a request dropped later is not abandoned).
     pub latch: Latch,
@@ -550,7 +578,37 @@ impl Profile {
             vhdl.files = v.files.iter().map(PathBuf::from).collect();
             vhdl.ghdl_args = v.ghdl_args.clone();
         }
+        let mut bus_timing = [None, None];
+        let mut layouts = [RegLayout::WORD; 2];
+        for (i, (a, key)) in [(&raw.access.axi4lite, "access.axi4-lite"), (&raw.access.apb, "access.apb")].into_iter().enumerate() {
+            let Some(a) = a else { continue };
+            if let Some(d) = &a.inout_drive {
+                return Err(bad(d.span(), key, "inout-drive belongs to [access.i8051] (the 8051 bus's shared port)".into()));
+            }
+            bus_timing[i] = Some(access(a, key)?);
+            if let Some(st) = &a.stride {
+                if ![1, 2, 4].contains(st.get_ref()) {
+                    return Err(bad(st.span(), key, format!("stride {}: 1, 2 or 4 bytes between registers", st.get_ref())));
+                }
+                layouts[i].stride = *st.get_ref();
+            }
+            if let Some(l) = &a.byte_lane {
+                if *l.get_ref() > 3 {
+                    return Err(bad(l.span(), key, format!("byte-lane {}: 0 to 3 on a 32-bit data bus", l.get_ref())));
+                }
+                layouts[i].byte_lane = *l.get_ref();
+            }
+        }
+        for (a, key) in [(&raw.access.wishbone, "access.wishbone"), (&raw.access.avalon, "access.avalon"), (&raw.access.pio, "access.pio")] {
+            if let Some(st) = a.stride.as_ref().map(|s| s.span()).or(a.byte_lane.as_ref().map(|s| s.span())) {
+                return Err(bad(st, key, "stride and byte-lane belong to [access.axi4-lite] and [access.apb] (an 8-bit bus has one register per address)".into()));
+            }
+        }
         Ok(Profile {
+            axi4lite: bus_timing[0],
+            apb: bus_timing[1],
+            axi4lite_layout: layouts[0],
+            apb_layout: layouts[1],
             i8051,
             i8051_inout_drive,
             vhdl,
@@ -847,6 +905,13 @@ struct RawAccessSet {
     /// `latch`, `busy-after-ack` and `count-from` are refused here.
     /// Default: the 1st CAN edge of the strobe for read, write and command.
     i8051: Option<RawAccess>,
+    /// AXI4-Lite (`--host axi4-lite`): edges counted from the first host edge with
+    /// AWVALID and WVALID, or ARVALID; also `stride` and `byte-lane`. Default: as wishbone.
+    #[serde(rename = "axi4-lite")]
+    axi4lite: Option<RawAccess>,
+    /// APB (`--host apb`): edges counted from the first host edge of the access phase;
+    /// also `stride` and `byte-lane`. Default: as wishbone.
+    apb: Option<RawAccess>,
 }
 
 #[derive(Deserialize, Clone, Copy, PartialEq, Eq, schemars::JsonSchema)]
@@ -890,6 +955,14 @@ struct RawAccess {
     /// Default: separate input and output ports.
     #[schemars(with = "Option<String>")]
     inout_drive: Option<Spanned<String>>,
+    /// `[access.axi4-lite]` and `[access.apb]` only: bytes between registers (1, 2 or 4;
+    /// register n at byte n * stride). Default 4.
+    #[schemars(with = "Option<u32>")]
+    stride: Option<Spanned<u32>>,
+    /// `[access.axi4-lite]` and `[access.apb]` only: the byte lane of the 32-bit data
+    /// bus that carries the register (0 to 3). Default 0.
+    #[schemars(with = "Option<u32>")]
+    byte_lane: Option<Spanned<u32>>,
     /// CAN edges until read data is captured (at most 64). Required with `"can-edges"`.
     #[schemars(with = "Option<u32>")]
     read: Option<Spanned<u32>>,

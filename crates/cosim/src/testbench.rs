@@ -194,7 +194,7 @@ impl Testbench {
         // master (which holds the request and re-triggers it) keeps the
         // ack timing, as before profiles.
         let profile = cfg.profile.clone().or_else(|| match (&cfg.dut, cfg.host) {
-            (DutChoice::Rtl, HostBfm::Wishbone | HostBfm::Avalon { .. }) => Some(Profile::rtl()),
+            (DutChoice::Rtl, HostBfm::Wishbone | HostBfm::Avalon { .. } | HostBfm::Axi4Lite(_) | HostBfm::Apb(_)) => Some(Profile::rtl()),
             (DutChoice::RtlAvalon, _) => Some(Profile::rtl()),
             (DutChoice::Bundled(t), HostBfm::Pio(_)) if t == "can_top_pio" => Some(Profile::rtl()),
             _ => None,
@@ -203,16 +203,28 @@ impl Testbench {
         let ports = profile.as_ref().map_or(&default_ports, |p| &p.ports);
         // A DUT driven over the 8051 bus binds that port list.
         let i8051 = matches!(cfg.host, HostBfm::I8051(_));
-        let wb_or_8051 = if i8051 {
-            HostPort::I8051
-        } else {
-            HostPort::Wishbone
+        let wb_or_8051 = match cfg.host {
+            HostBfm::I8051(_) => HostPort::I8051,
+            HostBfm::Axi4Lite(_) => HostPort::Axi4Lite,
+            HostBfm::Apb(_) => HostPort::Apb,
+            _ => HostPort::Wishbone,
+        };
+        // Our RTL on AXI4-Lite or APB is its wrapper of that bus.
+        let rtl_wrapper = match cfg.host {
+            HostBfm::Axi4Lite(_) => Some("can_axi4lite"),
+            HostBfm::Apb(_) => Some("can_apb"),
+            _ => None,
         };
         let covered = cfg.coverage_dat.as_deref().map(|dat| crate::coverage::covered_dut(&cfg.dut, wb_or_8051, ports, trace, dat)).transpose()?;
         let mut dut = if let Some(d) = covered { AnyDut::Verilated(d) } else { match &cfg.dut {
             DutChoice::Rtl if i8051 => AnyDut::Verilated(VerilatedDut::bundled(
                 "can_top_8051",
                 HostPort::I8051,
+                trace,
+            )?),
+            DutChoice::Rtl if rtl_wrapper.is_some() => AnyDut::Verilated(VerilatedDut::bundled(
+                rtl_wrapper.unwrap_or_default(),
+                wb_or_8051,
                 trace,
             )?),
             DutChoice::Rtl => {
@@ -277,6 +289,7 @@ impl Testbench {
         };
         let dut_name = match &cfg.dut {
             DutChoice::Rtl if i8051 => "rtl (can_top_8051)".to_string(),
+            DutChoice::Rtl if rtl_wrapper.is_some() => format!("rtl ({})", rtl_wrapper.unwrap_or_default()),
             DutChoice::Rtl => "rtl".to_string(),
             DutChoice::RtlAvalon => "rtl (can_avalon)".to_string(),
             DutChoice::Bundled(t) => t.clone(),
@@ -336,6 +349,8 @@ impl Testbench {
             HostBfm::Avalon { .. } => HostKind::Avalon,
             HostBfm::Pio(_) => HostKind::Pio,
             HostBfm::I8051(_) => HostKind::I8051,
+            HostBfm::Axi4Lite(_) => HostKind::Axi4Lite,
+            HostBfm::Apb(_) => HostKind::Apb,
         };
         let reference = ReferenceAgent::new(
             cfg.lockstep.map(|(r, _)| r),

@@ -88,6 +88,10 @@ pub enum HostBus {
     Pio,
     /// Intel-mode (8051) multiplexed bus: ALE, CS, RD, WR, shared port.
     I8051,
+    /// AXI4-Lite: AW, W, B, AR, R channels.
+    Axi4Lite,
+    /// APB3/APB4: setup and access phases.
+    Apb,
 }
 
 /// Bit timing and clocks of one node.

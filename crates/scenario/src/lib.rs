@@ -20,7 +20,7 @@
 //! bit_rate = 125000   # optional: some BTR setting must reach it; the BTR
 //!                     # values the program writes are checked against it
 //! [host]
-//! bfm = "wishbone"    # | "avalon" | "pio" | "i8051"
+//! bfm = "wishbone"    # | "avalon" | "pio" | "i8051" | "axi4-lite" | "apb" | "apb3"
 //! avalon_map = "wrapper"   # | "begintransfer-cyc" (seed 000 Tableau 3.2)
 //! timeout_cycles = 1000    # host cycles before an access without ack fails
 //! fixed = "why"       # the host wiring is this scenario's point: a run
@@ -196,6 +196,12 @@ pub enum HostBfm {
     /// Intel-mode (8051) multiplexed bus (ALE, CS, RD, WR, shared port):
     /// our RTL through `can_top_8051`.
     I8051,
+    /// AXI4-Lite (five channels): our RTL through `can_axi4lite`.
+    Axi4Lite,
+    /// APB4 (setup and access phases, PSTRB/PPROT): our RTL through `can_apb`.
+    Apb,
+    /// APB3 (no PSTRB/PPROT): our RTL through `can_apb`.
+    Apb3,
 }
 
 impl HostBfm {
@@ -208,6 +214,9 @@ impl HostBfm {
             "pio" => Some(HostBfm::Pio),
             "pio-edge" => Some(HostBfm::PioEdgeCapture),
             "i8051" | "8051" => Some(HostBfm::I8051),
+            "axi4-lite" | "axi4lite" | "axi" => Some(HostBfm::Axi4Lite),
+            "apb" | "apb4" => Some(HostBfm::Apb),
+            "apb3" => Some(HostBfm::Apb3),
             _ => None,
         }
     }
@@ -221,6 +230,9 @@ impl HostBfm {
             HostBfm::Pio => "pio",
             HostBfm::PioEdgeCapture => "pio-edge",
             HostBfm::I8051 => "i8051",
+            HostBfm::Axi4Lite => "axi4-lite",
+            HostBfm::Apb => "apb",
+            HostBfm::Apb3 => "apb3",
         }
     }
 }
@@ -848,6 +860,9 @@ fn build(ctx: &Ctx, raw: RawScenario, file: &Path) -> Result<Scenario, ScenarioE
         "wishbone" => HostBfm::Wishbone,
         "pio" => HostBfm::Pio,
         "i8051" => HostBfm::I8051,
+        "axi4-lite" => HostBfm::Axi4Lite,
+        "apb" => HostBfm::Apb,
+        "apb3" => HostBfm::Apb3,
         "avalon" => HostBfm::Avalon {
             begintransfer_cyc: match raw.host.avalon_map.as_deref().unwrap_or("wrapper") {
                 "wrapper" => false,
@@ -855,7 +870,7 @@ fn build(ctx: &Ctx, raw: RawScenario, file: &Path) -> Result<Scenario, ScenarioE
                 other => return Err(ctx.err(0..0, "host.avalon_map", format!("`{other}`: use \"wrapper\" or \"begintransfer-cyc\""))),
             },
         },
-        other => return Err(ctx.err(find(ctx.text, "bfm"), "host.bfm", format!("`{other}` is not a host BFM; use \"wishbone\", \"avalon\", \"pio\" or \"i8051\""))),
+        other => return Err(ctx.err(find(ctx.text, "bfm"), "host.bfm", format!("`{other}` is not a host BFM; use \"wishbone\", \"avalon\", \"pio\", \"i8051\", \"axi4-lite\", \"apb\" or \"apb3\""))),
     };
 
     // [dut]

@@ -259,6 +259,16 @@ pub fn tb_config(s: &Scenario, dut: &DutKind, opts: &RunOptions) -> Result<TbCon
         HostBfm::PioEdgeCapture => cosim::HostBfm::Pio(bfm::PioTiming { ack_input: bfm::PioAckInput::EdgeCapture, ..Default::default() }),
         // DutChoice::Rtl is can_top_8051 under this host.
         HostBfm::I8051 => cosim::HostBfm::I8051(cosim::i8051_timing_for_rtl(s.host_hz as u64, s.can_hz as u64)),
+        // DutChoice::Rtl is can_axi4lite / can_apb under these hosts; the
+        // register layout is the profile's (our wrappers: 4 and 0).
+        HostBfm::Axi4Lite => {
+            let l = opts.dut.as_ref().and_then(|d| d.profile.as_ref()).map_or(cosim::RegLayout::WORD, |p| p.axi4lite_layout);
+            cosim::HostBfm::Axi4Lite(bfm::Axi4LiteConfig { stride: l.stride, byte_lane: l.byte_lane, period_ps: 1_000_000_000_000 / s.host_hz as u64, ..Default::default() })
+        }
+        HostBfm::Apb | HostBfm::Apb3 => {
+            let l = opts.dut.as_ref().and_then(|d| d.profile.as_ref()).map_or(cosim::RegLayout::WORD, |p| p.apb_layout);
+            cosim::HostBfm::Apb(bfm::ApbConfig { apb4: s.host == HostBfm::Apb, stride: l.stride, byte_lane: l.byte_lane, period_ps: 1_000_000_000_000 / s.host_hz as u64, ..Default::default() })
+        }
         HostBfm::Avalon { begintransfer_cyc: true } => cosim::HostBfm::Avalon {
             // SOPC Builder without waitrequest: fixed wait states.
             timing: bfm::AvalonTiming::FixedWaitStates { read: 1, write: 1 },

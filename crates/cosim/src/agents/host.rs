@@ -6,7 +6,8 @@
 //! (when it is latched, when a new one can be seen after an ack).
 
 use bfm::{
-    AvMasterOut, AvalonMaster, AvalonMasterConfig, AvalonMonitor, AvalonMonitorConfig, AvalonTiming,
+    ApbBridge, ApbConfig, ApbMaster, ApbMasterOut, ApbMonitor, Axi4LiteBridge, Axi4LiteConfig,
+    Axi4LiteMaster, Axi4LiteMonitor, AxiMasterOut, AvMasterOut, AvalonMaster, AvalonMasterConfig, AvalonMonitor, AvalonMonitorConfig, AvalonTiming,
     BfmError, HostMaster, I8051Config, I8051Master, I8051Monitor, I8051MonitorConfig, I8051Out,
     I8051Polarity, I8051Timing, OpHandle, OpResult, PioMaster, PioTiming, WbMasterOut, WbSlaveOut,
     WishboneMaster, WishboneMonitor, wiring::Wiring as AvWiring,
@@ -48,6 +49,15 @@ pub enum HostBfm {
     /// `can_top_8051` and the opencores 8051 build); drives a DUT with the
     /// [`HostPort::I8051`] port list (`DutChoice::Rtl` becomes `can_top_8051`).
     I8051(I8051Timing),
+    /// AXI4-Lite master: drives a DUT with the [`HostPort::Axi4Lite`] port
+    /// list natively (`DutChoice::Rtl` becomes `can_axi4lite`), a Wishbone
+    /// DUT (the golden model) through [`bfm::Axi4LiteBridge`], the slave
+    /// logic of `can_axi4lite` in Rust.
+    Axi4Lite(Axi4LiteConfig),
+    /// APB3/APB4 requester: a DUT with the [`HostPort::Apb`] port list
+    /// natively (`DutChoice::Rtl` becomes `can_apb`), a Wishbone DUT
+    /// through [`bfm::ApbBridge`].
+    Apb(ApbConfig),
 }
 
 /// 8051-bus timing for our `can_top_8051` at the given clocks: the default
@@ -73,6 +83,10 @@ enum Master {
     Av(AvalonMaster, AvalonWiring),
     Pio(PioMaster),
     I8051(I8051Master, I8051Monitor),
+    /// The bridge (and the Wishbone outputs of the cycle that ends) when
+    /// the DUT has a Wishbone port.
+    Axi(Axi4LiteMaster, Axi4LiteMonitor, Option<(Axi4LiteBridge, WbSlaveOut)>),
+    Apb(ApbMaster, ApbMonitor, Option<ApbBridge>),
 }
 
 macro_rules! with_master {
@@ -82,6 +96,8 @@ macro_rules! with_master {
             Master::Av($x, _) => $e,
             Master::Pio($x) => $e,
             Master::I8051($x, _) => $e,
+            Master::Axi($x, ..) => $e,
+            Master::Apb($x, ..) => $e,
         }
     };
 }
@@ -111,6 +127,8 @@ pub struct HostAgent {
     applied_wb: WbMasterOut,
     applied_av: AvMasterOut,
     applied_i8051: I8051Out,
+    applied_axi: AxiMasterOut,
+    applied_apb: ApbMasterOut,
     wb_mon: WishboneMonitor,
     /// Master pins and slave outputs the Wishbone monitor saw last.
     wb_mon_seen: Option<(WbMasterOut, WbSlaveOut)>,
@@ -202,7 +220,33 @@ impl HostAgent {
                 );
                 (Master::I8051(m, mon), HostBus::I8051)
             }
+            HostBfm::Axi4Lite(cfg) => {
+                let cfg = Axi4LiteConfig { timeout_cycles: s.op_timeout_cycles, ..cfg };
+                let bridge = match dut.host_port() {
+                    HostPort::Axi4Lite => None,
+                    HostPort::Wishbone => Some((Axi4LiteBridge::new(cfg.stride, cfg.byte_lane), WbSlaveOut::default())),
+                    other => return Err(format!("{} has the {other:?} port list: the AXI4-Lite host drives an AXI4-Lite or a Wishbone port", dut.name())),
+                };
+                let mon = Axi4LiteMonitor::new("axi4-lite monitor", s.monitor_ack_timeout);
+                (Master::Axi(Axi4LiteMaster::new("host", cfg), mon, bridge), HostBus::Axi4Lite)
+            }
+            HostBfm::Apb(cfg) => {
+                let cfg = ApbConfig { timeout_cycles: s.op_timeout_cycles, ..cfg };
+                let bridge = match dut.host_port() {
+                    HostPort::Apb => None,
+                    HostPort::Wishbone => Some(ApbBridge { stride: cfg.stride, byte_lane: cfg.byte_lane }),
+                    other => return Err(format!("{} has the {other:?} port list: the APB host drives an APB or a Wishbone port", dut.name())),
+                };
+                let mon = ApbMonitor::new("apb monitor", cfg.apb4, s.monitor_ack_timeout);
+                (Master::Apb(ApbMaster::new("host", cfg), mon, bridge), HostBus::Apb)
+            }
         };
+        if matches!(dut.host_port(), HostPort::Axi4Lite | HostPort::Apb) {
+            let fits = matches!((&master, dut.host_port()), (Master::Axi(..), HostPort::Axi4Lite) | (Master::Apb(..), HostPort::Apb));
+            if !fits {
+                return Err(format!("{} has the {:?} port list: drive it with that host", dut.name(), dut.host_port()));
+            }
+        }
         let i8051 = matches!(s.bfm, HostBfm::I8051(_));
         if (dut.host_port() == HostPort::I8051) != i8051 {
             return Err(format!(
@@ -243,6 +287,8 @@ impl HostAgent {
             applied_wb: WbMasterOut::default(),
             applied_av: AvMasterOut::default(),
             applied_i8051: I8051Polarity::ACTIVE_HIGH.drive(false, false, false, false),
+            applied_axi: AxiMasterOut::default(),
+            applied_apb: ApbMasterOut::default(),
             wb_mon: WishboneMonitor::new("wishbone monitor", s.monitor_ack_timeout),
             wb_mon_seen: None,
             av_mon,
@@ -254,7 +300,7 @@ impl HostAgent {
                 HostBfm::Wishbone => p.latch.wishbone,
                 HostBfm::Avalon { .. } => p.latch.avalon,
                 HostBfm::Pio(_) => p.latch.pio,
-                HostBfm::I8051(_) => None,
+                _ => None,
             }),
             holdoff: profile
                 .and_then(|p| match s.bfm {
@@ -380,6 +426,7 @@ impl HostAgent {
             self.req_edges = 0;
         }
         let mut i8051_viol: Vec<bfm::Violation> = Vec::new();
+        let mut axi_viol: Vec<bfm::Violation> = Vec::new();
         match &mut self.master {
             Master::Wb(m) => {
                 let s = dut.wb();
@@ -419,6 +466,41 @@ impl HostAgent {
                 m.on_edge(&s);
                 self.applied_i8051 = m.outputs();
                 dut.set_i8051(&self.applied_i8051);
+            }
+            Master::Axi(m, mon, None) => {
+                let s = dut.axi();
+                axi_viol = mon.observe(cycle, &self.applied_axi, &s);
+                m.on_edge(&s);
+                self.applied_axi = m.outputs();
+                dut.set_axi(&self.applied_axi);
+            }
+            Master::Axi(m, mon, Some((b, prev_wb))) => {
+                let s_wb = dut.wb();
+                // The bridge's registers take the wires of the cycle that ends.
+                b.clock(&self.applied_axi, prev_wb);
+                *prev_wb = s_wb;
+                let s = b.to_axi(&self.applied_axi, &s_wb);
+                axi_viol = mon.observe(cycle, &self.applied_axi, &s);
+                m.on_edge(&s);
+                self.applied_axi = m.outputs();
+                self.applied_wb = b.to_wishbone(&self.applied_axi);
+                dut.set_wb(&self.applied_wb);
+            }
+            Master::Apb(m, mon, bridge) => {
+                let s = match bridge {
+                    None => dut.apb(),
+                    Some(b) => b.to_apb(&dut.wb()),
+                };
+                axi_viol = mon.observe(cycle, &self.applied_apb, &s);
+                m.on_edge(&s);
+                self.applied_apb = m.outputs();
+                match bridge {
+                    None => dut.set_apb(&self.applied_apb),
+                    Some(b) => {
+                        self.applied_wb = b.to_wishbone(&self.applied_apb);
+                        dut.set_wb(&self.applied_wb);
+                    }
+                }
             }
             Master::Av(m, AvalonWiring::Native) => {
                 let s = dut.av();
@@ -460,6 +542,10 @@ impl HostAgent {
         }
         for v in i8051_viol {
             violations.push(diagnose::Violation { cycle: v.cycle, rule: rule_id("i8051.", v.rule), message: v.message });
+        }
+        let prefix = if matches!(self.master, Master::Apb(..)) { "apb." } else { "axi4lite." };
+        for v in axi_viol {
+            violations.push(diagnose::Violation { cycle: v.cycle, rule: rule_id(prefix, v.rule), message: v.message });
         }
         false
     }
@@ -540,6 +626,15 @@ impl HostAgent {
     /// else Wishbone cyc & stb).
     #[inline]
     pub fn presented(&self) -> bool {
+        if let Master::Axi(_, _, None) = self.master {
+            // can_axi4lite's request: AW and W both valid, or AR valid
+            // (one access at a time: no response is waiting then).
+            let a = self.applied_axi;
+            return (a.awvalid && a.wvalid) || a.arvalid;
+        }
+        if let Master::Apb(_, _, None) = self.master {
+            return self.applied_apb.psel && self.applied_apb.penable;
+        }
         if self.native_avalon() {
             self.applied_av.chipselect && (self.applied_av.read || self.applied_av.write)
         } else {
@@ -563,6 +658,13 @@ impl HostAgent {
     /// Did the DUT answer this cycle (ack; Avalon: no waitrequest while
     /// selected; 8051: it drives the port)?
     pub fn answered(&self, dut: &AnyDut) -> bool {
+        if let Master::Axi(_, _, None) = self.master {
+            let s = dut.axi();
+            return s.awready || s.wready || s.arready || s.bvalid || s.rvalid;
+        }
+        if let Master::Apb(_, _, None) = self.master {
+            return self.applied_apb.psel && dut.apb().pready;
+        }
         if self.native_avalon() {
             self.applied_av.chipselect && !dut.av().waitrequest
         } else if self.is_i8051() {
@@ -590,6 +692,14 @@ impl HostAgent {
                 let s = dut.i8051();
                 (s.ad_oe, s.ad)
             }
+            HostPort::Axi4Lite => {
+                let s = dut.axi();
+                (s.awready || s.arready, s.rdata as u8)
+            }
+            HostPort::Apb => {
+                let s = dut.apb();
+                (self.applied_apb.psel && s.pready, s.prdata as u8)
+            }
         };
         let (cyc, stb, we, adr, dat_i) = match dut.host_port() {
             HostPort::Wishbone => {
@@ -603,6 +713,15 @@ impl HostAgent {
             HostPort::I8051 => {
                 let a = self.applied_i8051;
                 (a.cs, a.rd || a.wr, a.wr, if a.ale { a.ad } else { 0 }, a.ad)
+            }
+            HostPort::Axi4Lite => {
+                let a = self.applied_axi;
+                let adr = if a.awvalid { a.awaddr } else { a.araddr };
+                (a.awvalid || a.wvalid || a.arvalid, (a.awvalid && a.wvalid) || a.arvalid, a.awvalid, (adr >> 2) as u8, a.wdata as u8)
+            }
+            HostPort::Apb => {
+                let a = self.applied_apb;
+                (a.psel, a.psel && a.penable, a.pwrite, (a.paddr >> 2) as u8, a.pwdata as u8)
             }
         };
         (cyc, stb, we, adr, dat_i, dat_o, ack)

@@ -78,6 +78,10 @@ pub enum HostKind {
     Pio,
     /// The 8051 bus.
     I8051,
+    /// AXI4-Lite.
+    Axi4Lite,
+    /// APB.
+    Apb,
 }
 
 impl RefTiming {
@@ -109,6 +113,13 @@ impl RefTiming {
             (_, HostKind::Wishbone, Some(p)) => from_profile(p.wishbone),
             (_, HostKind::Avalon, Some(p)) => from_profile(p.avalon),
             (_, HostKind::Pio, Some(p)) => from_profile(p.pio),
+            // AXI4-Lite and APB: counted from the first host edge that
+            // presents the request (AW and W, or AR; the access phase), as
+            // the profile's `[access.axi4-lite]`/`[access.apb]` says, else
+            // as its Wishbone timing (our wrappers are can_top behind a
+            // combinational request).
+            (_, HostKind::Axi4Lite, Some(p)) => from_profile(p.axi4lite.unwrap_or(p.wishbone)),
+            (_, HostKind::Apb, Some(p)) => from_profile(p.apb.unwrap_or(p.wishbone)),
             _ => RefTiming::AtAck,
         }
     }
