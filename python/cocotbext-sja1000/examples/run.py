@@ -131,15 +131,16 @@ def main() -> int:
     if a.readme:
         if top != "can_top" or a.mutant:
             sys.exit("--readme runs the README's example on rtl/can_top only")
+        # The bench's own build of rtl/ serves (same top, same sources).
         test_dir = work / "readme"
         module = readme_example(test_dir)
     extra = ["-Wno-fatal", "-Wno-lint", "-Wno-style"] if a.sim == "verilator" else []
     runner.build(
         verilog_sources=sources, includes=[rtl], hdl_toplevel=top, build_dir=build_dir,
-        timescale=("1ps", "1ps"), build_args=extra, always=True,
+        timescale=("1ps", "1ps"), build_args=extra, always=not a.readme,
     ) if "verilog_sources" in runner.build.__code__.co_varnames else runner.build(
         sources=sources, includes=[rtl], hdl_toplevel=top, build_dir=build_dir,
-        timescale=("1ps", "1ps"), build_args=extra, always=True,
+        timescale=("1ps", "1ps"), build_args=extra, always=not a.readme,
     )
     reports = build_dir / "reports"
     shutil.rmtree(reports, ignore_errors=True)
