@@ -4,7 +4,9 @@
 # bench of rtl/can_top (examples/test_can_top.py) and its one-line mutant,
 # the bench of rtl/can_avalon (examples/test_can_avalon.py: the scoreboard
 # fed by the Avalon-MM monitor) and its mutant, whose divergence marker must
-# sit at the failing read, and the package README's example as written:
+# sit at the failing read, the Avalon-MM master and monitor on three small
+# slaves (waitrequest, pipelined reads, fixed wait states: examples/
+# avalon_slaves.v), and the package README's example as written:
 #   Icarus    with cocotb 2.x  (cocotb 2.x needs Verilator >= 5.036)
 #   Verilator with cocotb 1.9.2 (the newest cocotb that takes Debian's 5.006)
 # Each pair must pass on rtl/ and fail on the mutant with the diagnosis.
@@ -13,9 +15,10 @@
 #
 #   scripts/test-python.sh            # everything on both pairs
 #   scripts/test-python.sh --quick    # what scripts/test.sh runs: the same, but
-#                                     # the can_avalon bench and its mutant under
-#                                     # Icarus only (under Verilator they cost two
-#                                     # builds, about 80 s on 2 cores)
+#                                     # the can_avalon bench, its mutant and the
+#                                     # Avalon agents on small slaves under Icarus
+#                                     # only (under Verilator: five more builds,
+#                                     # two minutes on 2 cores)
 #   scripts/test-python.sh --bench    # also the benchmark: the example without
 #                                     # the scoreboard, and one test against
 #                                     # `cancosim run` of the same workload
@@ -122,6 +125,15 @@ run_pair() {
     else
       cat "$work/avalon-mutant.log"; echo "test-python: $name: the can_avalon mutant was not diagnosed at its read" >&2; fail=1
     fi
+    local t
+    for t in av_slave_wait av_slave_pipe av_slave_fixed; do
+      echo "== $name: the Avalon-MM master and monitor on $t (must pass) =="
+      if "$py/bin/python" "$ex/run.py" --sim "$sim" --top "$t" --build-dir "$work/$t" > "$work/$t.log" 2>&1; then
+        grep -E "TESTS=" "$work/$t.log"
+      else
+        cat "$work/$t.log"; echo "test-python: $name: the Avalon agents FAILED on $t" >&2; fail=1
+      fi
+    done
   fi
   echo "== $name: the package README's example, as written =="
   if "$py/bin/python" "$ex/run.py" --sim "$sim" --readme --build-dir "$work/rtl" > "$work/readme.log" 2>&1; then

@@ -6,6 +6,8 @@ rtl/can_avalon (examples/test_can_avalon.py, ``--top can_avalon``).
     python run.py --sim icarus --no-scoreboard       # the same bench without the scoreboard
     python run.py --sim icarus --top can_avalon [--mutant]
     python run.py --sim icarus --readme              # the package README's example, as written
+    python run.py --sim icarus --top av_slave_pipe   # the Avalon agents on a small slave
+                                                     # (also av_slave_wait, av_slave_fixed)
 
 With ``--top can_avalon --mutant`` the scoreboard's divergence marker
 (``<test>.markers.vcd`` and ``<test>.gtkw``) must also sit at the failing SR
@@ -112,7 +114,8 @@ def readme_example(dst: Path) -> str:
 def main() -> int:
     ap = argparse.ArgumentParser()
     ap.add_argument("--sim", default="icarus", choices=["icarus", "verilator"])
-    ap.add_argument("--top", default="can_top", choices=["can_top", "can_avalon"])
+    ap.add_argument("--top", default="can_top",
+                    choices=["can_top", "can_avalon", "av_slave_wait", "av_slave_pipe", "av_slave_fixed"])
     ap.add_argument("--mutant", action="store_true")
     ap.add_argument("--no-scoreboard", action="store_true")
     ap.add_argument("--readme", action="store_true", help="run the package README's example (can_top)")
@@ -123,9 +126,11 @@ def main() -> int:
     work = Path(a.build_dir or tempfile.mkdtemp(prefix="cocotb-can-"))
     rtl = mutant_rtl(work / "mutant-rtl") if a.mutant else ROOT / "rtl"
     sources = sorted(p for p in rtl.glob("can_*.v"))
+    if a.top.startswith("av_slave"):  # the Avalon agents alone, on small slaves
+        sources = [HERE / "avalon_slaves.v"]
     runner = get_runner(a.sim)
     top = a.top
-    module = {"can_top": "test_can_top", "can_avalon": "test_can_avalon"}[top]
+    module = {"can_top": "test_can_top", "can_avalon": "test_can_avalon"}.get(top, "test_avalon_agents")
     test_dir = HERE
     build_dir = work / f"build-{top}-{a.sim}{'-mutant' if a.mutant else ''}"
     if a.readme:

@@ -16,16 +16,20 @@ interface's, as the kit's Avalon BFM supports it (``crates/bfm``,
 - neither: fixed wait states, the request held ``read_wait + 1`` (reads)
   or ``write_wait + 1`` (writes) cycles, read data sampled at the last.
 
-Every value is read on falling edges of the clock, so it is the one the
-slave sampled at the rising edge before.
+Both agents act on falling edges of the clock and judge a rising edge by
+the pins as they settle after the falling edge before it (``ReadOnly``),
+which is what that edge samples: the master drives on a falling edge and
+holds a request through the rising edge that ends it (as the kit's BFM
+does); the monitor reports each rising edge's launch or completion at the
+falling edge after it.
 """
 
 import logging
-from typing import Any, Callable, List, NamedTuple, Optional, Union
+from typing import Any, Callable, List, NamedTuple, Optional, Tuple, Union
 
 import cocotb
 from cocotb.queue import Queue
-from cocotb.triggers import FallingEdge
+from cocotb.triggers import FallingEdge, ReadOnly
 
 from ._signals import bind, level, stop_task, value
 
@@ -96,11 +100,12 @@ class _Timing:
             return "waitrequest"
         return f"fixed wait states (read {self.read_wait}, write {self.write_wait})"
 
-    def accepted(self, bus: AvalonBus, write: bool, cycles: int) -> bool:
-        """The request on the wires for ``cycles`` edges so far (1 at the
-        launch edge) ends its command phase at this edge."""
+    def accepted(self, waitrequest: bool, write: bool, cycles: int) -> bool:
+        """A request on the wires at its ``cycles``-th rising edge (1: the
+        first), with ``waitrequest`` as that edge samples it, ends its
+        command phase there."""
         if self.waitrequest:
-            return not level(bus.waitrequest)
+            return not waitrequest
         return cycles > (self.write_wait if write else self.read_wait)
 
 
@@ -150,25 +155,31 @@ class AvalonMaster:
             b.begintransfer.value = 1
         cycles = 0
         while True:
-            await FallingEdge(self.clock)
+            await ReadOnly()  # what the next rising edge samples
             cycles += 1
+            done = self.timing.accepted(b.waitrequest is not None and level(b.waitrequest), write, cycles)
+            got = value(b.readdata)
+            await FallingEdge(self.clock)  # that edge has passed
             if b.begintransfer is not None:
                 b.begintransfer.value = 0
-            if self.timing.accepted(b, write, cycles):
+            if done:
                 break
             if cycles >= self.timeout:
                 self._idle()
                 raise TimeoutError(f"{what}: held off for {self.timeout} cycles")
-        got = value(b.readdata)
         b.chipselect.value, b.read.value, b.write.value = 0, 0, 0
-        if write or not self.timing.pipelined:
-            return got if not write else data
+        if write:
+            return data
+        if not self.timing.pipelined:
+            return got
         # The data comes at a later edge (read latency 1 or more).
         while True:
-            await FallingEdge(self.clock)
+            await ReadOnly()
             cycles += 1
-            if level(b.readdatavalid):
-                return value(b.readdata)
+            valid, got = level(b.readdatavalid), value(b.readdata)
+            await FallingEdge(self.clock)
+            if valid:
+                return got
             if cycles >= self.timeout:
                 raise TimeoutError(f"{what}: no readdatavalid in {self.timeout} cycles")
 
@@ -237,33 +248,55 @@ class AvalonMonitor:
         for cb in self._callbacks:
             cb(a)
 
+    def _sample(self) -> Tuple[bool, bool, bool, bool, int, int, int, bool, bool]:
+        """The pins as the next rising edge samples them: reset,
+        chipselect, read, write, address, writedata, readdata, waitrequest,
+        readdatavalid."""
+        b = self.bus
+        return (
+            self.reset is not None and level(self.reset),
+            level(b.chipselect), level(b.read), level(b.write),
+            value(b.address), value(b.writedata), value(b.readdata),
+            b.waitrequest is not None and level(b.waitrequest),
+            b.readdatavalid is not None and level(b.readdatavalid),
+        )
+
     async def _run(self) -> None:
-        b, t = self.bus, self.timing
-        # (write, addr, data, cycles, waiting for readdatavalid) of the access in flight.
+        t = self.timing
+        # The access in flight: [write, addr, data, cycles, waiting for readdatavalid].
         cur: Optional[List[Any]] = None
+        edge = None
         while True:
             await FallingEdge(self.clock)
-            if self.reset is not None and level(self.reset):
-                cur = None
-                continue
-            if cur is not None and cur[4]:
-                cur[3] += 1
-                if level(b.readdatavalid):
-                    self._emit(AvalonAccess(False, cur[1], value(b.readdata), False, cur[3]))
-                    cur = None
-                continue  # one read outstanding: nothing new until its data
-            if cur is None and level(b.chipselect) and (level(b.read) or level(b.write)):
-                write = level(b.write)
-                cur = [write, value(b.address), value(b.writedata) if write else 0, 0, False]
-                self._emit(AvalonAccess(write, cur[1], cur[2], True, 0))
-            if cur is not None:
-                cur[3] += 1
-                if t.accepted(b, cur[0], cur[3]):
-                    if cur[0]:
-                        self._emit(AvalonAccess(True, cur[1], cur[2], False, cur[3]))
-                        cur = None
-                    elif t.pipelined:
-                        cur[4] = True
-                    else:
-                        self._emit(AvalonAccess(False, cur[1], value(b.readdata), False, cur[3]))
-                        cur = None
+            if edge is not None:
+                cur = self._edge(edge, cur, t)
+            await ReadOnly()
+            edge = self._sample()
+
+    def _edge(self, e: Tuple[bool, bool, bool, bool, int, int, int, bool, bool],
+              cur: Optional[List[Any]], t: "_Timing") -> Optional[List[Any]]:
+        """One rising edge, from the pins it sampled; the access still in flight."""
+        reset, cs, rd, wr, addr, wdata, rdata, waitrequest, rdvalid = e
+        if reset:
+            return None
+        if cur is not None and cur[4]:
+            cur[3] += 1
+            if rdvalid:
+                self._emit(AvalonAccess(False, cur[1], rdata, False, cur[3]))
+                return None
+            return cur  # one read outstanding: nothing new until its data
+        if cur is None and cs and (rd or wr):
+            cur = [wr, addr, wdata if wr else 0, 0, False]
+            self._emit(AvalonAccess(wr, addr, cur[2], True, 0))
+        if cur is not None:
+            cur[3] += 1
+            if t.accepted(waitrequest, cur[0], cur[3]):
+                if cur[0]:
+                    self._emit(AvalonAccess(True, cur[1], cur[2], False, cur[3]))
+                    return None
+                if t.pipelined:
+                    cur[4] = True
+                    return cur
+                self._emit(AvalonAccess(False, cur[1], rdata, False, cur[3]))
+                return None
+        return cur
