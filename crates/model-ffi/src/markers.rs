@@ -52,7 +52,10 @@ fn event_text(k: &EventKind) -> String {
         EventKind::ErrorWarning(on) => format!("ErrorWarning:{}", if *on { "on" } else { "off" }),
         EventKind::FaultState(s) => format!("FaultState:{s:?}"),
         EventKind::Received { id, dlc, own } => {
-            format!("Received:0x{id:X},DLC={dlc}{}", if *own { ",own" } else { "" })
+            format!(
+                "Received:0x{id:X},DLC={dlc}{}",
+                if *own { ",own" } else { "" }
+            )
         }
         EventKind::WakeUp => "WakeUp".into(),
     }
@@ -129,7 +132,9 @@ pub fn write_vcd(s: &Shadow, path: &Path) -> io::Result<()> {
     for var in 1..TEXT_VARS.len() {
         let times: Vec<u64> = c.per_var[var].keys().copied().collect();
         for t in times {
-            c.per_var[var].entry(t + period).or_insert_with(|| "-".into());
+            c.per_var[var]
+                .entry(t + period)
+                .or_insert_with(|| "-".into());
         }
     }
     let end = s.now().max(divergence.unwrap_or(0));
@@ -148,7 +153,10 @@ pub fn write_vcd(s: &Shadow, path: &Path) -> io::Result<()> {
     let mut by_time: BTreeMap<u64, Vec<(Option<usize>, String)>> = BTreeMap::new();
     for (var, m) in c.per_var.iter().enumerate() {
         for (t, text) in m {
-            by_time.entry(*t).or_default().push((Some(var), text.clone()));
+            by_time
+                .entry(*t)
+                .or_default()
+                .push((Some(var), text.clone()));
         }
     }
     if let Some(t) = divergence {

@@ -276,8 +276,16 @@ fn the_c_abi_compares_a_read_and_hands_out_the_diagnosis() {
 fn an_avalon_access_is_taken_at_the_edges_the_profile_declares_for_avalon() {
     // A profile whose Avalon timing differs from its Wishbone timing.
     let mut p = cosim::Profile::rtl();
-    p.wishbone = cosim::AccessTiming::CanEdges { read: 3, write: 4, command: 4 };
-    p.avalon = cosim::AccessTiming::CanEdges { read: 1, write: 7, command: 7 };
+    p.wishbone = cosim::AccessTiming::CanEdges {
+        read: 3,
+        write: 4,
+        command: 4,
+    };
+    p.avalon = cosim::AccessTiming::CanEdges {
+        read: 1,
+        write: 7,
+        command: 7,
+    };
     let mut shadow = Shadow::with_profile(&p, 24e6).unwrap();
     shadow.set_host_bus(diagnose::HostBus::Avalon);
     assert_eq!(shadow.host_bus(), diagnose::HostBus::Avalon);
@@ -292,7 +300,13 @@ fn an_avalon_access_is_taken_at_the_edges_the_profile_declares_for_avalon() {
     assert_eq!(shadow.peek(31) & 0x80, 0x80, "taken at its 7th CAN edge");
     let r = shadow.record();
     assert_eq!(r.host_bus, diagnose::HostBus::Avalon);
-    assert!(r.host_ops.iter().all(|o| o.bfm == diagnose::HostBus::Avalon), "{:?}", r.host_ops);
+    assert!(
+        r.host_ops
+            .iter()
+            .all(|o| o.bfm == diagnose::HostBus::Avalon),
+        "{:?}",
+        r.host_ops
+    );
     // Wishbone again: its own 4 edges.
     shadow.set_host_bus(diagnose::HostBus::Wishbone);
     shadow.request(true, 31, 0x00);
@@ -318,7 +332,9 @@ fn first_change(path: &std::path::Path, var: &str, value: &str) -> Option<u64> {
                 assert!(x > t || x == 0, "time goes back: #{x} after #{t}");
                 t = x
             }
-            vcd::Command::ChangeScalar(i, v) if i == id && v.to_string() == value => return Some(t),
+            vcd::Command::ChangeScalar(i, v) if i == id && v.to_string() == value => {
+                return Some(t);
+            }
             vcd::Command::ChangeString(i, v) if i == id && v.contains(value) => return Some(t),
             _ => {}
         }
@@ -348,19 +364,32 @@ fn a_divergence_is_a_marker_at_its_time_on_the_bench_s_time_line() {
     let vcd_path = dir.path().join("sb.vcd");
     sja1000_model::markers::write_vcd(&shadow, &vcd_path).unwrap();
     assert_eq!(first_change(&vcd_path, "divergence", "1"), Some(at));
-    assert_eq!(first_change(&vcd_path, "divergence_kind", "RegisterRead:CDR"), Some(at));
+    assert_eq!(
+        first_change(&vcd_path, "divergence_kind", "RegisterRead:CDR"),
+        Some(at)
+    );
     // The set-up's writes were taken at the first clock's instant (before it),
     // the self-test frame completed on the DUT's rx, the model received it.
     // (Address 0 is BasicCAN's CR until CDR selects PeliCAN.)
-    assert_eq!(first_change(&vcd_path, "host_access", "W:CR=0x01+W:CDR=0x80"), Some(T0));
+    assert_eq!(
+        first_change(&vcd_path, "host_access", "W:CR=0x01+W:CDR=0x80"),
+        Some(T0)
+    );
     let frame = first_change(&vcd_path, "bus_frame", "123#5A").expect("the frame on the bus");
     let received = first_change(&vcd_path, "model_event", "Received:0x123").expect("received");
-    assert!(T0 < frame && frame < at && T0 < received && received < at, "{frame} {received}");
+    assert!(
+        T0 < frame && frame < at && T0 < received && received < at,
+        "{frame} {received}"
+    );
     assert!(first_change(&vcd_path, "model_event", "TxComplete").is_some());
     // The save file's primary marker is the divergence.
     let gtkw = sja1000_model::markers::save_file(&shadow, &vcd_path);
     let marker_line = gtkw.lines().find(|l| l.starts_with('*')).unwrap();
-    assert_eq!(marker_line.split(' ').nth(1), Some(at.to_string().as_str()), "{gtkw}");
+    assert_eq!(
+        marker_line.split(' ').nth(1),
+        Some(at.to_string().as_str()),
+        "{gtkw}"
+    );
     assert!(gtkw.contains("sja1000_scoreboard.divergence\n"), "{gtkw}");
 }
 
