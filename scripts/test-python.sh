@@ -1,15 +1,24 @@
 #!/usr/bin/env bash
 # The cocotb extension (python/cocotbext-sja1000) end to end: builds its
 # wheel with maturin, installs it into two virtualenvs and runs the cocotb
-# bench of rtl/can_top (examples/test_can_top.py) and its one-line mutant:
+# bench of rtl/can_top (examples/test_can_top.py) and its one-line mutant,
+# the bench of rtl/can_avalon (examples/test_can_avalon.py: the scoreboard
+# fed by the Avalon-MM monitor) and its mutant, whose divergence marker must
+# sit at the failing read, the Avalon-MM master and monitor on three small
+# slaves (waitrequest, pipelined reads, fixed wait states: examples/
+# avalon_slaves.v), and the package README's example as written:
 #   Icarus    with cocotb 2.x  (cocotb 2.x needs Verilator >= 5.036)
 #   Verilator with cocotb 1.9.2 (the newest cocotb that takes Debian's 5.006)
 # Each pair must pass on rtl/ and fail on the mutant with the diagnosis.
 # A pair whose simulator or packages cannot be had is skipped with the
 # reason; exit status 1 on any wrong outcome.
 #
-#   scripts/test-python.sh            # both pairs (what scripts/test.sh runs;
-#   scripts/test-python.sh --quick    #   the same, by name)
+#   scripts/test-python.sh            # everything on both pairs
+#   scripts/test-python.sh --quick    # what scripts/test.sh runs: the same, but
+#                                     # the can_avalon bench, its mutant and the
+#                                     # Avalon agents on small slaves under Icarus
+#                                     # only (under Verilator: five more builds,
+#                                     # two minutes on 2 cores)
 #   scripts/test-python.sh --bench    # also the benchmark: the example without
 #                                     # the scoreboard, and one test against
 #                                     # `cancosim run` of the same workload
@@ -22,9 +31,11 @@ cd "$(dirname "$0")/.."
 root=$(pwd)
 envs="${PYENV_DIR:-$root/target}"
 bench=0
+quick=0
 case "${1:-}" in
   --bench) bench=1 ;;
-  --quick|"") ;;
+  --quick) quick=1 ;;
+  "") ;;
   *) echo "usage: scripts/test-python.sh [--quick | --bench]" >&2; exit 2 ;;
 esac
 fail=0
@@ -44,7 +55,9 @@ venv() {
       rm -rf "$dir" "$log"; return 1
     fi
   fi
-  if ! "$dir/bin/pip" install -q --disable-pip-version-check "$@" > "$log" 2>&1; then
+  # `python -m`: a virtualenv copied to another place keeps scripts whose
+  # #! line names the old one.
+  if ! "$dir/bin/python" -m pip install -q --disable-pip-version-check "$@" > "$log" 2>&1; then
     why="pip install $* failed: $(grep -m1 -E "^ERROR" "$log" || tail -n 1 "$log")"
     rm -f "$log"; return 1
   fi
@@ -62,7 +75,7 @@ if ! tools=$(venv build maturin); then
 fi
 wheels="$root/target/wheels"
 rm -f "$wheels"/cocotbext_sja1000-*.whl
-if ! ( cd python/cocotbext-sja1000 && CARGO_TARGET_DIR="$root/target" "$tools/bin/maturin" build --release -q -i "$tools/bin/python" ); then
+if ! ( cd python/cocotbext-sja1000 && CARGO_TARGET_DIR="$root/target" "$tools/bin/python" -m maturin build --release -q -i "$tools/bin/python" ); then
   echo "test-python: FAILED: the cocotbext-sja1000 wheel does not build (maturin's output above)" >&2
   exit 1
 fi
@@ -80,7 +93,7 @@ run_pair() {
   if ! py=$(venv "$name" "$spec" python-can); then
     skip "$name: $spec or python-can cannot be had from PyPI: $why"; return
   fi
-  if ! "$py/bin/pip" install -q --disable-pip-version-check --force-reinstall --no-deps "$wheel"; then
+  if ! "$py/bin/python" -m pip install -q --disable-pip-version-check --force-reinstall --no-deps "$wheel"; then
     echo "test-python: $name FAILED: the wheel does not install" >&2; fail=1; return
   fi
   local ex=python/cocotbext-sja1000/examples work
@@ -96,6 +109,37 @@ run_pair() {
     sed -n '/^mutant caught/,/^Figures/p' "$work/mutant.log"
   else
     cat "$work/mutant.log"; echo "test-python: $name: the mutant was not diagnosed" >&2; fail=1
+  fi
+  if [ "$quick" = 1 ] && [ "$sim" = verilator ]; then
+    echo "== $name: rtl/can_avalon: under Icarus only in --quick (scripts/test-python.sh runs it here too) =="
+  else
+    echo "== $name: rtl/can_avalon, the scoreboard fed by the Avalon-MM monitor (must pass) =="
+    if "$py/bin/python" "$ex/run.py" --sim "$sim" --top can_avalon --build-dir "$work/avalon" > "$work/avalon.log" 2>&1; then
+      grep -E "TESTS=|run time" "$work/avalon.log"
+    else
+      cat "$work/avalon.log"; echo "test-python: $name FAILED on rtl/can_avalon" >&2; fail=1
+    fi
+    echo "== $name: can_avalon on the mutant (must fail with the diagnosis, the marker at the failing read) =="
+    if "$py/bin/python" "$ex/run.py" --sim "$sim" --top can_avalon --mutant --build-dir "$work/avalon-mutant" > "$work/avalon-mutant.log" 2>&1; then
+      grep -E "^(mutant caught|marker:|Figures)" "$work/avalon-mutant.log"
+    else
+      cat "$work/avalon-mutant.log"; echo "test-python: $name: the can_avalon mutant was not diagnosed at its read" >&2; fail=1
+    fi
+    local t
+    for t in av_slave_wait av_slave_pipe av_slave_fixed; do
+      echo "== $name: the Avalon-MM master and monitor on $t (must pass) =="
+      if "$py/bin/python" "$ex/run.py" --sim "$sim" --top "$t" --build-dir "$work/$t" > "$work/$t.log" 2>&1; then
+        grep -E "TESTS=" "$work/$t.log"
+      else
+        cat "$work/$t.log"; echo "test-python: $name: the Avalon agents FAILED on $t" >&2; fail=1
+      fi
+    done
+  fi
+  echo "== $name: the package README's example, as written =="
+  if "$py/bin/python" "$ex/run.py" --sim "$sim" --readme --build-dir "$work/rtl" > "$work/readme.log" 2>&1; then
+    grep -E "TESTS=|run time" "$work/readme.log"
+  else
+    cat "$work/readme.log"; echo "test-python: $name: the README's example FAILED" >&2; fail=1
   fi
   if [ "$bench" = 1 ]; then
     echo "== $name: without the scoreboard =="

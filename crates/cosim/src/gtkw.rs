@@ -59,8 +59,47 @@ fn zoom_for(span_ps: u64) -> f64 {
 /// the view shows [`BITS_IN_VIEW`] bit times of `bit_ps` around it; without,
 /// the whole run (`end_ps`).
 pub fn save_file(vcd: &Path, divergence_ps: Option<u64>, bit_ps: u64, end_ps: u64) -> String {
+    let groups = groups();
+    let groups: Vec<(&str, &[(&str, &str)])> =
+        groups.iter().map(|(n, sigs)| (*n, sigs.as_slice())).collect();
+    view(
+        "cancosim view: groups, fields as text, marker on the first divergence",
+        vcd,
+        "cosim",
+        &groups,
+        divergence_ps,
+        bit_ps,
+        end_ps,
+    )
+}
+
+/// How a trace is drawn in a [`view`] (GTKWave's `@` flags).
+pub mod trace {
+    /// One bit, binary.
+    pub const BIN: &str = super::BIN;
+    /// A vector in hex.
+    pub const HEX: &str = super::HEX;
+    /// A string signal as text.
+    pub const TEXT: &str = super::TEXT;
+}
+
+/// A save file for any VCD: `groups` of (signal under `scope`, [`trace`]
+/// flags), the primary marker at `marker_ps` with [`BITS_IN_VIEW`] bit
+/// times of `bit_ps` around it, or the whole dump (`end_ps`) without one.
+/// `gtkwave other.vcd this.gtkw` puts the same marker and view on another
+/// dump of the same time line (signals it lacks are left out).
+pub fn view(
+    title: &str,
+    vcd: &Path,
+    scope: &str,
+    groups: &[(&str, &[(&str, &str)])],
+    marker_ps: Option<u64>,
+    bit_ps: u64,
+    end_ps: u64,
+) -> String {
+    let divergence_ps = marker_ps;
     let mut s = String::new();
-    let _ = writeln!(s, "[*] cancosim view: groups, fields as text, marker on the first divergence");
+    let _ = writeln!(s, "[*] {title}");
     let _ = writeln!(s, "[dumpfile] \"{}\"", vcd.display());
     let (start, span, marker) = match divergence_ps {
         Some(t) => {
@@ -79,15 +118,15 @@ pub fn save_file(vcd: &Path, divergence_ps: Option<u64>, bit_ps: u64, end_ps: u6
     let _ = writeln!(s, "[pos] -1 -1");
     // Zoom, primary marker, then the 26 named markers (A..Z) unset.
     let _ = writeln!(s, "*{:.6} {marker}{}", zoom_for(span), " -1".repeat(26));
-    let _ = writeln!(s, "[treeopen] cosim.");
+    let _ = writeln!(s, "[treeopen] {scope}.");
     let _ = writeln!(s, "[sst_width] 200");
     let _ = writeln!(s, "[signals_width] 200");
     let _ = writeln!(s, "[sst_expanded] 1");
     let _ = writeln!(s, "[sst_vpaned_height] 200");
-    for (name, sigs) in groups() {
+    for (name, sigs) in groups {
         let _ = writeln!(s, "{GROUP_BEGIN}\n-{name}");
-        for (sig, flags) in sigs {
-            let _ = writeln!(s, "{flags}\ncosim.{sig}");
+        for (sig, flags) in sigs.iter() {
+            let _ = writeln!(s, "{flags}\n{scope}.{sig}");
         }
         let _ = writeln!(s, "{GROUP_END}\n-{name}");
     }
@@ -98,4 +137,25 @@ pub fn save_file(vcd: &Path, divergence_ps: Option<u64>, bit_ps: u64, end_ps: u6
 /// The save file's path next to a VCD: `x.vcd` -> `x.gtkw`.
 pub fn path_for(vcd: &Path) -> std::path::PathBuf {
     vcd.with_extension("gtkw")
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn a_view_puts_the_marker_and_its_signals_under_the_scope() {
+        let sigs = [("divergence", trace::BIN), ("host_access", trace::TEXT)];
+        let s = view("t", Path::new("x.vcd"), "sb", &[("G", &sigs)], Some(5_000_000), 1_000, 20_000_000);
+        assert!(s.starts_with("[*] t\n[dumpfile] \"x.vcd\"\n"), "{s}");
+        let marker = s.lines().find(|l| l.starts_with('*')).unwrap();
+        assert_eq!(marker.split(' ').nth(1), Some("5000000"), "{s}");
+        // 12 bits around the marker.
+        assert!(s.contains(&format!("[timestart] {}\n", 5_000_000 - 6_000)), "{s}");
+        assert!(s.contains("@28\nsb.divergence\n@2028\nsb.host_access\n"), "{s}");
+        // The command line's view: its signals under `cosim`, no marker without a divergence.
+        let c = save_file(Path::new("run.vcd"), None, 1_000, 20_000_000);
+        assert!(c.contains("[*] cancosim view:") && c.contains("@28\ncosim.bus\n"), "{c}");
+        assert_eq!(c.lines().find(|l| l.starts_with('*')).unwrap().split(' ').nth(1), Some("-1"));
+    }
 }

@@ -23,6 +23,7 @@
 //! assert!(m.diagnosis().unwrap().contains("CDR"));
 //! ```
 
+pub mod markers;
 mod shadow;
 
 pub use shadow::{DutPins, Shadow, ShadowError};

@@ -4,10 +4,14 @@
 //! (the DUT's rx level and, to compare, its pins), a host access the DUT
 //! has just seen presented (launch edge), and the data a read returned
 //! (ack). The model takes each access at the CAN clock the core's profile
-//! declares (`tb/profiles/*.toml`, `[access.wishbone]`), the comparator is
+//! declares (`tb/profiles/*.toml`, `[access.wishbone]` or the host bus
+//! set with [`Shadow::set_host_bus`]), the comparator is
 //! the CLI's own (`cosim::Comparator` with the profile's tolerances), and a
 //! divergence or a transmission that never completed becomes the
-//! diagnoser's text.
+//! diagnoser's text. Times are the bench's when it anchors them
+//! ([`Shadow::set_time_ps`], [`Shadow::set_period_ps`]), so the run record,
+//! the bus log and the marker file ([`crate::markers`]) line up with the
+//! simulator's own waveform.
 
 use std::collections::VecDeque;
 
@@ -64,16 +68,29 @@ struct Pending {
     t_ps: u64,
 }
 
+/// Engine events kept with their time for the marker file (the first ones
+/// say most, as in the record).
+const KEEP_EVENTS: usize = 4096;
+
 /// The golden model, the comparator and the run record of one DUT.
 pub struct Shadow {
     reference: ModelRef,
     cmp: Comparator,
     timing: AccessTiming,
+    /// The profile's access timing per host bus, and the bus in use.
+    access: [AccessTiming; 3],
+    host_bus: HostBus,
     profile_name: String,
     tolerances: String,
     bitclock: BitClock,
     period_ps: u64,
     clocks: u64,
+    /// The bench's time at CAN clock `anchor_clock` (the clock's count
+    /// after it), set by [`Shadow::set_time_ps`].
+    anchor_ps: u64,
+    anchor_clock: u64,
+    /// The model's engine events with their time: (ps, event).
+    timed_events: Vec<(u64, EventKind)>,
     pending: VecDeque<Pending>,
     /// Reads the model has taken, waiting for the DUT's data: (addr, model value).
     taken_reads: VecDeque<(u8, u8)>,
@@ -127,11 +144,16 @@ impl Shadow {
             reference,
             cmp: Comparator::new(p.tolerances),
             timing: p.wishbone,
+            access: [p.wishbone, p.avalon, p.pio],
+            host_bus: HostBus::Wishbone,
             profile_name: p.name.clone(),
             tolerances: p.tolerances.describe(),
             bitclock: BitClock::new(BusTiming::from_btr(0, 0)),
             period_ps: (1e12 / can_hz).round() as u64,
             clocks: 0,
+            anchor_ps: 0,
+            anchor_clock: 0,
+            timed_events: Vec::new(),
             pending: VecDeque::new(),
             taken_reads: VecDeque::new(),
             record,
@@ -154,6 +176,8 @@ impl Shadow {
         let mut p = Profile::rtl();
         p.name = "immediate".into();
         p.wishbone = AccessTiming::AtAck;
+        p.avalon = AccessTiming::AtAck;
+        p.pio = AccessTiming::AtAck;
         p.phase_origin = PhaseOrigin::ResetModeExit;
         Shadow::with_profile(&p, can_hz)
     }
@@ -161,6 +185,70 @@ impl Shadow {
     /// The test's name, as the diagnosis's first line names it ("bench" until set).
     pub fn set_test_name(&mut self, name: &str) {
         self.record.scenario = name.to_string();
+    }
+
+    /// The host bus the bench's accesses come through (Wishbone, Avalon-MM
+    /// or PIO; default Wishbone): the model takes them at the CAN clock the
+    /// profile declares for that bus (`[access.avalon]`...), and the run
+    /// record names the bus. An 8051 bus has no timing of its own in a
+    /// profile here: it keeps the Wishbone timing.
+    pub fn set_host_bus(&mut self, bus: HostBus) {
+        self.host_bus = bus;
+        self.record.host_bus = bus;
+        self.timing = match bus {
+            HostBus::Avalon => self.access[1],
+            HostBus::Pio => self.access[2],
+            HostBus::Wishbone | HostBus::I8051 => self.access[0],
+        };
+    }
+
+    /// The host bus set by [`Shadow::set_host_bus`].
+    pub fn host_bus(&self) -> HostBus {
+        self.host_bus
+    }
+
+    /// The bench's time of the next CAN clock (the next [`Shadow::clock`]
+    /// call), in picoseconds: later clocks are `period` apart
+    /// ([`Shadow::set_period_ps`]; default from the CAN frequency). Call it
+    /// again after the bench skipped clocks (a reset held). Without it, time
+    /// starts at 0 with the first clock.
+    pub fn set_time_ps(&mut self, t_ps: u64) {
+        self.anchor_ps = t_ps;
+        self.anchor_clock = self.clocks + 1;
+    }
+
+    /// The CAN clock's period in the bench (ps); 0 is refused (keeps the one
+    /// from the CAN frequency). Applies from the last anchor on.
+    pub fn set_period_ps(&mut self, period_ps: u64) {
+        if period_ps > 0 {
+            self.period_ps = period_ps;
+        }
+    }
+
+    /// CAN clocks per bit of the bench's bit clock (BTR0/BTR1 as the model took them).
+    pub fn clocks_per_bit(&self) -> u32 {
+        self.bitclock.clocks_per_bit()
+    }
+
+    /// The CAN clock's period the times are computed with (ps).
+    pub fn period_ps(&self) -> u64 {
+        self.period_ps
+    }
+
+    /// The time of the last CAN clock (ps), on the bench's time line.
+    pub fn now(&self) -> u64 {
+        self.now_ps()
+    }
+
+    /// The model's engine events so far with their time (ps), for markers.
+    pub fn timed_events(&self) -> &[(u64, EventKind)] {
+        &self.timed_events
+    }
+
+    /// The bus log's entries (frames on the DUT's rx, the model's error
+    /// frames), with their time.
+    pub fn bus_log_entries(&self) -> &[cosim::candump::LogEntry] {
+        self.bus_log.entries()
     }
 
     /// The profile's name.
@@ -471,7 +559,11 @@ impl Shadow {
     }
 
     fn now_ps(&self) -> u64 {
-        self.clocks * self.period_ps
+        if self.anchor_clock == 0 {
+            return self.clocks * self.period_ps;
+        }
+        // Before the anchored clock (an access announced ahead of it): the anchor.
+        self.anchor_ps + self.clocks.saturating_sub(self.anchor_clock) * self.period_ps
     }
 
     fn stamp(&self) -> Stamp {
@@ -493,7 +585,7 @@ impl Shadow {
             HostOp::read(p.addr, 0)
         };
         op = op.at(p.t_ps).mode(mode, reset_mode);
-        op.bfm = HostBus::Wishbone;
+        op.bfm = self.host_bus;
         if let Some(n) = &name {
             op = op.reg(n);
         }
@@ -542,6 +634,9 @@ impl Shadow {
                 self.last_tr = None;
             }
             self.bus_log.event(t_ps, &k, counters);
+            if self.timed_events.len() < KEEP_EVENTS {
+                self.timed_events.push((t_ps, k.clone()));
+            }
             let mut e = EngineEvent::new(bit, Side::Model, k);
             if let Some((tec, rec)) = counters {
                 e.tec = Some(tec);

@@ -271,3 +271,141 @@ fn the_c_abi_compares_a_read_and_hands_out_the_diagnosis() {
         sja1000_model_free(m);
     }
 }
+
+#[test]
+fn an_avalon_access_is_taken_at_the_edges_the_profile_declares_for_avalon() {
+    // A profile whose Avalon timing differs from its Wishbone timing.
+    let mut p = cosim::Profile::rtl();
+    p.wishbone = cosim::AccessTiming::CanEdges {
+        read: 3,
+        write: 4,
+        command: 4,
+    };
+    p.avalon = cosim::AccessTiming::CanEdges {
+        read: 1,
+        write: 7,
+        command: 7,
+    };
+    let mut shadow = Shadow::with_profile(&p, 24e6).unwrap();
+    shadow.set_host_bus(diagnose::HostBus::Avalon);
+    assert_eq!(shadow.host_bus(), diagnose::HostBus::Avalon);
+    // Reset mode, then CDR = PeliCAN through Avalon: written at the 7th edge.
+    shadow.write(0, 0x01);
+    shadow.request(true, 31, 0x80);
+    for _ in 0..6 {
+        shadow.clock(true, None);
+    }
+    assert_eq!(shadow.peek(31) & 0x80, 0, "taken before its 7th CAN edge");
+    shadow.clock(true, None);
+    assert_eq!(shadow.peek(31) & 0x80, 0x80, "taken at its 7th CAN edge");
+    let r = shadow.record();
+    assert_eq!(r.host_bus, diagnose::HostBus::Avalon);
+    assert!(
+        r.host_ops
+            .iter()
+            .all(|o| o.bfm == diagnose::HostBus::Avalon),
+        "{:?}",
+        r.host_ops
+    );
+    // Wishbone again: its own 4 edges.
+    shadow.set_host_bus(diagnose::HostBus::Wishbone);
+    shadow.request(true, 31, 0x00);
+    for _ in 0..3 {
+        shadow.clock(true, None);
+    }
+    assert_eq!(shadow.peek(31) & 0x80, 0x80);
+    shadow.clock(true, None);
+    assert_eq!(shadow.peek(31) & 0x80, 0);
+}
+
+/// The time at which `var` of the marker VCD first takes `value`.
+fn first_change(path: &std::path::Path, var: &str, value: &str) -> Option<u64> {
+    let mut p = vcd::Parser::new(std::io::BufReader::new(std::fs::File::open(path).unwrap()));
+    let h = p.parse_header().unwrap();
+    let id = match h.find_var(&[sja1000_model::markers::SCOPE, var]).unwrap() {
+        v => v.code,
+    };
+    let mut t = 0;
+    for cmd in p {
+        match cmd.unwrap() {
+            vcd::Command::Timestamp(x) => {
+                assert!(x > t || x == 0, "time goes back: #{x} after #{t}");
+                t = x
+            }
+            vcd::Command::ChangeScalar(i, v) if i == id && v.to_string() == value => {
+                return Some(t);
+            }
+            vcd::Command::ChangeString(i, v) if i == id && v.contains(value) => return Some(t),
+            _ => {}
+        }
+    }
+    None
+}
+
+#[test]
+fn a_divergence_is_a_marker_at_its_time_on_the_bench_s_time_line() {
+    const T0: u64 = 3_001_000; // the bench's time of the first CAN clock
+    const P: u64 = 41_666; // its CAN clock period
+    let mut shadow = Shadow::immediate(24e6).unwrap();
+    shadow.set_time_ps(T0);
+    shadow.set_period_ps(P);
+    let mut dut = Sja1000::new();
+    set_up(&mut shadow, &mut dut);
+    run(&mut shadow, &mut dut, 150 * 40, false, |t, _| t);
+    let sr = dut.read(2);
+    assert_eq!(shadow.compare_read(2, sr), sr);
+    // 6000 clocks later; then a CDR read that says PeliCAN is off.
+    let at = T0 + (150 * 40 - 1) * P;
+    assert_eq!(shadow.now(), at);
+    shadow.compare_read(31, 0x00);
+    assert!(shadow.failed());
+    assert_eq!(shadow.record().divergence.unwrap().time_ps, at);
+    let dir = tempfile::tempdir().unwrap();
+    let vcd_path = dir.path().join("sb.vcd");
+    sja1000_model::markers::write_vcd(&shadow, &vcd_path).unwrap();
+    assert_eq!(first_change(&vcd_path, "divergence", "1"), Some(at));
+    assert_eq!(
+        first_change(&vcd_path, "divergence_kind", "RegisterRead:CDR"),
+        Some(at)
+    );
+    // The set-up's writes were taken at the first clock's instant (before it),
+    // the self-test frame completed on the DUT's rx, the model received it.
+    // (Address 0 is BasicCAN's CR until CDR selects PeliCAN.)
+    assert_eq!(
+        first_change(&vcd_path, "host_access", "W:CR=0x01+W:CDR=0x80"),
+        Some(T0)
+    );
+    let frame = first_change(&vcd_path, "bus_frame", "123#5A").expect("the frame on the bus");
+    let received = first_change(&vcd_path, "model_event", "Received:0x123").expect("received");
+    assert!(
+        T0 < frame && frame < at && T0 < received && received < at,
+        "{frame} {received}"
+    );
+    assert!(first_change(&vcd_path, "model_event", "TxComplete").is_some());
+    // The save file's primary marker is the divergence.
+    let gtkw = sja1000_model::markers::save_file(&shadow, &vcd_path);
+    let marker_line = gtkw.lines().find(|l| l.starts_with('*')).unwrap();
+    assert_eq!(
+        marker_line.split(' ').nth(1),
+        Some(at.to_string().as_str()),
+        "{gtkw}"
+    );
+    assert!(gtkw.contains("sja1000_scoreboard.divergence\n"), "{gtkw}");
+}
+
+#[test]
+fn without_a_divergence_the_marker_file_has_none_and_no_marker() {
+    let mut shadow = Shadow::immediate(24e6).unwrap();
+    let mut dut = Sja1000::new();
+    set_up(&mut shadow, &mut dut);
+    run(&mut shadow, &mut dut, 150 * 40, false, |t, _| t);
+    assert!(!shadow.finish());
+    let dir = tempfile::tempdir().unwrap();
+    let vcd_path = dir.path().join("sb.vcd");
+    sja1000_model::markers::write_vcd(&shadow, &vcd_path).unwrap();
+    assert_eq!(first_change(&vcd_path, "divergence", "1"), None);
+    assert!(first_change(&vcd_path, "bus_frame", "123#5A").is_some());
+    let gtkw = sja1000_model::markers::save_file(&shadow, &vcd_path);
+    let marker_line = gtkw.lines().find(|l| l.starts_with('*')).unwrap();
+    assert_eq!(marker_line.split(' ').nth(1), Some("-1"), "{gtkw}");
+}

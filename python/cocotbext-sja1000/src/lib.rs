@@ -21,6 +21,7 @@ use pyo3::exceptions::PyValueError;
 use pyo3::prelude::*;
 use sja1000::Sja1000;
 use sja1000::host::{self, Config};
+use diagnose::HostBus;
 use sja1000_model::{DutPins, Shadow};
 
 /// A frame as Python sees it: (arbitration id, extended, remote, data).
@@ -102,6 +103,65 @@ impl Model {
     /// The test's name, for the diagnosis's first line.
     fn set_test_name(&mut self, name: &str) {
         self.inner.set_test_name(name);
+    }
+
+    /// The host bus the accesses come through: "wishbone" (default),
+    /// "avalon" or "pio"; the model takes them at the CAN clock the
+    /// profile declares for that bus.
+    fn set_host_bus(&mut self, bus: &str) -> PyResult<()> {
+        let b = match bus.to_ascii_lowercase().as_str() {
+            "wishbone" => HostBus::Wishbone,
+            "avalon" => HostBus::Avalon,
+            "pio" => HostBus::Pio,
+            other => {
+                return Err(PyValueError::new_err(format!(
+                    "host bus {other:?}: expected \"wishbone\", \"avalon\" or \"pio\""
+                )));
+            }
+        };
+        self.inner.set_host_bus(b);
+        Ok(())
+    }
+
+    /// The bench's time (ps) of the next CAN clock; later clocks are
+    /// `period_ps` apart. Call again after clocks the model did not see.
+    fn set_time_ps(&mut self, t_ps: u64) {
+        self.inner.set_time_ps(t_ps);
+    }
+
+    /// The bench's CAN clock period (ps); 0 keeps the one from `can_hz`.
+    fn set_period_ps(&mut self, period_ps: u64) {
+        self.inner.set_period_ps(period_ps);
+    }
+
+    /// Time of the last CAN clock (ps) on the bench's time line.
+    #[getter]
+    fn now_ps(&self) -> u64 {
+        self.inner.now()
+    }
+
+    /// Writes the scoreboard's events as a VCD at `vcd` (divergence,
+    /// host accesses as the model took them, model events, frames) and,
+    /// with `gtkw`, a GTKWave save file with the marker on the divergence.
+    #[pyo3(signature = (vcd, gtkw = None))]
+    fn write_markers(&self, vcd: &str, gtkw: Option<&str>) -> PyResult<()> {
+        let io = |e: std::io::Error, p: &str| {
+            pyo3::exceptions::PyOSError::new_err(format!("cannot write {p}: {e}"))
+        };
+        sja1000_model::markers::write_vcd(&self.inner, std::path::Path::new(vcd))
+            .map_err(|e| io(e, vcd))?;
+        if let Some(g) = gtkw {
+            let text = sja1000_model::markers::save_file(&self.inner, std::path::Path::new(vcd));
+            std::fs::write(g, text).map_err(|e| io(e, g))?;
+        }
+        Ok(())
+    }
+
+    /// Time (ps) of the primary marker: the first divergence, else a
+    /// transmission request that never completed; None without either.
+    #[getter]
+    fn marker_ps(&self) -> Option<u64> {
+        sja1000_model::markers::marker_ps(&self.inner)
     }
 
     /// The DUT's reset input.

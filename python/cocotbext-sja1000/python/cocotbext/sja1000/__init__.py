@@ -13,22 +13,32 @@ diagnoser's text.
   diagnosis.
 - :class:`WishboneMaster`, :class:`WishboneMonitor`: a classic Wishbone
   driver and monitor (8-bit data), enough for an SJA1000-style core.
+- :class:`AvalonMaster`, :class:`AvalonMonitor`: an Avalon-MM driver and
+  monitor (8-bit data; waitrequest, pipelined reads with readdatavalid, or
+  fixed wait states); the monitor feeds the scoreboard (``monitor=``).
 """
 
 from ._native import Decoder, Model, Node
+from .avalon import AvalonAccess, AvalonBus, AvalonMaster, AvalonMonitor
 from .bus import CanBus, CanNode
 from .frame import CanFrame
 from .monitor import CanMonitor, BusEvent
-from .scoreboard import Sja1000Mismatch, Sja1000Scoreboard
+from .scoreboard import HostAccess, HostMonitor, Sja1000Mismatch, Sja1000Scoreboard
 from .wishbone import WishboneMaster, WishboneMonitor, WishboneAccess
 
 __all__ = [
+    "AvalonAccess",
+    "AvalonBus",
+    "AvalonMaster",
+    "AvalonMonitor",
     "BusEvent",
     "CanBus",
     "CanFrame",
     "CanMonitor",
     "CanNode",
     "Decoder",
+    "HostAccess",
+    "HostMonitor",
     "Model",
     "Node",
     "Sja1000Mismatch",

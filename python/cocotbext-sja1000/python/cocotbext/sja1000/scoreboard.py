@@ -2,14 +2,43 @@
 
 import logging
 from pathlib import Path
-from typing import Any, Optional
+from typing import Any, Callable, Optional, Protocol, Union
 
 import cocotb
 from cocotb.triggers import FallingEdge
 
+try:  # cocotb 2.x
+    from cocotb.simtime import get_sim_time
+except ImportError:  # cocotb 1.9
+    from cocotb.utils import get_sim_time
+
 from ._native import Model
 from ._signals import bind, level, stop_task
-from .wishbone import WishboneAccess, WishboneMonitor
+from .wishbone import WishboneMonitor
+
+
+class HostAccess(Protocol):
+    """What a host-bus monitor hands its callbacks (:class:`WishboneAccess`,
+    :class:`AvalonAccess`): at the launch (``launch`` True, ``data`` = write
+    data) and at the completion (``data`` = read data) of each access."""
+
+    write: bool
+    addr: int
+    data: int
+    launch: bool
+
+
+class HostMonitor(Protocol):
+    """A host-bus monitor the scoreboard can listen to
+    (:class:`WishboneMonitor`, :class:`AvalonMonitor`, or your own):
+    ``host_bus`` names the profile's timing (``"wishbone"``, ``"avalon"``,
+    ``"pio"``)."""
+
+    host_bus: str
+
+    def add_callback(self, fn: Callable[[Any], None]) -> None: ...
+
+    def stop(self) -> None: ...
 
 
 class Sja1000Mismatch(AssertionError):
@@ -21,13 +50,24 @@ class Sja1000Mismatch(AssertionError):
 class Sja1000Scoreboard:
     """Shadows an SJA1000-compatible DUT with the golden model.
 
-    Host side: a :class:`WishboneMonitor` on ``dut.<wb_prefix>*`` (default),
-    or ``wb_prefix=None`` and calls to :meth:`request` / :meth:`read_data`
-    from a monitor of any bus (Avalon-MM, a processor model...).
+    Host side, one of:
+
+    - a :class:`WishboneMonitor` on ``dut.<wb_prefix>*`` (the default);
+    - ``monitor=``: a host-bus monitor made by the bench, such as
+      :class:`AvalonMonitor` (its ``host_bus`` chooses the profile's access
+      timing, ``[access.avalon]``); ``wb_prefix`` is then not used;
+    - ``wb_prefix=None`` and calls to :meth:`request` / :meth:`read_data`
+      from a monitor of any bus (a processor model...).
 
     CAN side: once per CAN clock (falling edge of ``<prefix><clk>``) the
     model takes the rx level the DUT sampled and compares the DUT's
-    ``tx_o`` (at sample points), ``irq_on`` and ``bus_off_on``.
+    ``tx_o`` (at sample points), ``irq_on`` and ``bus_off_on``
+    (``irq_active_low=False`` for an active-high interrupt such as
+    ``can_avalon``'s ``irq``). ``reset`` (a name on ``dut`` or a handle)
+    holds the model still while high.
+
+    Times in what it writes are the simulator's: the scoreboard measures
+    the CAN clock's period and anchors its time line after each reset.
 
     Each access reaches the model at the CAN clock the core's ``profile``
     declares (``"rtl"``: our ``can_top``; ``"opencores-can"``; a .toml
@@ -41,7 +81,13 @@ class Sja1000Scoreboard:
     ``candump -l`` format (``<name>.log``: frames on the DUT's rx and the
     error frames the Linux ``sja1000`` driver would raise for the DUT, from
     the model), and on a failure the diagnosis (``<name>.diagnosis.txt``).
-    It writes them at :meth:`finish` or at the first divergence.
+    Beside them, its markers (:meth:`write_markers`): ``<name>.markers.vcd``
+    (a ``divergence`` bit that rises at the first divergence, its kind, each
+    host access as the model took it, the model's events and the frames, as
+    text) and ``<name>.gtkw``, a GTKWave view with the primary marker on
+    the divergence, as the command line writes next to its VCD:
+    ``gtkwave dut.vcd <name>.gtkw`` puts that marker on the simulator's own
+    waveform. It writes them at :meth:`finish` or at the first divergence.
 
     The first divergence raises :class:`Sja1000Mismatch` from the
     scoreboard's task (which fails the running test); ``await finish()`` at
@@ -57,12 +103,14 @@ class Sja1000Scoreboard:
         can_hz: float = 24e6,
         prefix: str = "",
         wb_prefix: Optional[str] = "wb_",
+        monitor: Optional[HostMonitor] = None,
         clk: str = "clk_i",
         rx: str = "rx_i",
         tx: str = "tx_o",
         irq: Optional[str] = "irq_on",
+        irq_active_low: bool = True,
         bus_off: Optional[str] = "bus_off_on",
-        reset: Optional[str] = "wb_rst_i",
+        reset: Union[str, Any, None] = "wb_rst_i",
         name: Optional[str] = None,
         report_dir: Optional[str] = None,
         candump_iface: str = "can0",
@@ -78,12 +126,19 @@ class Sja1000Scoreboard:
         self.tx = bind(dut, prefix, tx)
         self.irq = bind(dut, prefix, irq) if irq else None
         self.bus_off = bind(dut, prefix, bus_off) if bus_off else None
-        self.reset = bind(dut, "", reset) if reset else None
-        self.log.info("golden SJA1000, profile %s; %s", profile, self.model.tolerances)
-        self.wishbone = None
-        if wb_prefix is not None:
+        self.irq_active_low = irq_active_low
+        self.reset = (bind(dut, "", reset) if isinstance(reset, str) else reset) if reset else None
+        self.monitor: Optional[HostMonitor] = monitor
+        self.wishbone: Optional[WishboneMonitor] = None
+        if monitor is None and wb_prefix is not None:
             self.wishbone = WishboneMonitor(dut, wb_prefix, reset="rst_i")
-            self.wishbone.add_callback(self._on_wishbone)
+            self.monitor = self.wishbone
+        host_bus = getattr(self.monitor, "host_bus", "wishbone") if self.monitor is not None else "wishbone"
+        self.model.set_host_bus(host_bus)
+        if self.monitor is not None:
+            self.monitor.add_callback(self._on_access)
+        self.log.info("golden SJA1000, profile %s, host bus %s%s; %s", profile, host_bus,
+                      "" if self.monitor is not None else " (request/read_data hook)", self.model.tolerances)
         self._task = cocotb.start_soon(self._run())
 
     # The host-side hook, for a monitor of any bus.
@@ -97,7 +152,7 @@ class Sja1000Scoreboard:
         self._check()
         return v
 
-    def _on_wishbone(self, a: WishboneAccess) -> None:
+    def _on_access(self, a: HostAccess) -> None:
         if a.launch:
             self.request(a.write, a.addr, a.data)
         elif not a.write:
@@ -105,11 +160,26 @@ class Sja1000Scoreboard:
 
     @property
     def failed(self) -> bool:
+        """True once the DUT diverged (or :meth:`finish` found a frame that never went out)."""
         return self.model.failed
 
     @property
     def diagnosis(self) -> Optional[str]:
+        """The diagnoser's text, or None."""
         return self.model.diagnosis
+
+    @property
+    def marker_ps(self) -> Optional[int]:
+        """Simulator time (ps) of the first divergence (or of a
+        transmission request that never completed), else None: where
+        :meth:`write_markers` puts the primary marker."""
+        return self.model.marker_ps
+
+    def write_markers(self, vcd: Union[str, Path], gtkw: Union[str, Path, None] = None) -> None:
+        """Writes the scoreboard's events as a VCD at ``vcd`` and, with
+        ``gtkw``, a GTKWave save file with the primary marker at
+        :attr:`marker_ps` (see the class's docs)."""
+        self.model.write_markers(str(vcd), None if gtkw is None else str(gtkw))
 
     def _check(self) -> None:
         if self.model.failed:
@@ -132,17 +202,36 @@ class Sja1000Scoreboard:
             (d / f"{self.name}.diagnosis.txt").write_text(self.model.diagnosis or "")
         (d / f"{self.name}.record.json").write_text(self.model.record_json())
         (d / f"{self.name}.log").write_text(self.candump_log())
+        self.write_markers(d / f"{self.name}.markers.vcd", d / f"{self.name}.gtkw")
 
     async def _run(self) -> None:
         m = self.model
+        irq_invert = not self.irq_active_low
+        # The simulator's time of the clock the model's time line was last
+        # anchored at (None: anchor at the next clock, after a reset); the
+        # period is measured once, between the first two clocks.
+        anchor: Optional[int] = None
+        measured = False
         while True:
             await FallingEdge(self.clock)
             if self.reset is not None and level(self.reset):
+                anchor = None
                 continue
+            if anchor is None or not measured:
+                now = round(get_sim_time("ps"))
+                if anchor is None:
+                    m.set_time_ps(now)
+                    anchor = now
+                else:
+                    m.set_period_ps(now - anchor)
+                    measured = True
+            irq = None
+            if self.irq is not None:
+                irq = level(self.irq) != irq_invert
             m.clock(
                 level(self.rx),
                 level(self.tx),
-                level(self.irq) if self.irq is not None else None,
+                irq,
                 level(self.bus_off) if self.bus_off is not None else None,
             )
             if m.failed:
@@ -154,8 +243,8 @@ class Sja1000Scoreboard:
         for _ in range(self.model.open_clocks + 2):
             await FallingEdge(self.clock)
         stop_task(self._task)
-        if self.wishbone is not None:
-            self.wishbone.stop()
+        if self.monitor is not None:
+            self.monitor.stop()
         self.model.finish()
         self._check()
         self._report()

@@ -67,6 +67,9 @@ class WishboneMonitor:
     each callback with a :class:`WishboneAccess` at the launch and at the
     ack of every access."""
 
+    #: The host bus's name, for the scoreboard (the profile's ``[access.wishbone]``).
+    host_bus = "wishbone"
+
     def __init__(self, dut: Any, prefix: str = "wb_", reset: str = "rst_i") -> None:
         self.p = _Pins(dut, prefix)
         self.reset = bind(dut, prefix, reset) if reset else None
