@@ -448,11 +448,11 @@ pub fn draw(seed: u64, index: u64, lim: &DrawLimits) -> Plan {
             n.frames.retain(|(_, f)| !f.extended);
         }
     }
-    if lim.avoids("software-reset-mode") {
-        for op in &mut program {
-            if let HostOp::ResetToggle { bits, .. } = op {
-                *op = HostOp::Wait(*bits);
-            }
+    for op in &mut program {
+        match op {
+            HostOp::ResetToggle { bits, .. } if lim.avoids("software-reset-mode") => *op = HostOp::Wait(*bits),
+            HostOp::Sleep { bits } if lim.avoids("sleep-mode") => *op = HostOp::Wait(*bits),
+            _ => {}
         }
     }
     let faults = (0..frames_n as u32 + 2)
@@ -692,12 +692,17 @@ mod tests {
 
     #[test]
     fn an_avoided_trigger_is_taken_out_and_nothing_else_changes() {
-        let avoid = DrawLimits { avoid: vec!["software-reset-mode".into(), "extended-frames-in-basiccan".into()], ..DrawLimits::default() };
-        let (mut toggles, mut basic_ext) = (0, 0);
+        let avoid = DrawLimits {
+            avoid: vec!["software-reset-mode".into(), "extended-frames-in-basiccan".into(), "sleep-mode".into()],
+            ..DrawLimits::default()
+        };
+        let (mut toggles, mut sleeps, mut basic_ext) = (0, 0, 0);
         for i in 0..300 {
             let (p, q) = (draw(11, i, &DrawLimits::default()), draw(11, i, &avoid));
             toggles += p.program.iter().filter(|o| matches!(o, HostOp::ResetToggle { .. })).count();
             assert!(!q.program.iter().any(|o| matches!(o, HostOp::ResetToggle { .. })), "run {i}: a reset toggle left");
+            sleeps += p.program.iter().filter(|o| matches!(o, HostOp::Sleep { .. })).count();
+            assert!(!q.program.iter().any(|o| matches!(o, HostOp::Sleep { .. })), "run {i}: a sleep left");
             assert_eq!(p.program.len(), q.program.len(), "run {i}: a toggle becomes a wait of its length");
             assert_eq!((p.config.clone(), p.faults.clone()), (q.config.clone(), q.faults.clone()), "run {i}");
             for (a, b) in p.nodes.iter().zip(&q.nodes) {
@@ -710,6 +715,6 @@ mod tests {
                 }
             }
         }
-        assert!(toggles > 20 && basic_ext > 5, "the draw has both triggers to take out: {toggles} {basic_ext}");
+        assert!(toggles > 20 && sleeps > 10 && basic_ext > 5, "the draw has every trigger to take out: {toggles} {sleeps} {basic_ext}");
     }
 }

@@ -32,6 +32,7 @@ pub const CAMPAIGN_TRIGGERS: &[(&str, &str)] = &[
         "software-reset-mode",
         "after its configuration the host never enters reset mode again (no reset-mode toggles, so no TXERR/RXERR/EWLR writes while the bus runs)",
     ),
+    ("sleep-mode", "the host never requests sleep (PeliCAN MOD.SM, BasicCAN CMR.GTS)"),
 ];
 
 /// What leaving `trigger` out removes from the plans (None: unknown trigger).
@@ -46,8 +47,8 @@ pub(crate) struct RawAvoid {
     /// Unique id among the file's avoid entries. Required.
     #[schemars(with = "String")]
     pub id: Spanned<String>,
-    /// What the campaign leaves out of its plans: `extended-frames-in-basiccan`
-    /// or `software-reset-mode`. Required.
+    /// What the campaign leaves out of its plans: `extended-frames-in-basiccan`,
+    /// `software-reset-mode` or `sleep-mode`. Required.
     #[schemars(with = "String")]
     pub trigger: Spanned<String>,
     /// The deviation's row in the deviations table (`"D29"`). Required, not empty.
