@@ -37,6 +37,7 @@ fn failed(divs: Vec<Divergence>) -> RunOutcome {
         skipped: None,
         bus_log: Vec::new(),
         delivered: Vec::new(),
+        steps: Vec::new(),
     }
 }
 
