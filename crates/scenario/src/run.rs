@@ -137,9 +137,11 @@ pub struct RunOutcome {
 }
 
 impl RunOutcome {
-    /// The step the program was in at `t_ps` (`waivers::StepAt`).
+    /// The step the program was in at `t_ps` (`waivers::StepAt`). A step
+    /// starts the instant the one before ends, so a read that ends then
+    /// (and its divergence) belongs to the step before.
     pub fn step_at(&self, t_ps: u64) -> waivers::StepAt {
-        match self.steps.iter().rev().find(|(_, t)| *t <= t_ps) {
+        match self.steps.iter().rev().find(|(_, t)| *t < t_ps) {
             None => waivers::StepAt::Before,
             Some((0, _)) => waivers::StepAt::After,
             Some((n, _)) => waivers::StepAt::In(*n),

@@ -42,7 +42,8 @@ pub struct Args {
     record_expected_failures: Option<PathBuf>,
     /// How the recorded entries place a divergence: `bit` (its bit time) or
     /// `step` (the scenario step it happened in, so one entry holds on every
-    /// host: `place = "step"`).
+    /// host: `place = "step"`; an expected failure whose entry places by bit
+    /// is then recorded too, to move it).
     #[arg(long, value_name = "PLACE", default_value = "bit", value_parser = ["bit", "step"])]
     record_place: String,
     /// Write a self-contained HTML report (DIR/index.html, files of failed runs in DIR/runs/).
@@ -279,7 +280,11 @@ fn record_expected_failures(report: &scenario::regress::RegressReport, place: wa
          # (collect mode). Review each, fill in what is empty, paste into the waiver file.\n",
     );
     for c in &report.cells {
-        let record = matches!(c.status, Status::Diverged(_) | Status::Failed(_) | Status::WrongFailure { .. });
+        // Recording by step also re-records an entry that held by bit, so it can be moved to `place = "step"`.
+        let by_bit = place == waivers::Place::Step
+            && matches!(c.status, Status::ExpectedFailure { .. })
+            && c.xfail.as_ref().is_some_and(|r| r.entry.place == waivers::Place::Bit);
+        let record = by_bit || matches!(c.status, Status::Diverged(_) | Status::Failed(_) | Status::WrongFailure { .. });
         let signature = if place == waivers::Place::Step { &c.step_signature } else { &c.signature };
         if !record || signature.is_empty() {
             continue;
