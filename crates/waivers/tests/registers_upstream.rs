@@ -97,31 +97,3 @@ fn tx_bits_in_bus_idle_d6_basiccan_only_d28_bus_off_bit_once() {
     let mut set = shipped();
     assert_eq!(check(&mut set, false, Some(0x00)), None);
 }
-
-/// D23 on the pin: the DUT's EI interrupt raised in reset mode at a counter
-/// write, as long as the host keeps the controller in reset mode.
-#[test]
-fn ei_irq_in_reset_mode_only_early_only_in_reset_mode_four_times() {
-    let early = Divergence { kind: DivergenceKind::Irq, bit: Some(16), field: Some(can_proto::Field::BusIdle), expected: 1, seen: 0, ..Divergence::default() };
-    let reset = Some(0x01);
-    // The pin's model view: PeliCAN (model_basic = false) with the model's MOD.
-    let by = |set: &mut WaiverSet, d: &Divergence, model_mod: Option<u8>| -> Option<String> {
-        let obs = Observed { model_mod, model_basic: model_mod.map(|_| false), ..Observed::default() };
-        match set.check_observed(d, &DutInfo::new("opencores-can (/cores/can)"), &obs) {
-            Verdict::Waived { waiver_id, .. } => Some(waiver_id),
-            _ => None,
-        }
-    };
-    let mut set = shipped();
-    assert_eq!(by(&mut set, &early, reset).as_deref(), Some("ei-irq-in-reset-mode-at-counter-write"));
-    // Still caught: in operating mode, the DUT's interrupt missing (model
-    // low, DUT high), in BasicCAN (no MOD), and a fifth reset-mode period.
-    let mut set = shipped();
-    assert_eq!(by(&mut set, &early, OPERATING), None);
-    assert_eq!(by(&mut set, &Divergence { expected: 0, seen: 1, ..early.clone() }, reset), None);
-    assert_eq!(by(&mut set, &early, None), None);
-    for _ in 0..4 {
-        assert!(by(&mut set, &early, reset).is_some());
-    }
-    assert_eq!(by(&mut set, &early, reset), None);
-}
