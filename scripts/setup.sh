@@ -2,7 +2,7 @@
 # Installs what the project needs on a fresh Debian machine: Verilator (the
 # co-simulation DUT build), Icarus Verilog (RTL compile check, bench) and
 # Yosys (resource estimate), SDCC (8051 header check), GHDL (VHDL cores),
-# lcov (genhtml for `regress --coverage`). Rust comes with the machine (rustup).
+# lcov (genhtml for `regress --coverage`), dtc (the generated device-tree node). Rust comes with the machine (rustup).
 # Fails with one clear sentence when something cannot be had.
 set -euo pipefail
 
@@ -22,6 +22,8 @@ command -v sdcc  >/dev/null 2>&1 || need_pkgs+=(sdcc)
 command -v ghdl  >/dev/null 2>&1 || need_pkgs+=(ghdl)
 # lcov's genhtml writes the HTML report of `regress --coverage`.
 command -v genhtml >/dev/null 2>&1 || need_pkgs+=(lcov)
+# dtc compiles the generated device-tree node in the generator tests.
+command -v dtc >/dev/null 2>&1 || need_pkgs+=(device-tree-compiler)
 
 if [ ${#need_pkgs[@]} -gt 0 ]; then
   if ! command -v apt-get >/dev/null 2>&1; then

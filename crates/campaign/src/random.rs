@@ -199,6 +199,7 @@ fn kit_defect(plan: &Plan, opts: &RunOptions, kind: &str, what: String) -> (RunO
         skipped: None,
         bus_log: Vec::new(),
         delivered: Vec::new(),
+        steps: Vec::new(),
     };
     (o, Judged { failure: Some(what), signature: Some(Signature(format!("kit defect: {kind}"))), scoreboard: Vec::new() })
 }

@@ -382,3 +382,29 @@ fn mutate_rejects_a_time_budget_that_is_not_above_zero() {
         assert!(stderr.contains("--budget-factor") && stderr.contains("above 0"), "{bad}: {stderr}");
     }
 }
+
+/// `gen` with a stride and byte lane from a profile: the header follows
+/// them; a stride or lane the layout or Linux's driver cannot have, or a
+/// profile without the bus's table, is one clear sentence.
+#[test]
+fn gen_reads_stride_and_lane_from_a_profile_and_rejects_impossible_ones() {
+    let d = scratch("gen-layout");
+    let prof = d.join("core.toml");
+    std::fs::write(&prof, "[access.axi4-lite]\nstride = 4\nbyte-lane = 1\n[access.apb]\nstride = 3\n").unwrap();
+    let (p, out) = (prof.to_str().unwrap(), d.join("gen"));
+    let ok = cancosim(&["gen", "--out", out.to_str().unwrap(), "--profile", p, "--host", "axi4-lite"], Duration::from_secs(30));
+    assert!(ok.status.success(), "{}", String::from_utf8_lossy(&ok.stderr));
+    let h = std::fs::read_to_string(out.join("can_sja_regs.h")).unwrap();
+    assert!(h.contains("#define CAN_SJA_SPACING (4)") && h.contains("#define CAN_SJA_LANE (1)"), "{h}");
+    let node = cancosim(&["gen", "devicetree", "--profile", p, "--host", "axi4-lite", "--byte-lane", "0", "--cdr", "0x81"], Duration::from_secs(30));
+    let node = String::from_utf8_lossy(&node.stdout).into_owned();
+    assert!(node.contains("reg-io-width = <4>;") && node.contains("nxp,clock-out-frequency = <6000000>;"), "{node}");
+    let (_, e) = fails_cleanly(&["gen", "devicetree", "--profile", p, "--host", "axi4-lite"], Duration::from_secs(30));
+    assert!(e.contains("byte lane 1 at a 4-byte stride") && e.contains("keeps bits 7..0"), "{e}");
+    let (_, e) = fails_cleanly(&["gen", "--out", out.to_str().unwrap(), "--profile", p, "--host", "apb"], Duration::from_secs(30));
+    assert!(e.contains("register stride 3 is not 1, 2 or 4 bytes"), "{e}");
+    let (_, e) = fails_cleanly(&["gen", "devicetree", "--profile", p, "--host", "wishbone"], Duration::from_secs(30));
+    assert!(e.contains("has no [access.wishbone] table"), "{e}");
+    let (_, e) = fails_cleanly(&["gen", "--out", out.to_str().unwrap(), "--stride", "2", "--byte-lane", "2"], Duration::from_secs(30));
+    assert!(e.contains("byte lane 2 is outside a register of 2 byte(s)"), "{e}");
+}

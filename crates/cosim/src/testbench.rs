@@ -469,6 +469,11 @@ impl Testbench {
         self.obs.bits()
     }
 
+    /// Simulated time so far, in picoseconds (the clock divergences are stamped with).
+    pub fn now_ps(&self) -> u64 {
+        self.kernel.now_ps()
+    }
+
     /// Host cycles so far.
     pub fn host_cycles(&self) -> u64 {
         self.host.cycles()

@@ -42,6 +42,20 @@ void host_io_write8(uintptr_t addr, uint8_t data)
     cb_write8(cb_ctx, addr, data);
 }
 
+/* 16-bit accesses (a header generated at a 2-byte stride) as one 8-bit
+ * access of the low byte: the simulated hosts have an 8-bit data bus. */
+uint16_t host_io_read16(uintptr_t addr)
+{
+    need_callbacks();
+    return cb_read8(cb_ctx, addr);
+}
+
+void host_io_write16(uintptr_t addr, uint16_t data)
+{
+    need_callbacks();
+    cb_write8(cb_ctx, addr, (uint8_t)data);
+}
+
 uint32_t host_io_read32(uintptr_t addr)
 {
     need_callbacks();

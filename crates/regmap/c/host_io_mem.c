@@ -35,6 +35,21 @@ void host_io_write8(uintptr_t addr, uint8_t data)
     host_io_mem[check(addr, 1)] = data;
 }
 
+uint16_t host_io_read16(uintptr_t addr)
+{
+    uintptr_t a = check(addr, 2);
+    host_io_reads++;
+    return (uint16_t)(host_io_mem[a] | (host_io_mem[a + 1] << 8));
+}
+
+void host_io_write16(uintptr_t addr, uint16_t data)
+{
+    uintptr_t a = check(addr, 2);
+    host_io_writes++;
+    host_io_mem[a] = (uint8_t)data;
+    host_io_mem[a + 1] = (uint8_t)(data >> 8);
+}
+
 uint32_t host_io_read32(uintptr_t addr)
 {
     uintptr_t a = check(addr, 4);

@@ -21,8 +21,9 @@ static int failures;
         }                                                                   \
     } while (0)
 
-/* Byte the register with index n occupies on the host bus. */
-static unsigned at(unsigned n) { return BASE + n * CAN_SJA_SPACING; }
+/* Byte the data of the register with index n occupies on the host bus
+ * (stride and byte lane). */
+static unsigned at(unsigned n) { return BASE + CAN_SJA_OFFSET(n); }
 
 int main(void)
 {
@@ -48,10 +49,12 @@ int main(void)
     CHECK(CAN_SJA_BASIC_CR_RR_MSK == 0x01 && CAN_SJA_BASIC_CMR_GTS_MSK == 0x10);
     CHECK(CAN_SJA_PELI_FRAME_EFF_DATA_OFST == 5 && CAN_SJA_PELI_FRAME_SFF_DATA_OFST == 3);
 
-    /* Writes land on base + index * spacing. */
+    /* Writes land on base + index * stride + lane, and nowhere else. */
     memset(host_io_mem, 0, sizeof host_io_mem);
     IOWR_CAN_SJA_PELI_BTR0(BASE, 0x41);
     CHECK(host_io_mem[at(6)] == 0x41);
+    for (i = 0; i < 4 * 128; i++)
+        CHECK(BASE + i == at(6) || host_io_mem[BASE + i] == 0);
     IOWR_CAN_SJA_BASIC_CR(BASE, CAN_SJA_BASIC_CR_RR_MSK);
     CHECK(host_io_mem[at(0)] == 0x01);
     IOWR_CAN_SJA_PELI_TXB(BASE, 11, 0x5A); /* last TX byte: address 28 */
@@ -69,7 +72,18 @@ int main(void)
         CHECK(IORD_CAN_SJA_PELI_RXFIFO(BASE, i) == (uint8_t)(i * 3));
     CHECK((uintptr_t)IOADDR_CAN_SJA_PELI_ALC(BASE) == at(11));
 
+    /* A write puts nothing but the register's byte on the bus. */
+    memset(host_io_mem, 0, sizeof host_io_mem);
+    IOWR_CAN_SJA_PELI_TXERR(BASE, 0x1FF);
+    CHECK(host_io_mem[at(15)] == 0xFF);
+    for (i = 0; i < 4 * 128; i++)
+        CHECK(BASE + i == at(15) || host_io_mem[BASE + i] == 0);
+    /* A read returns only the register's byte, whatever the other lanes hold. */
+    memset(host_io_mem, 0xA5, sizeof host_io_mem);
+    host_io_mem[at(3)] = 0x81;
+    CHECK((IORD_CAN_SJA_PELI_IR(BASE) & 0xFF) == 0x81);
+
     if (failures == 0)
-        printf("test_regs: all checks passed (spacing %u)\n", (unsigned)CAN_SJA_SPACING);
+        printf("test_regs: all checks passed (spacing %u, offset of register 1: %u)\n", (unsigned)CAN_SJA_SPACING, (unsigned)CAN_SJA_OFFSET(1));
     return failures == 0 ? 0 : 1;
 }

@@ -22,6 +22,7 @@
 
 /* Register spacing in bytes, and generic accessors for a computed index. */
 #define CAN_SJA_SPACING (1)
+#define CAN_SJA_OFFSET(index) ((index) * CAN_SJA_SPACING)
 #define CAN_SJA_IORD(base, index) IORD_8DIRECT(base, (index))
 #define CAN_SJA_IOWR(base, index, data) IOWR_8DIRECT(base, (index), data)
 

@@ -131,16 +131,19 @@ fn header_macros_equal_the_table_as_text_and_as_c_evaluates_them() {
 }
 
 #[test]
-fn header_compiles_strictly_and_accesses_the_right_bytes_in_both_spacings() {
-    for spacing in [Spacing::Byte, Spacing::Word] {
+fn header_compiles_strictly_and_accesses_the_right_bytes_at_every_stride_and_lane() {
+    for (spacing, lane) in [(Spacing::Byte, 0), (Spacing::Half, 0), (Spacing::Half, 1), (Spacing::Word, 0), (Spacing::Word, 2), (Spacing::Word, 3)] {
         let tmp = tempfile::tempdir().unwrap();
-        generate_into(tmp.path(), spacing);
+        let header = HeaderOptions::new("CAN_SJA", spacing).unwrap().with_lane(lane).unwrap();
+        generate::write_all(tmp.path(), &GenOptions { header, ..Default::default() }).expect("write generated files");
         let hdr = tmp.path().join("can_sja_regs.h");
         run(gcc(tmp.path(), &["-fsyntax-only", "-x", "c"]).arg(&hdr));
         let exe = tmp.path().join("test_regs");
         run(gcc(tmp.path(), &[]).arg(c_dir().join("test_regs.c")).arg(c_dir().join("host_io_mem.c")).arg("-o").arg(&exe));
         let out = run(&mut Command::new(&exe));
-        assert!(out.contains("all checks passed"), "{spacing:?}: {out}");
+        assert!(out.contains("all checks passed"), "{spacing:?} lane {lane}: {out}");
+        let offset = spacing.stride() as u32 + lane;
+        assert!(out.contains(&format!("offset of register 1: {offset})")), "{spacing:?} lane {lane}: {out}");
     }
 }
 

@@ -148,6 +148,8 @@ pub struct Cell {
     pub xfail: Option<crate::xfail::XfailResult>,
     /// The run's failure signature (`crate::xfail::signature`; empty if it passed).
     pub signature: Vec<String>,
+    /// The same with its divergences placed by step (`waivers::Place::Step`).
+    pub step_signature: Vec<String>,
     /// The DUT's name as waivers and expected failures match it.
     pub waiver_dut: String,
     /// The host the run went through (its own or the override).
@@ -210,6 +212,7 @@ impl Cell {
             funcov: o.skipped.is_none().then(|| run_funcov(o)),
             xfail: None,
             signature: if o.passed || o.skipped.is_some() { Vec::new() } else { crate::xfail::signature(o) },
+            step_signature: if o.passed || o.skipped.is_some() { Vec::new() } else { crate::xfail::signature_in(o, waivers::Place::Step) },
             waiver_dut: o.waivers.as_ref().map(|r| r.dut.clone()).unwrap_or_else(|| o.dut.clone()),
             host: String::new(),
         }
@@ -729,6 +732,7 @@ pub fn regress_inputs(inputs: &[std::path::PathBuf], duts: &[DutSpec], opts: &Re
                     funcov: None,
                     xfail: None,
                     signature: Vec::new(),
+                    step_signature: Vec::new(),
                     waiver_dut: d.name.clone(),
                     host: String::new(),
                 });

@@ -130,6 +130,23 @@ pub struct RunOutcome {
     /// The messages the host read out of the DUT's RX FIFO (`drain` steps),
     /// in order, each with the bit time it was read at.
     pub delivered: Vec<(u64, can_proto::CanFrame)>,
+    /// Where the program was: (step number, its start in ps) per step
+    /// played, then (0, the end of the last step). Places a divergence by
+    /// step ([`RunOutcome::step_at`]).
+    pub steps: Vec<(usize, u64)>,
+}
+
+impl RunOutcome {
+    /// The step the program was in at `t_ps` (`waivers::StepAt`). A step
+    /// starts the instant the one before ends, so a read that ends then
+    /// (and its divergence) belongs to the step before.
+    pub fn step_at(&self, t_ps: u64) -> waivers::StepAt {
+        match self.steps.iter().rev().find(|(_, t)| *t < t_ps) {
+            None => waivers::StepAt::Before,
+            Some((0, _)) => waivers::StepAt::After,
+            Some((n, _)) => waivers::StepAt::In(*n),
+        }
+    }
 }
 
 /// Frame and bit of a frame-relative fault (frames counted from 1 in files, from 0 on the bus).
@@ -395,8 +412,10 @@ fn play(
     traffic: &mut Vec<(u64, usize, can_proto::CanFrame)>,
     max_bits: u64,
     delivered: &mut Vec<(u64, can_proto::CanFrame)>,
+    marks: &mut Vec<(usize, u64)>,
 ) -> Result<(), TbError> {
     for (i, st) in s.steps.iter().enumerate() {
+        marks.push((st.n, tb.now_ps()));
         log::info!("{}: step {} (line {}){}", s.name, st.n, st.line, st.note.as_ref().map(|n| format!(": {n}")).unwrap_or_default());
         fire_traffic(tb, traffic);
         if let Some(b) = st.block
@@ -632,6 +651,7 @@ pub fn run(s: &Scenario, opts: &RunOptions) -> RunOutcome {
     let mut lost = None;
     let mut bus_log = Vec::new();
     let mut delivered = Vec::new();
+    let mut steps = Vec::new();
     let mut record = match tb_config(s, &dut.kind, opts).map_err(|e| e.to_string()).and_then(|c| Testbench::new(c).map_err(|e| e.to_string())) {
         Err(e) => {
             let mut r = RunRecord::new(&s.name, &dut.name);
@@ -654,7 +674,8 @@ pub fn run(s: &Scenario, opts: &RunOptions) -> RunOutcome {
                 .enumerate()
                 .flat_map(|(i, n)| n.traffic.iter().map(move |f| (f.at_bit, i, f.frame)))
                 .collect();
-            let mut result = play(&mut tb, s, &mut traffic, max_bits, &mut delivered);
+            let mut result = play(&mut tb, s, &mut traffic, max_bits, &mut delivered, &mut steps);
+            steps.push((0, tb.now_ps()));
             // Last transmission request (CMR.TR or CMR.SRR) of the program.
             let requested = tb.record().host_ops.iter().rev().find(|o| o.addr == 1 && o.access == diagnose::Access::Write && o.data & 0x11 != 0).map(|_| tb.bits());
             if result.is_ok() {
@@ -768,6 +789,7 @@ pub fn run(s: &Scenario, opts: &RunOptions) -> RunOutcome {
         warnings,
         bus_log,
         delivered,
+        steps,
     }
 }
 
@@ -845,6 +867,7 @@ fn skipped(s: &Scenario, opts: &RunOptions, why: String) -> RunOutcome {
         skipped: Some(why),
         bus_log: Vec::new(),
         delivered: Vec::new(),
+        steps: Vec::new(),
     }
 }
 

@@ -8,7 +8,7 @@
 
 use crate::Scenario;
 use crate::run::{RunOptions, RunOutcome};
-use waivers::{CollectMode, DutInfo, ExpectedFailure, SignatureDiff, WaiverSet};
+use waivers::{CollectMode, DutInfo, ExpectedFailure, Place, SignatureDiff, WaiverSet};
 
 /// How a run compared with the expected-failure entry that named it.
 #[derive(Clone, Debug, PartialEq, Eq)]
@@ -39,6 +39,12 @@ pub fn run_host(s: &Scenario, opts: &RunOptions) -> String {
 /// divergences, its failed expectations that no waiver took, and the ways
 /// its outcome missed `[expect]`; distinct lines, in the order found.
 pub fn signature(o: &RunOutcome) -> Vec<String> {
+    signature_in(o, Place::Bit)
+}
+
+/// [`signature`] with its divergence lines placed as `place` says (by bit
+/// time, or by the scenario step they happened in: `waivers::expected`).
+pub fn signature_in(o: &RunOutcome, place: Place) -> Vec<String> {
     let mut lines: Vec<String> = Vec::new();
     let mut add = |l: String| {
         let l = waivers::expected::normalise(&l);
@@ -49,7 +55,10 @@ pub fn signature(o: &RunOutcome) -> Vec<String> {
     let waived: Vec<usize> = o.waivers.as_ref().map_or_else(Vec::new, |r| r.waived_expectations.iter().map(|w| w.step).collect());
     if let Some(r) = &o.waivers {
         for d in &r.failures {
-            add(waivers::signature_line(d));
+            add(match place {
+                Place::Bit => waivers::signature_line(d),
+                Place::Step => waivers::signature_line_in_step(d, o.step_at(d.time_ps)),
+            });
         }
     }
     for e in o.record.expectations.iter().filter(|e| !e.passed && !waived.contains(&e.step)) {
@@ -129,7 +138,7 @@ pub fn judge(e: &ExpectedFailure, o: &RunOutcome) -> Option<XfailVerdict> {
     if o.passed {
         return Some(XfailVerdict::UnexpectedPass);
     }
-    let d = e.diff(&signature(o));
+    let d = e.diff(&signature_in(o, e.place));
     Some(if d.is_exact() { XfailVerdict::Exact } else { XfailVerdict::Different(d) })
 }
 

@@ -37,6 +37,7 @@ fn failed(divs: Vec<Divergence>) -> RunOutcome {
         skipped: None,
         bus_log: Vec::new(),
         delivered: Vec::new(),
+        steps: Vec::new(),
     }
 }
 
@@ -163,4 +164,41 @@ fn the_signature_has_failed_expectations_but_not_waived_ones() {
             "verdict 1 unwaived divergence(s) from the golden model".to_string(),
         ]
     );
+}
+
+/// `place = "step"`: the same failure through a slower host (every
+/// divergence later in bits, in the same steps) is the same expected
+/// failure; a divergence in another step, or another value, is not. A read
+/// that ends the instant the next step starts belongs to its own step.
+#[test]
+fn an_entry_placed_by_step_holds_for_any_host_speed_and_still_catches_a_move_to_another_step() {
+    let placed = |scale: u64, second_step_end: u64, value: u32| {
+        move || {
+            let mut o = failed(vec![sr(10 * scale, 0x0C, 0x0F), sr(second_step_end * scale, 0x1C, value)]);
+            // Step 1 from 0, step 2 from bit 15, step 3 from bit 30 (x7 ps a bit, as `sr` stamps).
+            o.steps = vec![(1, 0), (2, 15 * 7 * scale), (3, 30 * 7 * scale), (0, 45 * 7 * scale)];
+            o
+        }
+    };
+    let lines = [
+        "divergence register-read SR in step 1: model 0x0C, DUT 0x0F",
+        "divergence register-read SR in step 2: model 0x1C, DUT 0x1F",
+        "verdict 2 unwaived divergence(s) from the golden model",
+    ];
+    let w = entry("x", "fixture core (*)", "", &lines).replace("signature = [", "place = \"step\"\nsignature = [");
+    // The fast host and one three times slower: bits differ, steps do not;
+    // the second read ends exactly when step 3 starts.
+    for scale in [1, 3] {
+        let (cell, _, table) = judge(&w, CollectMode::StopAtFirst, placed(scale, 30, 0x1F));
+        assert!(matches!(cell.status, Status::ExpectedFailure { .. }), "scale {scale}: {:?}\n{table}", cell.status);
+    }
+    // Still caught: the second divergence in step 3, or with another DUT value.
+    let (cell, _, _) = judge(&w, CollectMode::StopAtFirst, placed(1, 31, 0x1F));
+    assert!(matches!(cell.status, Status::WrongFailure { .. }), "{:?}", cell.status);
+    let (cell, _, _) = judge(&w, CollectMode::StopAtFirst, placed(1, 30, 0x1E));
+    assert!(matches!(cell.status, Status::WrongFailure { .. }), "{:?}", cell.status);
+    // The bit-placed form of the same entry holds only at the recorded bits.
+    let bits = entry("x", "fixture core (*)", "", &TWO);
+    let (cell, _, _) = judge(&bits, CollectMode::StopAtFirst, placed(3, 20, 0x1F));
+    assert!(matches!(cell.status, Status::WrongFailure { .. }), "{:?}", cell.status);
 }

@@ -34,6 +34,18 @@
 //! - `verdict ...`: each way the outcome missed the scenario's `[expect]`
 //!   (diagnosis category, frame counts, the number of unwaived divergences).
 //!
+//! With `place = "step"` an entry places each divergence by the scenario
+//! step it happened in, not by its bit time, so one entry holds for every
+//! host: a slower host moves every read and every bus event it starts by
+//! some bits, never to another step. A register read is then `divergence
+//! register-read SR in step 12: model 0x3C, DUT 0x0C` (the read's value
+//! pins it down inside the step); a tx bit or a pin keeps the frame and the
+//! field it fell in, `divergence tx-bit in step 9 (frame 1, BaseId): model
+//! 1, DUT 0`. Before the first step it is `before the steps`, after the last
+//! `after the steps`. What `place = "step"` gives up: a divergence that moves
+//! inside one step (for a bus event, inside one field of one frame) keeps its
+//! line. Default `place = "bit"`: the lines above.
+//!
 //! Order does not matter; whitespace runs count as one space. The runner
 //! (`cancosim regress`) counts a scenario an expected failure only if its
 //! lines are exactly these: a pass is an UNEXPECTED PASS (the entry is stale)
@@ -100,6 +112,42 @@ pub(crate) struct RawExpectedFailure {
     /// `cancosim regress --record-expected-failures FILE`. Required.
     #[schemars(with = "Vec<String>")]
     pub signature: Spanned<Vec<Spanned<String>>>,
+    /// Where a divergence line places it: `bit` (its bit time, the default)
+    /// or `step` (the scenario step it happened in: the same line on every
+    /// host).
+    #[schemars(with = "Option<String>")]
+    pub place: Option<Spanned<String>>,
+}
+
+/// How a signature's divergence lines say where they happened.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub enum Place {
+    /// `at bit N (frame f, Field)`: exact, but a slower host moves it.
+    #[default]
+    Bit,
+    /// `in step N` (register reads) or `in step N (frame f, Field)`: the same on every host.
+    Step,
+}
+
+impl Place {
+    /// `bit` or `step`, as the file spells it.
+    pub fn as_str(self) -> &'static str {
+        match self {
+            Place::Bit => "bit",
+            Place::Step => "step",
+        }
+    }
+}
+
+/// Where in a scenario's program a divergence happened (for [`Place::Step`]).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum StepAt {
+    /// Before the first step (the reset sequence).
+    Before,
+    /// During step N (1-based, the scenario's step number).
+    In(usize),
+    /// After the last step (the run-out).
+    After,
 }
 
 /// A validated `[[expected-failure]]` entry.
@@ -123,6 +171,8 @@ pub struct ExpectedFailure {
     pub reason: String,
     /// The signature lines, normalised, in file order.
     pub signature: Vec<String>,
+    /// How its divergence lines are placed.
+    pub place: Place,
     /// File it comes from.
     pub file: String,
     /// Line of its `id`.
@@ -181,6 +231,31 @@ pub fn signature_line(d: &Divergence) -> String {
     match d.kind {
         DivergenceKind::RegisterRead => s += &format!(": model 0x{:02X}, DUT 0x{:02X}", d.expected, d.seen),
         _ => s += &format!(": model {}, DUT {}", d.expected, d.seen),
+    }
+    s
+}
+
+/// [`signature_line`] placed by step ([`Place::Step`]): a register read by
+/// its step alone, another kind by its step, frame and field.
+pub fn signature_line_in_step(d: &Divergence, at: StepAt) -> String {
+    let mut s = format!("divergence {}", KindName::of(d.kind).as_str());
+    if let Some(r) = &d.register {
+        s += &format!(" {r}");
+    }
+    s += &match at {
+        StepAt::Before => " before the steps".to_string(),
+        StepAt::In(n) => format!(" in step {n}"),
+        StepAt::After => " after the steps".to_string(),
+    };
+    match d.kind {
+        DivergenceKind::RegisterRead => s += &format!(": model 0x{:02X}, DUT 0x{:02X}", d.expected, d.seen),
+        _ => {
+            let place: Vec<String> = d.frame.map(|f| format!("frame {f}")).into_iter().chain(d.field.map(|f| format!("{f:?}"))).collect();
+            if !place.is_empty() {
+                s += &format!(" ({})", place.join(", "));
+            }
+            s += &format!(": model {}, DUT {}", d.expected, d.seen);
+        }
     }
     s
 }
@@ -270,6 +345,14 @@ pub(crate) fn validate(file: &str, src: &str, raw: RawExpectedFailure) -> Result
             "empty: an expected failure lists the lines its run shows (cancosim regress --record-expected-failures FILE writes them)",
         ));
     }
+    let place = match &raw.place {
+        None => Place::Bit,
+        Some(p) => match p.get_ref().as_str() {
+            "bit" => Place::Bit,
+            "step" => Place::Step,
+            other => return Err(invalid(file, at(p.span()), "place", format!("unknown place `{other}`, expected `bit` or `step`"))),
+        },
+    };
     let mut signature = Vec::new();
     for l in raw.signature.get_ref() {
         let n = normalise(l.get_ref());
@@ -300,6 +383,7 @@ pub(crate) fn validate(file: &str, src: &str, raw: RawExpectedFailure) -> Result
         clause,
         reason,
         signature,
+        place,
         file: file.into(),
         line,
     })
@@ -309,7 +393,9 @@ pub(crate) fn validate(file: &str, src: &str, raw: RawExpectedFailure) -> Result
 /// `scenario` on `dut` through `host` that showed `signature`. `like`: an
 /// existing entry whose texts are kept (a re-recorded signature); without
 /// it the texts are left empty, so the entry does not load until filled in.
-pub fn to_toml(scenario: &str, dut: &str, host: &str, signature: &[String], like: Option<&ExpectedFailure>) -> String {
+/// `place`: how `signature`'s divergence lines are placed (written as
+/// `place = "step"` when not the default).
+pub fn to_toml(scenario: &str, dut: &str, host: &str, signature: &[String], place: Place, like: Option<&ExpectedFailure>) -> String {
     let q = |s: &str| toml::Value::String(s.to_string()).to_string();
     let mut s = String::from("[[expected-failure]]\n");
     match like {
@@ -341,6 +427,9 @@ pub fn to_toml(scenario: &str, dut: &str, host: &str, signature: &[String], like
             s += "# deviations table, the clause it breaks, and why this is an expected failure.\n";
             s += "deviation = \"\"\nclause = \"\"\nreason = \"\"\n";
         }
+    }
+    if place != Place::Bit {
+        s += &format!("place = {}\n", q(place.as_str()));
     }
     s += "signature = [\n";
     for l in signature {
@@ -401,12 +490,12 @@ signature = [
     #[test]
     fn a_recorded_entry_loads_only_once_explained() {
         let sig = vec!["divergence irq at bit 3 (Eof): model 0, DUT 1".to_string(), "verdict x".to_string()];
-        let fresh = to_toml("s", "opencores-can (/tmp/can)", "wishbone", &sig, None);
+        let fresh = to_toml("s", "opencores-can (/tmp/can)", "wishbone", &sig, Place::Bit, None);
         assert!(fresh.contains("dut = [\"opencores-can (*)\"]"), "{fresh}");
         let err = WaiverSet::parse(&fresh, "rec.toml").unwrap_err().to_string();
         assert!(err.starts_with("rec.toml:") && err.contains(": deviation: empty"), "{err}");
         let old = WaiverSet::parse(ENTRY, "w.toml").unwrap().expected_failures()[0].clone();
-        let again = to_toml("basic-sleep-wakeup", "opencores-can (/x)", "avalon", &sig, Some(&old));
+        let again = to_toml("basic-sleep-wakeup", "opencores-can (/x)", "avalon", &sig, Place::Bit, Some(&old));
         let e = WaiverSet::parse(&again, "w.toml").unwrap().expected_failures()[0].clone();
         assert_eq!((e.id, e.deviation, e.clause, e.reason, e.hosts, e.signature), (old.id, old.deviation, old.clause, old.reason, vec!["avalon".to_string()], sig));
     }
@@ -419,6 +508,41 @@ signature = [
         assert_eq!(signature_line(&t), "divergence tx-bit at bit 17 (frame 1, BusIdle): model 1, DUT 0");
         let p = Divergence { kind: DivergenceKind::BusOff, time_ps: 1234, expected: 0, seen: 1, ..Default::default() };
         assert_eq!(signature_line(&p), "divergence bus-off at 1234 ps: model 0, DUT 1");
+    }
+
+    #[test]
+    fn a_step_placed_line_names_the_step_and_keeps_the_value_and_for_bus_events_the_field() {
+        let ir = Divergence { kind: DivergenceKind::RegisterRead, register: Some("IR".into()), bit: Some(66), field: Some(can_proto::Field::Intermission), expected: 0xF0, seen: 0xE2, ..Default::default() };
+        assert_eq!(signature_line_in_step(&ir, StepAt::In(14)), "divergence register-read IR in step 14: model 0xF0, DUT 0xE2");
+        let tx = Divergence { kind: DivergenceKind::TxBit, bit: Some(17), frame: Some(1), field: Some(can_proto::Field::BaseId), expected: 1, seen: 0, ..Default::default() };
+        assert_eq!(signature_line_in_step(&tx, StepAt::In(9)), "divergence tx-bit in step 9 (frame 1, BaseId): model 1, DUT 0");
+        assert_eq!(signature_line_in_step(&tx, StepAt::After), "divergence tx-bit after the steps (frame 1, BaseId): model 1, DUT 0");
+        assert_eq!(signature_line_in_step(&tx, StepAt::Before), "divergence tx-bit before the steps (frame 1, BaseId): model 1, DUT 0");
+        // What it still tells apart: another step, another field or frame, another value.
+        let moved = [
+            signature_line_in_step(&tx, StepAt::In(10)),
+            signature_line_in_step(&Divergence { field: Some(can_proto::Field::Dlc), ..tx.clone() }, StepAt::In(9)),
+            signature_line_in_step(&Divergence { frame: Some(2), ..tx.clone() }, StepAt::In(9)),
+            signature_line_in_step(&Divergence { expected: 0, seen: 1, ..tx.clone() }, StepAt::In(9)),
+            signature_line_in_step(&Divergence { seen: 0xE3, ..ir.clone() }, StepAt::In(14)),
+        ];
+        for m in &moved {
+            assert_ne!(m, &signature_line_in_step(&tx, StepAt::In(9)));
+            assert_ne!(m, &signature_line_in_step(&ir, StepAt::In(14)));
+        }
+    }
+
+    #[test]
+    fn place_loads_as_bit_by_default_step_when_asked_and_rejects_anything_else() {
+        let set = WaiverSet::parse(ENTRY, "w.toml").unwrap();
+        assert_eq!(set.expected_failures()[0].place, Place::Bit);
+        let step = ENTRY.replace("signature = [", "place = \"step\"\nsignature = [");
+        assert_eq!(WaiverSet::parse(&step, "w.toml").unwrap().expected_failures()[0].place, Place::Step);
+        let err = WaiverSet::parse(&ENTRY.replace("signature = [", "place = \"frame\"\nsignature = ["), "w.toml").unwrap_err().to_string();
+        assert!(err.contains("place: unknown place `frame`, expected `bit` or `step`"), "{err}");
+        let text = to_toml("s", "opencores-can (/x)", "i8051", &["verdict x".to_string()], Place::Step, None);
+        assert!(text.contains("place = \"step\"\nsignature = ["), "{text}");
+        assert!(!to_toml("s", "d", "i8051", &["verdict x".to_string()], Place::Bit, None).contains("place"));
     }
 
     #[test]

@@ -49,7 +49,7 @@ pub mod run;
 pub mod set;
 pub mod suggest;
 
-pub use expected::{ExpectedFailure, SignatureDiff, signature_line};
+pub use expected::{ExpectedFailure, Place, SignatureDiff, StepAt, signature_line, signature_line_in_step};
 pub use file::{BitPattern, Consequence, ConsequenceOf, KindName, Lateness, ResyncSpec, RevRange, Revision, WaiverError};
 pub use report::{Counts, Stale, WaivedExpectation, Waived, WaiverReport, describe};
 pub use run::{Action, CollectMode, Session};

@@ -49,11 +49,17 @@ _cancosim() {
             cancosim,run)
                 cmd="cancosim__subcmd__run"
                 ;;
+            cancosim__subcmd__gen,devicetree)
+                cmd="cancosim__subcmd__gen__subcmd__devicetree"
+                ;;
             cancosim__subcmd__gen,help)
                 cmd="cancosim__subcmd__gen__subcmd__help"
                 ;;
             cancosim__subcmd__gen,reference)
                 cmd="cancosim__subcmd__gen__subcmd__reference"
+                ;;
+            cancosim__subcmd__gen__subcmd__help,devicetree)
+                cmd="cancosim__subcmd__gen__subcmd__help__subcmd__devicetree"
                 ;;
             cancosim__subcmd__gen__subcmd__help,help)
                 cmd="cancosim__subcmd__gen__subcmd__help__subcmd__help"
@@ -93,6 +99,9 @@ _cancosim() {
                 ;;
             cancosim__subcmd__help,run)
                 cmd="cancosim__subcmd__help__subcmd__run"
+                ;;
+            cancosim__subcmd__help__subcmd__gen,devicetree)
+                cmd="cancosim__subcmd__help__subcmd__gen__subcmd__devicetree"
                 ;;
             cancosim__subcmd__help__subcmd__gen,reference)
                 cmd="cancosim__subcmd__help__subcmd__gen__subcmd__reference"
@@ -438,7 +447,7 @@ _cancosim() {
             return 0
             ;;
         cancosim__subcmd__gen)
-            opts="-o -h --out --prefix --spacing --component --help reference help"
+            opts="-o -h --out --prefix --spacing --stride --byte-lane --profile --host --component --help reference devicetree help"
             if [[ ${cur} == -* || ${COMP_CWORD} -eq 2 ]] ; then
                 COMPREPLY=( $(compgen -W "${opts}" -- "${cur}") )
                 return 0
@@ -460,6 +469,22 @@ _cancosim() {
                     COMPREPLY=($(compgen -W "byte word" -- "${cur}"))
                     return 0
                     ;;
+                --stride)
+                    COMPREPLY=($(compgen -W "1 2 4" -- "${cur}"))
+                    return 0
+                    ;;
+                --byte-lane)
+                    COMPREPLY=($(compgen -f "${cur}"))
+                    return 0
+                    ;;
+                --profile)
+                    COMPREPLY=($(compgen -f "${cur}"))
+                    return 0
+                    ;;
+                --host)
+                    COMPREPLY=($(compgen -f "${cur}"))
+                    return 0
+                    ;;
                 --component)
                     COMPREPLY=($(compgen -f "${cur}"))
                     return 0
@@ -471,9 +496,97 @@ _cancosim() {
             COMPREPLY=( $(compgen -W "${opts}" -- "${cur}") )
             return 0
             ;;
-        cancosim__subcmd__gen__subcmd__help)
-            opts="reference help"
+        cancosim__subcmd__gen__subcmd__devicetree)
+            opts="-o -h --out --base --name --interrupts --interrupt-parent --clock --ocr --cdr --btr0 --btr1 --stride --byte-lane --profile --host --help"
             if [[ ${cur} == -* || ${COMP_CWORD} -eq 3 ]] ; then
+                COMPREPLY=( $(compgen -W "${opts}" -- "${cur}") )
+                return 0
+            fi
+            case "${prev}" in
+                --out)
+                    COMPREPLY=($(compgen -f "${cur}"))
+                    return 0
+                    ;;
+                -o)
+                    COMPREPLY=($(compgen -f "${cur}"))
+                    return 0
+                    ;;
+                --base)
+                    COMPREPLY=($(compgen -f "${cur}"))
+                    return 0
+                    ;;
+                --name)
+                    COMPREPLY=($(compgen -f "${cur}"))
+                    return 0
+                    ;;
+                --interrupts)
+                    COMPREPLY=($(compgen -f "${cur}"))
+                    return 0
+                    ;;
+                --interrupt-parent)
+                    COMPREPLY=($(compgen -f "${cur}"))
+                    return 0
+                    ;;
+                --clock)
+                    COMPREPLY=($(compgen -f "${cur}"))
+                    return 0
+                    ;;
+                --ocr)
+                    COMPREPLY=($(compgen -f "${cur}"))
+                    return 0
+                    ;;
+                --cdr)
+                    COMPREPLY=($(compgen -f "${cur}"))
+                    return 0
+                    ;;
+                --btr0)
+                    COMPREPLY=($(compgen -f "${cur}"))
+                    return 0
+                    ;;
+                --btr1)
+                    COMPREPLY=($(compgen -f "${cur}"))
+                    return 0
+                    ;;
+                --stride)
+                    COMPREPLY=($(compgen -W "1 2 4" -- "${cur}"))
+                    return 0
+                    ;;
+                --byte-lane)
+                    COMPREPLY=($(compgen -f "${cur}"))
+                    return 0
+                    ;;
+                --profile)
+                    COMPREPLY=($(compgen -f "${cur}"))
+                    return 0
+                    ;;
+                --host)
+                    COMPREPLY=($(compgen -f "${cur}"))
+                    return 0
+                    ;;
+                *)
+                    COMPREPLY=()
+                    ;;
+            esac
+            COMPREPLY=( $(compgen -W "${opts}" -- "${cur}") )
+            return 0
+            ;;
+        cancosim__subcmd__gen__subcmd__help)
+            opts="reference devicetree help"
+            if [[ ${cur} == -* || ${COMP_CWORD} -eq 3 ]] ; then
+                COMPREPLY=( $(compgen -W "${opts}" -- "${cur}") )
+                return 0
+            fi
+            case "${prev}" in
+                *)
+                    COMPREPLY=()
+                    ;;
+            esac
+            COMPREPLY=( $(compgen -W "${opts}" -- "${cur}") )
+            return 0
+            ;;
+        cancosim__subcmd__gen__subcmd__help__subcmd__devicetree)
+            opts=""
+            if [[ ${cur} == -* || ${COMP_CWORD} -eq 4 ]] ; then
                 COMPREPLY=( $(compgen -W "${opts}" -- "${cur}") )
                 return 0
             fi
@@ -634,8 +747,22 @@ _cancosim() {
             return 0
             ;;
         cancosim__subcmd__help__subcmd__gen)
-            opts="reference"
+            opts="reference devicetree"
             if [[ ${cur} == -* || ${COMP_CWORD} -eq 3 ]] ; then
+                COMPREPLY=( $(compgen -W "${opts}" -- "${cur}") )
+                return 0
+            fi
+            case "${prev}" in
+                *)
+                    COMPREPLY=()
+                    ;;
+            esac
+            COMPREPLY=( $(compgen -W "${opts}" -- "${cur}") )
+            return 0
+            ;;
+        cancosim__subcmd__help__subcmd__gen__subcmd__devicetree)
+            opts=""
+            if [[ ${cur} == -* || ${COMP_CWORD} -eq 4 ]] ; then
                 COMPREPLY=( $(compgen -W "${opts}" -- "${cur}") )
                 return 0
             fi
@@ -800,7 +927,7 @@ _cancosim() {
             return 0
             ;;
         cancosim__subcmd__regress)
-            opts="-j -h --dut --external --profile --top --baseline --jobs --shard --junit --json --record-expected-failures --html --coverage --funcov --funcov-json --max-bits --host --waivers --dut-revision --collect --stop-at-first --help"
+            opts="-j -h --dut --external --profile --top --baseline --jobs --shard --junit --json --record-expected-failures --record-place --html --coverage --funcov --funcov-json --max-bits --host --waivers --dut-revision --collect --stop-at-first --help"
             if [[ ${cur} == -* || ${COMP_CWORD} -eq 2 ]] ; then
                 COMPREPLY=( $(compgen -W "${opts}" -- "${cur}") )
                 return 0
@@ -848,6 +975,10 @@ _cancosim() {
                     ;;
                 --record-expected-failures)
                     COMPREPLY=($(compgen -f "${cur}"))
+                    return 0
+                    ;;
+                --record-place)
+                    COMPREPLY=($(compgen -W "bit step" -- "${cur}"))
                     return 0
                     ;;
                 --html)

@@ -50,18 +50,43 @@ complete -c cancosim -n "__fish_cancosim_using_subcommand decode" -l btr0 -d 'VC
 complete -c cancosim -n "__fish_cancosim_using_subcommand decode" -l btr1 -d 'VCD: BTR1 of the bus' -r
 complete -c cancosim -n "__fish_cancosim_using_subcommand decode" -l verbose -d 'Show stuff bits and every field start, not only frames and errors'
 complete -c cancosim -n "__fish_cancosim_using_subcommand decode" -s h -l help -d 'Print help'
-complete -c cancosim -n "__fish_cancosim_using_subcommand gen; and not __fish_seen_subcommand_from reference help" -s o -l out -d 'Output directory (created if missing)' -r -F
-complete -c cancosim -n "__fish_cancosim_using_subcommand gen; and not __fish_seen_subcommand_from reference help" -l prefix -d 'Upper-case C identifier prefix; the header is `<prefix>_regs.h`' -r
-complete -c cancosim -n "__fish_cancosim_using_subcommand gen; and not __fish_seen_subcommand_from reference help" -l spacing -d 'Register spacing on the host bus: `byte` (IORD_8DIRECT, matches can_avalon) or `word` (IORD, 4-byte stride)' -r -f -a "byte\t''
+complete -c cancosim -n "__fish_cancosim_using_subcommand gen; and not __fish_seen_subcommand_from reference devicetree help" -s o -l out -d 'Output directory (created if missing)' -r -F
+complete -c cancosim -n "__fish_cancosim_using_subcommand gen; and not __fish_seen_subcommand_from reference devicetree help" -l prefix -d 'Upper-case C identifier prefix; the header is `<prefix>_regs.h`' -r
+complete -c cancosim -n "__fish_cancosim_using_subcommand gen; and not __fish_seen_subcommand_from reference devicetree help" -l spacing -d 'Register spacing on the host bus: `byte` (IORD_8DIRECT, matches can_avalon) or `word` (IORD, 4-byte stride); --stride says the same for any stride' -r -f -a "byte\t''
 word\t''"
-complete -c cancosim -n "__fish_cancosim_using_subcommand gen; and not __fish_seen_subcommand_from reference help" -l component -d 'Platform Designer component name (the wrapper\'s module name)' -r
-complete -c cancosim -n "__fish_cancosim_using_subcommand gen; and not __fish_seen_subcommand_from reference help" -s h -l help -d 'Print help'
-complete -c cancosim -n "__fish_cancosim_using_subcommand gen; and not __fish_seen_subcommand_from reference help" -f -a "reference" -d 'Write (or --check) the reference generated from the code: man pages, shell completions, the command line and the scenario, profile and waiver file formats in Markdown'
-complete -c cancosim -n "__fish_cancosim_using_subcommand gen; and not __fish_seen_subcommand_from reference help" -f -a "help" -d 'Print this message or the help of the given subcommand(s)'
+complete -c cancosim -n "__fish_cancosim_using_subcommand gen; and not __fish_seen_subcommand_from reference devicetree help" -l stride -d 'Bytes from one register to the next: 1, 2 or 4 (register n at base + n * stride). Overrides the profile\'s' -r -f -a "1\t''
+2\t''
+4\t''"
+complete -c cancosim -n "__fish_cancosim_using_subcommand gen; and not __fish_seen_subcommand_from reference devicetree help" -l byte-lane -d 'Byte lane of the register\'s data inside its stride (0 = bits 7..0). Overrides the profile\'s' -r
+complete -c cancosim -n "__fish_cancosim_using_subcommand gen; and not __fish_seen_subcommand_from reference devicetree help" -l profile -d 'Read `stride` and `byte-lane` from this core profile\'s `[access.<host>]` table' -r -F
+complete -c cancosim -n "__fish_cancosim_using_subcommand gen; and not __fish_seen_subcommand_from reference devicetree help" -l host -d 'The host bus whose `[access.<host>]` table of --profile to read (e.g. axi4-lite, wishbone)' -r
+complete -c cancosim -n "__fish_cancosim_using_subcommand gen; and not __fish_seen_subcommand_from reference devicetree help" -l component -d 'Platform Designer component name (the wrapper\'s module name)' -r
+complete -c cancosim -n "__fish_cancosim_using_subcommand gen; and not __fish_seen_subcommand_from reference devicetree help" -s h -l help -d 'Print help'
+complete -c cancosim -n "__fish_cancosim_using_subcommand gen; and not __fish_seen_subcommand_from reference devicetree help" -f -a "reference" -d 'Write (or --check) the reference generated from the code: man pages, shell completions, the command line and the scenario, profile and waiver file formats in Markdown'
+complete -c cancosim -n "__fish_cancosim_using_subcommand gen; and not __fish_seen_subcommand_from reference devicetree help" -f -a "devicetree" -d 'Write a device-tree node for Linux\'s sja1000 platform driver (compatible "nxp,sja1000"): reg and reg-io-width from the base and stride, the interrupt, and the clock and output properties from OCR, CDR and the clock'
+complete -c cancosim -n "__fish_cancosim_using_subcommand gen; and not __fish_seen_subcommand_from reference devicetree help" -f -a "help" -d 'Print this message or the help of the given subcommand(s)'
 complete -c cancosim -n "__fish_cancosim_using_subcommand gen; and __fish_seen_subcommand_from reference" -s o -l out -d 'Directory to write into (created if missing); files it holds that the code no longer generates are removed' -r -F
 complete -c cancosim -n "__fish_cancosim_using_subcommand gen; and __fish_seen_subcommand_from reference" -l check -d 'Write nothing: exit 1 and list the files that differ from what the code generates'
 complete -c cancosim -n "__fish_cancosim_using_subcommand gen; and __fish_seen_subcommand_from reference" -s h -l help -d 'Print help'
+complete -c cancosim -n "__fish_cancosim_using_subcommand gen; and __fish_seen_subcommand_from devicetree" -s o -l out -d 'Write the node here (default: standard output)' -r -F
+complete -c cancosim -n "__fish_cancosim_using_subcommand gen; and __fish_seen_subcommand_from devicetree" -l base -d 'Bus address of register 0 (32 bits)' -r
+complete -c cancosim -n "__fish_cancosim_using_subcommand gen; and __fish_seen_subcommand_from devicetree" -l name -d 'Node name before the @' -r
+complete -c cancosim -n "__fish_cancosim_using_subcommand gen; and __fish_seen_subcommand_from devicetree" -l interrupts -d 'The `interrupts` cells, space-separated, as the interrupt controller wants them' -r
+complete -c cancosim -n "__fish_cancosim_using_subcommand gen; and __fish_seen_subcommand_from devicetree" -l interrupt-parent -d 'Label of the interrupt controller (`interrupt-parent = <&LABEL>`); none: inherited' -r
+complete -c cancosim -n "__fish_cancosim_using_subcommand gen; and __fish_seen_subcommand_from devicetree" -l clock -d 'The core\'s clock input (the SJA1000\'s oscillator), e.g. 24MHz' -r
+complete -c cancosim -n "__fish_cancosim_using_subcommand gen; and __fish_seen_subcommand_from devicetree" -l ocr -d 'Output control register (OCR) value: nxp,tx-output-mode and nxp,tx-output-config' -r
+complete -c cancosim -n "__fish_cancosim_using_subcommand gen; and __fish_seen_subcommand_from devicetree" -l cdr -d 'Clock divider register (CDR) value: nxp,clock-out-frequency, nxp,no-comparator-bypass' -r
+complete -c cancosim -n "__fish_cancosim_using_subcommand gen; and __fish_seen_subcommand_from devicetree" -l btr0 -d 'BTR0 of the chosen bit timing (with --btr1): the bit rate, said in a comment' -r
+complete -c cancosim -n "__fish_cancosim_using_subcommand gen; and __fish_seen_subcommand_from devicetree" -l btr1 -d 'BTR1 of the chosen bit timing (with --btr0)' -r
+complete -c cancosim -n "__fish_cancosim_using_subcommand gen; and __fish_seen_subcommand_from devicetree" -l stride -d 'Bytes from one register to the next: 1, 2 or 4 (register n at base + n * stride). Overrides the profile\'s' -r -f -a "1\t''
+2\t''
+4\t''"
+complete -c cancosim -n "__fish_cancosim_using_subcommand gen; and __fish_seen_subcommand_from devicetree" -l byte-lane -d 'Byte lane of the register\'s data inside its stride (0 = bits 7..0). Overrides the profile\'s' -r
+complete -c cancosim -n "__fish_cancosim_using_subcommand gen; and __fish_seen_subcommand_from devicetree" -l profile -d 'Read `stride` and `byte-lane` from this core profile\'s `[access.<host>]` table' -r -F
+complete -c cancosim -n "__fish_cancosim_using_subcommand gen; and __fish_seen_subcommand_from devicetree" -l host -d 'The host bus whose `[access.<host>]` table of --profile to read (e.g. axi4-lite, wishbone)' -r
+complete -c cancosim -n "__fish_cancosim_using_subcommand gen; and __fish_seen_subcommand_from devicetree" -s h -l help -d 'Print help'
 complete -c cancosim -n "__fish_cancosim_using_subcommand gen; and __fish_seen_subcommand_from help" -f -a "reference" -d 'Write (or --check) the reference generated from the code: man pages, shell completions, the command line and the scenario, profile and waiver file formats in Markdown'
+complete -c cancosim -n "__fish_cancosim_using_subcommand gen; and __fish_seen_subcommand_from help" -f -a "devicetree" -d 'Write a device-tree node for Linux\'s sja1000 platform driver (compatible "nxp,sja1000"): reg and reg-io-width from the base and stride, the interrupt, and the clock and output properties from OCR, CDR and the clock'
 complete -c cancosim -n "__fish_cancosim_using_subcommand gen; and __fish_seen_subcommand_from help" -f -a "help" -d 'Print this message or the help of the given subcommand(s)'
 complete -c cancosim -n "__fish_cancosim_using_subcommand run" -l dut -d 'Bundled DUT instead of the scenario\'s: `rtl` (our can_top) or `model` (the golden model)' -r -f -a "rtl\t''
 model\t''"
@@ -128,6 +153,8 @@ complete -c cancosim -n "__fish_cancosim_using_subcommand regress" -l shard -d '
 complete -c cancosim -n "__fish_cancosim_using_subcommand regress" -l junit -d 'Write JUnit XML here (an expected failure is a skipped testcase whose message names its entry)' -r -F
 complete -c cancosim -n "__fish_cancosim_using_subcommand regress" -l json -d 'Write the results as JSON here (counts, and per cell its status; an expected failure with its entry and verdict)' -r -F
 complete -c cancosim -n "__fish_cancosim_using_subcommand regress" -l record-expected-failures -d 'Run every scenario in collect mode and write, for each run that did not pass (or did not fail as its [[expected-failure]] entry records), an [[expected-failure]] entry with the signature it showed, to paste into a waiver file after filling in deviation, clause and reason. Never edits a waiver file' -r -F
+complete -c cancosim -n "__fish_cancosim_using_subcommand regress" -l record-place -d 'How the recorded entries place a divergence: `bit` (its bit time) or `step` (the scenario step it happened in, so one entry holds on every host: `place = "step"`; an expected failure whose entry places by bit is then recorded too, to move it)' -r -f -a "bit\t''
+step\t''"
 complete -c cancosim -n "__fish_cancosim_using_subcommand regress" -l html -d 'Write a self-contained HTML report (DIR/index.html, files of failed runs in DIR/runs/)' -r -F
 complete -c cancosim -n "__fish_cancosim_using_subcommand regress" -l coverage -d 'Code coverage: build each Verilated DUT with Verilator\'s line, toggle and branch coverage, merge the runs into DIR/<dut>/coverage.info and an HTML report (DIR/<dut>/html/index.html), print a summary per file' -r -F
 complete -c cancosim -n "__fish_cancosim_using_subcommand regress" -l funcov-json -d 'Write the functional coverage bins per DUT as JSON here' -r -F
@@ -234,3 +261,4 @@ complete -c cancosim -n "__fish_cancosim_using_subcommand help; and not __fish_s
 complete -c cancosim -n "__fish_cancosim_using_subcommand help; and not __fish_seen_subcommand_from bittiming decode gen run cosim regress diagnose bench campaign mutate help" -f -a "mutate" -d 'Mutation testing: yosys mutants behind one run-time select, verilated once, killed by the first failing scenario'
 complete -c cancosim -n "__fish_cancosim_using_subcommand help; and not __fish_seen_subcommand_from bittiming decode gen run cosim regress diagnose bench campaign mutate help" -f -a "help" -d 'Print this message or the help of the given subcommand(s)'
 complete -c cancosim -n "__fish_cancosim_using_subcommand help; and __fish_seen_subcommand_from gen" -f -a "reference" -d 'Write (or --check) the reference generated from the code: man pages, shell completions, the command line and the scenario, profile and waiver file formats in Markdown'
+complete -c cancosim -n "__fish_cancosim_using_subcommand help; and __fish_seen_subcommand_from gen" -f -a "devicetree" -d 'Write a device-tree node for Linux\'s sja1000 platform driver (compatible "nxp,sja1000"): reg and reg-io-width from the base and stride, the interrupt, and the clock and output properties from OCR, CDR and the clock'

@@ -40,6 +40,12 @@ pub struct Args {
     /// reason. Never edits a waiver file.
     #[arg(long, value_name = "FILE")]
     record_expected_failures: Option<PathBuf>,
+    /// How the recorded entries place a divergence: `bit` (its bit time) or
+    /// `step` (the scenario step it happened in, so one entry holds on every
+    /// host: `place = "step"`; an expected failure whose entry places by bit
+    /// is then recorded too, to move it).
+    #[arg(long, value_name = "PLACE", default_value = "bit", value_parser = ["bit", "step"])]
+    record_place: String,
     /// Write a self-contained HTML report (DIR/index.html, files of failed runs in DIR/runs/).
     #[arg(long, value_name = "DIR")]
     html: Option<PathBuf>,
@@ -243,7 +249,8 @@ fn run_on(a: Args, duts: Vec<DutSpec>) -> anyhow::Result<i32> {
         println!("JSON: {}", p.display());
     }
     if let Some(p) = &a.record_expected_failures {
-        let text = record_expected_failures(&report);
+        let place = if a.record_place == "step" { waivers::Place::Step } else { waivers::Place::Bit };
+        let text = record_expected_failures(&report, place);
         std::fs::write(p, &text).with_context(|| format!("writing {}", p.display()))?;
         let n = text.lines().filter(|l| *l == "[[expected-failure]]").count();
         println!("expected-failure entries: {n} written to {} (paste into a waiver file after review; nothing was changed)", p.display());
@@ -266,19 +273,24 @@ fn run_on(a: Args, duts: Vec<DutSpec>) -> anyhow::Result<i32> {
 
 /// `--record-expected-failures`: an entry per run that did not pass or did
 /// not fail as its entry records, with the signature it showed (collect mode).
-fn record_expected_failures(report: &scenario::regress::RegressReport) -> String {
+fn record_expected_failures(report: &scenario::regress::RegressReport, place: waivers::Place) -> String {
     use scenario::regress::Status;
     let mut out = String::from(
         "# [[expected-failure]] entries recorded by `cancosim regress --record-expected-failures`\n\
          # (collect mode). Review each, fill in what is empty, paste into the waiver file.\n",
     );
     for c in &report.cells {
-        let record = matches!(c.status, Status::Diverged(_) | Status::Failed(_) | Status::WrongFailure { .. });
-        if !record || c.signature.is_empty() {
+        // Recording by step also re-records an entry that held by bit, so it can be moved to `place = "step"`.
+        let by_bit = place == waivers::Place::Step
+            && matches!(c.status, Status::ExpectedFailure { .. })
+            && c.xfail.as_ref().is_some_and(|r| r.entry.place == waivers::Place::Bit);
+        let record = by_bit || matches!(c.status, Status::Diverged(_) | Status::Failed(_) | Status::WrongFailure { .. });
+        let signature = if place == waivers::Place::Step { &c.step_signature } else { &c.signature };
+        if !record || signature.is_empty() {
             continue;
         }
-        out += &format!("\n# {} on {} through {}: {} line(s)\n", c.scenario, c.dut, c.host, c.signature.len());
-        out += &waivers::expected::to_toml(&c.scenario, &c.waiver_dut, &c.host, &c.signature, c.xfail.as_ref().map(|r| &r.entry));
+        out += &format!("\n# {} on {} through {}: {} line(s)\n", c.scenario, c.dut, c.host, signature.len());
+        out += &waivers::expected::to_toml(&c.scenario, &c.waiver_dut, &c.host, signature, place, c.xfail.as_ref().map(|r| &r.entry));
     }
     out
 }

@@ -10,24 +10,41 @@ pub(crate) fn reg_root(prefix: &str, reg: &Register) -> String {
     format!("{}_{}_{}", prefix, reg.mode.tag(), reg.name)
 }
 
-fn read_expr(sp: Spacing, off: &str) -> String {
-    match sp {
+/// `(x >> shift) & 0xFF`, without a zero shift.
+fn lane_of(x: String, shift: u32) -> String {
+    if shift == 0 { format!("({x} & 0xFF)") } else { format!("(({x} >> {shift}) & 0xFF)") }
+}
+
+/// `(data & 0xFF) << shift`, without a zero shift.
+fn into_lane(shift: u32) -> String {
+    if shift == 0 { "((data) & 0xFF)".to_string() } else { format!("(((data) & 0xFF) << {shift})") }
+}
+
+/// A read returns the register's 8 bits only, a write puts only them on the
+/// bus (the other lanes 0), whatever the stride.
+fn read_expr(o: &HeaderOptions, off: &str) -> String {
+    let shift = 8 * o.lane as u32;
+    match o.spacing {
         Spacing::Byte => format!("IORD_8DIRECT(base, {off})"),
-        Spacing::Word => format!("IORD(base, {off})"),
+        Spacing::Half => lane_of(format!("IORD_16DIRECT(base, ({off}) * 2)"), shift),
+        Spacing::Word => lane_of(format!("IORD(base, {off})"), shift),
     }
 }
 
-fn write_expr(sp: Spacing, off: &str) -> String {
-    match sp {
+fn write_expr(o: &HeaderOptions, off: &str) -> String {
+    let shift = 8 * o.lane as u32;
+    match o.spacing {
         Spacing::Byte => format!("IOWR_8DIRECT(base, {off}, data)"),
-        Spacing::Word => format!("IOWR(base, {off}, data)"),
+        Spacing::Half => format!("IOWR_16DIRECT(base, ({off}) * 2, {})", into_lane(shift)),
+        Spacing::Word => format!("IOWR(base, {off}, {})", into_lane(shift)),
     }
 }
 
-fn addr_expr(sp: Spacing, off: &str) -> String {
-    match sp {
-        Spacing::Byte => format!("__IO_CALC_ADDRESS_DYNAMIC(base, {off})"),
-        Spacing::Word => format!("__IO_CALC_ADDRESS_NATIVE(base, {off})"),
+fn addr_expr(o: &HeaderOptions, off: &str) -> String {
+    match (o.spacing, o.lane) {
+        (Spacing::Byte, _) => format!("__IO_CALC_ADDRESS_DYNAMIC(base, {off})"),
+        (Spacing::Word, 0) => format!("__IO_CALC_ADDRESS_NATIVE(base, {off})"),
+        (sp, lane) => format!("__IO_CALC_ADDRESS_DYNAMIC(base, ({off}) * {} + {lane})", sp.stride()),
     }
 }
 
@@ -73,12 +90,30 @@ pub fn nios_header(opts: &HeaderOptions) -> String {
              IORD_8DIRECT/IOWR_8DIRECT. This matches the can_avalon wrapper (8-bit data, \
              addressUnits WORDS, so one word is one byte)."
         }
+        Spacing::Half => {
+            "Register spacing: HALF. Register n is the 16-bit half-word at base + 2*n and is \
+             accessed with IORD_16DIRECT/IOWR_16DIRECT (Linux: reg-io-width = <2>)."
+        }
         Spacing::Word => {
             "Register spacing: WORD. Register n is the 32-bit word at base + 4*n and is accessed \
              with IORD/IOWR (native). Use this only with a 32-bit wide wrapper."
         }
     };
     comment_lines(&mut o, spacing);
+    if opts.lane != 0 {
+        comment_lines(
+            &mut o,
+            &format!(
+                "Byte lane {lane}: the register's 8 bits are bits {hi}..{lo} of that access (the byte at \
+                 base + n*{stride} + {lane}); IORD_ returns them shifted down to bits 7..0 and IOWR_ shifts \
+                 them up, so the _MSK and _OFST constants are bits of the register itself.",
+                lane = opts.lane,
+                lo = 8 * opts.lane as u32,
+                hi = 8 * opts.lane as u32 + 7,
+                stride = opts.spacing.stride(),
+            ),
+        );
+    }
     let _ = writeln!(o, " *");
     comment_lines(
         &mut o,
@@ -97,18 +132,22 @@ pub fn nios_header(opts: &HeaderOptions) -> String {
     let _ = writeln!(
         o,
         "/* Register spacing in bytes, and generic accessors for a computed index. */\n#define {p}_SPACING ({})",
-        match opts.spacing {
-            Spacing::Byte => 1,
-            Spacing::Word => 4,
-        }
+        opts.spacing.stride()
     );
-    let _ = writeln!(o, "#define {p}_IORD(base, index) {}", read_expr(opts.spacing, "(index)"));
-    let _ = writeln!(o, "#define {p}_IOWR(base, index, data) {}\n", write_expr(opts.spacing, "(index)"));
+    if opts.lane != 0 {
+        let _ = writeln!(o, "/* Byte lane of the data, and the byte offset of register index's data from base. */");
+        let _ = writeln!(o, "#define {p}_LANE ({})", opts.lane);
+        let _ = writeln!(o, "#define {p}_OFFSET(index) ((index) * {p}_SPACING + {p}_LANE)");
+    } else {
+        let _ = writeln!(o, "#define {p}_OFFSET(index) ((index) * {p}_SPACING)");
+    }
+    let _ = writeln!(o, "#define {p}_IORD(base, index) {}", read_expr(opts, "(index)"));
+    let _ = writeln!(o, "#define {p}_IOWR(base, index, data) {}\n", write_expr(opts, "(index)"));
 
     for mode in [Mode::PeliCan, Mode::BasicCan] {
         let _ = writeln!(o, "/* ==== {} ==== */\n", view_title(mode));
         for reg in registers(mode) {
-            emit_register(&mut o, p, opts.spacing, reg);
+            emit_register(&mut o, p, opts, reg);
         }
         emit_frame_layout(&mut o, p, mode);
     }
@@ -116,7 +155,7 @@ pub fn nios_header(opts: &HeaderOptions) -> String {
     o
 }
 
-fn emit_register(o: &mut String, p: &str, sp: Spacing, reg: &'static Register) {
+fn emit_register(o: &mut String, p: &str, sp: &HeaderOptions, reg: &'static Register) {
     let root = reg_root(p, reg);
     let reach = Reach::of(reg);
     let _ = writeln!(o, "/*");

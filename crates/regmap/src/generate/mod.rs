@@ -5,12 +5,14 @@
 //! regenerating gives byte-identical files. [`write_all`] is the only I/O.
 
 mod c;
+mod devicetree;
 mod docs;
 mod i8051;
 mod tcl;
 mod verilog;
 
 pub use c::{nios_header, pio_header};
+pub use devicetree::{dt_node, DtOptions};
 pub use docs::markdown;
 pub use i8051::i8051_header;
 pub use tcl::{hw_tcl, TclOptions, RTL_FILES};
@@ -29,9 +31,33 @@ pub enum Spacing {
     /// Avalon slave with addressUnits WORDS (a word is one byte).
     #[default]
     Byte,
+    /// One 16-bit half-word per register at `base + 2 * index`; accesses use
+    /// `IORD_16DIRECT`/`IOWR_16DIRECT` (Linux's `reg-io-width = <2>`).
+    Half,
     /// One 32-bit word per register at `base + 4 * index`; accesses use
     /// `IORD`/`IOWR` (for a wrapper with a 32-bit data bus).
     Word,
+}
+
+impl Spacing {
+    /// Bytes from one register to the next: 1, 2 or 4.
+    pub fn stride(self) -> u8 {
+        match self {
+            Spacing::Byte => 1,
+            Spacing::Half => 2,
+            Spacing::Word => 4,
+        }
+    }
+
+    /// The spacing of a register stride in bytes (1, 2 or 4).
+    pub fn from_stride(stride: u32) -> Result<Spacing, GenError> {
+        match stride {
+            1 => Ok(Spacing::Byte),
+            2 => Ok(Spacing::Half),
+            4 => Ok(Spacing::Word),
+            _ => Err(GenError::BadStride(stride)),
+        }
+    }
 }
 
 impl std::str::FromStr for Spacing {
@@ -41,6 +67,7 @@ impl std::str::FromStr for Spacing {
     fn from_str(s: &str) -> Result<Self, GenError> {
         match s.to_ascii_lowercase().as_str() {
             "byte" | "8direct" => Ok(Spacing::Byte),
+            "half" | "16direct" => Ok(Spacing::Half),
             "word" | "native" => Ok(Spacing::Word),
             _ => Err(GenError::BadSpacing(s.to_string())),
         }
@@ -51,8 +78,27 @@ impl std::str::FromStr for Spacing {
 #[derive(Debug, Clone, PartialEq, Eq, thiserror::Error)]
 pub enum GenError {
     /// The spacing is not `byte` or `word`.
-    #[error("register spacing {0:?} is neither \"byte\" (IORD_8DIRECT) nor \"word\" (IORD)")]
+    #[error("register spacing {0:?} is none of \"byte\" (IORD_8DIRECT), \"half\" (IORD_16DIRECT), \"word\" (IORD)")]
     BadSpacing(String),
+    /// The stride is not 1, 2 or 4 bytes.
+    #[error("register stride {0} is not 1, 2 or 4 bytes")]
+    BadStride(u32),
+    /// The byte lane is not inside the stride.
+    #[error("byte lane {lane} is outside a register of {stride} byte(s): lanes 0..{max}", max = stride - 1)]
+    BadLane {
+        /// The lane asked for.
+        lane: u32,
+        /// The stride it must fit.
+        stride: u8,
+    },
+    /// The Linux sja1000 driver cannot reach a register in that lane.
+    #[error("byte lane {lane} at a {stride}-byte stride: Linux's sja1000 driver reads register n with a {stride}-byte access at base + n * {stride} and keeps bits 7..0 (lane 0); a core with its data in another lane needs a wrapper that moves it")]
+    LaneNotForLinux {
+        /// The lane.
+        lane: u8,
+        /// The stride.
+        stride: u8,
+    },
     /// The prefix would not make C identifiers.
     #[error("prefix {0:?} is not an upper-case C identifier (A-Z, 0-9, _; not starting with a digit)")]
     BadPrefix(String),
@@ -63,13 +109,16 @@ pub enum GenError {
 pub struct HeaderOptions {
     /// Upper-case identifier prefix, e.g. `CAN_SJA`; the file is `can_sja_regs.h`.
     pub prefix: String,
-    /// Register spacing on the host bus.
+    /// Register spacing on the host bus (the stride).
     pub spacing: Spacing,
+    /// Byte lane of the data inside a register's `stride` bytes (0 = bits
+    /// 7..0 of a little-endian access, the byte at the lowest address).
+    pub lane: u8,
 }
 
 impl Default for HeaderOptions {
     fn default() -> Self {
-        HeaderOptions { prefix: "CAN_SJA".to_string(), spacing: Spacing::Byte }
+        HeaderOptions { prefix: "CAN_SJA".to_string(), spacing: Spacing::Byte, lane: 0 }
     }
 }
 
@@ -82,7 +131,22 @@ impl HeaderOptions {
         if !ok {
             return Err(GenError::BadPrefix(prefix.to_string()));
         }
-        Ok(HeaderOptions { prefix: prefix.to_string(), spacing })
+        Ok(HeaderOptions { prefix: prefix.to_string(), spacing, lane: 0 })
+    }
+
+    /// The same with the data in byte `lane` of each register's stride.
+    pub fn with_lane(mut self, lane: u32) -> Result<Self, GenError> {
+        let stride = self.spacing.stride();
+        if lane >= stride as u32 {
+            return Err(GenError::BadLane { lane, stride });
+        }
+        self.lane = lane as u8;
+        Ok(self)
+    }
+
+    /// Byte offset of register `index`'s data from the base.
+    pub fn offset(&self, index: u32) -> u32 {
+        index * self.spacing.stride() as u32 + self.lane as u32
     }
 
     /// File name of the register header: `<prefix>_regs.h` in lower case.

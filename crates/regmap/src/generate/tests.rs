@@ -69,13 +69,38 @@ fn header_names_views_apart_and_marks_access_rules() {
     assert!(h.contains("Register spacing: BYTE"));
     let w = nios_header(&HeaderOptions { spacing: Spacing::Word, ..Default::default() });
     assert!(w.contains("Register spacing: WORD"));
-    assert!(w.contains("#define IORD_CAN_SJA_PELI_SR(base) IORD(base, CAN_SJA_PELI_SR_REG)"));
+    assert!(w.contains("#define IORD_CAN_SJA_PELI_SR(base) (IORD(base, CAN_SJA_PELI_SR_REG) & 0xFF)"));
+    assert!(w.contains("#define IOWR_CAN_SJA_PELI_MOD(base, data) IOWR(base, CAN_SJA_PELI_MOD_REG, ((data) & 0xFF))"));
     assert!(w.contains("__IO_CALC_ADDRESS_NATIVE"));
 }
 
 #[test]
+fn stride_and_lane_move_every_access_and_address() {
+    let h = nios_header(&HeaderOptions::new("CAN_SJA", Spacing::Half).unwrap().with_lane(1).unwrap());
+    assert!(h.contains("Register spacing: HALF"));
+    assert!(h.contains("#define CAN_SJA_SPACING (2)") && h.contains("#define CAN_SJA_LANE (1)"));
+    assert!(h.contains("#define IORD_CAN_SJA_PELI_SR(base) ((IORD_16DIRECT(base, (CAN_SJA_PELI_SR_REG) * 2) >> 8) & 0xFF)"), "{h}");
+    assert!(h.contains("#define IOWR_CAN_SJA_PELI_TXB(base, i, data) IOWR_16DIRECT(base, (CAN_SJA_PELI_TXB_REG + (i)) * 2, (((data) & 0xFF) << 8))"));
+    assert!(h.contains("#define IOADDR_CAN_SJA_PELI_SR(base) __IO_CALC_ADDRESS_DYNAMIC(base, (CAN_SJA_PELI_SR_REG) * 2 + 1)"));
+    let w3 = nios_header(&HeaderOptions::new("CAN_SJA", Spacing::Word).unwrap().with_lane(3).unwrap());
+    assert!(w3.contains("#define IORD_CAN_SJA_PELI_IR(base) ((IORD(base, CAN_SJA_PELI_IR_REG) >> 24) & 0xFF)"));
+    // The field constants stay bits of the register, whatever the lane.
+    assert!(w3.contains("#define CAN_SJA_PELI_SR_TBS_MSK (0x04)") && w3.contains("#define CAN_SJA_PELI_SR_TBS_OFST (2)"));
+    let o = HeaderOptions::new("CAN_SJA", Spacing::Word).unwrap().with_lane(2).unwrap();
+    assert_eq!((o.offset(0), o.offset(3)), (2, 14));
+    // A lane outside the stride, a stride that is not 1, 2 or 4.
+    assert_eq!(
+        HeaderOptions::new("CAN_SJA", Spacing::Half).unwrap().with_lane(2).unwrap_err().to_string(),
+        "byte lane 2 is outside a register of 2 byte(s): lanes 0..1"
+    );
+    assert!(HeaderOptions::default().with_lane(1).is_err());
+    assert_eq!(Spacing::from_stride(3).unwrap_err().to_string(), "register stride 3 is not 1, 2 or 4 bytes");
+    assert_eq!(Spacing::from_stride(2).unwrap(), Spacing::Half);
+}
+
+#[test]
 fn prefix_is_configurable() {
-    let o = HeaderOptions { prefix: "CAN0".into(), spacing: Spacing::Byte };
+    let o = HeaderOptions { prefix: "CAN0".into(), spacing: Spacing::Byte, lane: 0 };
     assert_eq!(o.regs_file(), "can0_regs.h");
     let h = nios_header(&o);
     assert!(h.contains("#define CAN0_PELI_SR_REG 2"));
