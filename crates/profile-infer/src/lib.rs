@@ -68,8 +68,10 @@ pub struct Bound {
 
 /// Largest access edge count (read, write, command).
 pub const ACCESS_MAX: u32 = 8;
-/// Largest tx lag at a start of frame and tx edge window.
+/// Largest tx edge window.
 pub const TX_MAX: u32 = SJW_CLOCKS;
+/// Largest lag of a start of frame from bus idle.
+pub const SOF_MAX: u32 = BIT_CLOCKS;
 /// Largest SR/IR latency.
 pub const STATUS_MAX: u32 = BIT_CLOCKS;
 /// Largest irq/bus-off pin latency.
@@ -88,7 +90,12 @@ pub const BOUNDS: &[Bound] = &[
         reason: "nothing synchronises a node's time quanta before the first bus edge (CAN 2.0B §10: hard synchronisation at the start of frame), so the phase in bus idle is the core's choice: from the hardware reset or from the reset-mode exit",
     },
     Bound {
-        key: "sof, tx-edge",
+        key: "sof",
+        max: SOF_MAX,
+        reason: "in bus idle nothing synchronises two nodes' bit timing (CAN 2.0B §10: the hard synchronisation comes with the start of frame itself), so a start of frame from bus idle may come anywhere in the other's bit, but not a whole bit (40 CAN clocks) late",
+    },
+    Bound {
+        key: "tx-edge",
         max: TX_MAX,
         reason: "CAN 2.0B §10: a receiver resynchronises by at most SJW per edge; a tx edge later than SJW (2 quanta, 8 CAN clocks at the probes' timing) against the bit timing is a phase error no receiver corrects",
     },
@@ -335,6 +342,41 @@ pub fn infer(o: &InferOptions) -> Result<Inference, InferError> {
             4
         }
     };
+    // A start of frame from bus idle after a bus-off recovery: the lag
+    // of that frame (the sof window keeps it for the frame).
+    let rec = probes::recovery();
+    let runs0 = pr.runs;
+    if let Some(l) = pr.tx_edges(&rec, &p).and_then(|e| e.lags()) {
+        let sof = l.iter().map(|x| x.unsigned_abs() as u32).max().unwrap_or(0);
+        if sof > p.tolerances.sof_tolerance && sof <= SOF_MAX {
+            p.tolerances.sof_tolerance = sof;
+        }
+        evidence("sof", format!("tx lag of the frame from bus idle after a bus-off recovery (probe recovery): {sof} CAN clocks (bound {SOF_MAX}); {} run", pr.runs - runs0));
+        if sof > SOF_MAX {
+            let divergence = pr.run(&rec, &p).err().unwrap_or_else(|| format!("lag {sof}"));
+            devs.push(Deviation { freedom: "sof".into(), bound: bound("sof"), probe: rec.name.clone(), divergence });
+            p.tolerances.sof_tolerance = SOF_MAX;
+        }
+    }
+    // Where the frame's edges do not pair up, the least window that agrees.
+    let base = p.clone();
+    match pr.least(std::slice::from_ref(&rec), SOF_MAX, |n| {
+        let mut q = base.clone();
+        q.tolerances.sof_tolerance = n.max(base.tolerances.sof_tolerance);
+        q.tolerances.status_tolerance = 1000;
+        q.tolerances.tx_edge_tolerance = TX_MAX;
+        q
+    }) {
+        Ok(n) if n > p.tolerances.sof_tolerance => {
+            evidence("sof", format!("the frame from bus idle after a bus-off recovery agrees with a window of {n} CAN clocks, not less (bound {SOF_MAX})"));
+            p.tolerances.sof_tolerance = n;
+        }
+        Ok(_) => {}
+        Err(f) => {
+            devs.push(Deviation { freedom: "sof".into(), bound: bound("sof"), probe: f.0, divergence: f.1 });
+            p.tolerances.sof_tolerance = SOF_MAX;
+        }
+    }
     if p.phase_origin == PhaseOrigin::HardwareReset {
         // The write edge does not move the phase: the earliest that agrees.
         let mut writes = Vec::new();
@@ -466,6 +508,7 @@ pub fn infer(o: &InferOptions) -> Result<Inference, InferError> {
     let mut all: Vec<Probe> = phase_probes.clone();
     all.extend(cmd_probes.iter().cloned());
     all.extend(st.iter().cloned());
+    all.push(rec.clone());
     let runs0 = pr.runs;
     let base = p.clone();
     let measured_tx = p.tolerances.tx_edge_tolerance;

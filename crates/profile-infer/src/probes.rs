@@ -78,16 +78,32 @@ pub fn command(pad: u32) -> Probe {
     probe(format!("command+{pad}"), text("profile probe: when a transmission request takes effect", &steps, "", 260))
 }
 
-/// Status: a frame from a model node received and one sent and
-/// acknowledged, SR polled through both, IR read at each interrupt: the
+/// Status: an 8-byte extended frame from a model node received, one sent
+/// with self reception (acknowledged, and copied into the own RX FIFO: the
+/// longest copy), SR polled through both, IR read at each interrupt: the
 /// SR/IR latency around a received and a sent frame, and the irq pin.
 pub fn status() -> Probe {
     let steps = "    { write = \"MOD\", value = 0x00 },\n    { wait_bits = 14 },\n    \
-        { wait_sr_set = 0x10, timeout_bits = 120 },\n    { wait_sr_set = 0x01, wait_sr_clear = 0x10, timeout_bits = 200 },\n    \
-        { read = \"IR\" },\n    { read = \"SR\" },\n    { read = \"RXFI\", expect = 0x02 },\n    { write = \"CMR\", value = 0x04 },\n    \
-        { load_tx = { id = 0x2A5, data = [0x5A] } },\n    { write = \"CMR\", value = 0x01 },\n    \
-        { wait_sr_set = 0x20, timeout_bits = 60 },\n    { wait_sr_set = 0x0C, wait_sr_clear = 0x20, timeout_bits = 200 },\n    \
-        { read = \"IR\" },\n    { read = \"SR\" },\n    { wait_bits = 4 },";
-    let node = "[[node]]\nname = \"peer\"\nbtr0 = 0x41\nbtr1 = 0x25\nmode = \"peli\"\nsend = [ { id = 0x123, data = [0xA5, 0x01], at_bit = 40 } ]\n";
+        { wait_sr_set = 0x10, timeout_bits = 120 },\n    { wait_sr_set = 0x01, wait_sr_clear = 0x10, timeout_bits = 300 },\n    \
+        { read = \"IR\" },\n    { read = \"SR\" },\n    { read = \"RXFI\", expect = 0x88 },\n    { write = \"CMR\", value = 0x04 },\n    \
+        { load_tx = { id = 0x0ABCDEF1, extended = true, data = [1, 2, 3, 4, 5, 6, 7, 8] } },\n    { write = \"CMR\", value = 0x10 },\n    \
+        { wait_sr_set = 0x20, timeout_bits = 60 },\n    { wait_sr_set = 0x0D, wait_sr_clear = 0x20, timeout_bits = 300 },\n    \
+        { read = \"IR\" },\n    { read = \"SR\" },\n    { write = \"CMR\", value = 0x04 },\n    { wait_bits = 4 },";
+    let node = "[[node]]\nname = \"peer\"\nbtr0 = 0x41\nbtr1 = 0x25\nmode = \"peli\"\nsend = [ { id = 0x1234567, extended = true, data = [0xA5, 1, 2, 3, 4, 5, 6, 7], at_bit = 40 } ]\n";
     probe("status".into(), text("profile probe: SR/IR and the irq pin around a received and a sent frame", steps, node, 400))
+}
+
+/// Recovery: bus-off by bit errors (the core's rx stuck recessive), the
+/// 128 x 11 recessive bits of the recovery, then a frame from bus idle: a
+/// start of frame whose phase nothing synchronised since the recovery.
+pub fn recovery() -> Probe {
+    let steps = "    { write = \"MOD\", value = 0x00 },\n    { wait_bits = 12 },\n    { load_tx = { id = 0x2AA, data = [0x99] } },\n    \
+        { write = \"CMR\", value = 0x01 },\n    { wait_sr_set = 0x80, timeout_bits = 900 },\n    { wait_bits = 2 },\n    \
+        { read = \"SR\" },\n    { read = \"IR\" },\n    { read = \"TXERR\" },\n    { wait_bits = 300 },\n    \
+        { write = \"MOD\", value = 0x00 },\n    { wait_bits = 555 },\n    { read = \"TXERR\" },\n    \
+        { wait_sr_clear = 0x80, timeout_bits = 1000 },\n    { wait_bits = 1 },\n    { read = \"IR\" },\n    \
+        { write = \"CMR\", value = 0x01 },\n    { wait_sr_set = 0x08, timeout_bits = 300 },\n    { read = \"IR\" },";
+    let tail = "[[node]]\nname = \"acker\"\nbtr0 = 0x41\nbtr1 = 0x25\nmode = \"peli\"\n\
+        [[fault]]\nkind = \"stuck-recessive\"\nat_bit = 5\nduration_bits = 600\ntarget = \"dut-rx\"\n";
+    probe("recovery".into(), text("profile probe: a start of frame from bus idle after a bus-off recovery", steps, tail, 3500))
 }
