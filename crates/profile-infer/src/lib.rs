@@ -51,8 +51,13 @@ pub struct InferOptions {
     pub host: HostBfm,
     /// Roles named by the user: (role, NAME or NAME:low|high).
     pub ports: ports::Overrides,
-    /// The profile's name.
+    /// The profile's name (the DUT is "<name> (<dir>)", which waiver
+    /// `dut` globs match).
     pub name: String,
+    /// Waiver files of deviations already known and accepted: the probes
+    /// run with them, as `regress --waivers` does (a deviation they cover
+    /// is not measured into a freedom either).
+    pub waivers: Vec<PathBuf>,
 }
 
 /// One bound: the freedom, its largest value, and why.
@@ -162,6 +167,7 @@ pub struct Inference {
 struct Prober {
     dut: DutSpec,
     host: HostBfm,
+    waivers: Vec<PathBuf>,
     runs: usize,
 }
 
@@ -170,7 +176,7 @@ impl Prober {
     /// the first divergence in words.
     fn run(&mut self, probe: &Probe, p: &Profile) -> Result<(), String> {
         self.runs += 1;
-        let opts = RunOptions { dut: Some(self.dut.clone().with_profile(p.clone())), host: Some(self.host), ..RunOptions::default() };
+        let opts = RunOptions { dut: Some(self.dut.clone().with_profile(p.clone())), host: Some(self.host), waivers: self.waivers.clone(), ..RunOptions::default() };
         let o = scenario::run(&probe.scenario, &opts);
         if o.passed {
             return Ok(());
@@ -254,7 +260,7 @@ pub fn infer(o: &InferOptions) -> Result<Inference, InferError> {
         *d = defines;
         *i = includes;
     }
-    let mut pr = Prober { dut, host: o.host, runs: 0 };
+    let mut pr = Prober { dut, host: o.host, waivers: o.waivers.clone(), runs: 0 };
     let mut ev: Vec<Evidence> = Vec::new();
     let mut devs: Vec<Deviation> = Vec::new();
     let mut evidence = |key: &str, line: String| ev.push(Evidence { key: key.into(), line });
@@ -308,6 +314,7 @@ pub fn infer(o: &InferOptions) -> Result<Inference, InferError> {
         }
     }
     cands.sort_by_key(|c| (c.0, c.1));
+
     let write = match cands.first() {
         Some((spread, worst, origin, w, sofs)) if *spread <= 1 && *worst <= TX_MAX as i64 => {
             p.phase_origin = *origin;
@@ -663,7 +670,16 @@ impl Prober {
         self.runs += 1;
         let dir = tempfile::tempdir().ok()?;
         let vcd = dir.path().join("probe.vcd");
-        let opts = RunOptions { dut: Some(self.dut.clone().with_profile(p.clone())), host: Some(self.host), vcd: Some(vcd.clone()), ..RunOptions::default() };
+        // Collect mode: the run goes on past a difference, so both sides'
+        // edges are there to measure.
+        let opts = RunOptions {
+            dut: Some(self.dut.clone().with_profile(p.clone())),
+            host: Some(self.host),
+            vcd: Some(vcd.clone()),
+            waivers: self.waivers.clone(),
+            collect: cosim::waivers::CollectMode::Collect,
+            ..RunOptions::default()
+        };
         scenario::run(&probe.scenario, &opts);
         read_tx_edges(&vcd, probe.scenario.can_hz / 1e6)
     }

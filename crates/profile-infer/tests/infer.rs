@@ -29,7 +29,7 @@ fn core_dir(fixture: Option<&str>) -> tempfile::TempDir {
 }
 
 fn opts(dir: &Path, top: &str) -> InferOptions {
-    InferOptions { dir: dir.into(), top: top.into(), defines: Vec::new(), includes: Vec::new(), host: HostBfm::Wishbone, ports: Vec::new(), name: top.into() }
+    InferOptions { dir: dir.into(), top: top.into(), defines: Vec::new(), includes: Vec::new(), host: HostBfm::Wishbone, ports: Vec::new(), name: top.into(), waivers: Vec::new() }
 }
 
 fn external(dir: &Path, top: &str, p: cosim::Profile) -> DutSpec {
@@ -104,11 +104,11 @@ fn a_late_interrupt_is_reported_as_a_deviation_not_profiled() {
 #[ignore = "needs the opencores core: CAN_UPSTREAM_DIR=/path/to/can/rtl/verilog cargo test --release -p profile-infer -- --ignored opencores"]
 fn opencores_gets_a_profile_with_the_verdicts_of_its_shipped_one() {
     let dir = PathBuf::from(std::env::var("CAN_UPSTREAM_DIR").expect("CAN_UPSTREAM_DIR"));
-    let inf = infer(&opts(&dir, "can_top")).unwrap();
+    let waivers = vec![root().join("tb/waivers/opencores-upstream.toml")];
+    let inf = infer(&InferOptions { name: "opencores-can".into(), waivers: waivers.clone(), ..opts(&dir, "can_top") }).unwrap();
     eprintln!("{}", inf.toml);
     assert!(inf.deviations.is_empty(), "{:?}", inf.deviations);
     assert_eq!(inf.profile.phase_origin, cosim::PhaseOrigin::HardwareReset);
-    let waivers = vec![root().join("tb/waivers/opencores-upstream.toml")];
     let run = |p: cosim::Profile| {
         let mut d = external(&dir, "can_top", p);
         d.name = "opencores-can".into();

@@ -43,6 +43,10 @@ pub struct InferArgs {
     /// The profile's name (default: the top's).
     #[arg(long)]
     name: Option<String>,
+    /// Waiver file of deviations already known and accepted (repeatable): the probes run with it,
+    /// as regress --waivers does; its `dut` globs match "<name> (<dir>)".
+    #[arg(long = "waivers", value_name = "FILE")]
+    waivers: Vec<PathBuf>,
     /// Where to write the profile.
     #[arg(long, value_name = "FILE")]
     out: PathBuf,
@@ -67,7 +71,10 @@ pub fn run(a: Args) -> anyhow::Result<i32> {
         host: scenario::HostBfm::from_name(&a.host).context("--host")?,
         ports,
         name: a.name.unwrap_or_else(|| a.top.clone()),
+        waivers: a.waivers,
     };
+    // A bad waiver file is one error before any probe.
+    cosim::waivers::WaiverSet::load_all(&opts.waivers)?;
     let inf = profile_infer::infer(&opts)?;
     for e in &inf.evidence {
         println!("{:<13} {}", e.key, e.line);
