@@ -332,7 +332,7 @@ pub fn infer(o: &InferOptions) -> Result<Inference, InferError> {
             if *origin == PhaseOrigin::ResetModeExit {
                 evidence("write", format!("write edge {} gives the least lag ({worst} CAN clocks) after the reset-mode exit", range(&writes)));
             }
-            evidence("sof", format!("tx lag at the start of frame: {} CAN clocks on the phase probes (bound {TX_MAX})", range(&sofs.iter().map(|l| l.unsigned_abs() as u32).collect::<std::collections::BTreeSet<_>>().into_iter().collect::<Vec<_>>())));
+            evidence("sof", format!("tx lag at the start of frame: {} CAN clocks on the phase probes (bound {SOF_MAX})", range(&sofs.iter().map(|l| l.unsigned_abs() as u32).collect::<std::collections::BTreeSet<_>>().into_iter().collect::<Vec<_>>())));
             evidence("tx-edge", format!("tx lag at every edge of the phase probes' frames: at most {worst} CAN clocks (bound {TX_MAX})"));
             *w
         }
