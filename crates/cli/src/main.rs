@@ -42,6 +42,9 @@ enum Command {
     /// Run every scenario of a list against one or more DUTs: table, JUnit, shards.
     #[command(after_help = "Examples:\n  cancosim regress\n  cancosim regress tb/regression.list --dut rtl --dut model --junit out/junit.xml\n  cancosim regress tb/regression.list --dut rtl --host avalon\n  cancosim regress --external upstream=/tmp/can/rtl/verilog --profile opencores-can --shard 1/2\n  cancosim regress --external a=/tmp/can/rtl/verilog@opencores-can --external b=/tmp/mine@/tmp/mine/profile.toml\n\nEach --external NAME=DIR needs a profile: its own NAME=DIR@PROFILE, else --profile (for every external without one).")]
     Regress(cmd::regress::Args),
+    /// Core profiles: `profile infer` measures an external core's freedoms from probe runs and writes its profile.
+    #[command(after_help = "Examples:\n  cancosim profile infer --external /tmp/mycore --top my_can --out mycore.toml\n  cancosim profile infer --external ~/can/rtl/verilog --out oc.toml --port host-clock=wb_clk_i\n\nExit: 0 written; 1 written with candidate deviations (printed, each entry at its bound); 2 bad input or no build.")]
+    Profile(cmd::profile::Args),
     /// Explain a saved run record (from run --record).
     #[command(after_help = "Examples:\n  cancosim run tb/de2-thesis.toml --record out/thesis.json\n  cancosim diagnose out/thesis.json --json")]
     Diagnose(cmd::diagnose::Args),
@@ -64,6 +67,7 @@ fn main() {
         Command::Gen(a) => cmd::generate::run(a),
         Command::Run(a) | Command::Cosim(a) => cmd::run::run_cmd(a),
         Command::Regress(a) => cmd::regress::run(a),
+        Command::Profile(a) => cmd::profile::run(a),
         Command::Diagnose(a) => cmd::diagnose::run(a),
         Command::Bench(a) => cmd::bench::run_cmd(a),
         Command::Campaign(a) => cmd::campaign::run_cmd(a),

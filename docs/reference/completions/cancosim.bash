@@ -43,6 +43,9 @@ _cancosim() {
             cancosim,mutate)
                 cmd="cancosim__subcmd__mutate"
                 ;;
+            cancosim,profile)
+                cmd="cancosim__subcmd__profile"
+                ;;
             cancosim,regress)
                 cmd="cancosim__subcmd__regress"
                 ;;
@@ -94,6 +97,9 @@ _cancosim() {
             cancosim__subcmd__help,mutate)
                 cmd="cancosim__subcmd__help__subcmd__mutate"
                 ;;
+            cancosim__subcmd__help,profile)
+                cmd="cancosim__subcmd__help__subcmd__profile"
+                ;;
             cancosim__subcmd__help,regress)
                 cmd="cancosim__subcmd__help__subcmd__regress"
                 ;;
@@ -106,6 +112,21 @@ _cancosim() {
             cancosim__subcmd__help__subcmd__gen,reference)
                 cmd="cancosim__subcmd__help__subcmd__gen__subcmd__reference"
                 ;;
+            cancosim__subcmd__help__subcmd__profile,infer)
+                cmd="cancosim__subcmd__help__subcmd__profile__subcmd__infer"
+                ;;
+            cancosim__subcmd__profile,help)
+                cmd="cancosim__subcmd__profile__subcmd__help"
+                ;;
+            cancosim__subcmd__profile,infer)
+                cmd="cancosim__subcmd__profile__subcmd__infer"
+                ;;
+            cancosim__subcmd__profile__subcmd__help,help)
+                cmd="cancosim__subcmd__profile__subcmd__help__subcmd__help"
+                ;;
+            cancosim__subcmd__profile__subcmd__help,infer)
+                cmd="cancosim__subcmd__profile__subcmd__help__subcmd__infer"
+                ;;
             *)
                 ;;
         esac
@@ -113,7 +134,7 @@ _cancosim() {
 
     case "${cmd}" in
         cancosim)
-            opts="-h -V --help --version bittiming decode gen run cosim regress diagnose bench campaign mutate help"
+            opts="-h -V --help --version bittiming decode gen run cosim regress profile diagnose bench campaign mutate help"
             if [[ ${cur} == -* || ${COMP_CWORD} -eq 1 ]] ; then
                 COMPREPLY=( $(compgen -W "${opts}" -- "${cur}") )
                 return 0
@@ -649,7 +670,7 @@ _cancosim() {
             return 0
             ;;
         cancosim__subcmd__help)
-            opts="bittiming decode gen run cosim regress diagnose bench campaign mutate help"
+            opts="bittiming decode gen run cosim regress profile diagnose bench campaign mutate help"
             if [[ ${cur} == -* || ${COMP_CWORD} -eq 2 ]] ; then
                 COMPREPLY=( $(compgen -W "${opts}" -- "${cur}") )
                 return 0
@@ -816,6 +837,34 @@ _cancosim() {
             COMPREPLY=( $(compgen -W "${opts}" -- "${cur}") )
             return 0
             ;;
+        cancosim__subcmd__help__subcmd__profile)
+            opts="infer"
+            if [[ ${cur} == -* || ${COMP_CWORD} -eq 3 ]] ; then
+                COMPREPLY=( $(compgen -W "${opts}" -- "${cur}") )
+                return 0
+            fi
+            case "${prev}" in
+                *)
+                    COMPREPLY=()
+                    ;;
+            esac
+            COMPREPLY=( $(compgen -W "${opts}" -- "${cur}") )
+            return 0
+            ;;
+        cancosim__subcmd__help__subcmd__profile__subcmd__infer)
+            opts=""
+            if [[ ${cur} == -* || ${COMP_CWORD} -eq 4 ]] ; then
+                COMPREPLY=( $(compgen -W "${opts}" -- "${cur}") )
+                return 0
+            fi
+            case "${prev}" in
+                *)
+                    COMPREPLY=()
+                    ;;
+            esac
+            COMPREPLY=( $(compgen -W "${opts}" -- "${cur}") )
+            return 0
+            ;;
         cancosim__subcmd__help__subcmd__regress)
             opts=""
             if [[ ${cur} == -* || ${COMP_CWORD} -eq 3 ]] ; then
@@ -916,6 +965,112 @@ _cancosim() {
                     return 0
                     ;;
                 --waivers)
+                    COMPREPLY=($(compgen -f "${cur}"))
+                    return 0
+                    ;;
+                *)
+                    COMPREPLY=()
+                    ;;
+            esac
+            COMPREPLY=( $(compgen -W "${opts}" -- "${cur}") )
+            return 0
+            ;;
+        cancosim__subcmd__profile)
+            opts="-h --help infer help"
+            if [[ ${cur} == -* || ${COMP_CWORD} -eq 2 ]] ; then
+                COMPREPLY=( $(compgen -W "${opts}" -- "${cur}") )
+                return 0
+            fi
+            case "${prev}" in
+                *)
+                    COMPREPLY=()
+                    ;;
+            esac
+            COMPREPLY=( $(compgen -W "${opts}" -- "${cur}") )
+            return 0
+            ;;
+        cancosim__subcmd__profile__subcmd__help)
+            opts="infer help"
+            if [[ ${cur} == -* || ${COMP_CWORD} -eq 3 ]] ; then
+                COMPREPLY=( $(compgen -W "${opts}" -- "${cur}") )
+                return 0
+            fi
+            case "${prev}" in
+                *)
+                    COMPREPLY=()
+                    ;;
+            esac
+            COMPREPLY=( $(compgen -W "${opts}" -- "${cur}") )
+            return 0
+            ;;
+        cancosim__subcmd__profile__subcmd__help__subcmd__help)
+            opts=""
+            if [[ ${cur} == -* || ${COMP_CWORD} -eq 4 ]] ; then
+                COMPREPLY=( $(compgen -W "${opts}" -- "${cur}") )
+                return 0
+            fi
+            case "${prev}" in
+                *)
+                    COMPREPLY=()
+                    ;;
+            esac
+            COMPREPLY=( $(compgen -W "${opts}" -- "${cur}") )
+            return 0
+            ;;
+        cancosim__subcmd__profile__subcmd__help__subcmd__infer)
+            opts=""
+            if [[ ${cur} == -* || ${COMP_CWORD} -eq 4 ]] ; then
+                COMPREPLY=( $(compgen -W "${opts}" -- "${cur}") )
+                return 0
+            fi
+            case "${prev}" in
+                *)
+                    COMPREPLY=()
+                    ;;
+            esac
+            COMPREPLY=( $(compgen -W "${opts}" -- "${cur}") )
+            return 0
+            ;;
+        cancosim__subcmd__profile__subcmd__infer)
+            opts="-h --external --top --define --include --host --port --name --waivers --out --help"
+            if [[ ${cur} == -* || ${COMP_CWORD} -eq 3 ]] ; then
+                COMPREPLY=( $(compgen -W "${opts}" -- "${cur}") )
+                return 0
+            fi
+            case "${prev}" in
+                --external)
+                    COMPREPLY=($(compgen -f "${cur}"))
+                    return 0
+                    ;;
+                --top)
+                    COMPREPLY=($(compgen -f "${cur}"))
+                    return 0
+                    ;;
+                --define)
+                    COMPREPLY=($(compgen -f "${cur}"))
+                    return 0
+                    ;;
+                --include)
+                    COMPREPLY=($(compgen -f "${cur}"))
+                    return 0
+                    ;;
+                --host)
+                    COMPREPLY=($(compgen -W "wishbone avalon pio" -- "${cur}"))
+                    return 0
+                    ;;
+                --port)
+                    COMPREPLY=($(compgen -f "${cur}"))
+                    return 0
+                    ;;
+                --name)
+                    COMPREPLY=($(compgen -f "${cur}"))
+                    return 0
+                    ;;
+                --waivers)
+                    COMPREPLY=($(compgen -f "${cur}"))
+                    return 0
+                    ;;
+                --out)
                     COMPREPLY=($(compgen -f "${cur}"))
                     return 0
                     ;;

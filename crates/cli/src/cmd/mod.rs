@@ -4,6 +4,7 @@ pub mod bittiming;
 pub mod campaign;
 pub mod decode;
 pub mod diagnose;
+pub mod profile;
 pub mod regress;
 pub mod run;
 pub mod formats;

@@ -1,0 +1,686 @@
+//! Core profile inference: finds a core's port roles and measures each
+//! implementation freedom of its profile (`cosim::profile`) from short
+//! probe runs on the co-simulation, and writes the profile with one
+//! evidence line per entry.
+//!
+//! A *freedom* is a choice the SJA1000 datasheet and CAN 2.0B leave to the
+//! implementation (when a host access reaches the CAN clock, where the bit
+//! timing starts, pipeline latencies); a *deviation* is a behaviour they
+//! forbid. Each freedom here has a bound ([`BOUNDS`]) with its reason: the
+//! inference tries the candidate values within the bound and keeps the
+//! narrowest under which the core agrees with the golden model on the
+//! probes. When no value within the bound agrees, the measurement is never
+//! written: the entry stays at its bound (so the comparator still flags
+//! the behaviour) and the probe and its first divergence are reported as a
+//! candidate [`Deviation`], for the user to judge and, if accepted, to
+//! waive with a waiver that names the clause.
+
+pub mod ports;
+pub mod probes;
+
+use std::path::PathBuf;
+use std::time::{Duration, Instant};
+
+use cosim::{AccessTiming, CompareConfig, PhaseOrigin, Profile};
+use probes::{BIT_CLOCKS, Probe, SJW_CLOCKS};
+use scenario::{DutSpec, HostBfm, RunOptions};
+
+/// Inference could not start or finish.
+#[derive(Debug, thiserror::Error)]
+pub enum InferError {
+    /// The core does not build or load.
+    #[error("{0}")]
+    Build(String),
+    /// A role has no port, or two ports could play it.
+    #[error("{0}")]
+    Ports(String),
+}
+
+/// What to infer a profile of.
+#[derive(Clone, Debug)]
+pub struct InferOptions {
+    /// The core's source directory.
+    pub dir: PathBuf,
+    /// Its top module.
+    pub top: String,
+    /// Verilog defines.
+    pub defines: Vec<String>,
+    /// Include directories (the core's directory is always one).
+    pub includes: Vec<PathBuf>,
+    /// The host bus the probes drive (Wishbone, Avalon or PIO).
+    pub host: HostBfm,
+    /// Roles named by the user: (role, NAME or NAME:low|high).
+    pub ports: ports::Overrides,
+    /// The profile's name (the DUT is "<name> (<dir>)", which waiver
+    /// `dut` globs match).
+    pub name: String,
+    /// Waiver files of deviations already known and accepted: the probes
+    /// run with them, as `regress --waivers` does (a deviation they cover
+    /// is not measured into a freedom either).
+    pub waivers: Vec<PathBuf>,
+}
+
+/// One bound: the freedom, its largest value, and why.
+#[derive(Clone, Copy, Debug)]
+pub struct Bound {
+    /// The profile entry.
+    pub key: &'static str,
+    /// Its largest allowed value (CAN clocks or edges).
+    pub max: u32,
+    /// The datasheet / CAN 2.0B reason.
+    pub reason: &'static str,
+}
+
+/// Largest access edge count (read, write, command).
+pub const ACCESS_MAX: u32 = 8;
+/// Largest tx edge window.
+pub const TX_MAX: u32 = SJW_CLOCKS;
+/// Largest lag of a start of frame from bus idle.
+pub const SOF_MAX: u32 = BIT_CLOCKS;
+/// Largest SR/IR latency.
+pub const STATUS_MAX: u32 = BIT_CLOCKS;
+/// Largest irq/bus-off pin latency.
+pub const PINS_MAX: u32 = BIT_CLOCKS;
+
+/// Every bound the inference keeps to.
+pub const BOUNDS: &[Bound] = &[
+    Bound {
+        key: "access read/write/command",
+        max: ACCESS_MAX,
+        reason: "a host access crosses into the CAN clock through a synchroniser (two or three flops and a register stage); the SJA1000 itself takes a write at the end of /WR, so more than 8 CAN clocks is no crossing but a late register",
+    },
+    Bound {
+        key: "phase-origin",
+        max: 0,
+        reason: "nothing synchronises a node's time quanta before the first bus edge (CAN 2.0B §10: hard synchronisation at the start of frame), so the phase in bus idle is the core's choice: from the hardware reset or from the reset-mode exit",
+    },
+    Bound {
+        key: "sof",
+        max: SOF_MAX,
+        reason: "in bus idle nothing synchronises two nodes' bit timing (CAN 2.0B §10: the hard synchronisation comes with the start of frame itself), so a start of frame from bus idle may come anywhere in the other's bit, but not a whole bit (40 CAN clocks) late",
+    },
+    Bound {
+        key: "tx-edge",
+        max: TX_MAX,
+        reason: "CAN 2.0B §10: a receiver resynchronises by at most SJW per edge; a tx edge later than SJW (2 quanta, 8 CAN clocks at the probes' timing) against the bit timing is a phase error no receiver corrects",
+    },
+    Bound {
+        key: "status",
+        max: STATUS_MAX,
+        reason: "the datasheet sets each SR/IR bit at a given bit of the frame (RBS/RI at the end of frame, TCS/TI after it): a value later than one bit (40 CAN clocks) belongs to the next bit",
+    },
+    Bound {
+        key: "pins",
+        max: PINS_MAX,
+        reason: "the datasheet's INT output follows IR at once (INT is low while an enabled interrupt bit is set): a pin later than one bit after its interrupt bit is a late interrupt, not a pipeline",
+    },
+];
+
+/// One evidence line: what was measured, on which probes, over how many runs.
+#[derive(Clone, Debug)]
+pub struct Evidence {
+    /// The profile entry.
+    pub key: String,
+    /// The line.
+    pub line: String,
+}
+
+/// A measurement outside its bound: not written into the profile.
+#[derive(Clone, Debug)]
+pub struct Deviation {
+    /// The freedom (profile entry).
+    pub freedom: String,
+    /// Its bound and reason.
+    pub bound: String,
+    /// The probe that shows it.
+    pub probe: String,
+    /// That probe's first divergence at the bound.
+    pub divergence: String,
+}
+
+impl std::fmt::Display for Deviation {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        write!(f, "candidate deviation in `{}`: no value within the bound ({}) agrees; probe {} at the bound: {}", self.freedom, self.bound, self.probe, self.divergence)
+    }
+}
+
+/// The result: the profile, its text with evidence, the candidate deviations.
+#[derive(Clone, Debug)]
+pub struct Inference {
+    /// The inferred profile (entries of deviations at their bounds).
+    pub profile: Profile,
+    /// The profile file's text, each entry with its evidence comment.
+    pub toml: String,
+    /// Evidence, one line per entry.
+    pub evidence: Vec<Evidence>,
+    /// Measurements outside their bounds.
+    pub deviations: Vec<Deviation>,
+    /// Probe runs made.
+    pub runs: usize,
+    /// Time of the build (zero when cached) and of the probe runs.
+    pub build: Duration,
+    /// Time of the probe runs.
+    pub probing: Duration,
+}
+
+/// Runs probes on the core under candidate profiles.
+struct Prober {
+    dut: DutSpec,
+    host: HostBfm,
+    waivers: Vec<PathBuf>,
+    runs: usize,
+}
+
+impl Prober {
+    /// Ok when the core agrees with the model on `probe` under `p`; else
+    /// the first divergence in words.
+    fn run(&mut self, probe: &Probe, p: &Profile) -> Result<(), String> {
+        self.runs += 1;
+        let opts = RunOptions { dut: Some(self.dut.clone().with_profile(p.clone())), host: Some(self.host), waivers: self.waivers.clone(), ..RunOptions::default() };
+        let o = scenario::run(&probe.scenario, &opts);
+        if o.passed {
+            return Ok(());
+        }
+        let what = o.diagnosis.what_happened.lines().next().unwrap_or("").trim().to_string();
+        Err(format!("{}: {what}", o.diagnosis.category))
+    }
+
+    /// Ok when every probe agrees; else the first that does not, and why.
+    fn all(&mut self, probes: &[Probe], p: &Profile) -> Result<(), (String, String)> {
+        for pr in probes {
+            self.run(pr, p).map_err(|e| (pr.name.clone(), e))?;
+        }
+        Ok(())
+    }
+
+    /// The least value in `0..=max` under which every probe agrees
+    /// (agreement only grows with a tolerance), else the failure at `max`.
+    fn least(&mut self, probes: &[Probe], max: u32, with: impl Fn(u32) -> Profile) -> Result<u32, (String, String)> {
+        self.all(probes, &with(max))?;
+        let (mut lo, mut hi) = (0, max);
+        while lo < hi {
+            let mid = (lo + hi) / 2;
+            if self.all(probes, &with(mid)).is_ok() {
+                hi = mid;
+            } else {
+                lo = mid + 1;
+            }
+        }
+        Ok(lo)
+    }
+}
+
+fn set_access(p: &mut Profile, t: AccessTiming) {
+    p.wishbone = t;
+    p.avalon = t;
+    p.pio = t;
+}
+
+fn edges(read: u32, write: u32, command: u32) -> AccessTiming {
+    AccessTiming::CanEdges { read, write, command }
+}
+
+fn range(v: &[u32]) -> String {
+    match v {
+        [] => "none".into(),
+        [one] => one.to_string(),
+        _ if v.windows(2).all(|w| w[1] == w[0] + 1) => format!("{}..{}", v[0], v[v.len() - 1]),
+        _ => v.iter().map(u32::to_string).collect::<Vec<_>>().join(","),
+    }
+}
+
+/// The value of `v` nearest `to` (ties: the lower).
+fn nearest(v: &[u32], to: u32) -> u32 {
+    *v.iter().min_by_key(|x| (x.abs_diff(to), **x)).expect("not empty")
+}
+
+/// Infers the profile of the core `o` describes. Builds it (cached), finds
+/// its ports, runs the probes.
+pub fn infer(o: &InferOptions) -> Result<Inference, InferError> {
+    let t0 = Instant::now();
+    let mut defines = o.defines.clone();
+    if !defines.iter().any(|d| d == "CAN_WISHBONE_IF") {
+        // The opencores core's Wishbone build; a core without the define ignores it.
+        defines.push("CAN_WISHBONE_IF".into());
+    }
+    let mut includes = vec![o.dir.clone()];
+    includes.extend(o.includes.iter().cloned());
+    let core = cosim::ExternalCore { dir: o.dir.clone(), top: o.top.clone(), defines: defines.clone(), include_dirs: includes.clone(), ..Default::default() };
+    core.check().map_err(|e| InferError::Build(format!("{}: {e}", o.dir.display())))?;
+    let compiled = cosim::build_external(&core).map_err(|e| InferError::Build(format!("{}: {e}", o.dir.display())))?;
+    let build = t0.elapsed();
+    let mut model = compiled.instantiate(false);
+    let mut ports = ports::find_roles(model.ports(), &o.ports)?;
+    let idle = ports::polarities(&mut model, &mut ports, &o.ports)?;
+    drop(model);
+
+    let t1 = Instant::now();
+    let mut dut = DutSpec::external(&o.name, &o.dir, &o.top);
+    if let scenario::DutKind::External { defines: d, includes: i, .. } = &mut dut.kind {
+        *d = defines;
+        *i = includes;
+    }
+    let mut pr = Prober { dut, host: o.host, waivers: o.waivers.clone(), runs: 0 };
+    let mut ev: Vec<Evidence> = Vec::new();
+    let mut devs: Vec<Deviation> = Vec::new();
+    let mut evidence = |key: &str, line: String| ev.push(Evidence { key: key.into(), line });
+    let bound = |key: &str| BOUNDS.iter().find(|b| b.key.contains(key)).map(|b| format!("at most {}: {}", b.max, b.reason)).unwrap_or_default();
+
+    let pname = |p: &ports::IdleLevels| format!("irq idle {} so active {}, bus-off idle {} so active {}", u8::from(p.irq), if p.irq { "low" } else { "high" }, u8::from(p.bus_off), if p.bus_off { "low" } else { "high" });
+    evidence("ports", format!("roles from the top's port names, directions and widths; {} after a reset in bus idle (no interrupt enabled, node on the bus); reset active {} by its name", pname(&idle), if ports.reset.active_high { "high" } else { "low" }));
+
+    // Every stage isolates its own freedom: the others at their bounds or
+    // not compared.
+    let mut p = Profile::rtl();
+    p.name = o.name.clone();
+    p.description = format!("inferred by `cancosim profile infer` from probe runs on {} (top {})", o.dir.display(), o.top);
+    p.file = None;
+    p.ports = ports;
+    p.tolerances = CompareConfig { tx_edge_tolerance: TX_MAX, sof_tolerance: TX_MAX, status_tolerance: 1000, pin_tolerance: 1000, compare_irq: false, compare_bus_off: false, ..CompareConfig::default() };
+
+    // 1. Phase origin and the write edge: the tx edges of a self-test
+    // frame after reset-mode exits at several offsets, the core's against
+    // the model's (from the run's VCD). The right origin and write edge
+    // give the same lag at every edge of every probe; the lag left is the
+    // core's tx pipeline (the sof and tx-edge windows).
+    let phase_probes: Vec<Probe> = [0, 1, 3, 5].into_iter().map(probes::phase).collect();
+    let runs0 = pr.runs;
+    // (spread of the lags, largest lag, origin, write edge, SOF lags)
+    let mut cands: Vec<(i64, i64, PhaseOrigin, u32, Vec<i64>)> = Vec::new();
+    for (origin, writes) in [(PhaseOrigin::ResetModeExit, 0..=ACCESS_MAX), (PhaseOrigin::HardwareReset, 3..=3)] {
+        for w in writes {
+            let mut q = p.clone();
+            q.phase_origin = origin;
+            set_access(&mut q, edges(w, w, w));
+            let mut lags = Vec::new();
+            let mut sofs = Vec::new();
+            for probe in &phase_probes {
+                match pr.tx_edges(probe, &q).and_then(|e| e.lags()) {
+                    Some(l) => {
+                        sofs.push(l[0]);
+                        lags.extend(l);
+                    }
+                    None => {
+                        lags.clear();
+                        break;
+                    }
+                }
+            }
+            if lags.is_empty() {
+                continue;
+            }
+            let (lo, hi) = (*lags.iter().min().expect("some"), *lags.iter().max().expect("some"));
+            cands.push((hi - lo, lo.abs().max(hi.abs()), origin, w, sofs));
+        }
+    }
+    cands.sort_by_key(|c| (c.0, c.1));
+
+    let write = match cands.first() {
+        Some((spread, worst, origin, w, sofs)) if *spread <= 1 && *worst <= TX_MAX as i64 => {
+            p.phase_origin = *origin;
+            let sof = sofs.iter().map(|l| l.unsigned_abs() as u32).max().unwrap_or(0);
+            p.tolerances.sof_tolerance = sof;
+            p.tolerances.tx_edge_tolerance = *worst as u32;
+            set_access(&mut p, edges(*w, *w, *w));
+            let what = match origin {
+                PhaseOrigin::ResetModeExit => "reset-mode-exit",
+                PhaseOrigin::HardwareReset => "hardware-reset",
+            };
+            let other = cands.iter().filter(|c| c.2 != *origin).map(|c| c.0).min().map_or("no constant lag".to_string(), |s| format!("its lags spread over {s} CAN clocks"));
+            evidence("phase-origin", format!("{what}: on probes {} (reset-mode exit moved by 0, 1, 3, 5 pad reads) the core's tx edges trail the model's by the same lag at every edge (spread {spread}); the other origin: {other}; {} runs", names(&phase_probes), pr.runs - runs0));
+            let writes: Vec<u32> = cands.iter().filter(|c| c.2 == *origin && c.0 == *spread && c.1 == *worst).map(|c| c.3).collect();
+            if *origin == PhaseOrigin::ResetModeExit {
+                evidence("write", format!("write edge {} gives the least lag ({worst} CAN clocks) after the reset-mode exit", range(&writes)));
+            }
+            evidence("sof", format!("tx lag at the start of frame: {} CAN clocks on the phase probes (bound {SOF_MAX})", range(&sofs.iter().map(|l| l.unsigned_abs() as u32).collect::<std::collections::BTreeSet<_>>().into_iter().collect::<Vec<_>>())));
+            evidence("tx-edge", format!("tx lag at every edge of the phase probes' frames: at most {worst} CAN clocks (bound {TX_MAX})"));
+            *w
+        }
+        best => {
+            p.tolerances.sof_tolerance = TX_MAX;
+            let why = match best {
+                Some((spread, worst, ..)) => format!("the best candidate's tx lags spread over {spread} CAN clocks, up to {worst}"),
+                None => "no candidate sent the same frame as the model".into(),
+            };
+            let probe = phase_probes[0].clone();
+            let divergence = pr.run(&probe, &p).err().unwrap_or_else(|| why.clone());
+            devs.push(Deviation { freedom: "phase-origin, write, sof, tx-edge".into(), bound: bound("sof"), probe: probe.name, divergence: format!("{divergence} ({why})") });
+            evidence("phase-origin", format!("NOT MEASURED: {why} (candidate deviation)"));
+            4
+        }
+    };
+    // A start of frame from bus idle after a bus-off recovery: the lag
+    // of that frame (the sof window keeps it for the frame).
+    let rec = probes::recovery();
+    let runs0 = pr.runs;
+    if let Some(l) = pr.tx_edges(&rec, &p).and_then(|e| e.lags()) {
+        let sof = l.iter().map(|x| x.unsigned_abs() as u32).max().unwrap_or(0);
+        if sof > p.tolerances.sof_tolerance && sof <= SOF_MAX {
+            p.tolerances.sof_tolerance = sof;
+        }
+        evidence("sof", format!("tx lag of the frame from bus idle after a bus-off recovery (probe recovery): {sof} CAN clocks (bound {SOF_MAX}); {} run", pr.runs - runs0));
+        if sof > SOF_MAX {
+            let divergence = pr.run(&rec, &p).err().unwrap_or_else(|| format!("lag {sof}"));
+            devs.push(Deviation { freedom: "sof".into(), bound: bound("sof"), probe: rec.name.clone(), divergence });
+            p.tolerances.sof_tolerance = SOF_MAX;
+        }
+    }
+    // Where the frame's edges do not pair up, the least window that agrees.
+    let base = p.clone();
+    match pr.least(std::slice::from_ref(&rec), SOF_MAX, |n| {
+        let mut q = base.clone();
+        q.tolerances.sof_tolerance = n.max(base.tolerances.sof_tolerance);
+        q.tolerances.status_tolerance = 1000;
+        q.tolerances.tx_edge_tolerance = TX_MAX;
+        q
+    }) {
+        Ok(n) if n > p.tolerances.sof_tolerance => {
+            evidence("sof", format!("the frame from bus idle after a bus-off recovery agrees with a window of {n} CAN clocks, not less (bound {SOF_MAX})"));
+            p.tolerances.sof_tolerance = n;
+        }
+        Ok(_) => {}
+        Err(f) => {
+            devs.push(Deviation { freedom: "sof".into(), bound: bound("sof"), probe: f.0, divergence: f.1 });
+            p.tolerances.sof_tolerance = SOF_MAX;
+        }
+    }
+    if p.phase_origin == PhaseOrigin::HardwareReset {
+        // The write edge does not move the phase: the earliest that agrees.
+        let mut writes = Vec::new();
+        for w in 0..=ACCESS_MAX {
+            let mut q = p.clone();
+            set_access(&mut q, edges(w, w, w));
+            if pr.all(&phase_probes, &q).is_ok() {
+                writes.push(w);
+            }
+        }
+        if !writes.is_empty() {
+            let w = writes[writes.len() / 2];
+            set_access(&mut p, edges(w, w, w));
+            evidence("write", format!("write edges agreeing on the phase probes: {} (chosen {w}, the middle)", range(&writes)));
+        }
+    }
+    let write = match p.wishbone {
+        AccessTiming::CanEdges { write, .. } => write,
+        AccessTiming::AtAck => write,
+    };
+
+    // 2. The command edge: the transmission request landing at other
+    // clocks of the bit (0..12 pad reads).
+    let cmd_probes: Vec<Probe> = (0..=12).map(probes::command).collect();
+    let runs0 = pr.runs;
+    let mut cmds = Vec::new();
+    let mut last_fail = (String::new(), String::new());
+    for c in 0..=ACCESS_MAX {
+        let mut q = p.clone();
+        set_access(&mut q, edges(write, write, c));
+        match pr.all(&cmd_probes, &q) {
+            Ok(()) => cmds.push(c),
+            Err(f) => last_fail = f,
+        }
+    }
+    let command = if cmds.is_empty() {
+        devs.push(Deviation { freedom: "command".into(), bound: bound("access"), probe: last_fail.0, divergence: last_fail.1 });
+        evidence("command", "NOT MEASURED: no command edge 0..8 agrees (candidate deviation)".into());
+        write
+    } else {
+        let c = if cmds.contains(&write) { write } else { nearest(&cmds, write) };
+        evidence("command", format!("command edges agreeing on probes command+0..12 (the request at 13 positions in the bit): {} (chosen {c}, nearest the write edge); {} runs", range(&cmds), pr.runs - runs0));
+        c
+    };
+    set_access(&mut p, edges(write, write, command));
+
+    // 3. The read edge and the SR/IR latency: for each read edge the least
+    // status window under which the status probe agrees; the least overall.
+    let st = [probes::status()];
+    let runs0 = pr.runs;
+    let mut best: Vec<(u32, u32)> = Vec::new();
+    let mut last_fail = (String::new(), String::new());
+    let with_read = |r: u32, s: u32| {
+        let mut q = p.clone();
+        set_access(&mut q, edges(r, write, command));
+        q.tolerances.status_tolerance = s;
+        q
+    };
+    // The least window at the write edge, then every other read edge tried
+    // one clock narrower (and searched down only where that agrees).
+    match pr.least(&st, STATUS_MAX, |s| with_read(write, s)) {
+        Ok(s) => best.push((write, s)),
+        Err(f) => last_fail = f,
+    }
+    let at = best.first().map_or(STATUS_MAX, |b| b.1);
+    for r in (0..=ACCESS_MAX).filter(|r| *r != write) {
+        if at > 0 && pr.all(&st, &with_read(r, at - 1)).is_ok() {
+            if let Ok(s) = pr.least(&st, at - 1, |s| with_read(r, s)) {
+                best.push((r, s));
+            }
+        } else if best.is_empty() {
+            match pr.least(&st, STATUS_MAX, |s| with_read(r, s)) {
+                Ok(s) => best.push((r, s)),
+                Err(f) => last_fail = f,
+            }
+        } else if pr.all(&st, &with_read(r, at)).is_ok() {
+            best.push((r, at));
+        }
+    }
+    let read = match best.iter().map(|b| b.1).min() {
+        None => {
+            devs.push(Deviation { freedom: "status".into(), bound: bound("status"), probe: last_fail.0, divergence: last_fail.1 });
+            evidence("status", format!("NOT MEASURED: SR/IR reads disagree at every read edge 0..8 with a window of {STATUS_MAX} (candidate deviation)"));
+            p.tolerances.status_tolerance = STATUS_MAX;
+            write.saturating_sub(1)
+        }
+        Some(s) => {
+            let reads: Vec<u32> = best.iter().filter(|b| b.1 == s).map(|b| b.0).collect();
+            // Ties: the latest edge not after the write edge (a read crosses
+            // by the same synchroniser as a write, no later).
+            let r = reads.iter().copied().filter(|r| *r <= write).max().unwrap_or(reads[0]);
+            p.tolerances.status_tolerance = s;
+            evidence("read", format!("read edges with the least SR/IR window on probe status: {} (chosen {r}, the latest not after the write edge)", range(&reads)));
+            evidence("status", format!("SR/IR reads agree within {s} CAN clocks (least window, bound {STATUS_MAX}) polling SR through a received and a sent frame; {} runs", pr.runs - runs0));
+            r
+        }
+    };
+    set_access(&mut p, edges(read, write, command));
+
+    // 4. The irq and bus-off pins.
+    let pin_probes = [probes::status(), probes::phase(0)];
+    let runs0 = pr.runs;
+    let base = p.clone();
+    let with_pins = |n: u32| {
+        let mut q = base.clone();
+        q.tolerances.compare_irq = true;
+        q.tolerances.compare_bus_off = true;
+        q.tolerances.pin_tolerance = n;
+        q
+    };
+    match pr.least(&pin_probes, PINS_MAX, with_pins) {
+        Ok(n) => {
+            p.tolerances.pin_tolerance = n;
+            evidence("pins", format!("irq/bus-off agree within {n} CAN clocks (least, bound {PINS_MAX}) on probes status, phase+0 (interrupts of a received, a sent and a self-received frame); {} runs", pr.runs - runs0));
+        }
+        Err(f) => {
+            p.tolerances.pin_tolerance = PINS_MAX;
+            devs.push(Deviation { freedom: "pins".into(), bound: bound("pins"), probe: f.0, divergence: f.1 });
+            evidence("pins", format!("NOT MEASURED: irq/bus-off disagree for more than {PINS_MAX} CAN clocks (candidate deviation)"));
+        }
+    }
+    p.tolerances.compare_irq = true;
+    p.tolerances.compare_bus_off = true;
+    let pins_ok = !devs.iter().any(|d| d.freedom == "pins");
+    let status_ok = !devs.iter().any(|d| d.freedom == "status");
+
+    // 5. The tx edge window, over every probe, the others at their values
+    // (a deviation's entry is left out of this comparison, not widened).
+    let mut all: Vec<Probe> = phase_probes.clone();
+    all.extend(cmd_probes.iter().cloned());
+    all.extend(st.iter().cloned());
+    all.push(rec.clone());
+    let runs0 = pr.runs;
+    let base = p.clone();
+    let measured_tx = p.tolerances.tx_edge_tolerance;
+    let with_tx = |n: u32| {
+        let mut q = base.clone();
+        q.tolerances.tx_edge_tolerance = n.max(measured_tx);
+        q.tolerances.compare_irq &= pins_ok;
+        q.tolerances.compare_bus_off &= pins_ok;
+        if !status_ok {
+            q.tolerances.status_tolerance = 1000;
+        }
+        q
+    };
+    let tx_result = match pr.all(&all, &with_tx(measured_tx)) {
+        Ok(()) => Ok(measured_tx),
+        Err(_) => pr.least(&all, TX_MAX, with_tx),
+    };
+    match tx_result {
+        Ok(n) => {
+            let n = n.max(measured_tx);
+            p.tolerances.tx_edge_tolerance = n;
+            evidence("tx-edge", format!("with {n} (at least the measured lag) tx agrees at every sample point on all {} probes; {} runs", all.len(), pr.runs - runs0));
+        }
+        Err(f) => {
+            p.tolerances.tx_edge_tolerance = TX_MAX;
+            devs.push(Deviation { freedom: "tx-edge".into(), bound: bound("tx-edge"), probe: f.0, divergence: f.1 });
+            evidence("tx-edge", format!("NOT MEASURED: tx differs at sample points {TX_MAX} CAN clocks from a model tx edge (candidate deviation)"));
+        }
+    }
+    evidence("access", format!("measured on {}; the other buses take the same crossing (re-run with --host avalon|pio to measure them)", o.host));
+
+    let toml = render(&p, &ev, &devs, &o.host, pr.runs);
+    let profile = Profile::parse(&toml, "inferred profile").map_err(|e| InferError::Build(format!("the inferred profile does not parse (a bug): {e}")))?;
+    Ok(Inference { profile, toml, evidence: ev, deviations: devs, runs: pr.runs, build, probing: t1.elapsed() })
+}
+
+fn names(p: &[Probe]) -> String {
+    p.iter().map(|p| p.name.as_str()).collect::<Vec<_>>().join(", ")
+}
+
+/// The profile file: every entry with its evidence as a comment above it.
+fn render(p: &Profile, ev: &[Evidence], devs: &[Deviation], host: &HostBfm, runs: usize) -> String {
+    let say = |key: &str| -> String {
+        ev.iter().filter(|e| e.key == key).map(|e| format!("# evidence: {}\n", e.line)).collect()
+    };
+    let mut s = format!(
+        "# Inferred by `cancosim profile infer` ({runs} probe runs, host {host}). Each entry has its\n\
+         # evidence above it; each freedom is bounded (cosim profile docs, profile-infer BOUNDS).\n"
+    );
+    for d in devs {
+        s += &format!("# {d}\n# Not absorbed: the entry is at its bound, so the comparator still shows it.\n");
+    }
+    s += &format!("name = {:?}\ndescription = {:?}\n\n", p.name, p.description);
+    s += &say("phase-origin");
+    s += &format!("phase-origin = \"{}\"\n\n", match p.phase_origin {
+        PhaseOrigin::HardwareReset => "hardware-reset",
+        PhaseOrigin::ResetModeExit => "reset-mode-exit",
+    });
+    let AccessTiming::CanEdges { read, write, command } = p.wishbone else { unreachable!("the inference writes edge counts") };
+    for (i, bus) in ["wishbone", "avalon", "pio"].iter().enumerate() {
+        if i == 0 {
+            s += &say("access");
+            s += &say("read");
+            s += &say("write");
+            s += &say("command");
+        }
+        s += &format!("[access.{bus}]\ntakes-effect = \"can-edges\"\nread = {read}\nwrite = {write}\ncommand = {command}\n\n");
+    }
+    let t = &p.tolerances;
+    s += "[tolerances]\n";
+    for (k, v) in [("tx-edge", t.tx_edge_tolerance), ("sof", t.sof_tolerance), ("status", t.status_tolerance), ("pins", t.pin_tolerance)] {
+        s += &say(k);
+        s += &format!("{k} = {v}\n");
+    }
+    s += "\n";
+    s += &say("ports");
+    s += "[ports]\n";
+    let m = &p.ports;
+    let polar = |pin: &cosim::profile::Pin| format!("{{ name = {:?}, active = \"{}\" }}", pin.name, if pin.active_high { "high" } else { "low" });
+    for (k, v) in [
+        ("host-clock", format!("{:?}", m.host_clock.name)),
+        ("reset", polar(&m.reset)),
+        ("dat-i", format!("{:?}", m.dat_i.name)),
+        ("dat-o", format!("{:?}", m.dat_o.name)),
+        ("cyc", format!("{:?}", m.cyc.name)),
+        ("stb", format!("{:?}", m.stb.name)),
+        ("we", format!("{:?}", m.we.name)),
+        ("adr", format!("{:?}", m.adr.name)),
+        ("ack", format!("{:?}", m.ack.name)),
+        ("can-clock", format!("{:?}", m.can_clock.name)),
+        ("rx", format!("{:?}", m.rx.name)),
+        ("tx", format!("{:?}", m.tx.name)),
+        ("irq", polar(&m.irq)),
+        ("bus-off", polar(&m.bus_off)),
+        ("clkout", format!("{:?}", m.clkout.name)),
+    ] {
+        s += &format!("{k} = {v}\n");
+    }
+    s
+}
+
+/// The DUT's and the model's tx edges of one run (CAN clocks from the
+/// start, rounded), from the run's VCD.
+struct TxEdges {
+    dut: Vec<(i64, bool)>,
+    model: Vec<(i64, bool)>,
+    clock_ps: f64,
+}
+
+impl TxEdges {
+    /// Lags (DUT minus model, CAN clocks) of the edges the two sides share
+    /// in order; None when their edge sequences differ in length or level.
+    fn lags(&self) -> Option<Vec<i64>> {
+        if self.dut.len() != self.model.len() || self.dut.is_empty() {
+            return None;
+        }
+        self.dut.iter().zip(&self.model).map(|(d, m)| (d.1 == m.1).then_some(((d.0 - m.0) as f64 / self.clock_ps).round() as i64)).collect()
+    }
+}
+
+fn read_tx_edges(path: &std::path::Path, can_mhz: f64) -> Option<TxEdges> {
+    let f = std::io::BufReader::new(std::fs::File::open(path).ok()?);
+    let mut p = vcd::Parser::new(f);
+    let h = p.parse_header().ok()?;
+    let dut = h.find_var(&["cosim", "tx_o"])?.code;
+    let model = h.find_var(&["cosim", "model_tx"])?.code;
+    let clock_ps = 1e6 / can_mhz;
+    let (mut t, mut e) = (0u64, TxEdges { dut: Vec::new(), model: Vec::new(), clock_ps });
+    let (mut last_d, mut last_m) = (None, None);
+    for c in p {
+        match c.ok()? {
+            vcd::Command::Timestamp(ts) => t = ts,
+            vcd::Command::ChangeScalar(id, v) if id == dut || id == model => {
+                let level = v == vcd::Value::V1;
+                let (list, last) = if id == dut { (&mut e.dut, &mut last_d) } else { (&mut e.model, &mut last_m) };
+                // Before the configuration ends the core is in reset mode and
+                // sends nothing: a level it shows in its reset is no edge.
+                if last.is_some_and(|l| l != level) && t as f64 > 200.0 * clock_ps {
+                    list.push((t as i64, level));
+                }
+                *last = Some(level);
+            }
+            _ => {}
+        }
+    }
+    Some(e)
+}
+
+impl Prober {
+    /// Runs `probe` with a VCD and returns the tx edges of both sides.
+    fn tx_edges(&mut self, probe: &Probe, p: &Profile) -> Option<TxEdges> {
+        self.runs += 1;
+        let dir = tempfile::tempdir().ok()?;
+        let vcd = dir.path().join("probe.vcd");
+        // Collect mode: the run goes on past a difference, so both sides'
+        // edges are there to measure.
+        let opts = RunOptions {
+            dut: Some(self.dut.clone().with_profile(p.clone())),
+            host: Some(self.host),
+            vcd: Some(vcd.clone()),
+            waivers: self.waivers.clone(),
+            collect: cosim::waivers::CollectMode::Collect,
+            ..RunOptions::default()
+        };
+        scenario::run(&probe.scenario, &opts);
+        read_tx_edges(&vcd, probe.scenario.can_hz / 1e6)
+    }
+}

@@ -1,0 +1,109 @@
+//! The probe scenarios: short, built here as scenario text, each meant to
+//! make one freedom visible. All run at 600 kbit/s from a 24 MHz CAN clock
+//! (BTR0 0x41, BTR1 0x25: 4 CAN clocks a quantum, 10 quanta a bit, SJW 2
+//! quanta), PeliCAN, filters open.
+
+/// CAN clocks in one bit of the probes' bit timing.
+pub const BIT_CLOCKS: u32 = 40;
+/// CAN clocks in the probes' resynchronisation jump width (SJW 2 tq).
+pub const SJW_CLOCKS: u32 = 8;
+
+/// One probe: a name for the evidence and the reports, and its scenario.
+#[derive(Clone, Debug)]
+pub struct Probe {
+    /// Name (`phase+3`: the phase probe with 3 pad reads).
+    pub name: String,
+    /// The scenario.
+    pub scenario: scenario::Scenario,
+}
+
+const CONFIG: &str = r#"
+    { write = "CR", value = 0x01 },
+    { write = "CDR", value = 0x80 },
+    { write = "IER", value = 0x03 },
+    { write = "ACR0", value = 0x00 },
+    { write = "ACR1", value = 0x00 },
+    { write = "ACR2", value = 0x00 },
+    { write = "ACR3", value = 0x00 },
+    { write = "AMR0", value = 0xFF },
+    { write = "AMR1", value = 0xFF },
+    { write = "AMR2", value = 0xFF },
+    { write = "AMR3", value = 0xFF },
+    { write = "BTR0", value = 0x41 },
+    { write = "BTR1", value = 0x25 },
+    { write = "OCR", value = 0xDA },"#;
+
+fn text(purpose: &str, steps: &str, tail: &str, max_bits: u32) -> String {
+    format!(
+        "purpose = \"{purpose}\"\nverifies = [\"the core agrees with the golden model under the candidate profile\"]\n\
+         sequence = [\"configure in reset mode, then the probe's own steps\"]\n\
+         step = [{CONFIG}\n{steps}\n]\n\
+         [clocks]\nhost_mhz = 50.0\ncan_mhz = 24.0\n[host]\nbfm = \"wishbone\"\n[dut]\nkind = \"rtl\"\n\
+         [wiring]\nrx = \"bus\"\ntx_to_bus = true\n[run]\nmax_bits = {max_bits}\n{tail}\n[expect]\ncategory = \"Pass\"\n"
+    )
+}
+
+fn pads(n: u32, reg: &str) -> String {
+    (0..n).map(|_| format!("    {{ read = \"{reg}\" }},\n")).collect()
+}
+
+fn probe(name: String, t: String) -> Probe {
+    let scenario = scenario::Scenario::parse(&t, format!("{name}.toml")).unwrap_or_else(|e| panic!("probe {name} parses (a fixed text): {e}"));
+    Probe { name, scenario }
+}
+
+/// Phase: `pad` reads between the bit-timing writes and the reset-mode exit
+/// (each moves the exit by about 6 CAN clocks against a bit timing that
+/// started at the hardware reset), then a self-test frame with self
+/// reception long after: its start of frame shows where the core's bit
+/// timing started.
+pub fn phase(pad: u32) -> Probe {
+    let steps = format!(
+        "{}    {{ write = \"MOD\", value = 0x04 }},\n    {{ wait_bits = 14 }},\n    {{ load_tx = {{ id = 0x529, data = [0x51] }} }},\n    \
+         {{ write = \"CMR\", value = 0x10 }},\n    {{ wait_sr_set = 0x09, timeout_bits = 200 }},\n    {{ read = \"RXFI\", expect = 0x01 }},\n    {{ write = \"CMR\", value = 0x04 }},",
+        pads(pad, "CDR")
+    );
+    probe(format!("phase+{pad}"), text("profile probe: where the bit timing starts (reset-mode exit moved by pad reads)", &steps, "", 260))
+}
+
+/// Command: the transmission request `pad` reads after the TX buffer is
+/// filled, so it lands at a different clock of the bit each time: the bit
+/// the start of frame comes in shows when the core took the command.
+pub fn command(pad: u32) -> Probe {
+    let steps = format!(
+        "    {{ write = \"MOD\", value = 0x04 }},\n    {{ wait_bits = 14 }},\n    {{ load_tx = {{ id = 0x529, data = [0x51] }} }},\n{}    \
+         {{ write = \"CMR\", value = 0x10 }},\n    {{ wait_sr_set = 0x09, timeout_bits = 200 }},\n    {{ write = \"CMR\", value = 0x04 }},",
+        pads(pad, "CDR")
+    );
+    probe(format!("command+{pad}"), text("profile probe: when a transmission request takes effect", &steps, "", 260))
+}
+
+/// Status: an 8-byte extended frame from a model node received, one sent
+/// with self reception (acknowledged, and copied into the own RX FIFO: the
+/// longest copy), SR polled through both, IR read at each interrupt: the
+/// SR/IR latency around a received and a sent frame, and the irq pin.
+pub fn status() -> Probe {
+    let steps = "    { write = \"MOD\", value = 0x00 },\n    { wait_bits = 14 },\n    \
+        { wait_sr_set = 0x10, timeout_bits = 120 },\n    { wait_sr_set = 0x01, wait_sr_clear = 0x10, timeout_bits = 300 },\n    \
+        { read = \"IR\" },\n    { read = \"SR\" },\n    { read = \"RXFI\", expect = 0x88 },\n    { write = \"CMR\", value = 0x04 },\n    \
+        { load_tx = { id = 0x0ABCDEF1, extended = true, data = [1, 2, 3, 4, 5, 6, 7, 8] } },\n    { write = \"CMR\", value = 0x10 },\n    \
+        { wait_sr_set = 0x20, timeout_bits = 60 },\n    { wait_sr_set = 0x0D, wait_sr_clear = 0x20, timeout_bits = 300 },\n    \
+        { read = \"IR\" },\n    { read = \"SR\" },\n    { write = \"CMR\", value = 0x04 },\n    { wait_bits = 4 },";
+    let node = "[[node]]\nname = \"peer\"\nbtr0 = 0x41\nbtr1 = 0x25\nmode = \"peli\"\nsend = [ { id = 0x1234567, extended = true, data = [0xA5, 1, 2, 3, 4, 5, 6, 7], at_bit = 40 } ]\n";
+    probe("status".into(), text("profile probe: SR/IR and the irq pin around a received and a sent frame", steps, node, 400))
+}
+
+/// Recovery: bus-off by bit errors (the core's rx stuck recessive), the
+/// 128 x 11 recessive bits of the recovery, then a frame from bus idle: a
+/// start of frame whose phase nothing synchronised since the recovery.
+pub fn recovery() -> Probe {
+    let steps = "    { write = \"MOD\", value = 0x00 },\n    { wait_bits = 12 },\n    { load_tx = { id = 0x2AA, data = [0x99] } },\n    \
+        { write = \"CMR\", value = 0x01 },\n    { wait_sr_set = 0x80, timeout_bits = 900 },\n    { wait_bits = 2 },\n    \
+        { read = \"SR\" },\n    { read = \"IR\" },\n    { read = \"TXERR\" },\n    { wait_bits = 300 },\n    \
+        { write = \"MOD\", value = 0x00 },\n    { wait_bits = 555 },\n    { read = \"TXERR\" },\n    \
+        { wait_sr_clear = 0x80, timeout_bits = 1000 },\n    { wait_bits = 1 },\n    { read = \"IR\" },\n    \
+        { write = \"CMR\", value = 0x01 },\n    { wait_sr_set = 0x08, timeout_bits = 300 },\n    { read = \"IR\" },";
+    let tail = "[[node]]\nname = \"acker\"\nbtr0 = 0x41\nbtr1 = 0x25\nmode = \"peli\"\n\
+        [[fault]]\nkind = \"stuck-recessive\"\nat_bit = 5\nduration_bits = 600\ntarget = \"dut-rx\"\n";
+    probe("recovery".into(), text("profile probe: a start of frame from bus idle after a bus-off recovery", steps, tail, 3500))
+}
