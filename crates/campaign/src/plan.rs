@@ -441,6 +441,12 @@ pub fn draw(seed: u64, index: u64, lim: &DrawLimits) -> Plan {
         n.frames.sort_by_key(|f| f.0);
     }
     let mut program = draw_program(&mut r, &config, dut_frames, horizon);
+    // The datasheet does not say what a transmission request does in
+    // listen-only mode (MOD.1 only says the node sends no dominant bit): a
+    // core may keep it pending or drop it. A listen-only run sends nothing.
+    if config.listen_only {
+        program.retain(|o| !matches!(o, HostOp::Transmit { .. }));
+    }
     // Avoided triggers are taken out after the draw, so every other choice
     // of the run stays what it is without them.
     if !pelican && lim.avoids("extended-frames-in-basiccan") {
@@ -688,6 +694,19 @@ mod tests {
             }
         }
         assert!(seen > 20);
+    }
+
+    #[test]
+    fn a_listen_only_run_requests_no_transmission() {
+        let mut lom = 0;
+        for i in 0..400 {
+            let p = draw(13, i, &DrawLimits::default());
+            if p.config.listen_only {
+                lom += 1;
+                assert!(!p.program.iter().any(|o| matches!(o, HostOp::Transmit { .. })), "run {i}");
+            }
+        }
+        assert!(lom > 5, "{lom} listen-only runs");
     }
 
     #[test]

@@ -410,6 +410,9 @@ impl Reference for ModelRef {
     fn lost_messages(&self) -> Option<u32> {
         Some(self.m.lost_messages() as u32)
     }
+    fn aborted_since_request(&self) -> Option<bool> {
+        Some(self.m.aborted_since_request())
+    }
     fn drain_events(&mut self, out: &mut Vec<EventKind>) {
         if !self.m.journal_pending() {
             return;

@@ -113,6 +113,11 @@ pub trait Reference {
     fn lost_messages(&self) -> Option<u32> {
         None
     }
+    /// True when the host aborted its last transmission request (CMR.AT
+    /// since the last TR/SRR), if it knows (the waivers' `after-abort`).
+    fn aborted_since_request(&self) -> Option<bool> {
+        None
+    }
     /// Engine events since the last call.
     fn drain_events(&mut self, _out: &mut Vec<EventKind>) {}
     /// Takes the DUT's error counters after a waived divergence (waivers

@@ -369,6 +369,8 @@ pub struct Sja1000 {
     // status
     tbs: bool,
     tcs: bool,
+    /// CMR.AT written (operating mode) since the last TR/SRR.
+    aborted: bool,
     dos: bool,
     es: bool,
     bs: bool,
@@ -497,6 +499,7 @@ impl Sja1000 {
             ir: 0,
             tbs: true,
             tcs: true,
+            aborted: false,
             dos: false,
             es: false,
             bs: false,
@@ -1147,13 +1150,26 @@ impl Sja1000 {
             let frame = self.tx_frame();
             self.tbs = false;
             self.tcs = false;
+            self.aborted = false;
             self.pending_tx = Some(frame);
             // TR + AT (or SRR + AT): single shot.
             self.engine.request_tx(frame, at, srr);
-        } else if at && !self.tbs {
-            self.engine.abort_tx();
+        } else if at {
+            if !self.rm {
+                self.aborted = true;
+            }
+            if !self.tbs {
+                self.engine.abort_tx();
+            }
         }
         outcome
+    }
+
+    /// True when the host's last word on a transmission was CMR.AT (in
+    /// operating mode, since the last TR or SRR): observed by the waivers'
+    /// `after-abort`, for a core that shows an aborted request otherwise.
+    pub fn aborted_since_request(&self) -> bool {
+        self.aborted
     }
 
     /// The frame described by the TX buffer (PeliCAN frame information

@@ -67,6 +67,11 @@
 //! # "basic" (BasicCAN) or "pelican". For a deviation that exists in one
 //! # mode only. A run that does not give the model's mode never matches.
 //! model-mode = "basic"
+//! # any kind: only while the host's last word on the model's transmission
+//! # request was an abort (CMR.AT written since the last TR or SRR), for a
+//! # deviation in how a core shows an aborted request. A run that does not
+//! # give the model's abort state never matches.
+//! after-abort = true
 //! # irq and bus-off only: the DUT's pin may lag the model by at most this
 //! # long, counted from the start of the difference to the clock the
 //! # comparator reports it: bit times and/or CAN clocks ("1 bit",
@@ -759,6 +764,9 @@ pub(crate) struct RawWaiver {
     /// The model's mode at the divergence: `"basic"` or `"pelican"`. Default: either.
     #[schemars(with = "Option<String>")]
     pub model_mode: Option<Spanned<String>>,
+    /// Only while the host's last word on the model's transmission request was an abort
+    /// (CMR.AT written since the last TR or SRR). Default: false.
+    pub after_abort: Option<bool>,
     /// At most this many hits (episodes with `until-read`) are waived. Default: unbounded.
     #[schemars(with = "Option<u32>")]
     pub max_hits: Option<Spanned<u32>>,

@@ -43,6 +43,9 @@ pub struct Observed {
     /// The model's mode at the divergence: `Some(true)` BasicCAN,
     /// `Some(false)` PeliCAN; `None`: not observed. For `model-mode`.
     pub model_basic: Option<bool>,
+    /// `Some(true)` when the host aborted (CMR.AT) the model's last
+    /// transmission request; `None`: not observed. For `after-abort`.
+    pub model_aborted: Option<bool>,
 }
 
 impl Observed {
@@ -167,6 +170,9 @@ pub struct Waiver {
     /// Applies only while the model is in this mode: `Some(true)` BasicCAN
     /// (`model-mode = "basic"`), `Some(false)` PeliCAN.
     pub model_basic: Option<bool>,
+    /// Applies only while the host's last word on the model's transmission
+    /// request was an abort (CMR.AT since the last TR/SRR; `after-abort`).
+    pub after_abort: bool,
     /// At most this many divergences are waived.
     pub max_hits: Option<u32>,
     /// Re-synchronisation allowed.
@@ -251,7 +257,8 @@ impl Waiver {
             format!("only after the model lost {lost} to an RX FIFO overrun (after = \"{key}\")")
         });
         let mode = self.model_basic.map(|b| format!("only while the model is in {} mode (model-mode = \"{}\")", mode_name(b), mode_key(b)));
-        let parts: Vec<String> = [read, after, mode].into_iter().flatten().collect();
+        let abort = self.after_abort.then(|| "only after the host aborted the model's last transmission request (after-abort)".to_string());
+        let parts: Vec<String> = [read, after, mode, abort].into_iter().flatten().collect();
         (!parts.is_empty()).then(|| parts.join(", "))
     }
 
@@ -319,6 +326,13 @@ impl Waiver {
                 Some(b) if b == want => {}
                 Some(b) => return Some(format!("the model is in {} mode, model-mode needs {}", mode_name(b), mode_name(want))),
                 None => return Some("model-mode needs the model's mode, not observed".into()),
+            }
+        }
+        if self.after_abort {
+            match obs.model_aborted {
+                Some(true) => {}
+                Some(false) => return Some("the host did not abort the model's last transmission request (after-abort)".into()),
+                None => return Some("after-abort needs the model's abort state, not observed".into()),
             }
         }
         if self.late_by.is_some() && (obs.now_ps.is_none() || obs.bit_time_ps.is_none() || obs.can_clock_ps.is_none())
@@ -1044,6 +1058,7 @@ fn validate(name: &str, src: &str, w: RawWaiver) -> Result<Waiver, WaiverError> 
         seen_offset,
         model_mod_bits: w.model_mod_bits,
         model_basic,
+        after_abort: w.after_abort.unwrap_or(false),
         max_hits: w.max_hits.map(|m| m.into_inner()),
         resync,
         consequences,

@@ -355,3 +355,34 @@ resync = ["none"]
     let (line, key, _) = err(&src.trim_start().replace("\"basic\"", "\"basicCAN\""));
     assert_eq!((line, key.as_str()), (4, "model-mode"));
 }
+
+#[test]
+fn after_abort_binds_a_waiver_to_an_aborted_request() {
+    let src = r#"
+[[waiver]]
+id = "tcs-at-abort"
+kind = "register-read"
+register = "SR"
+bits = [3]
+expected-bits = "xxxx_0xxx"
+seen-bits = "xxxx_1xxx"
+after-abort = true
+dut = ["opencores-can*"]
+explanation = "TCS set by an abort"
+resync = ["none"]
+"#;
+    let tcs = Divergence { kind: DivergenceKind::RegisterRead, register: Some("SR".into()), expected: 0x04, seen: 0x0C, ..Divergence::default() };
+    let with = |a: Option<bool>| Observed { model_aborted: a, ..Default::default() };
+    let mut set = WaiverSet::parse(src, "a.toml").unwrap();
+    // However often the host polls after its abort: every read is waived.
+    for _ in 0..50 {
+        assert!(matches!(set.check_observed(&tcs, &dut(), &with(Some(true))), Verdict::Waived { .. }));
+    }
+    // Still caught: TCS set after a request that was not aborted (a failed
+    // single shot, an error), or with the abort state unknown.
+    assert_eq!(set.check_observed(&tcs, &dut(), &with(Some(false))), Verdict::Failure);
+    assert_eq!(set.check_observed(&tcs, &dut(), &with(None)), Verdict::Failure);
+    let notes = set.near_misses(&tcs, &dut(), &with(Some(false)));
+    assert!(notes.iter().any(|n| n.contains("did not abort")), "{notes:?}");
+    assert!(set.get("tcs-at-abort").unwrap().bound().unwrap().contains("after-abort"));
+}

@@ -242,6 +242,8 @@ impl ComparatorAgent {
         observed.model_basic = r.mode().map(|(m, _)| m == diagnose::CanMode::BasicCan);
         // Messages the model lost to an overrun, for `after = "data-overrun"`.
         observed.model_lost_messages = r.lost_messages();
+        // The host's abort of the model's request, for `after-abort`.
+        observed.model_aborted = r.aborted_since_request();
         while let Some(d) = c.take_divergence() {
             let bit = d.bit;
             // An irq report: the same difference again, or a new one
