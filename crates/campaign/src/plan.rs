@@ -454,6 +454,17 @@ pub fn draw(seed: u64, index: u64, lim: &DrawLimits) -> Plan {
             n.frames.retain(|(_, f)| !f.extended);
         }
     }
+    if lim.avoids("command-right-after-request") {
+        let mut spaced = Vec::with_capacity(program.len() + 8);
+        for op in program {
+            let tx = matches!(op, HostOp::Transmit { .. });
+            spaced.push(op);
+            if tx {
+                spaced.push(HostOp::Wait(2));
+            }
+        }
+        program = spaced;
+    }
     for op in &mut program {
         match op {
             HostOp::ResetToggle { bits, .. } if lim.avoids("software-reset-mode") => *op = HostOp::Wait(*bits),
@@ -723,6 +734,12 @@ mod tests {
             sleeps += p.program.iter().filter(|o| matches!(o, HostOp::Sleep { .. })).count();
             assert!(!q.program.iter().any(|o| matches!(o, HostOp::Sleep { .. })), "run {i}: a sleep left");
             assert_eq!(p.program.len(), q.program.len(), "run {i}: a toggle becomes a wait of its length");
+            let spaced = draw(11, i, &DrawLimits { avoid: vec!["command-right-after-request".into()], ..DrawLimits::default() });
+            for w in spaced.program.windows(2) {
+                if matches!(w[0], HostOp::Transmit { .. }) {
+                    assert_eq!(w[1], HostOp::Wait(2), "run {i}: a request is followed by a wait");
+                }
+            }
             assert_eq!((p.config.clone(), p.faults.clone()), (q.config.clone(), q.faults.clone()), "run {i}");
             for (a, b) in p.nodes.iter().zip(&q.nodes) {
                 if p.config.pelican {

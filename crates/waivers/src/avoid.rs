@@ -33,6 +33,10 @@ pub const CAMPAIGN_TRIGGERS: &[(&str, &str)] = &[
         "after its configuration the host never enters reset mode again (no reset-mode toggles, so no TXERR/RXERR/EWLR writes while the bus runs)",
     ),
     ("sleep-mode", "the host never requests sleep (PeliCAN MOD.SM, BasicCAN CMR.GTS)"),
+    (
+        "command-right-after-request",
+        "the host waits 2 bit times after each transmission request before its next operation (no other CMR write right after TR)",
+    ),
 ];
 
 /// What leaving `trigger` out removes from the plans (None: unknown trigger).
@@ -48,7 +52,7 @@ pub(crate) struct RawAvoid {
     #[schemars(with = "String")]
     pub id: Spanned<String>,
     /// What the campaign leaves out of its plans: `extended-frames-in-basiccan`,
-    /// `software-reset-mode` or `sleep-mode`. Required.
+    /// `software-reset-mode`, `sleep-mode` or `command-right-after-request`. Required.
     #[schemars(with = "String")]
     pub trigger: Spanned<String>,
     /// The deviation's row in the deviations table (`"D29"`). Required, not empty.
