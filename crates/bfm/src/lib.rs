@@ -94,7 +94,7 @@ pub use i8051::{
     DEFAULT_I8051_TIMEOUT_CYCLES, I8051Config, I8051Master, I8051Monitor, I8051MonitorConfig,
     I8051Out, I8051Polarity, I8051Ram, I8051SlaveOut, I8051Timing, port_level,
 };
-pub use motorola::{MotorolaAcTiming, MotorolaMaster, MotorolaMonitor, MotorolaOut};
+pub use motorola::{MotorolaAcTiming, MotorolaBridge, MotorolaMaster, MotorolaMonitor, MotorolaOut};
 pub use monitor::{AvalonMonitor, AvalonMonitorConfig, Rule, Violation, WishboneMonitor};
 pub use op::{
     BfmError, DEFAULT_TIMEOUT_CYCLES, OpHandle, OpKind, OpResult, Pause, cycle_pause, random_pause,

@@ -292,3 +292,87 @@ mod tests {
         assert_eq!(t.cycles(10_000_000).rd, 10);
     }
 }
+
+/// The slave logic of `can_top_mcu` in Motorola mode, in Rust, onto a
+/// Wishbone slave (the golden model as DUT): the address latched while AS
+/// is high, a read started when E rises with R/W high, a write when E falls
+/// with R/W low, one Wishbone access at a time (writes first), the read
+/// byte on the port while E, R/W and CS are high once it is there. It
+/// samples the wires directly, where the RTL puts two flops first.
+#[derive(Debug, Clone, Copy, Default)]
+pub struct MotorolaBridge {
+    adr: u8,
+    wdat: u8,
+    rd_d: bool,
+    wr_d: bool,
+    rd_pend: bool,
+    wr_pend: Option<u8>,
+    /// The Wishbone access in progress: (write, address, data).
+    busy: Option<(bool, u8, u8)>,
+    rdata: u8,
+    rvalid: bool,
+}
+
+impl MotorolaBridge {
+    /// The Wishbone wires (registered: the access in progress).
+    pub fn to_wishbone(&self) -> crate::WbMasterOut {
+        match self.busy {
+            Some((we, adr, dat)) => crate::WbMasterOut { cyc: true, stb: true, we, adr, dat },
+            None => crate::WbMasterOut::default(),
+        }
+    }
+
+    /// What the slave drives on the port with the master's pins `m`.
+    pub fn to_port(&self, m: &MotorolaOut) -> I8051SlaveOut {
+        let oe = m.cs && m.e && m.rw && self.rvalid;
+        I8051SlaveOut { ad: if oe { self.rdata } else { 0 }, ad_oe: oe }
+    }
+
+    /// The bridge's registers at a rising edge: `m` and `s` are the wires
+    /// during the cycle that ends (`s` the Wishbone slave's outputs then).
+    pub fn clock(&mut self, m: &MotorolaOut, s: &crate::WbSlaveOut) {
+        let i = m.intel_view();
+        let (rd, wr) = (i.cs && i.rd, i.cs && i.wr);
+        let ad = if i.ad_oe { i.ad } else { 0xFF };
+        let mut rvalid = self.rvalid && rd;
+        let (mut rd_pend, mut wr_pend) = (self.rd_pend, self.wr_pend);
+        if rd && !self.rd_d {
+            rd_pend = true;
+            rvalid = false;
+        }
+        if !wr && self.wr_d {
+            wr_pend = Some(self.adr);
+        }
+        match self.busy {
+            Some((we, ..)) if s.ack => {
+                self.busy = None;
+                if !we {
+                    self.rdata = s.dat;
+                    // a read whose strobe already ended is dropped
+                    rvalid = rd;
+                }
+            }
+            Some(_) => {}
+            None => {
+                if let Some(a) = self.wr_pend {
+                    self.busy = Some((true, a, self.wdat));
+                    wr_pend = None;
+                } else if self.rd_pend {
+                    self.busy = Some((false, self.adr, 0));
+                    rd_pend = false;
+                }
+            }
+        }
+        if i.ale {
+            self.adr = ad;
+        }
+        if wr {
+            self.wdat = ad;
+        }
+        self.rd_d = rd;
+        self.wr_d = wr;
+        self.rd_pend = rd_pend;
+        self.wr_pend = wr_pend;
+        self.rvalid = rvalid;
+    }
+}

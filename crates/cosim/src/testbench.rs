@@ -207,12 +207,14 @@ impl Testbench {
             HostBfm::I8051(_) => HostPort::I8051,
             HostBfm::Axi4Lite(_) => HostPort::Axi4Lite,
             HostBfm::Apb(_) => HostPort::Apb,
+            HostBfm::Motorola(_) => HostPort::Motorola,
             _ => HostPort::Wishbone,
         };
         // Our RTL on AXI4-Lite or APB is its wrapper of that bus.
         let rtl_wrapper = match cfg.host {
             HostBfm::Axi4Lite(_) => Some("can_axi4lite"),
             HostBfm::Apb(_) => Some("can_apb"),
+            HostBfm::Motorola(_) => Some("can_top_mcu"),
             _ => None,
         };
         let covered = cfg.coverage_dat.as_deref().map(|dat| crate::coverage::covered_dut(&cfg.dut, wb_or_8051, ports, trace, dat)).transpose()?;
@@ -348,7 +350,8 @@ impl Testbench {
             HostBfm::Avalon { wiring: AvalonWiring::Seed000, .. } => HostKind::AvalonSeed000,
             HostBfm::Avalon { .. } => HostKind::Avalon,
             HostBfm::Pio(_) => HostKind::Pio,
-            HostBfm::I8051(_) => HostKind::I8051,
+            // can_top_mcu is can_top_8051 behind a combinational decoder.
+            HostBfm::I8051(_) | HostBfm::Motorola(_) => HostKind::I8051,
             HostBfm::Axi4Lite(_) => HostKind::Axi4Lite,
             HostBfm::Apb(_) => HostKind::Apb,
         };

@@ -92,6 +92,8 @@ pub enum HostBus {
     Axi4Lite,
     /// APB3/APB4: setup and access phases.
     Apb,
+    /// Motorola-mode multiplexed bus: AS, CS, E, R/W, shared port.
+    Motorola,
 }
 
 /// Bit timing and clocks of one node.

@@ -9,7 +9,7 @@ use bfm::{
     ApbBridge, ApbConfig, ApbMaster, ApbMasterOut, ApbMonitor, Axi4LiteBridge, Axi4LiteConfig,
     Axi4LiteMaster, Axi4LiteMonitor, AxiMasterOut, AvMasterOut, AvalonMaster, AvalonMasterConfig, AvalonMonitor, AvalonMonitorConfig, AvalonTiming,
     BfmError, HostMaster, I8051Config, I8051Master, I8051Monitor, I8051MonitorConfig, I8051Out,
-    I8051Polarity, I8051Timing, OpHandle, OpResult, PioMaster, PioTiming, WbMasterOut, WbSlaveOut,
+    I8051Polarity, I8051Timing, MotorolaBridge, MotorolaMaster, MotorolaMonitor, MotorolaOut, OpHandle, OpResult, PioMaster, PioTiming, WbMasterOut, WbSlaveOut,
     WishboneMaster, WishboneMonitor, wiring::Wiring as AvWiring,
 };
 use diagnose::HostBus;
@@ -58,6 +58,11 @@ pub enum HostBfm {
     /// natively (`DutChoice::Rtl` becomes `can_apb`), a Wishbone DUT
     /// through [`bfm::ApbBridge`].
     Apb(ApbConfig),
+    /// Motorola-mode multiplexed bus master (AS, E, R/W, CS, active high,
+    /// phases as [`I8051Timing`]'s with AS for ALE and E for RD/WR); drives
+    /// a DUT with the [`HostPort::Motorola`] port list (`DutChoice::Rtl`
+    /// becomes `can_top_mcu` with `mode_i` low).
+    Motorola(I8051Timing),
 }
 
 /// 8051-bus timing for our `can_top_8051` at the given clocks: the default
@@ -85,6 +90,9 @@ enum Master {
     I8051(I8051Master, I8051Monitor),
     /// The bridge (and the Wishbone outputs of the cycle that ends) when
     /// the DUT has a Wishbone port.
+    Motorola(MotorolaMaster, MotorolaMonitor, Option<(MotorolaBridge, WbSlaveOut)>),
+    /// The bridge (and the Wishbone outputs of the cycle that ends) when
+    /// the DUT has a Wishbone port.
     Axi(Axi4LiteMaster, Axi4LiteMonitor, Option<(Axi4LiteBridge, WbSlaveOut)>),
     Apb(ApbMaster, ApbMonitor, Option<ApbBridge>),
 }
@@ -96,6 +104,7 @@ macro_rules! with_master {
             Master::Av($x, _) => $e,
             Master::Pio($x) => $e,
             Master::I8051($x, _) => $e,
+            Master::Motorola($x, ..) => $e,
             Master::Axi($x, ..) => $e,
             Master::Apb($x, ..) => $e,
         }
@@ -126,7 +135,9 @@ pub struct HostAgent {
     /// The pins applied to the DUT last (per bus kind).
     applied_wb: WbMasterOut,
     applied_av: AvMasterOut,
+    /// The 8051 pins applied last (Motorola host: its wires' Intel view).
     applied_i8051: I8051Out,
+    applied_mot: MotorolaOut,
     applied_axi: AxiMasterOut,
     applied_apb: ApbMasterOut,
     wb_mon: WishboneMonitor,
@@ -220,6 +231,15 @@ impl HostAgent {
                 );
                 (Master::I8051(m, mon), HostBus::I8051)
             }
+            HostBfm::Motorola(timing) => {
+                let bridge = match dut.host_port() {
+                    HostPort::Motorola => None,
+                    HostPort::Wishbone => Some((MotorolaBridge::default(), WbSlaveOut::default())),
+                    other => return Err(format!("{} has the {other:?} port list: the Motorola host drives a Motorola (can_top_mcu) or a Wishbone port", dut.name())),
+                };
+                let m = MotorolaMaster::new("host", timing, s.op_timeout_cycles);
+                (Master::Motorola(m, MotorolaMonitor::new("motorola monitor", &timing), bridge), HostBus::Motorola)
+            }
             HostBfm::Axi4Lite(cfg) => {
                 let cfg = Axi4LiteConfig { timeout_cycles: s.op_timeout_cycles, ..cfg };
                 let bridge = match dut.host_port() {
@@ -248,6 +268,9 @@ impl HostAgent {
             }
         }
         let i8051 = matches!(s.bfm, HostBfm::I8051(_));
+        if dut.host_port() == HostPort::Motorola && !matches!(s.bfm, HostBfm::Motorola(_)) {
+            return Err(format!("{} has the Motorola port list: drive it with the Motorola host", dut.name()));
+        }
         if (dut.host_port() == HostPort::I8051) != i8051 {
             return Err(format!(
                 "{} has the {:?} port list: drive {} with the 8051 host",
@@ -287,6 +310,7 @@ impl HostAgent {
             applied_wb: WbMasterOut::default(),
             applied_av: AvMasterOut::default(),
             applied_i8051: I8051Polarity::ACTIVE_HIGH.drive(false, false, false, false),
+            applied_mot: MotorolaOut::default(),
             applied_axi: AxiMasterOut::default(),
             applied_apb: ApbMasterOut::default(),
             wb_mon: WishboneMonitor::new("wishbone monitor", s.monitor_ack_timeout),
@@ -329,6 +353,7 @@ impl HostAgent {
     pub fn hold_reset(&self, dut: &mut AnyDut) {
         dut.set_reset(true);
         dut.set_i8051(&self.applied_i8051);
+        dut.set_motorola(&self.applied_mot);
     }
 
     /// `wb_rst_i` is still held.
@@ -460,6 +485,27 @@ impl HostAgent {
                 dut.set_wb(&self.applied_wb);
                 dut.set_reset(m.rst());
             }
+            Master::Motorola(m, mon, None) => {
+                let s = dut.i8051();
+                i8051_viol = mon.observe(cycle, &self.applied_mot, &s);
+                m.on_edge(&s);
+                self.applied_mot = m.outputs();
+                self.applied_i8051 = self.applied_mot.intel_view();
+                dut.set_motorola(&self.applied_mot);
+            }
+            Master::Motorola(m, mon, Some((b, prev_wb))) => {
+                let s_wb = dut.wb();
+                // The bridge's registers take the wires of the cycle that ends.
+                b.clock(&self.applied_mot, prev_wb);
+                *prev_wb = s_wb;
+                let s = b.to_port(&self.applied_mot);
+                i8051_viol = mon.observe(cycle, &self.applied_mot, &s);
+                m.on_edge(&s);
+                self.applied_mot = m.outputs();
+                self.applied_i8051 = self.applied_mot.intel_view();
+                self.applied_wb = b.to_wishbone();
+                dut.set_wb(&self.applied_wb);
+            }
             Master::I8051(m, mon) => {
                 let s = dut.i8051();
                 i8051_viol = mon.observe(cycle, &self.applied_i8051, &s);
@@ -541,7 +587,8 @@ impl HostAgent {
             violations.push(diagnose::Violation { cycle: v.cycle, rule: rule_id("avalon.", v.rule), message: v.message });
         }
         for v in i8051_viol {
-            violations.push(diagnose::Violation { cycle: v.cycle, rule: rule_id("i8051.", v.rule), message: v.message });
+            let prefix = if matches!(self.master, Master::Motorola(..)) { "motorola." } else { "i8051." };
+            violations.push(diagnose::Violation { cycle: v.cycle, rule: rule_id(prefix, v.rule), message: v.message });
         }
         let prefix = if matches!(self.master, Master::Apb(..)) { "apb." } else { "axi4lite." };
         for v in axi_viol {
@@ -593,10 +640,11 @@ impl HostAgent {
         matches!(self.master, Master::Av(_, AvalonWiring::Native))
     }
 
-    /// The master is the 8051 one.
+    /// The master is the 8051 one (or the Motorola one, whose wires the
+    /// agent also keeps as their Intel view).
     #[inline]
     pub fn is_i8051(&self) -> bool {
-        matches!(self.master, Master::I8051(..))
+        matches!(self.master, Master::I8051(..) | Master::Motorola(..))
     }
 
     /// The core's handshake can see a new request now (no hold-off, or it
@@ -647,8 +695,12 @@ impl HostAgent {
     /// external core). `wr_seen` remembers WR across the calls of one
     /// access. False for other buses.
     pub fn i8051_launch(&self, write: bool, wr_seen: &mut bool) -> bool {
-        let Master::I8051(m, _) = &self.master else { return false };
-        let (p, w) = (m.config().polarity, &self.applied_i8051);
+        let p = match &self.master {
+            Master::I8051(m, _) => m.config().polarity,
+            Master::Motorola(..) => I8051Polarity::ACTIVE_HIGH,
+            _ => return false,
+        };
+        let w = &self.applied_i8051;
         let (rd, wr) = (p.cs(w) && p.rd(w), p.cs(w) && p.wr(w));
         *wr_seen |= wr;
         let write_launch = if self.i8051_write_at_release { *wr_seen && !wr } else { wr };
@@ -667,6 +719,8 @@ impl HostAgent {
         }
         if self.native_avalon() {
             self.applied_av.chipselect && !dut.av().waitrequest
+        } else if let Master::Motorola(_, _, Some((b, _))) = &self.master {
+            b.to_port(&self.applied_mot).ad_oe
         } else if self.is_i8051() {
             dut.i8051().ad_oe
         } else {
@@ -688,7 +742,7 @@ impl HostAgent {
                 let s = dut.av();
                 (self.applied_av.chipselect && !s.waitrequest, s.readdata)
             }
-            HostPort::I8051 => {
+            HostPort::I8051 | HostPort::Motorola => {
                 let s = dut.i8051();
                 (s.ad_oe, s.ad)
             }
@@ -710,7 +764,7 @@ impl HostAgent {
                 let a = self.applied_av;
                 (a.chipselect, a.read || a.write, a.write, a.address, a.writedata)
             }
-            HostPort::I8051 => {
+            HostPort::I8051 | HostPort::Motorola => {
                 let a = self.applied_i8051;
                 (a.cs, a.rd || a.wr, a.wr, if a.ale { a.ad } else { 0 }, a.ad)
             }
