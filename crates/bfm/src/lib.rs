@@ -80,6 +80,7 @@ mod motorola;
 mod op;
 mod pins;
 mod pio;
+mod regport;
 pub mod wiring;
 mod wishbone;
 
@@ -104,6 +105,7 @@ pub use pio::{
     CTL_CYC, CTL_RST, CTL_STB, CTL_WE, DEFAULT_PIO_TIMEOUT_CYCLES, PioAckInput, PioMaster,
     PioTiming,
 };
+pub use regport::{RegportBridge, RegportConfig, RegportIn, RegportMaster, RegportMonitor, RegportOut};
 pub use wishbone::{AckMode, BlockAccess, WishboneMaster, WishboneRam};
 
 /// A host-side bus master, stepped by the kernel (see the crate docs for the

@@ -7,7 +7,7 @@
 
 use std::path::Path;
 
-use bfm::{ApbMasterOut, ApbSlaveOut, AvMasterOut, AvSlaveOut, AxiMasterOut, AxiSlaveOut, I8051Out, I8051SlaveOut, MotorolaOut, WbMasterOut, WbSlaveOut};
+use bfm::{ApbMasterOut, ApbSlaveOut, AvMasterOut, AvSlaveOut, AxiMasterOut, AxiSlaveOut, I8051Out, I8051SlaveOut, MotorolaOut, RegportIn, RegportOut, WbMasterOut, WbSlaveOut};
 
 use crate::bridge::{BridgeError, Model, Port};
 use crate::verilated::BatchPins;
@@ -35,6 +35,10 @@ pub enum HostPort {
     /// `wr_rw_i`, `port_0_i`/`port_0_o`/`port_0_oe`), driven in Motorola
     /// mode (`mode_i` held low). Sampled by `clk_i`: no host clock port.
     Motorola,
+    /// A plain register port on `clk_i` (`rst_i`, `wr_i`, `wr_adr_i`,
+    /// `wdat_i`, `rd_i`, `rd_adr_i`, or one `adr_i` for both, `rdat_o`), as
+    /// on our `can_regport`. No host clock port.
+    Regport,
 }
 
 /// Name of the top [`i8051_inout_shell`] writes.
@@ -116,6 +120,12 @@ pub trait Dut {
     /// Motorola-mode pins (ignored by other DUTs, the default); the slave
     /// answers on the shared port, read by [`Dut::i8051`].
     fn set_motorola(&mut self, _m: &MotorolaOut) {}
+    /// Register-port pins (ignored by other DUTs, the default).
+    fn set_regport(&mut self, _m: &RegportOut) {}
+    /// The register port's read data (0 for other DUTs, the default).
+    fn regport(&self) -> RegportIn {
+        RegportIn::default()
+    }
     /// AXI4-Lite pins (ignored by other DUTs, the default).
     fn set_axi(&mut self, _m: &AxiMasterOut) {}
     /// AXI4-Lite slave outputs (idle for other DUTs, the default).
@@ -181,6 +191,19 @@ struct I8051Ports {
     port_oe: Port,
 }
 
+struct RegportPorts {
+    rst: Port,
+    wr: Port,
+    wdat: Port,
+    rd: Port,
+    /// The write address and the read address (the same port on a top
+    /// with one `adr_i`).
+    adr: [Port; 2],
+    /// One `adr_i` for both.
+    one_adr: bool,
+    rdat: Port,
+}
+
 struct MotorolaPorts {
     /// The MODE strap, held low (Motorola) with every set of pins.
     mode: Port,
@@ -211,6 +234,7 @@ enum HostPorts {
     Av(AvPorts),
     I8051(I8051Ports),
     Motorola(MotorolaPorts),
+    Regport(RegportPorts),
     Axi(AxiPorts),
     Apb(ApbPorts),
 }
@@ -255,6 +279,7 @@ struct OutCache {
     wb: WbSlaveOut,
     av: AvSlaveOut,
     i8051: I8051SlaveOut,
+    regport: RegportIn,
     axi: AxiSlaveOut,
     apb: ApbSlaveOut,
 }
@@ -302,6 +327,7 @@ impl VerilatedDut {
                     ad_oe: get(p.port_oe) != 0,
                 }
             }
+            HostPorts::Regport(r) => self.out.regport = RegportIn { rdat: get(r.rdat) as u8 },
             HostPorts::Axi(a) => {
                 let g = |p: Port| m.get(p);
                 let o = &a.outs;
@@ -393,7 +419,7 @@ impl VerilatedDut {
             HostPorts::Wb(w) => Some(w.clk),
             HostPorts::Av(a) => Some(a.clk),
             // The 8051 bus has no clock: clk_i samples it.
-            HostPorts::I8051(_) | HostPorts::Motorola(_) => None,
+            HostPorts::I8051(_) | HostPorts::Motorola(_) | HostPorts::Regport(_) => None,
             HostPorts::Axi(a) => Some(a.clk),
             HostPorts::Apb(a) => Some(a.clk),
         };
@@ -475,6 +501,17 @@ impl VerilatedDut {
                     port_o: p("port_0_o", 8)?,
                     port_oe: p("port_0_oe", 1)?,
                 });
+                let pol = OutPolarity { irq_active_high: false, bus_off_active_high: false };
+                (host, ["clk_i", "rx_i", "tx_o", "irq_on", "bus_off_on", "clkout_o"], pol, false, k)
+            }
+            HostPort::Regport => {
+                let k = "register port (can_regport)";
+                let p = |n: &str, w: u32| m.port(n, Some(w), k);
+                let (adr, one_adr) = match p("adr_i", 8) {
+                    Ok(a) => ([a, p("adr_i", 8)?], true),
+                    Err(_) => ([p("wr_adr_i", 8)?, p("rd_adr_i", 8)?], false),
+                };
+                let host = HostPorts::Regport(RegportPorts { rst: p("rst_i", 1)?, wr: p("wr_i", 1)?, wdat: p("wdat_i", 8)?, rd: p("rd_i", 1)?, adr, one_adr, rdat: p("rdat_o", 8)? });
                 let pol = OutPolarity { irq_active_high: false, bus_off_active_high: false };
                 (host, ["clk_i", "rx_i", "tx_o", "irq_on", "bus_off_on", "clkout_o"], pol, false, k)
             }
@@ -569,6 +606,7 @@ impl Dut for VerilatedDut {
             HostPorts::Av(_) => HostPort::Avalon,
             HostPorts::I8051(_) => HostPort::I8051,
             HostPorts::Motorola(_) => HostPort::Motorola,
+            HostPorts::Regport(_) => HostPort::Regport,
             HostPorts::Axi(_) => HostPort::Axi4Lite,
             HostPorts::Apb(_) => HostPort::Apb,
         }
@@ -579,6 +617,7 @@ impl Dut for VerilatedDut {
             HostPorts::Av(a) => a.reset,
             HostPorts::I8051(p) => p.rst,
             HostPorts::Motorola(p) => p.pins.rst,
+            HostPorts::Regport(p) => p.rst,
             HostPorts::Axi(a) => a.rst,
             HostPorts::Apb(a) => a.rst,
         };
@@ -629,6 +668,24 @@ impl Dut for VerilatedDut {
     }
     fn i8051(&self) -> I8051SlaveOut {
         self.out.i8051
+    }
+    fn set_regport(&mut self, x: &RegportOut) {
+        if let HostPorts::Regport(r) = &self.host {
+            let (wr, rd, wdat, [wa, ra], one) = (r.wr, r.rd, r.wdat, r.adr, r.one_adr);
+            self.m.set(wr, x.wr as u64);
+            self.m.set(rd, x.rd as u64);
+            self.m.set(wdat, x.wdat as u64);
+            if one {
+                // One address: the strobed access's.
+                self.m.set(wa, if x.rd { x.rd_adr } else { x.wr_adr } as u64);
+            } else {
+                self.m.set(wa, x.wr_adr as u64);
+                self.m.set(ra, x.rd_adr as u64);
+            }
+        }
+    }
+    fn regport(&self) -> RegportIn {
+        self.out.regport
     }
     fn set_motorola(&mut self, x: &MotorolaOut) {
         if let HostPorts::Motorola(MotorolaPorts { pins: p, mode }) = &self.host {

@@ -94,6 +94,8 @@ pub enum HostBus {
     Apb,
     /// Motorola-mode multiplexed bus: AS, CS, E, R/W, shared port.
     Motorola,
+    /// A plain register port: read and write strobes, no acknowledge.
+    Regport,
 }
 
 /// Bit timing and clocks of one node.

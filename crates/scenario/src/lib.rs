@@ -206,6 +206,10 @@ pub enum HostBfm {
     /// RTL through `can_top_mcu` with MODE low, the golden model through
     /// `bfm::MotorolaBridge`.
     Motorola,
+    /// A plain register port (strobes, no acknowledge) on the CAN clock:
+    /// our RTL through `can_regport`, the golden model through
+    /// `bfm::RegportBridge`.
+    Regport,
 }
 
 impl HostBfm {
@@ -222,6 +226,7 @@ impl HostBfm {
             "apb" | "apb4" => Some(HostBfm::Apb),
             "apb3" => Some(HostBfm::Apb3),
             "motorola" | "68xx" => Some(HostBfm::Motorola),
+            "regport" => Some(HostBfm::Regport),
             _ => None,
         }
     }
@@ -239,6 +244,7 @@ impl HostBfm {
             HostBfm::Apb => "apb",
             HostBfm::Apb3 => "apb3",
             HostBfm::Motorola => "motorola",
+            HostBfm::Regport => "regport",
         }
     }
 }
@@ -870,6 +876,7 @@ fn build(ctx: &Ctx, raw: RawScenario, file: &Path) -> Result<Scenario, ScenarioE
         "apb" => HostBfm::Apb,
         "apb3" => HostBfm::Apb3,
         "motorola" => HostBfm::Motorola,
+        "regport" => HostBfm::Regport,
         "avalon" => HostBfm::Avalon {
             begintransfer_cyc: match raw.host.avalon_map.as_deref().unwrap_or("wrapper") {
                 "wrapper" => false,
