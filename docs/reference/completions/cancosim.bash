@@ -241,7 +241,7 @@ _cancosim() {
                     return 0
                     ;;
                 --host)
-                    COMPREPLY=($(compgen -W "wishbone avalon pio pio-edge i8051 axi4-lite apb apb3 motorola" -- "${cur}"))
+                    COMPREPLY=($(compgen -W "wishbone avalon pio pio-edge i8051 axi4-lite apb apb3 motorola regport" -- "${cur}"))
                     return 0
                     ;;
                 --waivers)
@@ -367,7 +367,7 @@ _cancosim() {
                     return 0
                     ;;
                 --host)
-                    COMPREPLY=($(compgen -W "wishbone avalon pio pio-edge i8051 axi4-lite apb apb3 motorola" -- "${cur}"))
+                    COMPREPLY=($(compgen -W "wishbone avalon pio pio-edge i8051 axi4-lite apb apb3 motorola regport" -- "${cur}"))
                     return 0
                     ;;
                 --waivers)
@@ -773,7 +773,7 @@ _cancosim() {
                     return 0
                     ;;
                 --host)
-                    COMPREPLY=($(compgen -W "wishbone avalon pio pio-edge i8051 axi4-lite apb apb3 motorola" -- "${cur}"))
+                    COMPREPLY=($(compgen -W "wishbone avalon pio pio-edge i8051 axi4-lite apb apb3 motorola regport" -- "${cur}"))
                     return 0
                     ;;
                 --budget-factor)
@@ -867,7 +867,7 @@ _cancosim() {
                     return 0
                     ;;
                 --host)
-                    COMPREPLY=($(compgen -W "wishbone avalon pio pio-edge i8051 axi4-lite apb apb3 motorola" -- "${cur}"))
+                    COMPREPLY=($(compgen -W "wishbone avalon pio pio-edge i8051 axi4-lite apb apb3 motorola regport" -- "${cur}"))
                     return 0
                     ;;
                 --waivers)
@@ -941,7 +941,7 @@ _cancosim() {
                     return 0
                     ;;
                 --host)
-                    COMPREPLY=($(compgen -W "wishbone avalon pio pio-edge i8051 axi4-lite apb apb3 motorola" -- "${cur}"))
+                    COMPREPLY=($(compgen -W "wishbone avalon pio pio-edge i8051 axi4-lite apb apb3 motorola regport" -- "${cur}"))
                     return 0
                     ;;
                 --waivers)
