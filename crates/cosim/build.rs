@@ -84,7 +84,7 @@ fn main() {
     for f in &rtl_files {
         println!("cargo:rerun-if-changed={}", f.display());
     }
-    for name in ["can_top", "can_avalon", "can_top_pio", "can_top_8051", "can_axi4lite", "can_apb"] {
+    for name in ["can_top", "can_avalon", "can_top_pio", "can_top_8051", "can_top_mcu", "can_regport", "can_axi4lite", "can_apb"] {
         tops.push(Top {
             name: name.to_string(),
             sources: rtl_files.clone(),

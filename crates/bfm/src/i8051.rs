@@ -279,6 +279,11 @@ impl I8051Master {
         &self.cfg
     }
 
+    /// A write access is on the wires (from its ALE to its recovery).
+    pub(crate) fn active_write(&self) -> bool {
+        self.active.as_ref().is_some_and(|a| a.op.kind != OpKind::Read && a.phase != Phase::Recovery)
+    }
+
     /// Host cycles one access takes on the wires, recovery included.
     pub fn access_cycles(&self, kind: OpKind) -> u64 {
         let t = self.cfg.timing;

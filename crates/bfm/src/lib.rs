@@ -1,6 +1,6 @@
 //! Host bus-functional models for the SJA1000-compatible core: Wishbone
 //! classic, Avalon-MM, AXI4-Lite, APB3/APB4, PIO (GPIO bit-banging) and
-//! Intel-mode 8051 multiplexed-bus masters, passive protocol
+//! Intel-mode 8051 and Motorola-mode multiplexed-bus masters, passive protocol
 //! monitors, RAM targets to test them, and fault wrappers.
 //!
 //! The crate knows no simulator and no async runtime: every role is a plain
@@ -76,9 +76,11 @@ pub mod faults;
 mod i8051;
 mod i8051_ac;
 mod monitor;
+mod motorola;
 mod op;
 mod pins;
 mod pio;
+mod regport;
 pub mod wiring;
 mod wishbone;
 
@@ -93,6 +95,7 @@ pub use i8051::{
     DEFAULT_I8051_TIMEOUT_CYCLES, I8051Config, I8051Master, I8051Monitor, I8051MonitorConfig,
     I8051Out, I8051Polarity, I8051Ram, I8051SlaveOut, I8051Timing, port_level,
 };
+pub use motorola::{MotorolaAcTiming, MotorolaBridge, MotorolaMaster, MotorolaMonitor, MotorolaOut};
 pub use monitor::{AvalonMonitor, AvalonMonitorConfig, Rule, Violation, WishboneMonitor};
 pub use op::{
     BfmError, DEFAULT_TIMEOUT_CYCLES, OpHandle, OpKind, OpResult, Pause, cycle_pause, random_pause,
@@ -102,6 +105,7 @@ pub use pio::{
     CTL_CYC, CTL_RST, CTL_STB, CTL_WE, DEFAULT_PIO_TIMEOUT_CYCLES, PioAckInput, PioMaster,
     PioTiming,
 };
+pub use regport::{RegportBridge, RegportConfig, RegportIn, RegportMaster, RegportMonitor, RegportOut};
 pub use wishbone::{AckMode, BlockAccess, WishboneMaster, WishboneRam};
 
 /// A host-side bus master, stepped by the kernel (see the crate docs for the

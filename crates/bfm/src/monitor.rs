@@ -66,6 +66,8 @@ pub enum Rule {
     /// APB: the phases out of order (PENABLE without a setup phase, or
     /// in the setup phase's cycle).
     PhaseOrder,
+    /// Motorola bus: a read's E ended and the slave never drove the port.
+    NoReadData,
 }
 
 impl fmt::Display for Rule {
@@ -94,6 +96,7 @@ impl fmt::Display for Rule {
             Rule::ResponseWithoutRequest => "response without request",
             Rule::ErrorResponse => "error response",
             Rule::PhaseOrder => "phases out of order",
+            Rule::NoReadData => "no read data",
         })
     }
 }

@@ -27,6 +27,8 @@ pub fn coverage_core(choice: &DutChoice, host: HostPort) -> Result<(ExternalCore
         DutChoice::Rtl if host == HostPort::I8051 => (rtl("can_top_8051"), HostPort::I8051),
         DutChoice::Rtl if host == HostPort::Axi4Lite => (rtl("can_axi4lite"), host),
         DutChoice::Rtl if host == HostPort::Apb => (rtl("can_apb"), host),
+        DutChoice::Rtl if host == HostPort::Motorola => (rtl("can_top_mcu"), host),
+        DutChoice::Rtl if host == HostPort::Regport => (rtl("can_regport"), host),
         DutChoice::Rtl => (rtl("can_top"), HostPort::Wishbone),
         DutChoice::RtlAvalon => (rtl("can_avalon"), HostPort::Avalon),
         DutChoice::Bundled(top) => (rtl(top), host),

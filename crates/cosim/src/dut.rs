@@ -7,7 +7,7 @@
 
 use std::path::Path;
 
-use bfm::{ApbMasterOut, ApbSlaveOut, AvMasterOut, AvSlaveOut, AxiMasterOut, AxiSlaveOut, I8051Out, I8051SlaveOut, WbMasterOut, WbSlaveOut};
+use bfm::{ApbMasterOut, ApbSlaveOut, AvMasterOut, AvSlaveOut, AxiMasterOut, AxiSlaveOut, I8051Out, I8051SlaveOut, MotorolaOut, RegportIn, RegportOut, WbMasterOut, WbSlaveOut};
 
 use crate::bridge::{BridgeError, Model, Port};
 use crate::verilated::BatchPins;
@@ -30,6 +30,15 @@ pub enum HostPort {
     /// APB3/APB4 (`pclk`, `presetn` active low, `psel` ... `pslverr`), as
     /// on our `can_apb`; `pstrb`/`pprot` bound when the top has them.
     Apb,
+    /// The chip's two multiplexed modes on one port list, as on our
+    /// `can_top_mcu` (`rst_i`, `mode_i`, `ale_as_i`, `cs_can_i`, `rd_e_i`,
+    /// `wr_rw_i`, `port_0_i`/`port_0_o`/`port_0_oe`), driven in Motorola
+    /// mode (`mode_i` held low). Sampled by `clk_i`: no host clock port.
+    Motorola,
+    /// A plain register port on `clk_i` (`rst_i`, `wr_i`, `wr_adr_i`,
+    /// `wdat_i`, `rd_i`, `rd_adr_i`, or one `adr_i` for both, `rdat_o`), as
+    /// on our `can_regport`. No host clock port.
+    Regport,
 }
 
 /// Name of the top [`i8051_inout_shell`] writes.
@@ -108,6 +117,15 @@ pub trait Dut {
     fn i8051(&self) -> I8051SlaveOut {
         I8051SlaveOut::default()
     }
+    /// Motorola-mode pins (ignored by other DUTs, the default); the slave
+    /// answers on the shared port, read by [`Dut::i8051`].
+    fn set_motorola(&mut self, _m: &MotorolaOut) {}
+    /// Register-port pins (ignored by other DUTs, the default).
+    fn set_regport(&mut self, _m: &RegportOut) {}
+    /// The register port's read data (0 for other DUTs, the default).
+    fn regport(&self) -> RegportIn {
+        RegportIn::default()
+    }
     /// AXI4-Lite pins (ignored by other DUTs, the default).
     fn set_axi(&mut self, _m: &AxiMasterOut) {}
     /// AXI4-Lite slave outputs (idle for other DUTs, the default).
@@ -173,6 +191,26 @@ struct I8051Ports {
     port_oe: Port,
 }
 
+struct RegportPorts {
+    rst: Port,
+    wr: Port,
+    wdat: Port,
+    rd: Port,
+    /// The write address and the read address (the same port on a top
+    /// with one `adr_i`).
+    adr: [Port; 2],
+    /// One `adr_i` for both.
+    one_adr: bool,
+    rdat: Port,
+}
+
+struct MotorolaPorts {
+    /// The MODE strap, held low (Motorola) with every set of pins.
+    mode: Port,
+    /// ALE/AS, CS, RD/E, WR/(R/W) of the split port list.
+    pins: I8051Ports,
+}
+
 struct AxiPorts {
     clk: Port,
     rst: Port,
@@ -195,6 +233,8 @@ enum HostPorts {
     Wb(WbPorts),
     Av(AvPorts),
     I8051(I8051Ports),
+    Motorola(MotorolaPorts),
+    Regport(RegportPorts),
     Axi(AxiPorts),
     Apb(ApbPorts),
 }
@@ -239,6 +279,7 @@ struct OutCache {
     wb: WbSlaveOut,
     av: AvSlaveOut,
     i8051: I8051SlaveOut,
+    regport: RegportIn,
     axi: AxiSlaveOut,
     apb: ApbSlaveOut,
 }
@@ -280,12 +321,13 @@ impl VerilatedDut {
                     readdatavalid: false,
                 }
             }
-            HostPorts::I8051(p) => {
+            HostPorts::I8051(p) | HostPorts::Motorola(MotorolaPorts { pins: p, .. }) => {
                 self.out.i8051 = I8051SlaveOut {
                     ad: get(p.port_o),
                     ad_oe: get(p.port_oe) != 0,
                 }
             }
+            HostPorts::Regport(r) => self.out.regport = RegportIn { rdat: get(r.rdat) as u8 },
             HostPorts::Axi(a) => {
                 let g = |p: Port| m.get(p);
                 let o = &a.outs;
@@ -377,7 +419,7 @@ impl VerilatedDut {
             HostPorts::Wb(w) => Some(w.clk),
             HostPorts::Av(a) => Some(a.clk),
             // The 8051 bus has no clock: clk_i samples it.
-            HostPorts::I8051(_) => None,
+            HostPorts::I8051(_) | HostPorts::Motorola(_) | HostPorts::Regport(_) => None,
             HostPorts::Axi(a) => Some(a.clk),
             HostPorts::Apb(a) => Some(a.clk),
         };
@@ -462,6 +504,36 @@ impl VerilatedDut {
                 let pol = OutPolarity { irq_active_high: false, bus_off_active_high: false };
                 (host, ["clk_i", "rx_i", "tx_o", "irq_on", "bus_off_on", "clkout_o"], pol, false, k)
             }
+            HostPort::Regport => {
+                let k = "register port (can_regport)";
+                let p = |n: &str, w: u32| m.port(n, Some(w), k);
+                let (adr, one_adr) = match p("adr_i", 8) {
+                    Ok(a) => ([a, p("adr_i", 8)?], true),
+                    Err(_) => ([p("wr_adr_i", 8)?, p("rd_adr_i", 8)?], false),
+                };
+                let host = HostPorts::Regport(RegportPorts { rst: p("rst_i", 1)?, wr: p("wr_i", 1)?, wdat: p("wdat_i", 8)?, rd: p("rd_i", 1)?, adr, one_adr, rdat: p("rdat_o", 8)? });
+                let pol = OutPolarity { irq_active_high: false, bus_off_active_high: false };
+                (host, ["clk_i", "rx_i", "tx_o", "irq_on", "bus_off_on", "clkout_o"], pol, false, k)
+            }
+            HostPort::Motorola => {
+                let k = "Motorola bus (can_top_mcu)";
+                let p = |n: &str, w: u32| m.port(n, Some(w), k);
+                let host = HostPorts::Motorola(MotorolaPorts {
+                    mode: p("mode_i", 1)?,
+                    pins: I8051Ports {
+                        rst: p("rst_i", 1)?,
+                        ale: p("ale_as_i", 1)?,
+                        cs: p("cs_can_i", 1)?,
+                        rd: p("rd_e_i", 1)?,
+                        wr: p("wr_rw_i", 1)?,
+                        port_i: p("port_0_i", 8)?,
+                        port_o: p("port_0_o", 8)?,
+                        port_oe: p("port_0_oe", 1)?,
+                    },
+                });
+                let pol = OutPolarity { irq_active_high: false, bus_off_active_high: false };
+                (host, ["clk_i", "rx_i", "tx_o", "irq_on", "bus_off_on", "clkout_o"], pol, false, k)
+            }
             HostPort::Axi4Lite => {
                 let k = "AXI4-Lite (can_axi4lite)";
                 let p = |n: &str| m.port(&format!("s_axi_{n}"), None, k);
@@ -533,6 +605,8 @@ impl Dut for VerilatedDut {
             HostPorts::Wb(_) => HostPort::Wishbone,
             HostPorts::Av(_) => HostPort::Avalon,
             HostPorts::I8051(_) => HostPort::I8051,
+            HostPorts::Motorola(_) => HostPort::Motorola,
+            HostPorts::Regport(_) => HostPort::Regport,
             HostPorts::Axi(_) => HostPort::Axi4Lite,
             HostPorts::Apb(_) => HostPort::Apb,
         }
@@ -542,6 +616,8 @@ impl Dut for VerilatedDut {
             HostPorts::Wb(w) => w.rst,
             HostPorts::Av(a) => a.reset,
             HostPorts::I8051(p) => p.rst,
+            HostPorts::Motorola(p) => p.pins.rst,
+            HostPorts::Regport(p) => p.rst,
             HostPorts::Axi(a) => a.rst,
             HostPorts::Apb(a) => a.rst,
         };
@@ -592,6 +668,36 @@ impl Dut for VerilatedDut {
     }
     fn i8051(&self) -> I8051SlaveOut {
         self.out.i8051
+    }
+    fn set_regport(&mut self, x: &RegportOut) {
+        if let HostPorts::Regport(r) = &self.host {
+            let (wr, rd, wdat, [wa, ra], one) = (r.wr, r.rd, r.wdat, r.adr, r.one_adr);
+            self.m.set(wr, x.wr as u64);
+            self.m.set(rd, x.rd as u64);
+            self.m.set(wdat, x.wdat as u64);
+            if one {
+                // One address: the strobed access's.
+                self.m.set(wa, if x.rd { x.rd_adr } else { x.wr_adr } as u64);
+            } else {
+                self.m.set(wa, x.wr_adr as u64);
+                self.m.set(ra, x.rd_adr as u64);
+            }
+        }
+    }
+    fn regport(&self) -> RegportIn {
+        self.out.regport
+    }
+    fn set_motorola(&mut self, x: &MotorolaOut) {
+        if let HostPorts::Motorola(MotorolaPorts { pins: p, mode }) = &self.host {
+            let (a, cs, e, rw, pi, mode) = (p.ale, p.cs, p.rd, p.wr, p.port_i, *mode);
+            self.m.set(mode, 0);
+            self.m.set(a, x.as_ as u64);
+            self.m.set(cs, x.cs as u64);
+            self.m.set(e, x.e as u64);
+            self.m.set(rw, x.rw as u64);
+            // An undriven port reads as the pull-ups.
+            self.m.set(pi, if x.ad_oe { x.ad } else { 0xFF } as u64);
+        }
     }
     fn set_axi(&mut self, x: &AxiMasterOut) {
         if let HostPorts::Axi(a) = &self.host {

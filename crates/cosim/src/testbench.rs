@@ -187,6 +187,11 @@ impl Testbench {
     /// Builds the DUT, the BFM, the bus and the reference, and runs the
     /// reset sequence.
     pub fn new(mut cfg: TbConfig) -> Result<Testbench, TbError> {
+        // A plain register port has one clock, the core's: the host runs
+        // on the CAN clock.
+        if matches!(cfg.host, HostBfm::Regport(_)) && cfg.host_hz != cfg.can_hz {
+            cfg.host_hz = cfg.can_hz;
+        }
         let kernel = Kernel::new(cfg.host_hz, cfg.can_hz)?;
         let trace = cfg.dut_trace.is_some();
         // Our RTL's tops (all through rtl/can_wb_cdc.v) carry rtl.toml on
@@ -194,7 +199,7 @@ impl Testbench {
         // master (which holds the request and re-triggers it) keeps the
         // ack timing, as before profiles.
         let profile = cfg.profile.clone().or_else(|| match (&cfg.dut, cfg.host) {
-            (DutChoice::Rtl, HostBfm::Wishbone | HostBfm::Avalon { .. } | HostBfm::Axi4Lite(_) | HostBfm::Apb(_)) => Some(Profile::rtl()),
+            (DutChoice::Rtl, HostBfm::Wishbone | HostBfm::Avalon { .. } | HostBfm::Axi4Lite(_) | HostBfm::Apb(_) | HostBfm::Regport(_)) => Some(Profile::rtl()),
             (DutChoice::RtlAvalon, _) => Some(Profile::rtl()),
             (DutChoice::Bundled(t), HostBfm::Pio(_)) if t == "can_top_pio" => Some(Profile::rtl()),
             _ => None,
@@ -207,12 +212,16 @@ impl Testbench {
             HostBfm::I8051(_) => HostPort::I8051,
             HostBfm::Axi4Lite(_) => HostPort::Axi4Lite,
             HostBfm::Apb(_) => HostPort::Apb,
+            HostBfm::Motorola(_) => HostPort::Motorola,
+            HostBfm::Regport(_) => HostPort::Regport,
             _ => HostPort::Wishbone,
         };
         // Our RTL on AXI4-Lite or APB is its wrapper of that bus.
         let rtl_wrapper = match cfg.host {
             HostBfm::Axi4Lite(_) => Some("can_axi4lite"),
             HostBfm::Apb(_) => Some("can_apb"),
+            HostBfm::Motorola(_) => Some("can_top_mcu"),
+            HostBfm::Regport(_) => Some("can_regport"),
             _ => None,
         };
         let covered = cfg.coverage_dat.as_deref().map(|dat| crate::coverage::covered_dut(&cfg.dut, wb_or_8051, ports, trace, dat)).transpose()?;
@@ -348,9 +357,11 @@ impl Testbench {
             HostBfm::Avalon { wiring: AvalonWiring::Seed000, .. } => HostKind::AvalonSeed000,
             HostBfm::Avalon { .. } => HostKind::Avalon,
             HostBfm::Pio(_) => HostKind::Pio,
-            HostBfm::I8051(_) => HostKind::I8051,
+            // can_top_mcu is can_top_8051 behind a combinational decoder.
+            HostBfm::I8051(_) | HostBfm::Motorola(_) => HostKind::I8051,
             HostBfm::Axi4Lite(_) => HostKind::Axi4Lite,
             HostBfm::Apb(_) => HostKind::Apb,
+            HostBfm::Regport(_) => HostKind::Regport,
         };
         let reference = ReferenceAgent::new(
             cfg.lockstep.map(|(r, _)| r),

@@ -92,6 +92,10 @@ pub enum HostBus {
     Axi4Lite,
     /// APB3/APB4: setup and access phases.
     Apb,
+    /// Motorola-mode multiplexed bus: AS, CS, E, R/W, shared port.
+    Motorola,
+    /// A plain register port: read and write strobes, no acknowledge.
+    Regport,
 }
 
 /// Bit timing and clocks of one node.

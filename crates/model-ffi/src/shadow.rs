@@ -198,7 +198,9 @@ impl Shadow {
         self.timing = match bus {
             HostBus::Avalon => self.access[1],
             HostBus::Pio => self.access[2],
-            HostBus::Wishbone | HostBus::I8051 => self.access[0],
+            // The other buses' wrappers are can_top behind a request of
+            // that bus: its Wishbone timing.
+            HostBus::Wishbone | HostBus::I8051 | HostBus::Motorola | HostBus::Regport | HostBus::Axi4Lite | HostBus::Apb => self.access[0],
         };
     }
 

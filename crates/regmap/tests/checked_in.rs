@@ -32,7 +32,7 @@ fn checked_in_generated_files_are_up_to_date() {
 
 /// The `_hw.tcl` file set must carry every RTL file `can_avalon` needs, or
 /// Platform Designer cannot elaborate the component: compare it with `rtl/`
-/// (every file but the `can_top_pio`, `can_top_8051`, `can_axi4lite` and `can_apb` variants, which the
+/// (every file but the `can_top_pio`, `can_top_8051`, `can_top_mcu`, `can_regport`, `can_axi4lite` and `can_apb` variants, which the
 /// wrapper does not use).
 #[test]
 fn hw_tcl_file_set_is_the_rtl_directory() {
@@ -40,7 +40,7 @@ fn hw_tcl_file_set_is_the_rtl_directory() {
     let mut on_disk: Vec<String> = std::fs::read_dir(&rtl)
         .unwrap()
         .filter_map(|e| e.ok().map(|e| e.file_name().to_string_lossy().into_owned()))
-        .filter(|n| (n.ends_with(".v") || n.ends_with(".vh")) && !["can_top_pio.v", "can_top_8051.v", "can_axi4lite.v", "can_apb.v"].contains(&n.as_str()))
+        .filter(|n| (n.ends_with(".v") || n.ends_with(".vh")) && !["can_top_pio.v", "can_top_8051.v", "can_top_mcu.v", "can_regport.v", "can_axi4lite.v", "can_apb.v"].contains(&n.as_str()))
         .collect();
     on_disk.sort();
     let mut listed: Vec<String> = regmap::generate::RTL_FILES.iter().map(|s| s.to_string()).collect();

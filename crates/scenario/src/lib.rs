@@ -202,6 +202,14 @@ pub enum HostBfm {
     Apb,
     /// APB3 (no PSTRB/PPROT): our RTL through `can_apb`.
     Apb3,
+    /// Motorola-mode multiplexed bus (AS, CS, E, R/W, shared port): our
+    /// RTL through `can_top_mcu` with MODE low, the golden model through
+    /// `bfm::MotorolaBridge`.
+    Motorola,
+    /// A plain register port (strobes, no acknowledge) on the CAN clock:
+    /// our RTL through `can_regport`, the golden model through
+    /// `bfm::RegportBridge`.
+    Regport,
 }
 
 impl HostBfm {
@@ -217,6 +225,8 @@ impl HostBfm {
             "axi4-lite" | "axi4lite" | "axi" => Some(HostBfm::Axi4Lite),
             "apb" | "apb4" => Some(HostBfm::Apb),
             "apb3" => Some(HostBfm::Apb3),
+            "motorola" | "68xx" => Some(HostBfm::Motorola),
+            "regport" => Some(HostBfm::Regport),
             _ => None,
         }
     }
@@ -233,6 +243,8 @@ impl HostBfm {
             HostBfm::Axi4Lite => "axi4-lite",
             HostBfm::Apb => "apb",
             HostBfm::Apb3 => "apb3",
+            HostBfm::Motorola => "motorola",
+            HostBfm::Regport => "regport",
         }
     }
 }
@@ -863,6 +875,8 @@ fn build(ctx: &Ctx, raw: RawScenario, file: &Path) -> Result<Scenario, ScenarioE
         "axi4-lite" => HostBfm::Axi4Lite,
         "apb" => HostBfm::Apb,
         "apb3" => HostBfm::Apb3,
+        "motorola" => HostBfm::Motorola,
+        "regport" => HostBfm::Regport,
         "avalon" => HostBfm::Avalon {
             begintransfer_cyc: match raw.host.avalon_map.as_deref().unwrap_or("wrapper") {
                 "wrapper" => false,

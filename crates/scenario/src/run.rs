@@ -276,6 +276,12 @@ pub fn tb_config(s: &Scenario, dut: &DutKind, opts: &RunOptions) -> Result<TbCon
         HostBfm::PioEdgeCapture => cosim::HostBfm::Pio(bfm::PioTiming { ack_input: bfm::PioAckInput::EdgeCapture, ..Default::default() }),
         // DutChoice::Rtl is can_top_8051 under this host.
         HostBfm::I8051 => cosim::HostBfm::I8051(cosim::i8051_timing_for_rtl(s.host_hz as u64, s.can_hz as u64)),
+        // DutChoice::Rtl is can_top_mcu under this host: the same phases
+        // as the 8051 host's (AS for ALE, E for RD/WR), in ns.
+        // DutChoice::Rtl is can_regport; the bench runs the host on the CAN
+        // clock (cosim::Testbench::new).
+        HostBfm::Regport => cosim::HostBfm::Regport(bfm::RegportConfig::default()),
+        HostBfm::Motorola => cosim::HostBfm::Motorola(cosim::i8051_timing_for_rtl(s.host_hz as u64, s.can_hz as u64)),
         // DutChoice::Rtl is can_axi4lite / can_apb under these hosts; the
         // register layout is the profile's (our wrappers: 4 and 0).
         HostBfm::Axi4Lite => {

@@ -63,7 +63,7 @@ use crate::file::{DutGlob, KindName, RevRange, WaiverError};
 use crate::dut::DutInfo;
 
 /// The hosts an entry may name (as `cancosim --host` and `[host] bfm` spell them).
-pub const HOSTS: &[&str] = &["wishbone", "avalon", "avalon-begintransfer", "pio", "pio-edge", "i8051", "axi4-lite", "apb", "apb3"];
+pub const HOSTS: &[&str] = &["wishbone", "avalon", "avalon-begintransfer", "pio", "pio-edge", "i8051", "axi4-lite", "apb", "apb3", "motorola", "regport"];
 
 /// The kinds of signature line, by their first word.
 pub const LINE_KINDS: &[&str] = &["divergence", "expectation", "verdict"];

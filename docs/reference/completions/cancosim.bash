@@ -271,7 +271,7 @@ _cancosim() {
                     return 0
                     ;;
                 --host)
-                    COMPREPLY=($(compgen -W "wishbone avalon pio pio-edge i8051 axi4-lite apb apb3" -- "${cur}"))
+                    COMPREPLY=($(compgen -W "wishbone avalon pio pio-edge i8051 axi4-lite apb apb3 motorola regport" -- "${cur}"))
                     return 0
                     ;;
                 --waivers)
@@ -397,7 +397,7 @@ _cancosim() {
                     return 0
                     ;;
                 --host)
-                    COMPREPLY=($(compgen -W "wishbone avalon pio pio-edge i8051 axi4-lite apb apb3" -- "${cur}"))
+                    COMPREPLY=($(compgen -W "wishbone avalon pio pio-edge i8051 axi4-lite apb apb3 motorola regport" -- "${cur}"))
                     return 0
                     ;;
                 --waivers)
@@ -949,7 +949,7 @@ _cancosim() {
                     return 0
                     ;;
                 --host)
-                    COMPREPLY=($(compgen -W "wishbone avalon pio pio-edge i8051 axi4-lite apb apb3" -- "${cur}"))
+                    COMPREPLY=($(compgen -W "wishbone avalon pio pio-edge i8051 axi4-lite apb apb3 motorola regport" -- "${cur}"))
                     return 0
                     ;;
                 --budget-factor)
@@ -1153,7 +1153,7 @@ _cancosim() {
                     return 0
                     ;;
                 --host)
-                    COMPREPLY=($(compgen -W "wishbone avalon pio pio-edge i8051 axi4-lite apb apb3" -- "${cur}"))
+                    COMPREPLY=($(compgen -W "wishbone avalon pio pio-edge i8051 axi4-lite apb apb3 motorola regport" -- "${cur}"))
                     return 0
                     ;;
                 --waivers)
@@ -1227,7 +1227,7 @@ _cancosim() {
                     return 0
                     ;;
                 --host)
-                    COMPREPLY=($(compgen -W "wishbone avalon pio pio-edge i8051 axi4-lite apb apb3" -- "${cur}"))
+                    COMPREPLY=($(compgen -W "wishbone avalon pio pio-edge i8051 axi4-lite apb apb3 motorola regport" -- "${cur}"))
                     return 0
                     ;;
                 --waivers)

@@ -102,14 +102,16 @@ complete -c cancosim -n "__fish_cancosim_using_subcommand run" -l record -d 'Sav
 complete -c cancosim -n "__fish_cancosim_using_subcommand run" -l candump -d 'Write the bus traffic as a candump log (`candump -l` format, timestamps = simulated time)' -r -F
 complete -c cancosim -n "__fish_cancosim_using_subcommand run" -l candump-iface -d 'Interface name in the candump log' -r
 complete -c cancosim -n "__fish_cancosim_using_subcommand run" -l max-bits -d 'Override the scenario\'s run length, in bit times' -r
-complete -c cancosim -n "__fish_cancosim_using_subcommand run" -l host -d 'Drive the DUT through this host instead of the scenario\'s own: `wishbone` (can_top), `avalon` (our can_avalon wrapper with the Avalon-MM BFM), `pio` (GPIO bit-banging, can_top_pio; the thesis\'s program polls ack as a level), `pio-edge` (the same program polling the ack PIO\'s edge capture register: for a core with a one-clock ack), `i8051` (the SJA1000\'s Intel-mode multiplexed bus, can_top_8051), `axi4-lite` (can_axi4lite), `apb` (APB4) or `apb3` (can_apb). Scenarios whose point is their host wiring (`[host] fixed`) are skipped' -r -f -a "wishbone\t''
+complete -c cancosim -n "__fish_cancosim_using_subcommand run" -l host -d 'Drive the DUT through this host instead of the scenario\'s own: `wishbone` (can_top), `avalon` (our can_avalon wrapper with the Avalon-MM BFM), `pio` (GPIO bit-banging, can_top_pio; the thesis\'s program polls ack as a level), `pio-edge` (the same program polling the ack PIO\'s edge capture register: for a core with a one-clock ack), `i8051` (the SJA1000\'s Intel-mode multiplexed bus, can_top_8051), `axi4-lite` (can_axi4lite), `apb` (APB4), `apb3` (can_apb), `motorola` (the SJA1000\'s Motorola-mode multiplexed bus, can_top_mcu with MODE low) or `regport` (a plain register port on the CAN clock, can_regport). Scenarios whose point is their host wiring (`[host] fixed`) are skipped' -r -f -a "wishbone\t''
 avalon\t''
 pio\t''
 pio-edge\t''
 i8051\t''
 axi4-lite\t''
 apb\t''
-apb3\t''"
+apb3\t''
+motorola\t''
+regport\t''"
 complete -c cancosim -n "__fish_cancosim_using_subcommand run" -l waivers -d 'Waiver file (repeatable), added to the scenario\'s own `[run] waivers`' -r -F
 complete -c cancosim -n "__fish_cancosim_using_subcommand run" -l dut-revision -d 'DUT revision the waivers\' `revisions` ranges are matched against' -r
 complete -c cancosim -n "__fish_cancosim_using_subcommand run" -l json -d 'Print the diagnosis as JSON instead of text'
@@ -129,14 +131,16 @@ complete -c cancosim -n "__fish_cancosim_using_subcommand cosim" -l record -d 'S
 complete -c cancosim -n "__fish_cancosim_using_subcommand cosim" -l candump -d 'Write the bus traffic as a candump log (`candump -l` format, timestamps = simulated time)' -r -F
 complete -c cancosim -n "__fish_cancosim_using_subcommand cosim" -l candump-iface -d 'Interface name in the candump log' -r
 complete -c cancosim -n "__fish_cancosim_using_subcommand cosim" -l max-bits -d 'Override the scenario\'s run length, in bit times' -r
-complete -c cancosim -n "__fish_cancosim_using_subcommand cosim" -l host -d 'Drive the DUT through this host instead of the scenario\'s own: `wishbone` (can_top), `avalon` (our can_avalon wrapper with the Avalon-MM BFM), `pio` (GPIO bit-banging, can_top_pio; the thesis\'s program polls ack as a level), `pio-edge` (the same program polling the ack PIO\'s edge capture register: for a core with a one-clock ack), `i8051` (the SJA1000\'s Intel-mode multiplexed bus, can_top_8051), `axi4-lite` (can_axi4lite), `apb` (APB4) or `apb3` (can_apb). Scenarios whose point is their host wiring (`[host] fixed`) are skipped' -r -f -a "wishbone\t''
+complete -c cancosim -n "__fish_cancosim_using_subcommand cosim" -l host -d 'Drive the DUT through this host instead of the scenario\'s own: `wishbone` (can_top), `avalon` (our can_avalon wrapper with the Avalon-MM BFM), `pio` (GPIO bit-banging, can_top_pio; the thesis\'s program polls ack as a level), `pio-edge` (the same program polling the ack PIO\'s edge capture register: for a core with a one-clock ack), `i8051` (the SJA1000\'s Intel-mode multiplexed bus, can_top_8051), `axi4-lite` (can_axi4lite), `apb` (APB4), `apb3` (can_apb), `motorola` (the SJA1000\'s Motorola-mode multiplexed bus, can_top_mcu with MODE low) or `regport` (a plain register port on the CAN clock, can_regport). Scenarios whose point is their host wiring (`[host] fixed`) are skipped' -r -f -a "wishbone\t''
 avalon\t''
 pio\t''
 pio-edge\t''
 i8051\t''
 axi4-lite\t''
 apb\t''
-apb3\t''"
+apb3\t''
+motorola\t''
+regport\t''"
 complete -c cancosim -n "__fish_cancosim_using_subcommand cosim" -l waivers -d 'Waiver file (repeatable), added to the scenario\'s own `[run] waivers`' -r -F
 complete -c cancosim -n "__fish_cancosim_using_subcommand cosim" -l dut-revision -d 'DUT revision the waivers\' `revisions` ranges are matched against' -r
 complete -c cancosim -n "__fish_cancosim_using_subcommand cosim" -l json -d 'Print the diagnosis as JSON instead of text'
@@ -160,14 +164,16 @@ complete -c cancosim -n "__fish_cancosim_using_subcommand regress" -l html -d 'W
 complete -c cancosim -n "__fish_cancosim_using_subcommand regress" -l coverage -d 'Code coverage: build each Verilated DUT with Verilator\'s line, toggle and branch coverage, merge the runs into DIR/<dut>/coverage.info and an HTML report (DIR/<dut>/html/index.html), print a summary per file' -r -F
 complete -c cancosim -n "__fish_cancosim_using_subcommand regress" -l funcov-json -d 'Write the functional coverage bins per DUT as JSON here' -r -F
 complete -c cancosim -n "__fish_cancosim_using_subcommand regress" -l max-bits -d 'Override every scenario\'s run length, in bit times' -r
-complete -c cancosim -n "__fish_cancosim_using_subcommand regress" -l host -d 'Drive the DUT through this host instead of the scenario\'s own: `wishbone` (can_top), `avalon` (our can_avalon wrapper with the Avalon-MM BFM), `pio` (GPIO bit-banging, can_top_pio; the thesis\'s program polls ack as a level), `pio-edge` (the same program polling the ack PIO\'s edge capture register: for a core with a one-clock ack), `i8051` (the SJA1000\'s Intel-mode multiplexed bus, can_top_8051), `axi4-lite` (can_axi4lite), `apb` (APB4) or `apb3` (can_apb). Scenarios whose point is their host wiring (`[host] fixed`) are skipped' -r -f -a "wishbone\t''
+complete -c cancosim -n "__fish_cancosim_using_subcommand regress" -l host -d 'Drive the DUT through this host instead of the scenario\'s own: `wishbone` (can_top), `avalon` (our can_avalon wrapper with the Avalon-MM BFM), `pio` (GPIO bit-banging, can_top_pio; the thesis\'s program polls ack as a level), `pio-edge` (the same program polling the ack PIO\'s edge capture register: for a core with a one-clock ack), `i8051` (the SJA1000\'s Intel-mode multiplexed bus, can_top_8051), `axi4-lite` (can_axi4lite), `apb` (APB4), `apb3` (can_apb), `motorola` (the SJA1000\'s Motorola-mode multiplexed bus, can_top_mcu with MODE low) or `regport` (a plain register port on the CAN clock, can_regport). Scenarios whose point is their host wiring (`[host] fixed`) are skipped' -r -f -a "wishbone\t''
 avalon\t''
 pio\t''
 pio-edge\t''
 i8051\t''
 axi4-lite\t''
 apb\t''
-apb3\t''"
+apb3\t''
+motorola\t''
+regport\t''"
 complete -c cancosim -n "__fish_cancosim_using_subcommand regress" -l waivers -d 'Waiver file (repeatable), added to the scenario\'s own `[run] waivers`' -r -F
 complete -c cancosim -n "__fish_cancosim_using_subcommand regress" -l dut-revision -d 'DUT revision the waivers\' `revisions` ranges are matched against' -r
 complete -c cancosim -n "__fish_cancosim_using_subcommand regress" -l funcov -d 'Print the functional coverage table (protocol and registers, seen from the golden model\'s side) per DUT; also printed with --coverage'
@@ -216,14 +222,16 @@ model\t''"
 complete -c cancosim -n "__fish_cancosim_using_subcommand campaign" -l external -d 'External core as NAME=DIR or NAME=DIR@PROFILE (repeatable; define CAN_WISHBONE_IF, DIR as include dir). Each needs a profile: its own @PROFILE, else --profile. DIR may be `git:REPO@REV[:SUBDIR]` (exported with git archive into the build cache)' -r
 complete -c cancosim -n "__fish_cancosim_using_subcommand campaign" -l profile -d 'Core profile (tb/profiles/NAME.toml or a file) of every --external without @PROFILE (e.g. --profile opencores-can); the column is then named "<profile> (<dir>)"' -r
 complete -c cancosim -n "__fish_cancosim_using_subcommand campaign" -l top -d 'Top module of the external cores (the opencores `can_top` port list)' -r
-complete -c cancosim -n "__fish_cancosim_using_subcommand campaign" -l host -d 'Drive the DUT through this host instead of the scenario\'s own: `wishbone` (can_top), `avalon` (our can_avalon wrapper with the Avalon-MM BFM), `pio` (GPIO bit-banging, can_top_pio; the thesis\'s program polls ack as a level), `pio-edge` (the same program polling the ack PIO\'s edge capture register: for a core with a one-clock ack), `i8051` (the SJA1000\'s Intel-mode multiplexed bus, can_top_8051), `axi4-lite` (can_axi4lite), `apb` (APB4) or `apb3` (can_apb). Scenarios whose point is their host wiring (`[host] fixed`) are skipped' -r -f -a "wishbone\t''
+complete -c cancosim -n "__fish_cancosim_using_subcommand campaign" -l host -d 'Drive the DUT through this host instead of the scenario\'s own: `wishbone` (can_top), `avalon` (our can_avalon wrapper with the Avalon-MM BFM), `pio` (GPIO bit-banging, can_top_pio; the thesis\'s program polls ack as a level), `pio-edge` (the same program polling the ack PIO\'s edge capture register: for a core with a one-clock ack), `i8051` (the SJA1000\'s Intel-mode multiplexed bus, can_top_8051), `axi4-lite` (can_axi4lite), `apb` (APB4), `apb3` (can_apb), `motorola` (the SJA1000\'s Motorola-mode multiplexed bus, can_top_mcu with MODE low) or `regport` (a plain register port on the CAN clock, can_regport). Scenarios whose point is their host wiring (`[host] fixed`) are skipped' -r -f -a "wishbone\t''
 avalon\t''
 pio\t''
 pio-edge\t''
 i8051\t''
 axi4-lite\t''
 apb\t''
-apb3\t''"
+apb3\t''
+motorola\t''
+regport\t''"
 complete -c cancosim -n "__fish_cancosim_using_subcommand campaign" -l waivers -d 'Waiver file (repeatable), added to the scenario\'s own `[run] waivers`' -r -F
 complete -c cancosim -n "__fish_cancosim_using_subcommand campaign" -l dut-revision -d 'DUT revision the waivers\' `revisions` ranges are matched against' -r
 complete -c cancosim -n "__fish_cancosim_using_subcommand campaign" -s j -l jobs -d 'Worker threads (0 = one per core)' -r
@@ -259,7 +267,9 @@ pio-edge\t''
 i8051\t''
 axi4-lite\t''
 apb\t''
-apb3\t''"
+apb3\t''
+motorola\t''
+regport\t''"
 complete -c cancosim -n "__fish_cancosim_using_subcommand mutate" -l budget-factor -d 'A mutant times out when its scenarios take longer than this many times the baseline\'s total (raise it on a loaded machine)' -r
 complete -c cancosim -n "__fish_cancosim_using_subcommand mutate" -l campaign-frames -d 'Give each mutant that survives the scenarios a random campaign of this many frames (`cancosim campaign`\'s runs, on the same host and waivers); a failing run kills it' -r
 complete -c cancosim -n "__fish_cancosim_using_subcommand mutate" -l campaign-seed -d 'Seed of those campaigns' -r

@@ -52,7 +52,7 @@ pub struct Args {
     #[arg(long, default_value_t = 20)]
     formal_steps: u32,
     /// Host of every scenario (default wishbone: the mutated core is the can_top port list).
-    #[arg(long, default_value = "wishbone", value_parser = ["wishbone", "avalon", "pio", "pio-edge", "i8051", "axi4-lite", "apb", "apb3"])]
+    #[arg(long, default_value = "wishbone", value_parser = ["wishbone", "avalon", "pio", "pio-edge", "i8051", "axi4-lite", "apb", "apb3", "motorola", "regport"])]
     host: String,
     /// A mutant times out when its scenarios take longer than this many times
     /// the baseline's total (raise it on a loaded machine).

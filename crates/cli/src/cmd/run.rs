@@ -126,9 +126,9 @@ pub struct HostArgs {
     /// Drive the DUT through this host instead of the scenario's own: `wishbone` (can_top),
     /// `avalon` (our can_avalon wrapper with the Avalon-MM BFM), `pio` (GPIO bit-banging,
     /// can_top_pio; the thesis's program polls ack as a level), `pio-edge` (the same program
-    /// polling the ack PIO's edge capture register: for a core with a one-clock ack), `i8051` (the SJA1000's Intel-mode multiplexed bus, can_top_8051), `axi4-lite` (can_axi4lite), `apb` (APB4) or `apb3` (can_apb).
+    /// polling the ack PIO's edge capture register: for a core with a one-clock ack), `i8051` (the SJA1000's Intel-mode multiplexed bus, can_top_8051), `axi4-lite` (can_axi4lite), `apb` (APB4), `apb3` (can_apb), `motorola` (the SJA1000's Motorola-mode multiplexed bus, can_top_mcu with MODE low) or `regport` (a plain register port on the CAN clock, can_regport).
     /// Scenarios whose point is their host wiring (`[host] fixed`) are skipped.
-    #[arg(long, value_parser = ["wishbone", "avalon", "pio", "pio-edge", "i8051", "axi4-lite", "apb", "apb3"])]
+    #[arg(long, value_parser = ["wishbone", "avalon", "pio", "pio-edge", "i8051", "axi4-lite", "apb", "apb3", "motorola", "regport"])]
     pub host: Option<String>,
 }
 

@@ -9,7 +9,7 @@ use bfm::{
     ApbBridge, ApbConfig, ApbMaster, ApbMasterOut, ApbMonitor, Axi4LiteBridge, Axi4LiteConfig,
     Axi4LiteMaster, Axi4LiteMonitor, AxiMasterOut, AvMasterOut, AvalonMaster, AvalonMasterConfig, AvalonMonitor, AvalonMonitorConfig, AvalonTiming,
     BfmError, HostMaster, I8051Config, I8051Master, I8051Monitor, I8051MonitorConfig, I8051Out,
-    I8051Polarity, I8051Timing, OpHandle, OpResult, PioMaster, PioTiming, WbMasterOut, WbSlaveOut,
+    I8051Polarity, I8051Timing, MotorolaBridge, MotorolaMaster, MotorolaMonitor, MotorolaOut, RegportBridge, RegportConfig, RegportMaster, RegportMonitor, RegportOut, OpHandle, OpResult, PioMaster, PioTiming, WbMasterOut, WbSlaveOut,
     WishboneMaster, WishboneMonitor, wiring::Wiring as AvWiring,
 };
 use diagnose::HostBus;
@@ -58,6 +58,16 @@ pub enum HostBfm {
     /// natively (`DutChoice::Rtl` becomes `can_apb`), a Wishbone DUT
     /// through [`bfm::ApbBridge`].
     Apb(ApbConfig),
+    /// Motorola-mode multiplexed bus master (AS, E, R/W, CS, active high,
+    /// phases as [`I8051Timing`]'s with AS for ALE and E for RD/WR); drives
+    /// a DUT with the [`HostPort::Motorola`] port list (`DutChoice::Rtl`
+    /// becomes `can_top_mcu` with `mode_i` low).
+    Motorola(I8051Timing),
+    /// A plain register port (strobes, no acknowledge) on the CAN clock
+    /// (`Testbench::new` sets the host clock to it): a DUT with the
+    /// [`HostPort::Regport`] port list (`DutChoice::Rtl` becomes
+    /// `can_regport`), a Wishbone DUT through [`bfm::RegportBridge`].
+    Regport(RegportConfig),
 }
 
 /// 8051-bus timing for our `can_top_8051` at the given clocks: the default
@@ -85,6 +95,10 @@ enum Master {
     I8051(I8051Master, I8051Monitor),
     /// The bridge (and the Wishbone outputs of the cycle that ends) when
     /// the DUT has a Wishbone port.
+    Motorola(MotorolaMaster, MotorolaMonitor, Option<(MotorolaBridge, WbSlaveOut)>),
+    Regport(RegportMaster, RegportMonitor, Option<(RegportBridge, WbSlaveOut)>),
+    /// The bridge (and the Wishbone outputs of the cycle that ends) when
+    /// the DUT has a Wishbone port.
     Axi(Axi4LiteMaster, Axi4LiteMonitor, Option<(Axi4LiteBridge, WbSlaveOut)>),
     Apb(ApbMaster, ApbMonitor, Option<ApbBridge>),
 }
@@ -96,6 +110,8 @@ macro_rules! with_master {
             Master::Av($x, _) => $e,
             Master::Pio($x) => $e,
             Master::I8051($x, _) => $e,
+            Master::Motorola($x, ..) => $e,
+            Master::Regport($x, ..) => $e,
             Master::Axi($x, ..) => $e,
             Master::Apb($x, ..) => $e,
         }
@@ -126,7 +142,10 @@ pub struct HostAgent {
     /// The pins applied to the DUT last (per bus kind).
     applied_wb: WbMasterOut,
     applied_av: AvMasterOut,
+    /// The 8051 pins applied last (Motorola host: its wires' Intel view).
     applied_i8051: I8051Out,
+    applied_mot: MotorolaOut,
+    applied_reg: RegportOut,
     applied_axi: AxiMasterOut,
     applied_apb: ApbMasterOut,
     wb_mon: WishboneMonitor,
@@ -220,6 +239,24 @@ impl HostAgent {
                 );
                 (Master::I8051(m, mon), HostBus::I8051)
             }
+            HostBfm::Regport(cfg) => {
+                let cfg = RegportConfig { timeout_cycles: s.op_timeout_cycles, ..cfg };
+                let bridge = match dut.host_port() {
+                    HostPort::Regport => None,
+                    HostPort::Wishbone => Some((RegportBridge::default(), WbSlaveOut::default())),
+                    other => return Err(format!("{} has the {other:?} port list: the register-port host drives a register port (can_regport) or a Wishbone port", dut.name())),
+                };
+                (Master::Regport(RegportMaster::new("host", cfg), RegportMonitor::new("regport monitor", cfg), bridge), HostBus::Regport)
+            }
+            HostBfm::Motorola(timing) => {
+                let bridge = match dut.host_port() {
+                    HostPort::Motorola => None,
+                    HostPort::Wishbone => Some((MotorolaBridge::default(), WbSlaveOut::default())),
+                    other => return Err(format!("{} has the {other:?} port list: the Motorola host drives a Motorola (can_top_mcu) or a Wishbone port", dut.name())),
+                };
+                let m = MotorolaMaster::new("host", timing, s.op_timeout_cycles);
+                (Master::Motorola(m, MotorolaMonitor::new("motorola monitor", &timing), bridge), HostBus::Motorola)
+            }
             HostBfm::Axi4Lite(cfg) => {
                 let cfg = Axi4LiteConfig { timeout_cycles: s.op_timeout_cycles, ..cfg };
                 let bridge = match dut.host_port() {
@@ -248,6 +285,12 @@ impl HostAgent {
             }
         }
         let i8051 = matches!(s.bfm, HostBfm::I8051(_));
+        if dut.host_port() == HostPort::Regport && !matches!(s.bfm, HostBfm::Regport(_)) {
+            return Err(format!("{} has the register-port port list: drive it with the register-port host", dut.name()));
+        }
+        if dut.host_port() == HostPort::Motorola && !matches!(s.bfm, HostBfm::Motorola(_)) {
+            return Err(format!("{} has the Motorola port list: drive it with the Motorola host", dut.name()));
+        }
         if (dut.host_port() == HostPort::I8051) != i8051 {
             return Err(format!(
                 "{} has the {:?} port list: drive {} with the 8051 host",
@@ -287,6 +330,8 @@ impl HostAgent {
             applied_wb: WbMasterOut::default(),
             applied_av: AvMasterOut::default(),
             applied_i8051: I8051Polarity::ACTIVE_HIGH.drive(false, false, false, false),
+            applied_mot: MotorolaOut::default(),
+            applied_reg: RegportOut::default(),
             applied_axi: AxiMasterOut::default(),
             applied_apb: ApbMasterOut::default(),
             wb_mon: WishboneMonitor::new("wishbone monitor", s.monitor_ack_timeout),
@@ -329,6 +374,8 @@ impl HostAgent {
     pub fn hold_reset(&self, dut: &mut AnyDut) {
         dut.set_reset(true);
         dut.set_i8051(&self.applied_i8051);
+        dut.set_motorola(&self.applied_mot);
+        dut.set_regport(&self.applied_reg);
     }
 
     /// `wb_rst_i` is still held.
@@ -460,6 +507,45 @@ impl HostAgent {
                 dut.set_wb(&self.applied_wb);
                 dut.set_reset(m.rst());
             }
+            Master::Regport(m, mon, None) => {
+                let s = dut.regport();
+                i8051_viol = mon.observe(cycle, &self.applied_reg, &s);
+                m.on_edge(&s);
+                self.applied_reg = m.outputs();
+                dut.set_regport(&self.applied_reg);
+            }
+            Master::Regport(m, mon, Some((b, prev_wb))) => {
+                let s_wb = dut.wb();
+                b.clock(&self.applied_reg, prev_wb);
+                *prev_wb = s_wb;
+                let s = b.to_port();
+                i8051_viol = mon.observe(cycle, &self.applied_reg, &s);
+                m.on_edge(&s);
+                self.applied_reg = m.outputs();
+                self.applied_wb = b.to_wishbone(&self.applied_reg);
+                dut.set_wb(&self.applied_wb);
+            }
+            Master::Motorola(m, mon, None) => {
+                let s = dut.i8051();
+                i8051_viol = mon.observe(cycle, &self.applied_mot, &s);
+                m.on_edge(&s);
+                self.applied_mot = m.outputs();
+                self.applied_i8051 = self.applied_mot.intel_view();
+                dut.set_motorola(&self.applied_mot);
+            }
+            Master::Motorola(m, mon, Some((b, prev_wb))) => {
+                let s_wb = dut.wb();
+                // The bridge's registers take the wires of the cycle that ends.
+                b.clock(&self.applied_mot, prev_wb);
+                *prev_wb = s_wb;
+                let s = b.to_port(&self.applied_mot);
+                i8051_viol = mon.observe(cycle, &self.applied_mot, &s);
+                m.on_edge(&s);
+                self.applied_mot = m.outputs();
+                self.applied_i8051 = self.applied_mot.intel_view();
+                self.applied_wb = b.to_wishbone();
+                dut.set_wb(&self.applied_wb);
+            }
             Master::I8051(m, mon) => {
                 let s = dut.i8051();
                 i8051_viol = mon.observe(cycle, &self.applied_i8051, &s);
@@ -541,7 +627,12 @@ impl HostAgent {
             violations.push(diagnose::Violation { cycle: v.cycle, rule: rule_id("avalon.", v.rule), message: v.message });
         }
         for v in i8051_viol {
-            violations.push(diagnose::Violation { cycle: v.cycle, rule: rule_id("i8051.", v.rule), message: v.message });
+            let prefix = match self.master {
+                Master::Motorola(..) => "motorola.",
+                Master::Regport(..) => "regport.",
+                _ => "i8051.",
+            };
+            violations.push(diagnose::Violation { cycle: v.cycle, rule: rule_id(prefix, v.rule), message: v.message });
         }
         let prefix = if matches!(self.master, Master::Apb(..)) { "apb." } else { "axi4lite." };
         for v in axi_viol {
@@ -593,10 +684,11 @@ impl HostAgent {
         matches!(self.master, Master::Av(_, AvalonWiring::Native))
     }
 
-    /// The master is the 8051 one.
+    /// The master is the 8051 one (or the Motorola one, whose wires the
+    /// agent also keeps as their Intel view).
     #[inline]
     pub fn is_i8051(&self) -> bool {
-        matches!(self.master, Master::I8051(..))
+        matches!(self.master, Master::I8051(..) | Master::Motorola(..))
     }
 
     /// The core's handshake can see a new request now (no hold-off, or it
@@ -635,6 +727,9 @@ impl HostAgent {
         if let Master::Apb(_, _, None) = self.master {
             return self.applied_apb.psel && self.applied_apb.penable;
         }
+        if let Master::Regport(_, _, None) = self.master {
+            return self.applied_reg.rd || self.applied_reg.wr;
+        }
         if self.native_avalon() {
             self.applied_av.chipselect && (self.applied_av.read || self.applied_av.write)
         } else {
@@ -647,8 +742,12 @@ impl HostAgent {
     /// external core). `wr_seen` remembers WR across the calls of one
     /// access. False for other buses.
     pub fn i8051_launch(&self, write: bool, wr_seen: &mut bool) -> bool {
-        let Master::I8051(m, _) = &self.master else { return false };
-        let (p, w) = (m.config().polarity, &self.applied_i8051);
+        let p = match &self.master {
+            Master::I8051(m, _) => m.config().polarity,
+            Master::Motorola(..) => I8051Polarity::ACTIVE_HIGH,
+            _ => return false,
+        };
+        let w = &self.applied_i8051;
         let (rd, wr) = (p.cs(w) && p.rd(w), p.cs(w) && p.wr(w));
         *wr_seen |= wr;
         let write_launch = if self.i8051_write_at_release { *wr_seen && !wr } else { wr };
@@ -665,8 +764,14 @@ impl HostAgent {
         if let Master::Apb(_, _, None) = self.master {
             return self.applied_apb.psel && dut.apb().pready;
         }
+        if let Master::Regport(_, _, None) = self.master {
+            // No acknowledge: the port answers by being there.
+            return self.applied_reg.rd || self.applied_reg.wr;
+        }
         if self.native_avalon() {
             self.applied_av.chipselect && !dut.av().waitrequest
+        } else if let Master::Motorola(_, _, Some((b, _))) = &self.master {
+            b.to_port(&self.applied_mot).ad_oe
         } else if self.is_i8051() {
             dut.i8051().ad_oe
         } else {
@@ -688,9 +793,13 @@ impl HostAgent {
                 let s = dut.av();
                 (self.applied_av.chipselect && !s.waitrequest, s.readdata)
             }
-            HostPort::I8051 => {
+            HostPort::I8051 | HostPort::Motorola => {
                 let s = dut.i8051();
                 (s.ad_oe, s.ad)
+            }
+            HostPort::Regport => {
+                let a = self.applied_reg;
+                (a.rd || a.wr, dut.regport().rdat)
             }
             HostPort::Axi4Lite => {
                 let s = dut.axi();
@@ -710,9 +819,13 @@ impl HostAgent {
                 let a = self.applied_av;
                 (a.chipselect, a.read || a.write, a.write, a.address, a.writedata)
             }
-            HostPort::I8051 => {
+            HostPort::I8051 | HostPort::Motorola => {
                 let a = self.applied_i8051;
                 (a.cs, a.rd || a.wr, a.wr, if a.ale { a.ad } else { 0 }, a.ad)
+            }
+            HostPort::Regport => {
+                let a = self.applied_reg;
+                (a.rd || a.wr, a.rd || a.wr, a.wr, if a.rd { a.rd_adr } else { a.wr_adr }, a.wdat)
             }
             HostPort::Axi4Lite => {
                 let a = self.applied_axi;

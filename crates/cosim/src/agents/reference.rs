@@ -82,6 +82,8 @@ pub enum HostKind {
     Axi4Lite,
     /// APB.
     Apb,
+    /// A plain register port.
+    Regport,
 }
 
 impl RefTiming {
@@ -120,6 +122,10 @@ impl RefTiming {
             // combinational request).
             (_, HostKind::Axi4Lite, Some(p)) => from_profile(p.axi4lite.unwrap_or(p.wishbone)),
             (_, HostKind::Apb, Some(p)) => from_profile(p.apb.unwrap_or(p.wishbone)),
+            // The register port: from the clock edge that presents a
+            // strobe, as the profile's Wishbone timing (our can_regport is
+            // can_top behind a combinational request, on one clock).
+            (_, HostKind::Regport, Some(p)) => from_profile(p.wishbone),
             _ => RefTiming::AtAck,
         }
     }
