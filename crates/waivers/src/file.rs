@@ -767,7 +767,7 @@ pub(crate) struct RawWaiver {
     /// Only while the host's last word on the model's transmission request was an abort
     /// (CMR.AT written since the last TR or SRR). Default: false.
     pub after_abort: Option<bool>,
-    /// At most this many hits (episodes with `until-read`) are waived. Default: unbounded.
+    /// At most this many hits are waived (with `until-read`: episodes; with `late-by`: differences, each counted once however often it is reported). Default: unbounded.
     #[schemars(with = "Option<u32>")]
     pub max_hits: Option<Spanned<u32>>,
     /// What the bench does once the divergence is waived, in order: `"none"`,

@@ -182,7 +182,7 @@ pub struct Waiver {
     pub consequences: Vec<Consequence>,
     /// Divergences waived so far.
     pub hits: u32,
-    /// Episodes so far (`until-read`).
+    /// Episodes so far (`until-read`; with `late-by`, the differences).
     pub episodes: u32,
     episode: Option<Episode>,
     late: Option<LateEpisode>,
@@ -671,7 +671,10 @@ impl WaiverSet {
                     None => continue,
                 }
             }
-            if w.max_hits.is_some_and(|m| w.hits >= m) {
+            let timed = w.late_by.is_some() && obs.now_ps.is_some() && obs.bit_time_ps.is_some() && obs.can_clock_ps.is_some();
+            // With `late-by` observed, max-hits counts differences (episodes),
+            // below; otherwise reports.
+            if !timed && w.max_hits.is_some_and(|m| w.hits >= m) {
                 continue;
             }
             if let (Some(by), Some(now), Some(bit_ps), Some(clk_ps)) =
@@ -680,11 +683,18 @@ impl WaiverSet {
                 // The comparator reports a lasting pin difference again and
                 // again, each report's run starting where the last report
                 // was taken: those reports are one difference, measured from
-                // its first start to now.
-                let start = match w.late {
-                    Some(e) if d.time_ps >= e.start_ps && d.time_ps <= e.last_report_ps + 2 * clk_ps => e.start_ps,
-                    _ => d.time_ps,
+                // its first start to now. Their number grows with the bit
+                // time, so max-hits counts differences, not reports.
+                let (start, new) = match w.late {
+                    Some(e) if d.time_ps >= e.start_ps && d.time_ps <= e.last_report_ps + 2 * clk_ps => (e.start_ps, false),
+                    _ => (d.time_ps, true),
                 };
+                if new {
+                    if w.max_hits.is_some_and(|m| w.episodes >= m) {
+                        continue;
+                    }
+                    w.episodes += 1;
+                }
                 w.late = Some(LateEpisode { start_ps: start, last_report_ps: now.max(d.time_ps) });
                 if now.saturating_sub(start) > by.ps(bit_ps, clk_ps) {
                     continue;
@@ -732,6 +742,10 @@ impl WaiverSet {
                         ),
                     }
                 }
+                None if w.late_by.is_some() && w.max_hits.is_some_and(|m| w.episodes >= m) => format!(
+                    "waiver `{}` ({}:{}) already used its max-hits = {} difference(s) (late-by: reports of one lasting difference count once)",
+                    w.id, w.file, w.line, w.episodes
+                ),
                 None if w.max_hits.is_some_and(|m| w.hits >= m) => {
                     format!("waiver `{}` ({}:{}) already used its max-hits = {}", w.id, w.file, w.line, w.hits)
                 }

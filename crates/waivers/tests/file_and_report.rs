@@ -401,7 +401,9 @@ fn several_files_load_into_one_set_and_ids_stay_unique() {
     std::fs::remove_dir_all(&dir).unwrap();
 }
 
-/// Every entry of the shipped upstream file is bounded by a count,
+/// Every entry of the shipped upstream file is bounded by a count or by a
+/// bound that follows the run whatever the host's pace (after an abort,
+/// until a read, at most N bits per episode),
 /// names its row in docs/opencores-deviations.md (or is one of the two
 /// original TEC entries), is for the upstream core only, and the row exists in the doc.
 #[test]
@@ -411,7 +413,11 @@ fn every_shipped_upstream_waiver_is_bounded_documented_and_for_upstream_only() {
     let doc = std::fs::read_to_string(format!("{root}/docs/opencores-deviations.md")).unwrap();
     assert!(set.waivers().len() >= 15, "one entry per deviation");
     for w in set.waivers() {
-        assert!(w.max_hits.is_some(), "{}: every waiver has max-hits", w.id);
+        assert!(
+            w.max_hits.is_some() || w.after_abort || w.until_read.is_some() || w.late_bits.is_some(),
+            "{}: every waiver has max-hits or a bound that follows the run",
+            w.id
+        );
         assert!(doc.contains(&format!("`{}`", w.id)), "{} is listed in docs/opencores-deviations.md", w.id);
         let row = w.explanation.split_whitespace().next().unwrap_or("");
         assert!(
