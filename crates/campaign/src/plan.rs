@@ -465,10 +465,13 @@ pub fn draw(seed: u64, index: u64, lim: &DrawLimits) -> Plan {
         }
         program = spaced;
     }
-    for op in &mut program {
+    // The tail's abort stays (it ends what is still pending before the final drain).
+    let tail = tail_start(&program).unwrap_or(program.len());
+    for op in &mut program[..tail] {
         match op {
             HostOp::ResetToggle { bits, .. } if lim.avoids("software-reset-mode") => *op = HostOp::Wait(*bits),
             HostOp::Sleep { bits } if lim.avoids("sleep-mode") => *op = HostOp::Wait(*bits),
+            HostOp::Abort if lim.avoids("abort-in-flight") => *op = HostOp::Wait(1),
             _ => {}
         }
     }
@@ -723,16 +726,22 @@ mod tests {
     #[test]
     fn an_avoided_trigger_is_taken_out_and_nothing_else_changes() {
         let avoid = DrawLimits {
-            avoid: vec!["software-reset-mode".into(), "extended-frames-in-basiccan".into(), "sleep-mode".into()],
+            avoid: vec!["software-reset-mode".into(), "extended-frames-in-basiccan".into(), "sleep-mode".into(), "abort-in-flight".into()],
             ..DrawLimits::default()
         };
-        let (mut toggles, mut sleeps, mut basic_ext) = (0, 0, 0);
+        let (mut toggles, mut sleeps, mut basic_ext, mut aborts) = (0, 0, 0, 0);
         for i in 0..300 {
             let (p, q) = (draw(11, i, &DrawLimits::default()), draw(11, i, &avoid));
             toggles += p.program.iter().filter(|o| matches!(o, HostOp::ResetToggle { .. })).count();
             assert!(!q.program.iter().any(|o| matches!(o, HostOp::ResetToggle { .. })), "run {i}: a reset toggle left");
             sleeps += p.program.iter().filter(|o| matches!(o, HostOp::Sleep { .. })).count();
             assert!(!q.program.iter().any(|o| matches!(o, HostOp::Sleep { .. })), "run {i}: a sleep left");
+            aborts += p.program.iter().filter(|o| matches!(o, HostOp::Abort)).count() - 1;
+            let tail = tail_start(&q.program).expect("a drawn plan ends with its tail");
+            assert!(!q.program[..tail].iter().any(|o| matches!(o, HostOp::Abort)), "run {i}: an abort left");
+            assert_eq!(q.program[tail..tail + TAIL.len()], TAIL, "run {i}: the tail keeps its abort");
+            let single_shots = |p: &Plan| p.program.iter().filter(|o| matches!(o, HostOp::Transmit { command, .. } if command & 0x02 != 0)).count();
+            assert_eq!(single_shots(&p), single_shots(&q), "run {i}: single-shot requests stay");
             assert_eq!(p.program.len(), q.program.len(), "run {i}: a toggle becomes a wait of its length");
             let spaced = draw(11, i, &DrawLimits { avoid: vec!["command-right-after-request".into()], ..DrawLimits::default() });
             for w in spaced.program.windows(2) {
@@ -751,6 +760,6 @@ mod tests {
                 }
             }
         }
-        assert!(toggles > 20 && sleeps > 10 && basic_ext > 5, "the draw has every trigger to take out: {toggles} {sleeps} {basic_ext}");
+        assert!(toggles > 20 && sleeps > 10 && basic_ext > 5 && aborts > 20, "the draw has every trigger to take out: {toggles} {sleeps} {basic_ext} {aborts}");
     }
 }

@@ -37,6 +37,10 @@ pub const CAMPAIGN_TRIGGERS: &[(&str, &str)] = &[
         "command-right-after-request",
         "the host waits 2 bit times after each transmission request before its next operation (no other CMR write right after TR)",
     ),
+    (
+        "abort-in-flight",
+        "the host writes CMR.AT on its own only in the program's closing abort, 200 bit times after its last operation; single-shot requests (TR with AT) stay",
+    ),
 ];
 
 /// What leaving `trigger` out removes from the plans (None: unknown trigger).
@@ -52,7 +56,7 @@ pub(crate) struct RawAvoid {
     #[schemars(with = "String")]
     pub id: Spanned<String>,
     /// What the campaign leaves out of its plans: `extended-frames-in-basiccan`,
-    /// `software-reset-mode`, `sleep-mode` or `command-right-after-request`. Required.
+    /// `software-reset-mode`, `sleep-mode`, `command-right-after-request` or `abort-in-flight`. Required.
     #[schemars(with = "String")]
     pub trigger: Spanned<String>,
     /// The deviation's row in the deviations table (`"D29"`). Required, not empty.
