@@ -1847,6 +1847,75 @@ mod tests {
     }
 
     #[test]
+    fn bus_port_tables_bind_roles_with_levels_and_refuse_unknown_ones() {
+        let p = Profile::parse(
+            &format!("{GOOD}[ports]\ncan-clock = \"clk\"\n[ports.regport]\nwr = {{ name = \"we_n\", active = \"low\" }}\nadr = \"addr\"\n[ports.apb]\nclock = \"PCLK\"\n"),
+            "p",
+        )
+        .unwrap();
+        assert_eq!(*p.ports.regport.pin("wr"), Pin::new("we_n", false));
+        assert_eq!(p.ports.regport.pin("rd").name, "rd_i", "a role not named keeps can_regport's port");
+        assert!(p.ports.regport.required("adr") && !p.ports.regport.required("wr-adr"));
+        assert_eq!(p.ports.apb.pin("clock").name, "PCLK");
+        assert_eq!(*p.ports.apb.pin("reset"), Pin::new("presetn", false));
+        assert_eq!(p.ports.describe(), "can-clock = clk, apb.clock = PCLK, regport.wr = we_n active low, regport.adr = addr");
+        let e = err(&format!("{GOOD}[ports.regport]\nwrr = \"x\"\n"));
+        assert!(e.starts_with("p.toml:19: wrr: unknown field `wrr` of [ports.regport], expected one of `reset`, `wr`"), "{e}");
+        let e = err(&format!("{GOOD}[ports]\nreset = \"r\"\n[ports.axi4-lite]\nreset = \"a\"\nawvalid = {{ name = \"v\", active = \"low\" }}\n"));
+        assert!(e.starts_with("p.toml:22: awvalid: only reset have a polarity"), "{e}");
+        let e = err(&format!("{GOOD}[ports.regport]\nadr = \"a\"\nwr-adr = \"w\"\n"));
+        assert!(e.starts_with("p.toml:19: adr: one address (adr) or a write and a read address"), "{e}");
+        let e = err(&format!("{GOOD}[ports.motorola]\nad-o = \"\"\n"));
+        assert!(e.starts_with("p.toml:19: ad-o: the port name must not be empty"), "{e}");
+    }
+
+    #[test]
+    fn regport_and_motorola_access_tables_set_the_bus_timing() {
+        let p = Profile::parse(GOOD, "p").unwrap();
+        assert_eq!(p.regport.config(), bfm::RegportConfig::default(), "no table: can_regport's");
+        let base = crate::i8051_timing_for_rtl(24_000_000, 24_000_000);
+        assert_eq!(p.motorola.cycles(base, 24_000_000), base, "no table: the bench's phases");
+        let p = Profile::parse(
+            &GOOD.replace(
+                "[tolerances]",
+                "[access.regport]\nstrobe = 2\nread-latency = 0\ngap = 3\naddresses = \"one\"\ntakes-effect = \"can-edges\"\nread = 1\nwrite = 2\ncommand = 2\n\
+                 [access.motorola]\ne-read-ns = 1000\nrecovery-ns = 1\n[tolerances]",
+            ),
+            "p",
+        )
+        .unwrap();
+        let c = p.regport.config();
+        assert_eq!((c.strobe, c.read_latency, c.gap, c.separate_addr), (2, 0, 3, false));
+        assert_eq!(p.regport.timing, Some(AccessTiming::CanEdges { read: 1, write: 2, command: 2 }));
+        let t = p.motorola.cycles(base, 24_000_000);
+        assert_eq!((t.rd, t.recovery, t.wr, t.ale), (24, 1, base.wr, base.ale), "1000 ns at 24 MHz: 24 cycles; the rest kept");
+        assert!(p.describe().contains("register port: read/write/command after CAN edge 1/2/2, strobes 2 clocks, read data 0 clocks after the strobe, 3 idle clocks, one address"), "{}", p.describe());
+        assert!(p.describe().contains("Motorola bus: as the 8051 bus, e-read-ns 1000, recovery-ns 1"), "{}", p.describe());
+        let e = err(&GOOD.replace("[tolerances]", "[access.regport]\nstrobe = 0\n[tolerances]"));
+        assert!(e.starts_with("p.toml:14: access.regport: strobe 0: 1 to 64 clocks"), "{e}");
+        let e = err(&GOOD.replace("[tolerances]", "[access.regport]\nlatency = 3\n[tolerances]"));
+        assert!(e.starts_with("p.toml:14: latency: unknown field `latency`"), "{e}");
+        let e = err(&GOOD.replace("[tolerances]", "[access.motorola]\nread = 3\n[tolerances]"));
+        assert!(e.starts_with("p.toml:14: access.motorola: read, write and command need takes-effect"), "{e}");
+        let e = err(&GOOD.replace("[tolerances]", "[access.motorola]\nas = 3\n[tolerances]"));
+        assert!(e.starts_with("p.toml:14: as: unknown field `as`"), "{e}");
+        let e = err(&format!("{}[ports.regport]\nadr = \"a\"\n", GOOD.replace("[tolerances]", "[access.regport]\naddresses = \"separate\"\n[tolerances]")));
+        assert!(e.starts_with("p.toml:14: access.regport: addresses = \"separate\" but [ports.regport] names adr"), "{e}");
+    }
+
+    #[test]
+    fn the_fork_fixture_profiles_load() {
+        let dir = Path::new(env!("CARGO_MANIFEST_DIR")).join("../../tb/fixtures/fork");
+        for f in ["regport", "regport-wrong-latency", "apb", "axi4-lite", "motorola"] {
+            Profile::load(dir.join(format!("{f}.toml"))).unwrap_or_else(|e| panic!("{e}"));
+        }
+        let wrong = Profile::load(dir.join("regport-wrong-latency.toml")).unwrap();
+        let right = Profile::load(dir.join("regport.toml")).unwrap();
+        assert_eq!((right.regport.config().read_latency, wrong.regport.config().read_latency), (22, 14));
+        assert_eq!(Profile { name: right.name.clone(), ancestors: right.ancestors.clone(), file: right.file.clone(), description: right.description.clone(), regport: right.regport, ..wrong.clone() }, right, "the two differ in the read latency only");
+    }
+
+    #[test]
     fn ports_map_names_and_polarities() {
         let p = Profile::parse(&format!("{GOOD}[ports]\nirq = {{ name = \"irq_o\", active = \"high\" }}\ncan-clock = \"clk\"\n"), "p").unwrap();
         assert_eq!(p.ports.irq, Pin::new("irq_o", true));
