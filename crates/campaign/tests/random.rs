@@ -26,6 +26,21 @@ fn a_small_campaign_on_rtl_passes() {
     assert!(r.passed(), "{}", r.to_text(&c));
 }
 
+/// Every host with a wrapper of its own drives a campaign (`campaign
+/// --host`): a few frames each on our RTL through that wrapper.
+#[test]
+fn a_tiny_campaign_runs_on_every_new_host() {
+    for h in [scenario::HostBfm::Axi4Lite, scenario::HostBfm::Apb, scenario::HostBfm::Apb3, scenario::HostBfm::Regport, scenario::HostBfm::Motorola] {
+        let mut c = RandomConfig::new(7, 12, DutSpec::rtl());
+        c.host = Some(h);
+        c.shrink_runs = 0;
+        c.limits = DrawLimits { max_brp: 1, ..DrawLimits::default() };
+        let r = run_campaign(&c);
+        assert!(r.frames >= 12 && r.runs >= 1, "{}: {} frames in {} runs", h.name(), r.frames, r.runs);
+        assert!(r.passed(), "{}: {}", h.name(), r.to_text(&c));
+    }
+}
+
 /// The model against itself: any failure here is a kit defect.
 #[test]
 fn the_model_against_itself_never_fails() {

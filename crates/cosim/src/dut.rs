@@ -156,6 +156,16 @@ pub trait Dut {
     fn trace_dump(&mut self, _t_ps: u64) {}
 }
 
+/// The CAN-side port names of a profile's port map (every bus but Avalon):
+/// CAN clock, rx, tx, irq, bus-off, clkout.
+fn can_side(ports: &PortMap) -> [&str; 6] {
+    [&ports.can_clock, &ports.rx, &ports.tx, &ports.irq, &ports.bus_off, &ports.clkout].map(|p| p.name.as_str())
+}
+
+fn can_pol(ports: &PortMap) -> OutPolarity {
+    OutPolarity { irq_active_high: ports.irq.active_high, bus_off_active_high: ports.bus_off.active_high }
+}
+
 struct WbPorts {
     clk: Port,
     rst: Port,
@@ -202,13 +212,21 @@ struct RegportPorts {
     /// One `adr_i` for both.
     one_adr: bool,
     rdat: Port,
+    /// The write and read strobes are active low (a profile's port map).
+    wr_low: bool,
+    rd_low: bool,
 }
 
 struct MotorolaPorts {
-    /// The MODE strap, held low (Motorola) with every set of pins.
-    mode: Port,
+    /// The MODE strap, held at the level selecting Motorola mode with every
+    /// set of pins (none: a Motorola-only top).
+    mode: Option<(Port, bool)>,
     /// ALE/AS, CS, RD/E, WR/(R/W) of the split port list.
     pins: I8051Ports,
+    /// AS, CS, E active low; R/W low for a read; the output enable low
+    /// while the core drives the port (a profile's port map).
+    inv: [bool; 4],
+    oe_low: bool,
 }
 
 struct AxiPorts {
@@ -321,10 +339,16 @@ impl VerilatedDut {
                     readdatavalid: false,
                 }
             }
-            HostPorts::I8051(p) | HostPorts::Motorola(MotorolaPorts { pins: p, .. }) => {
+            HostPorts::I8051(p) => {
                 self.out.i8051 = I8051SlaveOut {
                     ad: get(p.port_o),
                     ad_oe: get(p.port_oe) != 0,
+                }
+            }
+            HostPorts::Motorola(MotorolaPorts { pins: p, oe_low, .. }) => {
+                self.out.i8051 = I8051SlaveOut {
+                    ad: get(p.port_o),
+                    ad_oe: (get(p.port_oe) != 0) != *oe_low,
                 }
             }
             HostPorts::Regport(r) => self.out.regport = RegportIn { rdat: get(r.rdat) as u8 },
@@ -501,66 +525,89 @@ impl VerilatedDut {
                     port_o: p("port_0_o", 8)?,
                     port_oe: p("port_0_oe", 1)?,
                 });
-                let pol = OutPolarity { irq_active_high: false, bus_off_active_high: false };
-                (host, ["clk_i", "rx_i", "tx_o", "irq_on", "bus_off_on", "clkout_o"], pol, false, k)
+                (host, can_side(ports), can_pol(ports), false, k)
             }
             HostPort::Regport => {
-                let k = "register port (can_regport)";
-                let p = |n: &str, w: u32| m.port(n, Some(w), k);
-                let (adr, one_adr) = match p("adr_i", 8) {
-                    Ok(a) => ([a, p("adr_i", 8)?], true),
-                    Err(_) => ([p("wr_adr_i", 8)?, p("rd_adr_i", 8)?], false),
+                let b = &ports.regport;
+                let k = if *b == crate::profile::BusPorts::default_for(crate::profile::PortBus::Regport) { "register port (can_regport)" } else { "the profile's [ports.regport]" };
+                let p = |r: &str, w: u32| m.port(&b.pin(r).name, Some(w), k);
+                // One address port for both strobes, or one of each: as the
+                // profile names them, else as the top has them.
+                let one = if b.required("adr") {
+                    true
+                } else if b.required("wr-adr") || b.required("rd-adr") {
+                    false
+                } else {
+                    m.port(&b.pin("adr").name, Some(8), k).is_ok()
                 };
-                let host = HostPorts::Regport(RegportPorts { rst: p("rst_i", 1)?, wr: p("wr_i", 1)?, wdat: p("wdat_i", 8)?, rd: p("rd_i", 1)?, adr, one_adr, rdat: p("rdat_o", 8)? });
-                let pol = OutPolarity { irq_active_high: false, bus_off_active_high: false };
-                (host, ["clk_i", "rx_i", "tx_o", "irq_on", "bus_off_on", "clkout_o"], pol, false, k)
+                let adr = if one { [p("adr", 8)?, p("adr", 8)?] } else { [p("wr-adr", 8)?, p("rd-adr", 8)?] };
+                let host = HostPorts::Regport(RegportPorts {
+                    rst: p("reset", 1)?,
+                    wr: p("wr", 1)?,
+                    wdat: p("wdat", 8)?,
+                    rd: p("rd", 1)?,
+                    adr,
+                    one_adr: one,
+                    rdat: p("rdat", 8)?,
+                    wr_low: !b.pin("wr").active_high,
+                    rd_low: !b.pin("rd").active_high,
+                });
+                (host, can_side(ports), can_pol(ports), !b.pin("reset").active_high, k)
             }
             HostPort::Motorola => {
-                let k = "Motorola bus (can_top_mcu)";
-                let p = |n: &str, w: u32| m.port(n, Some(w), k);
+                let b = &ports.motorola;
+                let k = if *b == crate::profile::BusPorts::default_for(crate::profile::PortBus::Motorola) { "Motorola bus (can_top_mcu)" } else { "the profile's [ports.motorola]" };
+                let p = |r: &str, w: u32| m.port(&b.pin(r).name, Some(w), k);
+                let mode = if b.required("mode") || m.port(&b.pin("mode").name, Some(1), k).is_ok() {
+                    Some((p("mode", 1)?, b.pin("mode").active_high))
+                } else {
+                    None
+                };
                 let host = HostPorts::Motorola(MotorolaPorts {
-                    mode: p("mode_i", 1)?,
+                    mode,
                     pins: I8051Ports {
-                        rst: p("rst_i", 1)?,
-                        ale: p("ale_as_i", 1)?,
-                        cs: p("cs_can_i", 1)?,
-                        rd: p("rd_e_i", 1)?,
-                        wr: p("wr_rw_i", 1)?,
-                        port_i: p("port_0_i", 8)?,
-                        port_o: p("port_0_o", 8)?,
-                        port_oe: p("port_0_oe", 1)?,
+                        rst: p("reset", 1)?,
+                        ale: p("as", 1)?,
+                        cs: p("cs", 1)?,
+                        rd: p("e", 1)?,
+                        wr: p("rw", 1)?,
+                        port_i: p("ad-i", 8)?,
+                        port_o: p("ad-o", 8)?,
+                        port_oe: p("ad-oe", 1)?,
                     },
+                    inv: ["as", "cs", "e", "rw"].map(|r| !b.pin(r).active_high),
+                    oe_low: !b.pin("ad-oe").active_high,
                 });
-                let pol = OutPolarity { irq_active_high: false, bus_off_active_high: false };
-                (host, ["clk_i", "rx_i", "tx_o", "irq_on", "bus_off_on", "clkout_o"], pol, false, k)
+                (host, can_side(ports), can_pol(ports), !b.pin("reset").active_high, k)
             }
             HostPort::Axi4Lite => {
-                let k = "AXI4-Lite (can_axi4lite)";
-                let p = |n: &str| m.port(&format!("s_axi_{n}"), None, k);
+                let b = &ports.axi4lite;
+                let k = if *b == crate::profile::BusPorts::default_for(crate::profile::PortBus::Axi4Lite) { "AXI4-Lite (can_axi4lite)" } else { "the profile's [ports.axi4-lite]" };
+                let p = |r: &str| m.port(&b.pin(r).name, None, k);
                 let host = HostPorts::Axi(AxiPorts {
-                    clk: p("aclk")?,
-                    rst: p("aresetn")?,
+                    clk: p("clock")?,
+                    rst: p("reset")?,
                     ins: [p("awvalid")?, p("awaddr")?, p("awprot")?, p("wvalid")?, p("wdata")?, p("wstrb")?, p("bready")?, p("arvalid")?, p("araddr")?, p("arprot")?, p("rready")?],
                     outs: [p("awready")?, p("wready")?, p("bvalid")?, p("bresp")?, p("arready")?, p("rvalid")?, p("rdata")?, p("rresp")?],
                 });
-                let pol = OutPolarity { irq_active_high: false, bus_off_active_high: false };
-                (host, ["clk_i", "rx_i", "tx_o", "irq_on", "bus_off_on", "clkout_o"], pol, true, k)
+                (host, can_side(ports), can_pol(ports), !b.pin("reset").active_high, k)
             }
             HostPort::Apb => {
-                let k = "APB (can_apb)";
-                let p = |n: &str| m.port(n, None, k);
+                let b = &ports.apb;
+                let k = if *b == crate::profile::BusPorts::default_for(crate::profile::PortBus::Apb) { "APB (can_apb)" } else { "the profile's [ports.apb]" };
+                let p = |r: &str| m.port(&b.pin(r).name, None, k);
                 let mut ins = vec![p("psel")?, p("penable")?, p("pwrite")?, p("paddr")?, p("pwdata")?];
-                // APB3 tops have no PSTRB/PPROT.
-                if let (Ok(a), Ok(b)) = (p("pstrb"), p("pprot")) {
-                    ins.extend([a, b]);
+                // APB3 tops have no PSTRB/PPROT (bound when named or present).
+                if b.required("pstrb") || b.required("pprot") {
+                    ins.extend([p("pstrb")?, p("pprot")?]);
+                } else if let (Ok(a), Ok(c)) = (p("pstrb"), p("pprot")) {
+                    ins.extend([a, c]);
                 }
-                let host = HostPorts::Apb(ApbPorts { clk: p("pclk")?, rst: p("presetn")?, ins, outs: [p("pready")?, p("prdata")?, p("pslverr")?] });
-                let pol = OutPolarity { irq_active_high: false, bus_off_active_high: false };
-                (host, ["clk_i", "rx_i", "tx_o", "irq_on", "bus_off_on", "clkout_o"], pol, true, k)
+                let host = HostPorts::Apb(ApbPorts { clk: p("clock")?, rst: p("reset")?, ins, outs: [p("pready")?, p("prdata")?, p("pslverr")?] });
+                (host, can_side(ports), can_pol(ports), !b.pin("reset").active_high, k)
             }
         };
         let p = |i: usize| m.port(can_names[i], Some(1), k);
-        let reset_active_low = reset_active_low || matches!(host, HostPorts::Axi(_) | HostPorts::Apb(_));
         Ok(VerilatedDut::cached(VerilatedDut {
             host,
             can_clk: p(0)?,
@@ -672,8 +719,9 @@ impl Dut for VerilatedDut {
     fn set_regport(&mut self, x: &RegportOut) {
         if let HostPorts::Regport(r) = &self.host {
             let (wr, rd, wdat, [wa, ra], one) = (r.wr, r.rd, r.wdat, r.adr, r.one_adr);
-            self.m.set(wr, x.wr as u64);
-            self.m.set(rd, x.rd as u64);
+            let (wl, rl) = (r.wr_low, r.rd_low);
+            self.m.set(wr, (x.wr != wl) as u64);
+            self.m.set(rd, (x.rd != rl) as u64);
             self.m.set(wdat, x.wdat as u64);
             if one {
                 // One address: the strobed access's.
@@ -688,13 +736,15 @@ impl Dut for VerilatedDut {
         self.out.regport
     }
     fn set_motorola(&mut self, x: &MotorolaOut) {
-        if let HostPorts::Motorola(MotorolaPorts { pins: p, mode }) = &self.host {
-            let (a, cs, e, rw, pi, mode) = (p.ale, p.cs, p.rd, p.wr, p.port_i, *mode);
-            self.m.set(mode, 0);
-            self.m.set(a, x.as_ as u64);
-            self.m.set(cs, x.cs as u64);
-            self.m.set(e, x.e as u64);
-            self.m.set(rw, x.rw as u64);
+        if let HostPorts::Motorola(MotorolaPorts { pins: p, mode, inv, .. }) = &self.host {
+            let (a, cs, e, rw, pi, mode, inv) = (p.ale, p.cs, p.rd, p.wr, p.port_i, *mode, *inv);
+            if let Some((mode, level)) = mode {
+                self.m.set(mode, level as u64);
+            }
+            self.m.set(a, (x.as_ != inv[0]) as u64);
+            self.m.set(cs, (x.cs != inv[1]) as u64);
+            self.m.set(e, (x.e != inv[2]) as u64);
+            self.m.set(rw, (x.rw != inv[3]) as u64);
             // An undriven port reads as the pull-ups.
             self.m.set(pi, if x.ad_oe { x.ad } else { 0xFF } as u64);
         }

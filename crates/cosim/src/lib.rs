@@ -42,7 +42,7 @@ pub use dut::{
 };
 pub use kernel::{Kernel, KernelError, Tick};
 pub use model::{ModelDut, ModelRef};
-pub use profile::{AccessTiming, PhaseOrigin, PortMap, Profile, ProfileError, RegLayout};
+pub use profile::{AccessTiming, BusPorts, MotorolaAccess, PhaseOrigin, PortBus, PortMap, Profile, ProfileError, RegLayout, RegportAccess};
 pub use testbench::{
     AvalonWiring, CustomDut, DutChoice, HostBfm, NodeConfig, ReferenceChoice, TbConfig, TbError,
     Testbench, i8051_timing_for_rtl,

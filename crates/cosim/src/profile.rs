@@ -222,6 +222,14 @@ pub struct PortMap {
     pub irq: Pin,
     pub bus_off: Pin,
     pub clkout: Pin,
+    /// `[ports.axi4-lite]`: the AXI4-Lite slave's ports (default: `can_axi4lite`'s).
+    pub axi4lite: BusPorts,
+    /// `[ports.apb]`: the APB completer's ports (default: `can_apb`'s).
+    pub apb: BusPorts,
+    /// `[ports.regport]`: the register port's (default: `can_regport`'s).
+    pub regport: BusPorts,
+    /// `[ports.motorola]`: the Motorola bus's (default: `can_top_mcu`'s).
+    pub motorola: BusPorts,
 }
 
 impl Default for PortMap {
@@ -242,6 +250,179 @@ impl Default for PortMap {
             irq: Pin::new("irq_on", false),
             bus_off: Pin::new("bus_off_on", false),
             clkout: Pin::new("clkout_o", true),
+            axi4lite: BusPorts::default_for(PortBus::Axi4Lite),
+            apb: BusPorts::default_for(PortBus::Apb),
+            regport: BusPorts::default_for(PortBus::Regport),
+            motorola: BusPorts::default_for(PortBus::Motorola),
+        }
+    }
+}
+
+/// A host bus whose ports a profile names by role under `[ports.<bus>]`.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum PortBus {
+    /// `[ports.axi4-lite]`.
+    Axi4Lite,
+    /// `[ports.apb]`.
+    Apb,
+    /// `[ports.regport]`.
+    Regport,
+    /// `[ports.motorola]`.
+    Motorola,
+}
+
+/// One role of a bus's port list: its key, our wrapper's port, its active
+/// level there, whether a profile may give it another (`active`), and
+/// whether a top may lack it.
+struct Role {
+    key: &'static str,
+    name: &'static str,
+    high: bool,
+    polar: bool,
+    optional: bool,
+}
+
+const fn role(key: &'static str, name: &'static str) -> Role {
+    Role { key, name, high: true, polar: false, optional: false }
+}
+const fn polar(key: &'static str, name: &'static str, high: bool) -> Role {
+    Role { key, name, high, polar: true, optional: false }
+}
+
+const AXI_ROLES: &[Role] = &[
+    role("clock", "s_axi_aclk"),
+    polar("reset", "s_axi_aresetn", false),
+    role("awvalid", "s_axi_awvalid"),
+    role("awready", "s_axi_awready"),
+    role("awaddr", "s_axi_awaddr"),
+    role("awprot", "s_axi_awprot"),
+    role("wvalid", "s_axi_wvalid"),
+    role("wready", "s_axi_wready"),
+    role("wdata", "s_axi_wdata"),
+    role("wstrb", "s_axi_wstrb"),
+    role("bvalid", "s_axi_bvalid"),
+    role("bready", "s_axi_bready"),
+    role("bresp", "s_axi_bresp"),
+    role("arvalid", "s_axi_arvalid"),
+    role("arready", "s_axi_arready"),
+    role("araddr", "s_axi_araddr"),
+    role("arprot", "s_axi_arprot"),
+    role("rvalid", "s_axi_rvalid"),
+    role("rready", "s_axi_rready"),
+    role("rdata", "s_axi_rdata"),
+    role("rresp", "s_axi_rresp"),
+];
+
+const APB_ROLES: &[Role] = &[
+    role("clock", "pclk"),
+    polar("reset", "presetn", false),
+    role("psel", "psel"),
+    role("penable", "penable"),
+    role("pwrite", "pwrite"),
+    role("paddr", "paddr"),
+    role("pwdata", "pwdata"),
+    // APB3 tops have neither.
+    Role { optional: true, ..role("pstrb", "pstrb") },
+    Role { optional: true, ..role("pprot", "pprot") },
+    role("prdata", "prdata"),
+    role("pready", "pready"),
+    role("pslverr", "pslverr"),
+];
+
+const REGPORT_ROLES: &[Role] = &[
+    polar("reset", "rst_i", true),
+    polar("wr", "wr_i", true),
+    polar("rd", "rd_i", true),
+    // One address for both strobes, or a write and a read address.
+    Role { optional: true, ..role("adr", "adr_i") },
+    Role { optional: true, ..role("wr-adr", "wr_adr_i") },
+    Role { optional: true, ..role("rd-adr", "rd_adr_i") },
+    role("wdat", "wdat_i"),
+    role("rdat", "rdat_o"),
+];
+
+const MOTOROLA_ROLES: &[Role] = &[
+    polar("reset", "rst_i", true),
+    // Active = Motorola mode selected (the chip's MODE pin low); a top
+    // without the strap is Motorola only.
+    Role { optional: true, ..polar("mode", "mode_i", false) },
+    polar("as", "ale_as_i", true),
+    polar("cs", "cs_can_i", true),
+    polar("e", "rd_e_i", true),
+    // Active = read.
+    polar("rw", "wr_rw_i", true),
+    role("ad-i", "port_0_i"),
+    role("ad-o", "port_0_o"),
+    // Active = the core drives the port.
+    polar("ad-oe", "port_0_oe", true),
+];
+
+impl PortBus {
+    fn roles(self) -> &'static [Role] {
+        match self {
+            PortBus::Axi4Lite => AXI_ROLES,
+            PortBus::Apb => APB_ROLES,
+            PortBus::Regport => REGPORT_ROLES,
+            PortBus::Motorola => MOTOROLA_ROLES,
+        }
+    }
+
+    /// The table's key under `[ports]`.
+    pub fn key(self) -> &'static str {
+        match self {
+            PortBus::Axi4Lite => "axi4-lite",
+            PortBus::Apb => "apb",
+            PortBus::Regport => "regport",
+            PortBus::Motorola => "motorola",
+        }
+    }
+}
+
+/// The ports of one of the buses of [`PortBus`] by role, as
+/// `[ports.<bus>]` names them; a role not named keeps our wrapper's port.
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub struct BusPorts {
+    bus: PortBus,
+    /// Parallel to the bus's roles.
+    pins: Vec<Pin>,
+    /// Roles the profile named (an optional role named must exist).
+    named: Vec<bool>,
+}
+
+impl BusPorts {
+    /// Our wrapper's ports of `bus`.
+    pub fn default_for(bus: PortBus) -> BusPorts {
+        let r = bus.roles();
+        BusPorts { bus, pins: r.iter().map(|r| Pin::new(r.name, r.high)).collect(), named: vec![false; r.len()] }
+    }
+
+    fn index(&self, role: &str) -> usize {
+        self.bus.roles().iter().position(|r| r.key == role).unwrap_or_else(|| panic!("{:?} has no role `{role}`", self.bus))
+    }
+
+    /// The port of `role` (one of the bus's role keys).
+    pub fn pin(&self, role: &str) -> &Pin {
+        &self.pins[self.index(role)]
+    }
+
+    /// The top must have the port of `role`: a role every top of the bus
+    /// has, or an optional one the profile named.
+    pub fn required(&self, role: &str) -> bool {
+        let i = self.index(role);
+        !self.bus.roles()[i].optional || self.named[i]
+    }
+
+    /// The role keys of the bus, in order.
+    pub fn roles(&self) -> Vec<&'static str> {
+        self.bus.roles().iter().map(|r| r.key).collect()
+    }
+
+    fn describe(&self, out: &mut Vec<String>) {
+        for ((r, p), q) in self.bus.roles().iter().zip(&self.pins).zip(BusPorts::default_for(self.bus).pins) {
+            if *p != q {
+                let pol = if p.active_high != q.active_high { format!(" active {}", if p.active_high { "high" } else { "low" }) } else { String::new() };
+                out.push(format!("{}.{} = {}{pol}", self.bus.key(), r.key, p.name));
+            }
         }
     }
 }
@@ -260,6 +441,9 @@ impl PortMap {
                 };
                 v.push(format!("{role} = {}{pol}", p.name));
             }
+        }
+        for b in [&self.axi4lite, &self.apb, &self.regport, &self.motorola] {
+            b.describe(&mut v);
         }
         v.join(", ")
     }
@@ -299,6 +483,106 @@ pub struct RegLayout {
 impl RegLayout {
     /// One register per 32-bit word, data in bits 7:0 (AXI4-Lite and APB).
     pub const WORD: RegLayout = RegLayout { stride: 4, byte_lane: 0 };
+}
+
+/// `[access.regport]`: the plain register port's timing; what is not given
+/// is `bfm::RegportConfig::default()` (our `can_regport`'s).
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub struct RegportAccess {
+    /// When an access takes effect, counted from the clock edge that
+    /// presents the strobe (None: as `wishbone`).
+    pub timing: Option<AccessTiming>,
+    /// Strobe length, clocks (`strobe`).
+    pub strobe: Option<u32>,
+    /// Read data valid this many clocks after the read strobe
+    /// (`read-latency`, 0 = combinational).
+    pub read_latency: Option<u32>,
+    /// Idle clocks after every access (`gap`).
+    pub gap: Option<u32>,
+    /// `addresses = "one"` (true) or `"separate"` (false); None: one when
+    /// the top has the `adr` role's port, else separate.
+    pub one_address: Option<bool>,
+}
+
+impl RegportAccess {
+    /// The master's options (the timeout is the bench's).
+    pub fn config(&self) -> bfm::RegportConfig {
+        let d = bfm::RegportConfig::default();
+        bfm::RegportConfig {
+            strobe: self.strobe.unwrap_or(d.strobe),
+            read_latency: self.read_latency.unwrap_or(d.read_latency),
+            gap: self.gap.unwrap_or(d.gap),
+            separate_addr: self.one_address.map_or(d.separate_addr, |one| !one),
+            ..d
+        }
+    }
+
+    fn describe(&self) -> Option<String> {
+        if *self == RegportAccess::default() {
+            return None;
+        }
+        let c = self.config();
+        Some(format!(
+            "register port: {}, strobes {} clocks, read data {} clocks after the strobe, {} idle clocks{}",
+            self.timing.map_or("as wishbone".to_string(), |t| t.describe()),
+            c.strobe,
+            c.read_latency,
+            c.gap,
+            match self.one_address {
+                None => "",
+                Some(true) => ", one address",
+                Some(false) => ", separate read and write addresses",
+            }
+        ))
+    }
+}
+
+/// `[access.motorola]`: the Motorola bus's timing. Each phase given (ns)
+/// replaces the bench's default for it (`cosim::i8051_timing_for_rtl`,
+/// the kit's own numbers, not the data sheet's).
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub struct MotorolaAccess {
+    /// When an access takes effect, counted from the host edge raising E
+    /// (None: as `[access.i8051]`).
+    pub timing: Option<AccessTiming>,
+    /// AS width, address hold, read float, write data set-up, E of a read,
+    /// E of a write, data hold, recovery: ns, in [`MOTOROLA_PHASES`] order.
+    pub phases_ns: [Option<u32>; 8],
+}
+
+/// The keys of the Motorola phases under `[access.motorola]`.
+pub const MOTOROLA_PHASES: [&str; 8] =
+    ["as-ns", "addr-hold-ns", "read-float-ns", "data-setup-ns", "e-read-ns", "e-write-ns", "data-hold-ns", "recovery-ns"];
+
+impl MotorolaAccess {
+    /// `base` (host cycles) with every phase the profile gives in ns
+    /// rounded up to cycles of `host_hz` (at least one).
+    pub fn cycles(&self, base: bfm::I8051Timing, host_hz: u64) -> bfm::I8051Timing {
+        let c = |ns: Option<u32>, d: u32| ns.map_or(d, |ns| ((ns as u64 * host_hz).div_ceil(1_000_000_000)).max(1) as u32);
+        let p = self.phases_ns;
+        bfm::I8051Timing {
+            ale: c(p[0], base.ale),
+            addr_hold: c(p[1], base.addr_hold),
+            read_float: c(p[2], base.read_float),
+            data_setup: c(p[3], base.data_setup),
+            rd: c(p[4], base.rd),
+            wr: c(p[5], base.wr),
+            data_hold: c(p[6], base.data_hold),
+            recovery: c(p[7], base.recovery),
+        }
+    }
+
+    fn describe(&self) -> Option<String> {
+        if *self == MotorolaAccess::default() {
+            return None;
+        }
+        let phases: Vec<String> = MOTOROLA_PHASES.iter().zip(self.phases_ns).filter_map(|(k, v)| Some(format!("{k} {}", v?))).collect();
+        Some(format!(
+            "Motorola bus: {}{}",
+            self.timing.map_or("as the 8051 bus".to_string(), |t| t.describe()),
+            if phases.is_empty() { String::new() } else { format!(", {}", phases.join(", ")) }
+        ))
+    }
 }
 
 /// A core's declared freedoms.
@@ -349,6 +633,10 @@ pub struct Profile {
     pub axi4lite_layout: RegLayout,
     /// Register stride and byte lane on APB (default 4 and 0).
     pub apb_layout: RegLayout,
+    /// The register port's timing (`[access.regport]`).
+    pub regport: RegportAccess,
+    /// The Motorola bus's timing (`[access.motorola]`).
+    pub motorola: MotorolaAccess,
     /// When the core has committed to an access, per bus (for the host
     /// bus monitor: a request dropped later is not abandoned).
     pub latch: Latch,
@@ -536,6 +824,44 @@ impl Profile {
             set(&mut ports.irq, &rp.irq, "irq", true)?;
             set(&mut ports.bus_off, &rp.bus_off, "bus-off", true)?;
             set(&mut ports.clkout, &rp.clkout, "clkout", false)?;
+            for (bus, raw_bus) in [
+                (PortBus::Axi4Lite, &rp.axi4lite),
+                (PortBus::Apb, &rp.apb),
+                (PortBus::Regport, &rp.regport),
+                (PortBus::Motorola, &rp.motorola),
+            ] {
+                let Some(raw_bus) = raw_bus else { continue };
+                let table = format!("ports.{}", bus.key());
+                let target = match bus {
+                    PortBus::Axi4Lite => &mut ports.axi4lite,
+                    PortBus::Apb => &mut ports.apb,
+                    PortBus::Regport => &mut ports.regport,
+                    PortBus::Motorola => &mut ports.motorola,
+                };
+                for (k, v) in raw_bus {
+                    let here = |message: String| ProfileError::Invalid { file: file.into(), line: table_key_line(text, &table, k), key: k.clone(), message };
+                    let roles = bus.roles();
+                    let Some(i) = roles.iter().position(|r| r.key == k) else {
+                        let known: Vec<String> = roles.iter().map(|r| format!("`{}`", r.key)).collect();
+                        return Err(here(format!("unknown field `{k}` of [{table}], expected one of {}", known.join(", "))));
+                    };
+                    let (name, high) = match v {
+                        RawPin::Name(n) => (n.clone(), target.pins[i].active_high),
+                        RawPin::Full { name, active } => {
+                            if !roles[i].polar {
+                                let polar: Vec<&str> = roles.iter().filter(|r| r.polar).map(|r| r.key).collect();
+                                return Err(here(format!("only {} have a polarity (`active`) on this bus", polar.join(", "))));
+                            }
+                            (name.clone(), *active == Active::High)
+                        }
+                    };
+                    if name.trim().is_empty() {
+                        return Err(here("the port name must not be empty".into()));
+                    }
+                    target.pins[i] = Pin { name: name.trim().to_string(), active_high: high };
+                    target.named[i] = true;
+                }
+            }
         }
         for (a, key) in [(&raw.access.wishbone, "access.wishbone"), (&raw.access.avalon, "access.avalon"), (&raw.access.pio, "access.pio")] {
             if let Some(d) = &a.inout_drive {
@@ -599,6 +925,67 @@ impl Profile {
                 layouts[i].byte_lane = *l.get_ref();
             }
         }
+        // [access.regport] and [access.motorola]: takes-effect is optional.
+        let timing_of = |te: &Option<Spanned<TakesEffect>>, nums: [&Option<Spanned<u32>>; 3], key: &str| -> Result<Option<AccessTiming>, ProfileError> {
+            let Some(te) = te else {
+                if let Some(n) = nums.iter().find_map(|n| n.as_ref()) {
+                    return Err(bad(n.span(), key, "read, write and command need takes-effect".into()));
+                }
+                return Ok(None);
+            };
+            let [read, write, command] = nums.map(|n| n.clone());
+            let a = RawAccess { takes_effect: te.clone(), read, write, command, latch: None, busy_after_ack: None, count_from: None, inout_drive: None, stride: None, byte_lane: None };
+            access(&a, key).map(Some)
+        };
+        let mut regport = RegportAccess::default();
+        if let Some(r) = &raw.access.regport {
+            let key = "access.regport";
+            regport.timing = timing_of(&r.takes_effect, [&r.read, &r.write, &r.command], key)?;
+            for (v, name, min, max, slot) in [
+                (&r.strobe, "strobe", 1, 64, &mut regport.strobe),
+                (&r.read_latency, "read-latency", 0, 256, &mut regport.read_latency),
+                (&r.gap, "gap", 0, 256, &mut regport.gap),
+            ] {
+                if let Some(v) = v {
+                    let n = *v.get_ref();
+                    if !(min..=max).contains(&n) {
+                        return Err(bad(v.span(), key, format!("{name} {n}: {min} to {max} clocks")));
+                    }
+                    *slot = Some(n);
+                }
+            }
+            if let Some(a) = &r.addresses {
+                let one = *a.get_ref() == Addresses::One;
+                let named = |k: &str| ports.regport.named[ports.regport.index(k)];
+                if one && (named("wr-adr") || named("rd-adr")) || !one && named("adr") {
+                    return Err(bad(a.span(), key, format!("addresses = \"{}\" but [ports.regport] names {}", if one { "one" } else { "separate" }, if one { "wr-adr/rd-adr" } else { "adr" })));
+                }
+                regport.one_address = Some(one);
+            }
+        }
+        if ports.regport.named[ports.regport.index("adr")] && (ports.regport.named[ports.regport.index("wr-adr")] || ports.regport.named[ports.regport.index("rd-adr")]) {
+            return Err(ProfileError::Invalid {
+                file: file.into(),
+                line: table_key_line(text, "ports.regport", "adr"),
+                key: "adr".into(),
+                message: "one address (adr) or a write and a read address (wr-adr, rd-adr), not both".into(),
+            });
+        }
+        let mut motorola = MotorolaAccess::default();
+        if let Some(m) = &raw.access.motorola {
+            let key = "access.motorola";
+            motorola.timing = timing_of(&m.takes_effect, [&m.read, &m.write, &m.command], key)?;
+            let given = [&m.as_ns, &m.addr_hold_ns, &m.read_float_ns, &m.data_setup_ns, &m.e_read_ns, &m.e_write_ns, &m.data_hold_ns, &m.recovery_ns];
+            for (i, v) in given.into_iter().enumerate() {
+                if let Some(v) = v {
+                    let n = *v.get_ref();
+                    if n > 1_000_000 {
+                        return Err(bad(v.span(), key, format!("{} {n}: at most 1000000 ns", MOTOROLA_PHASES[i])));
+                    }
+                    motorola.phases_ns[i] = Some(n);
+                }
+            }
+        }
         for (a, key) in [(&raw.access.wishbone, "access.wishbone"), (&raw.access.avalon, "access.avalon"), (&raw.access.pio, "access.pio")] {
             if let Some(st) = a.stride.as_ref().map(|s| s.span()).or(a.byte_lane.as_ref().map(|s| s.span())) {
                 return Err(bad(st, key, "stride and byte-lane belong to [access.axi4-lite] and [access.apb] (an 8-bit bus has one register per address)".into()));
@@ -609,6 +996,8 @@ impl Profile {
             apb: bus_timing[1],
             axi4lite_layout: layouts[0],
             apb_layout: layouts[1],
+            regport,
+            motorola,
             i8051,
             i8051_inout_drive,
             vhdl,
@@ -687,7 +1076,8 @@ impl Profile {
                 t.map_or("the 1st CAN edge of the strobe (default)".to_string(), |t| t.describe()),
                 d.as_ref().map(|d| format!(", inout port_0_io driven when {d}")).unwrap_or_default()
             ),
-        } + &if self.vhdl == crate::vhdl::VhdlOptions::default() { String::new() } else { format!("; VHDL: {}", self.vhdl.describe()) }
+        } + &[self.regport.describe(), self.motorola.describe()].into_iter().flatten().map(|d| format!("; {d}")).collect::<String>()
+            + &if self.vhdl == crate::vhdl::VhdlOptions::default() { String::new() } else { format!("; VHDL: {}", self.vhdl.describe()) }
     }
 
     /// Does a top with these ports look like the opencores `can_top`?
@@ -912,6 +1302,103 @@ struct RawAccessSet {
     /// APB (`--host apb`): edges counted from the first host edge of the access phase;
     /// also `stride` and `byte-lane`. Default: as wishbone.
     apb: Option<RawAccess>,
+    /// The plain register port (`--host regport`): strobe length, read latency, idle
+    /// clocks, one or separate addresses; edges counted from the clock edge presenting
+    /// the strobe. Default: our `can_regport`'s, timing as wishbone.
+    regport: Option<RawRegportAccess>,
+    /// The Motorola bus (`--host motorola`): its phases in ns; edges counted from the
+    /// host edge raising E. Default: the kit's phases (not the data sheet's), timing as
+    /// `[access.i8051]`.
+    motorola: Option<RawMotorolaAccess>,
+}
+
+#[derive(Deserialize, Clone, Copy, PartialEq, Eq, schemars::JsonSchema)]
+#[serde(rename_all = "kebab-case")]
+enum Addresses {
+    One,
+    Separate,
+}
+
+/// `[access.regport]`: the plain register port. Every key is optional.
+#[derive(Deserialize, schemars::JsonSchema)]
+#[serde(deny_unknown_fields, rename_all = "kebab-case")]
+struct RawRegportAccess {
+    /// As under `[access.wishbone]`, counted from the clock edge that presents the
+    /// strobe. Default: the wishbone timing (our `can_regport` is `can_top` behind a
+    /// combinational request).
+    #[schemars(with = "Option<TakesEffect>")]
+    takes_effect: Option<Spanned<TakesEffect>>,
+    /// CAN edges until read data is captured (with `takes-effect = "can-edges"`).
+    #[schemars(with = "Option<u32>")]
+    read: Option<Spanned<u32>>,
+    /// CAN edges until a register is written.
+    #[schemars(with = "Option<u32>")]
+    write: Option<Spanned<u32>>,
+    /// CAN edges until a command (CMR write) is taken.
+    #[schemars(with = "Option<u32>")]
+    command: Option<Spanned<u32>>,
+    /// Write and read strobes last this many clocks (1 to 64). Default 1.
+    #[schemars(with = "Option<u32>")]
+    strobe: Option<Spanned<u32>>,
+    /// Read data is valid this many clocks after the read strobe rises and stays so
+    /// until the next strobe (0 = combinational, in the strobe's own clock; at most
+    /// 256). Default 14 (our `can_regport`, measured).
+    #[schemars(with = "Option<u32>")]
+    read_latency: Option<Spanned<u32>>,
+    /// Idle clocks after every access (at most 256). Default 14.
+    #[schemars(with = "Option<u32>")]
+    gap: Option<Spanned<u32>>,
+    /// `"one"`: one address port for both strobes (`[ports.regport] adr`);
+    /// `"separate"`: a write and a read address (`wr-adr`, `rd-adr`). Default: one
+    /// when the top has the `adr` port, else separate.
+    #[schemars(with = "Option<Addresses>")]
+    addresses: Option<Spanned<Addresses>>,
+}
+
+/// `[access.motorola]`: the Motorola bus. Every key is optional; a phase not given
+/// keeps the kit's default (`bfm::MotorolaAcTiming`, E stretched to 18 CAN clocks
+/// and recovery to 6 for `can_top_mcu`). Phases are minimums in ns, rounded up to
+/// whole host cycles (at most 1000000).
+#[derive(Deserialize, schemars::JsonSchema)]
+#[serde(deny_unknown_fields, rename_all = "kebab-case")]
+struct RawMotorolaAccess {
+    /// As under `[access.i8051]`, counted from the host edge raising E. Default: the
+    /// `[access.i8051]` timing.
+    #[schemars(with = "Option<TakesEffect>")]
+    takes_effect: Option<Spanned<TakesEffect>>,
+    /// CAN edges until read data is captured (with `takes-effect = "can-edges"`).
+    #[schemars(with = "Option<u32>")]
+    read: Option<Spanned<u32>>,
+    /// CAN edges until a register is written.
+    #[schemars(with = "Option<u32>")]
+    write: Option<Spanned<u32>>,
+    /// CAN edges until a command (CMR write) is taken.
+    #[schemars(with = "Option<u32>")]
+    command: Option<Spanned<u32>>,
+    /// AS pulse width (the address set up meanwhile).
+    #[schemars(with = "Option<u32>")]
+    as_ns: Option<Spanned<u32>>,
+    /// Address held after AS falls.
+    #[schemars(with = "Option<u32>")]
+    addr_hold_ns: Option<Spanned<u32>>,
+    /// Read: the port released before E rises.
+    #[schemars(with = "Option<u32>")]
+    read_float_ns: Option<Spanned<u32>>,
+    /// Write: data and R/W set up before E rises.
+    #[schemars(with = "Option<u32>")]
+    data_setup_ns: Option<Spanned<u32>>,
+    /// E pulse width of a read.
+    #[schemars(with = "Option<u32>")]
+    e_read_ns: Option<Spanned<u32>>,
+    /// E pulse width of a write.
+    #[schemars(with = "Option<u32>")]
+    e_write_ns: Option<Spanned<u32>>,
+    /// Write: data, R/W and CS held after E falls.
+    #[schemars(with = "Option<u32>")]
+    data_hold_ns: Option<Spanned<u32>>,
+    /// Idle time after an access.
+    #[schemars(with = "Option<u32>")]
+    recovery_ns: Option<Spanned<u32>>,
 }
 
 #[derive(Deserialize, Clone, Copy, PartialEq, Eq, schemars::JsonSchema)]
@@ -1044,6 +1531,31 @@ struct RawPorts {
     bus_off: Option<RawPin>,
     /// Clock output. Default: `clkout_o`.
     clkout: Option<RawPin>,
+    /// `[ports.axi4-lite]`: the AXI4-Lite slave's ports by role, only those that
+    /// differ from `can_axi4lite`'s: `clock` (`s_axi_aclk`), `reset` (`s_axi_aresetn`,
+    /// active low; the only role with `active`), and `awvalid`, `awready`, `awaddr`,
+    /// `awprot`, `wvalid`, `wready`, `wdata`, `wstrb`, `bvalid`, `bready`, `bresp`,
+    /// `arvalid`, `arready`, `araddr`, `arprot`, `rvalid`, `rready`, `rdata`, `rresp`
+    /// (default `s_axi_<role>`). The CAN-side roles above apply on every bus.
+    #[serde(rename = "axi4-lite")]
+    axi4lite: Option<std::collections::BTreeMap<String, RawPin>>,
+    /// `[ports.apb]`: the APB completer's ports by role: `clock` (`pclk`), `reset`
+    /// (`presetn`, active low; the only role with `active`), `psel`, `penable`, `pwrite`,
+    /// `paddr`, `pwdata`, `pstrb`, `pprot` (APB4; bound when the top has them),
+    /// `prdata`, `pready`, `pslverr` (default: the role's name).
+    apb: Option<std::collections::BTreeMap<String, RawPin>>,
+    /// `[ports.regport]`: the plain register port's ports by role: `reset` (`rst_i`),
+    /// `wr` (`wr_i`), `rd` (`rd_i`) (these three with `active`, default high), `adr`
+    /// (`adr_i`, one address) or `wr-adr` (`wr_adr_i`) and `rd-adr` (`rd_adr_i`),
+    /// `wdat` (`wdat_i`), `rdat` (`rdat_o`). Its clock is `can-clock`.
+    regport: Option<std::collections::BTreeMap<String, RawPin>>,
+    /// `[ports.motorola]`: the Motorola bus's ports by role: `reset` (`rst_i`), `mode`
+    /// (`mode_i`, active = Motorola mode selected, default low; bound when the top has
+    /// it), `as` (`ale_as_i`), `cs` (`cs_can_i`), `e` (`rd_e_i`), `rw` (`wr_rw_i`,
+    /// active = read, default high), `ad-i` (`port_0_i`), `ad-o` (`port_0_o`), `ad-oe`
+    /// (`port_0_oe`, active = the core drives the port). All but the port's data take
+    /// `active`. Its clock is `can-clock`.
+    motorola: Option<std::collections::BTreeMap<String, RawPin>>,
 }
 
 /// The JSON schema of a profile file, for the generated reference
@@ -1074,6 +1586,25 @@ fn key_line(src: &str, key: &str) -> usize {
         .map(|(i, _)| i + 1)
         .last()
         .unwrap_or(1)
+}
+
+/// 1-based line of `key = ...` inside `[table]` (else as [`key_line`]).
+fn table_key_line(src: &str, table: &str, key: &str) -> usize {
+    let header = format!("[{table}]");
+    let lines: Vec<&str> = src.lines().collect();
+    if let Some(h) = lines.iter().position(|l| l.trim() == header) {
+        for (i, l) in lines.iter().enumerate().skip(h + 1) {
+            let t = l.trim_start();
+            if t.starts_with('[') {
+                break;
+            }
+            let k = t.split('=').next().unwrap_or("").trim().trim_matches('"');
+            if t.contains('=') && k == key {
+                return i + 1;
+            }
+        }
+    }
+    key_line(src, key)
 }
 
 fn line_of(src: &str, at: usize) -> usize {
@@ -1313,6 +1844,75 @@ mod tests {
         assert_eq!(p.ports.describe(), "can-clock = clk, rx = can_rx, tx = can_tx, irq = irq_o active high");
         let s = file_schema().as_value().to_string();
         assert!(s.contains("\"extends\"") && s.contains("family"), "the schema documents extends and families");
+    }
+
+    #[test]
+    fn bus_port_tables_bind_roles_with_levels_and_refuse_unknown_ones() {
+        let p = Profile::parse(
+            &format!("{GOOD}[ports]\ncan-clock = \"clk\"\n[ports.regport]\nwr = {{ name = \"we_n\", active = \"low\" }}\nadr = \"addr\"\n[ports.apb]\nclock = \"PCLK\"\n"),
+            "p",
+        )
+        .unwrap();
+        assert_eq!(*p.ports.regport.pin("wr"), Pin::new("we_n", false));
+        assert_eq!(p.ports.regport.pin("rd").name, "rd_i", "a role not named keeps can_regport's port");
+        assert!(p.ports.regport.required("adr") && !p.ports.regport.required("wr-adr"));
+        assert_eq!(p.ports.apb.pin("clock").name, "PCLK");
+        assert_eq!(*p.ports.apb.pin("reset"), Pin::new("presetn", false));
+        assert_eq!(p.ports.describe(), "can-clock = clk, apb.clock = PCLK, regport.wr = we_n active low, regport.adr = addr");
+        let e = err(&format!("{GOOD}[ports.regport]\nwrr = \"x\"\n"));
+        assert!(e.starts_with("p.toml:19: wrr: unknown field `wrr` of [ports.regport], expected one of `reset`, `wr`"), "{e}");
+        let e = err(&format!("{GOOD}[ports]\nreset = \"r\"\n[ports.axi4-lite]\nreset = \"a\"\nawvalid = {{ name = \"v\", active = \"low\" }}\n"));
+        assert!(e.starts_with("p.toml:22: awvalid: only reset have a polarity"), "{e}");
+        let e = err(&format!("{GOOD}[ports.regport]\nadr = \"a\"\nwr-adr = \"w\"\n"));
+        assert!(e.starts_with("p.toml:19: adr: one address (adr) or a write and a read address"), "{e}");
+        let e = err(&format!("{GOOD}[ports.motorola]\nad-o = \"\"\n"));
+        assert!(e.starts_with("p.toml:19: ad-o: the port name must not be empty"), "{e}");
+    }
+
+    #[test]
+    fn regport_and_motorola_access_tables_set_the_bus_timing() {
+        let p = Profile::parse(GOOD, "p").unwrap();
+        assert_eq!(p.regport.config(), bfm::RegportConfig::default(), "no table: can_regport's");
+        let base = crate::i8051_timing_for_rtl(24_000_000, 24_000_000);
+        assert_eq!(p.motorola.cycles(base, 24_000_000), base, "no table: the bench's phases");
+        let p = Profile::parse(
+            &GOOD.replace(
+                "[tolerances]",
+                "[access.regport]\nstrobe = 2\nread-latency = 0\ngap = 3\naddresses = \"one\"\ntakes-effect = \"can-edges\"\nread = 1\nwrite = 2\ncommand = 2\n\
+                 [access.motorola]\ne-read-ns = 1000\nrecovery-ns = 1\n[tolerances]",
+            ),
+            "p",
+        )
+        .unwrap();
+        let c = p.regport.config();
+        assert_eq!((c.strobe, c.read_latency, c.gap, c.separate_addr), (2, 0, 3, false));
+        assert_eq!(p.regport.timing, Some(AccessTiming::CanEdges { read: 1, write: 2, command: 2 }));
+        let t = p.motorola.cycles(base, 24_000_000);
+        assert_eq!((t.rd, t.recovery, t.wr, t.ale), (24, 1, base.wr, base.ale), "1000 ns at 24 MHz: 24 cycles; the rest kept");
+        assert!(p.describe().contains("register port: read/write/command after CAN edge 1/2/2, strobes 2 clocks, read data 0 clocks after the strobe, 3 idle clocks, one address"), "{}", p.describe());
+        assert!(p.describe().contains("Motorola bus: as the 8051 bus, e-read-ns 1000, recovery-ns 1"), "{}", p.describe());
+        let e = err(&GOOD.replace("[tolerances]", "[access.regport]\nstrobe = 0\n[tolerances]"));
+        assert!(e.starts_with("p.toml:14: access.regport: strobe 0: 1 to 64 clocks"), "{e}");
+        let e = err(&GOOD.replace("[tolerances]", "[access.regport]\nlatency = 3\n[tolerances]"));
+        assert!(e.starts_with("p.toml:14: latency: unknown field `latency`"), "{e}");
+        let e = err(&GOOD.replace("[tolerances]", "[access.motorola]\nread = 3\n[tolerances]"));
+        assert!(e.starts_with("p.toml:14: access.motorola: read, write and command need takes-effect"), "{e}");
+        let e = err(&GOOD.replace("[tolerances]", "[access.motorola]\nas = 3\n[tolerances]"));
+        assert!(e.starts_with("p.toml:14: as: unknown field `as`"), "{e}");
+        let e = err(&format!("{}[ports.regport]\nadr = \"a\"\n", GOOD.replace("[tolerances]", "[access.regport]\naddresses = \"separate\"\n[tolerances]")));
+        assert!(e.starts_with("p.toml:14: access.regport: addresses = \"separate\" but [ports.regport] names adr"), "{e}");
+    }
+
+    #[test]
+    fn the_fork_fixture_profiles_load() {
+        let dir = Path::new(env!("CARGO_MANIFEST_DIR")).join("../../tb/fixtures/fork");
+        for f in ["regport", "regport-wrong-latency", "apb", "axi4-lite", "motorola"] {
+            Profile::load(dir.join(format!("{f}.toml"))).unwrap_or_else(|e| panic!("{e}"));
+        }
+        let wrong = Profile::load(dir.join("regport-wrong-latency.toml")).unwrap();
+        let right = Profile::load(dir.join("regport.toml")).unwrap();
+        assert_eq!((right.regport.config().read_latency, wrong.regport.config().read_latency), (22, 14));
+        assert_eq!(Profile { name: right.name.clone(), ancestors: right.ancestors.clone(), file: right.file.clone(), description: right.description.clone(), regport: right.regport, ..wrong.clone() }, right, "the two differ in the read latency only");
     }
 
     #[test]

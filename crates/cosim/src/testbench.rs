@@ -357,8 +357,8 @@ impl Testbench {
             HostBfm::Avalon { wiring: AvalonWiring::Seed000, .. } => HostKind::AvalonSeed000,
             HostBfm::Avalon { .. } => HostKind::Avalon,
             HostBfm::Pio(_) => HostKind::Pio,
-            // can_top_mcu is can_top_8051 behind a combinational decoder.
-            HostBfm::I8051(_) | HostBfm::Motorola(_) => HostKind::I8051,
+            HostBfm::I8051(_) => HostKind::I8051,
+            HostBfm::Motorola(_) => HostKind::Motorola,
             HostBfm::Axi4Lite(_) => HostKind::Axi4Lite,
             HostBfm::Apb(_) => HostKind::Apb,
             HostBfm::Regport(_) => HostKind::Regport,

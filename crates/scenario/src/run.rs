@@ -280,8 +280,15 @@ pub fn tb_config(s: &Scenario, dut: &DutKind, opts: &RunOptions) -> Result<TbCon
         // as the 8051 host's (AS for ALE, E for RD/WR), in ns.
         // DutChoice::Rtl is can_regport; the bench runs the host on the CAN
         // clock (cosim::Testbench::new).
-        HostBfm::Regport => cosim::HostBfm::Regport(bfm::RegportConfig::default()),
-        HostBfm::Motorola => cosim::HostBfm::Motorola(cosim::i8051_timing_for_rtl(s.host_hz as u64, s.can_hz as u64)),
+        // Strobe, read latency, gap and addresses: the profile's
+        // `[access.regport]`, else can_regport's.
+        HostBfm::Regport => cosim::HostBfm::Regport(opts.dut.as_ref().and_then(|d| d.profile.as_ref()).map_or_else(bfm::RegportConfig::default, |p| p.regport.config())),
+        // The phases the profile's `[access.motorola]` gives, in ns; the
+        // rest as for can_top_mcu.
+        HostBfm::Motorola => {
+            let base = cosim::i8051_timing_for_rtl(s.host_hz as u64, s.can_hz as u64);
+            cosim::HostBfm::Motorola(opts.dut.as_ref().and_then(|d| d.profile.as_ref()).map_or(base, |p| p.motorola.cycles(base, s.host_hz as u64)))
+        }
         // DutChoice::Rtl is can_axi4lite / can_apb under these hosts; the
         // register layout is the profile's (our wrappers: 4 and 0).
         HostBfm::Axi4Lite => {

@@ -148,7 +148,7 @@ _cancosim() {
             return 0
             ;;
         cancosim__subcmd__bench)
-            opts="-h --smoke --frames --icarus-frames --seed --repeat --json --mutants --rebuild --mutant-scenarios --campaign-frames --campaign-external --help"
+            opts="-h --smoke --frames --icarus-frames --seed --repeat --json --mutants --rebuild --mutant-scenarios --campaign-frames --campaign-external --host --help"
             if [[ ${cur} == -* || ${COMP_CWORD} -eq 2 ]] ; then
                 COMPREPLY=( $(compgen -W "${opts}" -- "${cur}") )
                 return 0
@@ -188,6 +188,10 @@ _cancosim() {
                     ;;
                 --campaign-external)
                     COMPREPLY=($(compgen -f "${cur}"))
+                    return 0
+                    ;;
+                --host)
+                    COMPREPLY=($(compgen -W "wishbone avalon pio pio-edge i8051 axi4-lite apb apb3 motorola regport" -- "${cur}"))
                     return 0
                     ;;
                 *)

@@ -210,6 +210,16 @@ complete -c cancosim -n "__fish_cancosim_using_subcommand bench" -l rebuild -d '
 complete -c cancosim -n "__fish_cancosim_using_subcommand bench" -l mutant-scenarios -d 'Scenario set every mutant runs on both paths (scenario files or lists, repeatable; default tb/de2-pelican-selftest.toml)' -r -F
 complete -c cancosim -n "__fish_cancosim_using_subcommand bench" -l campaign-frames -d 'Frames of the campaign rows (`cancosim campaign`, seed 1, quanta up to BRP 3, one job): frames per CPU second on our rtl/ and, with --campaign-external, on that core (0: no rows)' -r
 complete -c cancosim -n "__fish_cancosim_using_subcommand bench" -l campaign-external -d 'A second campaign row on this core: DIR@PROFILE (e.g. path/to/can@opencores-can; defines CAN_WISHBONE_IF, DIR as include dir)' -r
+complete -c cancosim -n "__fish_cancosim_using_subcommand bench" -l host -d 'A campaign row on our rtl/ through this host (repeatable): its wrapper and bus model' -r -f -a "wishbone\t''
+avalon\t''
+pio\t''
+pio-edge\t''
+i8051\t''
+axi4-lite\t''
+apb\t''
+apb3\t''
+motorola\t''
+regport\t''"
 complete -c cancosim -n "__fish_cancosim_using_subcommand bench" -l smoke -d 'CI-sized run (seconds): tiny frame counts, same table'
 complete -c cancosim -n "__fish_cancosim_using_subcommand bench" -l json -d 'Print JSON instead of the table'
 complete -c cancosim -n "__fish_cancosim_using_subcommand bench" -s h -l help -d 'Print help'
@@ -251,7 +261,7 @@ complete -c cancosim -n "__fish_cancosim_using_subcommand campaign" -l stop-at-f
 complete -c cancosim -n "__fish_cancosim_using_subcommand campaign" -s h -l help -d 'Print help'
 complete -c cancosim -n "__fish_cancosim_using_subcommand mutate" -l external -d 'External core directory (default: this repository\'s rtl/, top can_top)' -r -F
 complete -c cancosim -n "__fish_cancosim_using_subcommand mutate" -l profile -d 'Profile of the external core (tb/profiles/NAME.toml or a file); our rtl/ uses rtl' -r
-complete -c cancosim -n "__fish_cancosim_using_subcommand mutate" -l top -d 'Top module' -r
+complete -c cancosim -n "__fish_cancosim_using_subcommand mutate" -l top -d 'Top module (our rtl/ on i8051, motorola, axi4-lite, apb, apb3 or regport: that host\'s wrapper, can_top_8051, can_top_mcu, can_axi4lite, can_apb or can_regport)' -r
 complete -c cancosim -n "__fish_cancosim_using_subcommand mutate" -l define -d 'Verilog define of the external core (repeatable; CAN_WISHBONE_IF is always set for it)' -r
 complete -c cancosim -n "__fish_cancosim_using_subcommand mutate" -l count -d 'Number of mutations sampled by `yosys mutate -list`' -r
 complete -c cancosim -n "__fish_cancosim_using_subcommand mutate" -l seed -d 'Seed of the sample (recorded in the report; same seed, same mutants)' -r
@@ -260,7 +270,7 @@ complete -c cancosim -n "__fish_cancosim_using_subcommand mutate" -s j -l jobs -
 complete -c cancosim -n "__fish_cancosim_using_subcommand mutate" -l shard -d 'Run only shard k of n of the mutants (e.g. 2/4)' -r
 complete -c cancosim -n "__fish_cancosim_using_subcommand mutate" -l out -d 'Output directory (journal-<build>.jsonl to resume, report.json, report.md, skeletons/)' -r -F
 complete -c cancosim -n "__fish_cancosim_using_subcommand mutate" -l formal-steps -d 'Steps of the bounded formal check (and induction depth)' -r
-complete -c cancosim -n "__fish_cancosim_using_subcommand mutate" -l host -d 'Host of every scenario (default wishbone: the mutated core is the can_top port list)' -r -f -a "wishbone\t''
+complete -c cancosim -n "__fish_cancosim_using_subcommand mutate" -l host -d 'Host of every scenario (default wishbone: the mutated core is the can_top port list; on our rtl/ a host with its own wrapper mutates the wrapper with can_top)' -r -f -a "wishbone\t''
 avalon\t''
 pio\t''
 pio-edge\t''

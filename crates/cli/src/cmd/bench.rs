@@ -45,6 +45,9 @@ pub struct Args {
     /// CAN_WISHBONE_IF, DIR as include dir).
     #[arg(long, value_name = "DIR@PROFILE")]
     campaign_external: Option<String>,
+    /// A campaign row on our rtl/ through this host (repeatable): its wrapper and bus model.
+    #[arg(long = "host", value_name = "HOST", value_parser = ["wishbone", "avalon", "pio", "pio-edge", "i8051", "axi4-lite", "apb", "apb3", "motorola", "regport"])]
+    hosts: Vec<String>,
 }
 
 /// A campaign row: frames per CPU second of `cancosim campaign` on one DUT.
@@ -59,8 +62,12 @@ struct CampaignRow {
 }
 
 /// Runs a fixed campaign on `dut` (one job, so the CPU time is the run's).
-fn campaign_row(dut: scenario::DutSpec, frames: u64) -> CampaignRow {
+fn campaign_row(dut: scenario::DutSpec, frames: u64, host: Option<scenario::HostBfm>) -> CampaignRow {
     let mut c = campaign::random::RandomConfig::new(1, frames, dut);
+    c.host = host;
+    if let Some(h) = host {
+        c.dut.name = format!("{} (host {})", c.dut.name, h.name());
+    }
     c.jobs = 1;
     c.shrink_runs = 0;
     c.limits = campaign::plan::DrawLimits { max_brp: 3, ..Default::default() };
@@ -73,7 +80,11 @@ fn campaign_rows(a: &Args) -> anyhow::Result<Vec<CampaignRow>> {
         return Ok(Vec::new());
     }
     let frames = if a.smoke { a.campaign_frames.min(30) } else { a.campaign_frames };
-    let mut rows = vec![campaign_row(scenario::DutSpec::rtl(), frames)];
+    let mut rows = vec![campaign_row(scenario::DutSpec::rtl(), frames, None)];
+    for h in &a.hosts {
+        let host = scenario::HostBfm::from_name(h).ok_or_else(|| anyhow::anyhow!("--host {h}: no such host"))?;
+        rows.push(campaign_row(scenario::DutSpec::rtl(), frames, Some(host)));
+    }
     if let Some(e) = &a.campaign_external {
         let (dir, prof) = e.rsplit_once('@').ok_or_else(|| anyhow::anyhow!("--campaign-external {e}: expected DIR@PROFILE"))?;
         let mut d = scenario::DutSpec::external(dir, dir, "can_top").with_profile(cosim::Profile::find(prof)?);
@@ -81,7 +92,7 @@ fn campaign_rows(a: &Args) -> anyhow::Result<Vec<CampaignRow>> {
             defines.push("CAN_WISHBONE_IF".into());
             includes.push(dir.into());
         }
-        rows.push(campaign_row(d, frames));
+        rows.push(campaign_row(d, frames, None));
     }
     Ok(rows)
 }
@@ -132,7 +143,9 @@ pub fn run_cmd(a: Args) -> anyhow::Result<i32> {
         }
     }
     // Our rtl/ must agree with the model; another core's deviations are judged by `campaign`.
-    Ok(if report.check().is_ok() && campaign.first().is_none_or(|r| r.passed) { 0 } else { 1 })
+    // (our rows come first: rtl/, then one per --host)
+    let ours = campaign.iter().take(1 + a.hosts.len());
+    Ok(if report.check().is_ok() && ours.into_iter().all(|r| r.passed) { 0 } else { 1 })
 }
 
 /// The mutation rows: `-ctrl` build vs a build per mutant, in this run.

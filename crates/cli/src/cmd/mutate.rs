@@ -18,7 +18,8 @@ pub struct Args {
     /// Profile of the external core (tb/profiles/NAME.toml or a file); our rtl/ uses rtl.
     #[arg(long, value_name = "NAME|FILE")]
     profile: Option<String>,
-    /// Top module.
+    /// Top module (our rtl/ on i8051, motorola, axi4-lite, apb, apb3 or regport: that
+    /// host's wrapper, can_top_8051, can_top_mcu, can_axi4lite, can_apb or can_regport).
     #[arg(long, default_value = "can_top")]
     top: String,
     /// Verilog define of the external core (repeatable; CAN_WISHBONE_IF is always set for it).
@@ -51,7 +52,8 @@ pub struct Args {
     /// Steps of the bounded formal check (and induction depth).
     #[arg(long, default_value_t = 20)]
     formal_steps: u32,
-    /// Host of every scenario (default wishbone: the mutated core is the can_top port list).
+    /// Host of every scenario (default wishbone: the mutated core is the can_top port list;
+    /// on our rtl/ a host with its own wrapper mutates the wrapper with can_top).
     #[arg(long, default_value = "wishbone", value_parser = ["wishbone", "avalon", "pio", "pio-edge", "i8051", "axi4-lite", "apb", "apb3", "motorola", "regport"])]
     host: String,
     /// A mutant times out when its scenarios take longer than this many times
@@ -73,6 +75,19 @@ pub struct Args {
 /// Our rtl/ files of the can_top build (no other top).
 pub const RTL_FILES: [&str; 8] = ["can_top.v", "can_wb_cdc.v", "can_regs.v", "can_btl.v", "can_bsp.v", "can_fce.v", "can_acf.v", "can_rxfifo.v"];
 
+/// Our top for `host` when it is not can_top's Wishbone port, and the
+/// rtl/ files it adds to [`RTL_FILES`].
+pub fn wrapper_of(host: &str) -> Option<(&'static str, &'static [&'static str])> {
+    match host {
+        "i8051" => Some(("can_top_8051", &["can_top_8051.v"])),
+        "motorola" => Some(("can_top_mcu", &["can_top_mcu.v", "can_top_8051.v"])),
+        "axi4-lite" => Some(("can_axi4lite", &["can_axi4lite.v"])),
+        "apb" | "apb3" => Some(("can_apb", &["can_apb.v"])),
+        "regport" => Some(("can_regport", &["can_regport.v"])),
+        _ => None,
+    }
+}
+
 /// Runs the subcommand: exit 0 when no mutant survived (or timed out), 1 otherwise.
 pub fn run(a: Args) -> anyhow::Result<i32> {
     anyhow::ensure!(a.budget_factor.is_finite() && a.budget_factor > 0.0, "--budget-factor {}: must be a number above 0", a.budget_factor);
@@ -80,8 +95,16 @@ pub fn run(a: Args) -> anyhow::Result<i32> {
         None => {
             let dir = PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("../../rtl");
             let dir = dir.canonicalize().with_context(|| format!("our rtl/ at {}", dir.display()))?;
-            let files = RTL_FILES.iter().map(PathBuf::from).collect();
-            (mutate::CoreSources { dir, top: a.top.clone(), files, ..Default::default() }, cosim::Profile::rtl())
+            let mut files: Vec<PathBuf> = RTL_FILES.iter().map(PathBuf::from).collect();
+            // A host with a wrapper of its own mutates that wrapper with can_top.
+            let top = match (a.top.as_str(), wrapper_of(&a.host)) {
+                ("can_top", Some((top, extra))) => {
+                    files.extend(extra.iter().map(PathBuf::from));
+                    top.to_string()
+                }
+                _ => a.top.clone(),
+            };
+            (mutate::CoreSources { dir, top, files, ..Default::default() }, cosim::Profile::rtl())
         }
         Some(dir) => {
             let probe = cosim::ExternalCore { dir: dir.clone(), top: a.top.clone(), ..Default::default() };

@@ -84,6 +84,9 @@ pub enum HostKind {
     Apb,
     /// A plain register port.
     Regport,
+    /// The Motorola bus (as the 8051 bus unless the profile's
+    /// `[access.motorola]` says when an access takes effect).
+    Motorola,
 }
 
 impl RefTiming {
@@ -94,6 +97,12 @@ impl RefTiming {
             AccessTiming::CanEdges { read, write, command } => RefTiming::CanEdges { read, write, command },
         };
         match (dut, host, profile) {
+            // An external Motorola core as its `[access.motorola]` says,
+            // counted from the host edge raising E.
+            (DutKind::External, HostKind::Motorola, Some(p)) if p.motorola.timing.is_some() => from_profile(p.motorola.timing.unwrap_or(AccessTiming::AtAck)),
+            // Else as on the 8051 bus (can_top_mcu is can_top_8051 behind a
+            // combinational decoder).
+            (_, HostKind::Motorola, _) => RefTiming::for_dut(dut, HostKind::I8051, profile),
             // The seed 000 Avalon wiring (cyc from begintransfer) has no
             // well-defined launch.
             (_, HostKind::AvalonSeed000, _) => RefTiming::AtAck,
@@ -125,7 +134,7 @@ impl RefTiming {
             // The register port: from the clock edge that presents a
             // strobe, as the profile's Wishbone timing (our can_regport is
             // can_top behind a combinational request, on one clock).
-            (_, HostKind::Regport, Some(p)) => from_profile(p.wishbone),
+            (_, HostKind::Regport, Some(p)) => from_profile(p.regport.timing.unwrap_or(p.wishbone)),
             _ => RefTiming::AtAck,
         }
     }
