@@ -272,11 +272,6 @@ fn range(v: &[u32]) -> String {
     }
 }
 
-/// The value of `v` nearest `to` (ties: the lower).
-fn nearest(v: &[u32], to: u32) -> u32 {
-    *v.iter().min_by_key(|x| (x.abs_diff(to), **x)).expect("not empty")
-}
-
 /// Infers the profile of the core `o` describes. Builds it (cached), finds
 /// its ports, runs the probes.
 pub fn infer(o: &InferOptions) -> Result<Inference, InferError> {
@@ -367,8 +362,13 @@ pub fn infer(o: &InferOptions) -> Result<Inference, InferError> {
         // new requests after an ack (a handshake returning to idle) takes
         // back-to-back writes later than the model would. The handshake
         // family [w, w, c], c <= w (the `busy-after-ack` bound).
+        // The first origin over every write edge; the second on the
+        // write edges of the first's best candidates only (enough to tell
+        // the origins apart).
+        let mut best: Vec<u32> = Vec::new();
         for origin in [PhaseOrigin::HardwareReset, PhaseOrigin::ResetModeExit] {
-            for w in 0..=ACCESS_MAX {
+            let writes: Vec<u32> = if best.is_empty() { (0..=ACCESS_MAX).collect() } else { best.clone() };
+            for w in writes {
                 for c in 0..=w.min(BUSY_MAX) {
                     let mut q = p.clone();
                     q.phase_origin = origin;
@@ -377,6 +377,9 @@ pub fn infer(o: &InferOptions) -> Result<Inference, InferError> {
                     let r = measure(&mut pr, &q);
                     push(&mut cands, origin, w, Some(busy(w, c)), r);
                 }
+            }
+            if let Some(top) = cands.iter().filter(|c| good(c) && c.busy.is_some()).map(|c| (c.spread, c.worst)).min() {
+                best = cands.iter().filter(|c| good(c) && c.busy.is_some() && (c.spread, c.worst) == top).map(|c| c.write).collect::<std::collections::BTreeSet<_>>().into_iter().collect();
             }
         }
     }
@@ -411,7 +414,8 @@ pub fn infer(o: &InferOptions) -> Result<Inference, InferError> {
                 None => evidence("busy-after-ack", "none: with requests seen at once right after an ack the phase probes' lags are constant".into()),
             }
             if *origin == PhaseOrigin::ResetModeExit || b.is_some() {
-                evidence("write", format!("write edge {} gives the least lag ({worst} CAN clocks) after the reset-mode exit", range(&writes)));
+                let at = if b.is_some() { " with the handshake" } else { " after the reset-mode exit" };
+                evidence("write", format!("write edge {} gives the least lag ({worst} CAN clocks){at} (chosen {w}, the earliest)", range(&writes)));
             }
             evidence("sof", format!("tx lag at the start of frame: {} CAN clocks on the phase probes (bound {SOF_MAX})", range(&sofs.iter().map(|l| l.unsigned_abs() as u32).collect::<std::collections::BTreeSet<_>>().into_iter().collect::<Vec<_>>())));
             evidence("tx-edge", format!("tx lag at every edge of the phase probes' frames: at most {worst} CAN clocks (bound {TX_MAX})"));
@@ -434,14 +438,18 @@ pub fn infer(o: &InferOptions) -> Result<Inference, InferError> {
     // of that frame (the sof window keeps it for the frame).
     let rec = probes::recovery();
     let runs0 = pr.runs;
-    if let Some(l) = pr.tx_edges(&rec, &p).and_then(|e| e.lags()) {
+    // SR at its bound, not uncompared: a waiver that realigns the model
+    // after a register read (a known deviation) must see the read.
+    let mut rp = p.clone();
+    rp.tolerances.status_tolerance = STATUS_MAX;
+    if let Some(l) = pr.tx_edges(&rec, &rp).and_then(|e| e.lags()) {
         let sof = l.iter().map(|x| x.unsigned_abs() as u32).max().unwrap_or(0);
         if sof > p.tolerances.sof_tolerance && sof <= SOF_MAX {
             p.tolerances.sof_tolerance = sof;
         }
         evidence("sof", format!("tx lag of the frame from bus idle after a bus-off recovery (probe recovery): {sof} CAN clocks (bound {SOF_MAX}); {} run", pr.runs - runs0));
         if sof > SOF_MAX {
-            let divergence = pr.run(&rec, &p).err().unwrap_or_else(|| format!("lag {sof}"));
+            let divergence = pr.run(&rec, &rp).err().unwrap_or_else(|| format!("lag {sof}"));
             devs.push(Deviation { freedom: "sof".into(), bound: bound("sof"), probe: rec.name.clone(), divergence });
             p.tolerances.sof_tolerance = SOF_MAX;
         }
@@ -451,7 +459,7 @@ pub fn infer(o: &InferOptions) -> Result<Inference, InferError> {
     match pr.least(std::slice::from_ref(&rec), SOF_MAX, |n| {
         let mut q = base.clone();
         q.tolerances.sof_tolerance = n.max(base.tolerances.sof_tolerance);
-        q.tolerances.status_tolerance = 1000;
+        q.tolerances.status_tolerance = STATUS_MAX;
         q.tolerances.tx_edge_tolerance = TX_MAX;
         q
     }) {
@@ -545,12 +553,21 @@ pub fn infer(o: &InferOptions) -> Result<Inference, InferError> {
     let cmd_probes: Vec<Probe> = (0..=12).map(probes::command).collect();
     let runs0 = pr.runs;
     let mut cmds = Vec::new();
+    let mut tried = Vec::new();
     let mut last_fail = (String::new(), String::new());
-    for c in 0..=ACCESS_MAX {
+    // Nearest the write edge first (a command crosses as a write does);
+    // the first that agrees at every position is taken.
+    let mut order: Vec<u32> = (0..=ACCESS_MAX).collect();
+    order.sort_by_key(|c| (c.abs_diff(write), *c));
+    for c in order {
         let mut q = p.clone();
         set_access(&mut q, edges(write, write, c));
+        tried.push(c);
         match pr.all(&cmd_probes, &q) {
-            Ok(()) => cmds.push(c),
+            Ok(()) => {
+                cmds.push(c);
+                break;
+            }
             Err(f) => last_fail = f,
         }
     }
@@ -559,15 +576,16 @@ pub fn infer(o: &InferOptions) -> Result<Inference, InferError> {
         evidence("command", "NOT MEASURED: no command edge 0..8 agrees (candidate deviation)".into());
         write
     } else {
-        let c = if cmds.contains(&write) { write } else { nearest(&cmds, write) };
-        evidence("command", format!("command edges agreeing on probes command+0..12 (the request at 13 positions in the bit): {} (chosen {c}, nearest the write edge); {} runs", range(&cmds), pr.runs - runs0));
+        let c = cmds[0];
+        let before = if tried.len() > 1 { format!("; nearer ones disagree: {}", range(&tried[..tried.len() - 1])) } else { String::new() };
+        evidence("command", format!("command edge {c} (the nearest the write edge that agrees) agrees on probes command+0..12 (the request at 13 positions in the bit){before}; {} runs", pr.runs - runs0));
         c
     };
     set_access(&mut p, edges(write, write, command));
 
     // 3. The read edge and the SR/IR latency: for each read edge the least
     // status window under which the status probe agrees; the least overall.
-    let st = [probes::status()];
+    let st = [probes::status(), rec.clone()];
     let runs0 = pr.runs;
     let mut best: Vec<(u32, u32)> = Vec::new();
     let mut last_fail = (String::new(), String::new());
@@ -611,15 +629,15 @@ pub fn infer(o: &InferOptions) -> Result<Inference, InferError> {
             // by the same synchroniser as a write, no later).
             let r = reads.iter().copied().filter(|r| *r <= write).max().unwrap_or(reads[0]);
             p.tolerances.status_tolerance = s;
-            evidence("read", format!("read edges with the least SR/IR window on probe status: {} (chosen {r}, the latest not after the write edge)", range(&reads)));
-            evidence("status", format!("SR/IR reads agree within {s} CAN clocks (least window, bound {STATUS_MAX}) polling SR through a received and a sent frame; {} runs", pr.runs - runs0));
+            evidence("read", format!("read edges with the least SR/IR window on probes status, recovery: {} (chosen {r}, the latest not after the write edge)", range(&reads)));
+            evidence("status", format!("SR/IR reads agree within {s} CAN clocks (least window, bound {STATUS_MAX}) polling SR through a received and a sent frame and a bus-off recovery; {} runs", pr.runs - runs0));
             r
         }
     };
     set_access(&mut p, edges(read, write, command));
 
     // 4. The irq and bus-off pins.
-    let pin_probes = [probes::status(), probes::phase(0)];
+    let pin_probes = [probes::status(), probes::phase(0), rec.clone()];
     let runs0 = pr.runs;
     let base = p.clone();
     let with_pins = |n: u32| {
@@ -632,7 +650,7 @@ pub fn infer(o: &InferOptions) -> Result<Inference, InferError> {
     match pr.least(&pin_probes, PINS_MAX, with_pins) {
         Ok(n) => {
             p.tolerances.pin_tolerance = n;
-            evidence("pins", format!("irq/bus-off agree within {n} CAN clocks (least, bound {PINS_MAX}) on probes status, phase+0 (interrupts of a received, a sent and a self-received frame); {} runs", pr.runs - runs0));
+            evidence("pins", format!("irq/bus-off agree within {n} CAN clocks (least, bound {PINS_MAX}) on probes status, phase+0, recovery (interrupts of a received, a sent and a self-received frame; bus-off and its recovery); {} runs", pr.runs - runs0));
         }
         Err(f) => {
             p.tolerances.pin_tolerance = PINS_MAX;
@@ -650,7 +668,6 @@ pub fn infer(o: &InferOptions) -> Result<Inference, InferError> {
     let mut all: Vec<Probe> = phase_probes.clone();
     all.extend(cmd_probes.iter().cloned());
     all.extend(st.iter().cloned());
-    all.push(rec.clone());
     let runs0 = pr.runs;
     let base = p.clone();
     let measured_tx = p.tolerances.tx_edge_tolerance;
