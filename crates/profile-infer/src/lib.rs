@@ -593,6 +593,8 @@ pub fn infer(o: &InferOptions) -> Result<Inference, InferError> {
         let mut q = p.clone();
         set_access(&mut q, edges(r, write, command));
         q.tolerances.status_tolerance = s;
+        // tx at its bound: the recovery's frame is measured last (stage 5).
+        q.tolerances.tx_edge_tolerance = TX_MAX;
         q
     };
     // The least window at the write edge, then every other read edge tried
@@ -645,6 +647,7 @@ pub fn infer(o: &InferOptions) -> Result<Inference, InferError> {
         q.tolerances.compare_irq = true;
         q.tolerances.compare_bus_off = true;
         q.tolerances.pin_tolerance = n;
+        q.tolerances.tx_edge_tolerance = TX_MAX;
         q
     };
     match pr.least(&pin_probes, PINS_MAX, with_pins) {
@@ -848,18 +851,4 @@ impl Prober {
         scenario::run(&probe.scenario, &opts);
         read_tx_edges(&vcd, probe.scenario.can_hz / 1e6)
     }
-}
-
-#[doc(hidden)]
-pub fn explore(o: &InferOptions, p: &Profile, probe: &Probe) -> (Option<Vec<i64>>, Result<(), String>) {
-    let mut defines = o.defines.clone();
-    defines.push("CAN_WISHBONE_IF".into());
-    let mut dut = DutSpec::external(&o.name, &o.dir, &o.top);
-    if let scenario::DutKind::External { defines: d, includes: i, .. } = &mut dut.kind {
-        *d = defines;
-        *i = vec![o.dir.clone()];
-    }
-    let mut pr = Prober { dut, host: o.host, waivers: o.waivers.clone(), runs: 0 };
-    let l = pr.tx_edges(probe, p).and_then(|e| e.lags());
-    (l, pr.run(probe, p))
 }
