@@ -21,6 +21,7 @@ pub mod probes;
 use std::path::PathBuf;
 use std::time::{Duration, Instant};
 
+use cosim::holdoff::BusyAfterAck;
 use cosim::{AccessTiming, CompareConfig, PhaseOrigin, Profile};
 use probes::{BIT_CLOCKS, Probe, SJW_CLOCKS};
 use scenario::{DutSpec, HostBfm, RunOptions};
@@ -81,6 +82,10 @@ pub const SOF_MAX: u32 = BIT_CLOCKS;
 pub const STATUS_MAX: u32 = BIT_CLOCKS;
 /// Largest irq/bus-off pin latency.
 pub const PINS_MAX: u32 = BIT_CLOCKS;
+/// Largest segment lag (CAN clocks).
+pub const SEGMENT_LAG_MAX: u32 = SJW_CLOCKS;
+/// Largest count of each stage of a handshake's return to idle.
+pub const BUSY_MAX: u32 = ACCESS_MAX;
 
 /// Every bound the inference keeps to.
 pub const BOUNDS: &[Bound] = &[
@@ -93,6 +98,21 @@ pub const BOUNDS: &[Bound] = &[
         key: "phase-origin",
         max: 0,
         reason: "nothing synchronises a node's time quanta before the first bus edge (CAN 2.0B §10: hard synchronisation at the start of frame), so the phase in bus idle is the core's choice: from the hardware reset or from the reset-mode exit",
+    },
+    Bound {
+        key: "segment-lag",
+        max: SEGMENT_LAG_MAX,
+        reason: "a bit timing that runs through reset mode may act on its prescaler's quantum through registers (the segment counters a few CAN clocks behind it); CAN 2.0B §10 lets a receiver correct a phase error of at most SJW (2 quanta, 8 CAN clocks at the probes' timing), so segment logic later than that is a late sample point, not a pipeline",
+    },
+    Bound {
+        key: "busy-after-ack",
+        max: BUSY_MAX,
+        reason: "after an ack a request/acknowledge handshake returns to idle across the two clocks: each of its three stages (the core sees the request fall, the host side's acknowledge falls, the core lifts its block) is one synchroniser crossing, bounded as an access (at most 8 edges); searched as [w, w, c] with c at most w: the request's fall and the acknowledge's fall cross synchronisers as deep as the request's rise (w, the write edge)",
+    },
+    Bound {
+        key: "count-from",
+        max: 1,
+        reason: "a core that synchronises cyc & stb from the wires straight into its CAN clock counts from the first CAN edge after they appear, one that registers them in the host clock first from the next host edge: at most one CAN edge apart, both a synchroniser the datasheet leaves open",
     },
     Bound {
         key: "sof",
@@ -216,6 +236,29 @@ fn set_access(p: &mut Profile, t: AccessTiming) {
     p.pio = t;
 }
 
+fn set_busy(p: &mut Profile, b: Option<BusyAfterAck>) {
+    p.holdoff = cosim::profile::Holdoff { wishbone: b, avalon: b, pio: b };
+}
+
+fn set_wires(p: &mut Profile, on: bool) {
+    p.count_from_wires = cosim::profile::CountFromWires { wishbone: on, avalon: on, pio: on };
+}
+
+fn busy(w: u32, c: u32) -> BusyAfterAck {
+    BusyAfterAck { can: w, host: w, can_again: c }
+}
+
+/// One phase-stage candidate: origin, write edge and handshake, with the
+/// tx lags it gave.
+struct Cand {
+    spread: i64,
+    worst: i64,
+    origin: PhaseOrigin,
+    write: u32,
+    busy: Option<BusyAfterAck>,
+    sofs: Vec<i64>,
+}
+
 fn edges(read: u32, write: u32, command: u32) -> AccessTiming {
     AccessTiming::CanEdges { read, write, command }
 }
@@ -227,11 +270,6 @@ fn range(v: &[u32]) -> String {
         _ if v.windows(2).all(|w| w[1] == w[0] + 1) => format!("{}..{}", v[0], v[v.len() - 1]),
         _ => v.iter().map(u32::to_string).collect::<Vec<_>>().join(","),
     }
-}
-
-/// The value of `v` nearest `to` (ties: the lower).
-fn nearest(v: &[u32], to: u32) -> u32 {
-    *v.iter().min_by_key(|x| (x.abs_diff(to), **x)).expect("not empty")
 }
 
 /// Infers the profile of the core `o` describes. Builds it (cached), finds
@@ -285,39 +323,78 @@ pub fn infer(o: &InferOptions) -> Result<Inference, InferError> {
     // core's tx pipeline (the sof and tx-edge windows).
     let phase_probes: Vec<Probe> = [0, 1, 3, 5].into_iter().map(probes::phase).collect();
     let runs0 = pr.runs;
-    // (spread of the lags, largest lag, origin, write edge, SOF lags)
-    let mut cands: Vec<(i64, i64, PhaseOrigin, u32, Vec<i64>)> = Vec::new();
+    // The lags of one candidate over the phase probes; None as soon as a
+    // probe's frame differs from the model's or the lags spread over more
+    // than a clock (no use running the others).
+    let measure = |pr: &mut Prober, q: &Profile| -> Option<(Vec<i64>, Vec<i64>)> {
+        let (mut lags, mut sofs) = (Vec::new(), Vec::new());
+        for probe in &phase_probes {
+            let l = pr.tx_edges(probe, q).and_then(|e| e.lags())?;
+            sofs.push(l[0]);
+            lags.extend(l);
+            let (lo, hi) = (*lags.iter().min().expect("some"), *lags.iter().max().expect("some"));
+            if hi - lo > 1 {
+                // Not constant already: the spread so far is for the report.
+                return Some((lags, sofs));
+            }
+        }
+        Some((lags, sofs))
+    };
+    let mut cands: Vec<Cand> = Vec::new();
+    let push = |cands: &mut Vec<Cand>, origin, w, b, r: Option<(Vec<i64>, Vec<i64>)>| {
+        if let Some((lags, sofs)) = r {
+            let (lo, hi) = (*lags.iter().min().expect("some"), *lags.iter().max().expect("some"));
+            cands.push(Cand { spread: hi - lo, worst: lo.abs().max(hi.abs()), origin, write: w, busy: b, sofs });
+        }
+    };
     for (origin, writes) in [(PhaseOrigin::ResetModeExit, 0..=ACCESS_MAX), (PhaseOrigin::HardwareReset, 3..=3)] {
         for w in writes {
             let mut q = p.clone();
             q.phase_origin = origin;
             set_access(&mut q, edges(w, w, w));
-            let mut lags = Vec::new();
-            let mut sofs = Vec::new();
-            for probe in &phase_probes {
-                match pr.tx_edges(probe, &q).and_then(|e| e.lags()) {
-                    Some(l) => {
-                        sofs.push(l[0]);
-                        lags.extend(l);
-                    }
-                    None => {
-                        lags.clear();
-                        break;
-                    }
-                }
-            }
-            if lags.is_empty() {
-                continue;
-            }
-            let (lo, hi) = (*lags.iter().min().expect("some"), *lags.iter().max().expect("some"));
-            cands.push((hi - lo, lo.abs().max(hi.abs()), origin, w, sofs));
+            let r = measure(&mut pr, &q);
+            push(&mut cands, origin, w, None, r);
         }
     }
-    cands.sort_by_key(|c| (c.0, c.1));
+    let good = |c: &Cand| c.spread <= 1 && c.worst <= TX_MAX as i64 && c.sofs.len() == phase_probes.len();
+    if !cands.iter().any(good) {
+        // No constant lag with requests seen at once: a core that blocks
+        // new requests after an ack (a handshake returning to idle) takes
+        // back-to-back writes later than the model would. The handshake
+        // family [w, w, c], c <= w (the `busy-after-ack` bound).
+        // The first origin over every write edge; the second on the
+        // write edges of the first's best candidates only (enough to tell
+        // the origins apart).
+        let mut best: Vec<u32> = Vec::new();
+        for origin in [PhaseOrigin::HardwareReset, PhaseOrigin::ResetModeExit] {
+            let writes: Vec<u32> = if best.is_empty() { (0..=ACCESS_MAX).collect() } else { best.clone() };
+            for w in writes {
+                for c in 0..=w.min(BUSY_MAX) {
+                    let mut q = p.clone();
+                    q.phase_origin = origin;
+                    set_access(&mut q, edges(w, w, w));
+                    set_busy(&mut q, Some(busy(w, c)));
+                    let r = measure(&mut pr, &q);
+                    push(&mut cands, origin, w, Some(busy(w, c)), r);
+                }
+            }
+            if let Some(top) = cands.iter().filter(|c| good(c) && c.busy.is_some()).map(|c| (c.spread, c.worst)).min() {
+                best = cands.iter().filter(|c| good(c) && c.busy.is_some() && (c.spread, c.worst) == top).map(|c| c.write).collect::<std::collections::BTreeSet<_>>().into_iter().collect();
+            }
+        }
+    }
+    // Complete candidates first, then the narrowest lags; ties: the
+    // earliest write edge, then requests seen at once before a handshake.
+    cands.sort_by_key(|c| (c.sofs.len() != phase_probes.len(), c.spread, c.worst, c.write, c.busy.is_some()));
 
-    let write = match cands.first() {
-        Some((spread, worst, origin, w, sofs)) if *spread <= 1 && *worst <= TX_MAX as i64 => {
+    let write = match cands.first().filter(|c| good(c)) {
+        Some(Cand { spread, worst, origin, write: w, busy: b, sofs }) => {
             p.phase_origin = *origin;
+            // The handshake: the middle of the closing counts that agree
+            // with this origin and write edge.
+            let closing: Vec<u32> = cands.iter().filter(|c| good(c) && c.origin == *origin && c.write == *w && c.spread == *spread && c.worst == *worst).filter_map(|c| c.busy.map(|b| b.can_again)).collect();
+            let b = b.map(|_| busy(*w, closing[closing.len() / 2]));
+            set_busy(&mut p, b);
             let sof = sofs.iter().map(|l| l.unsigned_abs() as u32).max().unwrap_or(0);
             p.tolerances.sof_tolerance = sof;
             p.tolerances.tx_edge_tolerance = *worst as u32;
@@ -326,20 +403,28 @@ pub fn infer(o: &InferOptions) -> Result<Inference, InferError> {
                 PhaseOrigin::ResetModeExit => "reset-mode-exit",
                 PhaseOrigin::HardwareReset => "hardware-reset",
             };
-            let other = cands.iter().filter(|c| c.2 != *origin).map(|c| c.0).min().map_or("no constant lag".to_string(), |s| format!("its lags spread over {s} CAN clocks"));
+            let other = cands.iter().filter(|c| c.origin != *origin).map(|c| c.spread).min().map_or("no constant lag".to_string(), |s| format!("its lags spread over {s} CAN clocks"));
             evidence("phase-origin", format!("{what}: on probes {} (reset-mode exit moved by 0, 1, 3, 5 pad reads) the core's tx edges trail the model's by the same lag at every edge (spread {spread}); the other origin: {other}; {} runs", names(&phase_probes), pr.runs - runs0));
-            let writes: Vec<u32> = cands.iter().filter(|c| c.2 == *origin && c.0 == *spread && c.1 == *worst).map(|c| c.3).collect();
-            if *origin == PhaseOrigin::ResetModeExit {
-                evidence("write", format!("write edge {} gives the least lag ({worst} CAN clocks) after the reset-mode exit", range(&writes)));
+            let writes: Vec<u32> = cands.iter().filter(|c| good(c) && c.origin == *origin && c.spread == *spread && c.worst == *worst && c.busy.is_some() == b.is_some()).map(|c| c.write).collect::<std::collections::BTreeSet<_>>().into_iter().collect();
+            match b {
+                Some(b) => {
+                    let none = cands.iter().filter(|c| c.busy.is_none()).map(|c| c.spread).min().map_or("no frame like the model's".to_string(), |s| format!("lags spread over {s} CAN clocks at best"));
+                    evidence("busy-after-ack", format!("[{}, {}, {}]: with requests seen at once right after an ack the phase probes give {none}; the handshake [w, w, c] (c <= w, bound {BUSY_MAX}) gives the same lag at every edge for write edge {w} with c = {} (chosen {}, the middle)", b.can, b.host, b.can_again, range(&closing), b.can_again));
+                }
+                None => evidence("busy-after-ack", "none: with requests seen at once right after an ack the phase probes' lags are constant".into()),
+            }
+            if *origin == PhaseOrigin::ResetModeExit || b.is_some() {
+                let at = if b.is_some() { " with the handshake" } else { " after the reset-mode exit" };
+                evidence("write", format!("write edge {} gives the least lag ({worst} CAN clocks){at} (chosen {w}, the earliest)", range(&writes)));
             }
             evidence("sof", format!("tx lag at the start of frame: {} CAN clocks on the phase probes (bound {SOF_MAX})", range(&sofs.iter().map(|l| l.unsigned_abs() as u32).collect::<std::collections::BTreeSet<_>>().into_iter().collect::<Vec<_>>())));
             evidence("tx-edge", format!("tx lag at every edge of the phase probes' frames: at most {worst} CAN clocks (bound {TX_MAX})"));
             *w
         }
-        best => {
+        None => {
             p.tolerances.sof_tolerance = TX_MAX;
-            let why = match best {
-                Some((spread, worst, ..)) => format!("the best candidate's tx lags spread over {spread} CAN clocks, up to {worst}"),
+            let why = match cands.first() {
+                Some(Cand { spread, worst, .. }) => format!("the best candidate's tx lags spread over {spread} CAN clocks, up to {worst}"),
                 None => "no candidate sent the same frame as the model".into(),
             };
             let probe = phase_probes[0].clone();
@@ -353,14 +438,18 @@ pub fn infer(o: &InferOptions) -> Result<Inference, InferError> {
     // of that frame (the sof window keeps it for the frame).
     let rec = probes::recovery();
     let runs0 = pr.runs;
-    if let Some(l) = pr.tx_edges(&rec, &p).and_then(|e| e.lags()) {
+    // SR at its bound, not uncompared: a waiver that realigns the model
+    // after a register read (a known deviation) must see the read.
+    let mut rp = p.clone();
+    rp.tolerances.status_tolerance = STATUS_MAX;
+    if let Some(l) = pr.tx_edges(&rec, &rp).and_then(|e| e.lags()) {
         let sof = l.iter().map(|x| x.unsigned_abs() as u32).max().unwrap_or(0);
         if sof > p.tolerances.sof_tolerance && sof <= SOF_MAX {
             p.tolerances.sof_tolerance = sof;
         }
         evidence("sof", format!("tx lag of the frame from bus idle after a bus-off recovery (probe recovery): {sof} CAN clocks (bound {SOF_MAX}); {} run", pr.runs - runs0));
         if sof > SOF_MAX {
-            let divergence = pr.run(&rec, &p).err().unwrap_or_else(|| format!("lag {sof}"));
+            let divergence = pr.run(&rec, &rp).err().unwrap_or_else(|| format!("lag {sof}"));
             devs.push(Deviation { freedom: "sof".into(), bound: bound("sof"), probe: rec.name.clone(), divergence });
             p.tolerances.sof_tolerance = SOF_MAX;
         }
@@ -370,7 +459,7 @@ pub fn infer(o: &InferOptions) -> Result<Inference, InferError> {
     match pr.least(std::slice::from_ref(&rec), SOF_MAX, |n| {
         let mut q = base.clone();
         q.tolerances.sof_tolerance = n.max(base.tolerances.sof_tolerance);
-        q.tolerances.status_tolerance = 1000;
+        q.tolerances.status_tolerance = STATUS_MAX;
         q.tolerances.tx_edge_tolerance = TX_MAX;
         q
     }) {
@@ -384,7 +473,7 @@ pub fn infer(o: &InferOptions) -> Result<Inference, InferError> {
             p.tolerances.sof_tolerance = SOF_MAX;
         }
     }
-    if p.phase_origin == PhaseOrigin::HardwareReset {
+    if p.phase_origin == PhaseOrigin::HardwareReset && p.holdoff.wishbone.is_none() {
         // The write edge does not move the phase: the earliest that agrees.
         let mut writes = Vec::new();
         for w in 0..=ACCESS_MAX {
@@ -405,17 +494,80 @@ pub fn infer(o: &InferOptions) -> Result<Inference, InferError> {
         AccessTiming::AtAck => write,
     };
 
+    // The segment lag (a bit timing running through reset mode only):
+    // BTR writes at BRP 0 (2 CAN clocks a quantum) landing at other clocks
+    // of the running reset-value bit; the least lag under which the core's
+    // frame is the model's at each landing (a larger one redoes quanta the
+    // core does not).
+    let mut grid_probes: Vec<Probe> = Vec::new();
+    if p.phase_origin == PhaseOrigin::HardwareReset && !devs.iter().any(|d| d.freedom.contains("phase-origin")) {
+        grid_probes = (0..3).map(probes::grid).collect();
+        let runs0 = pr.runs;
+        let mut tried = Vec::new();
+        let mut last_fail = (String::new(), String::new());
+        let found = (0..=SEGMENT_LAG_MAX).find(|&n| {
+            let mut q = p.clone();
+            q.segment_lag = n;
+            tried.push(n);
+            match pr.all(&grid_probes, &q) {
+                Ok(()) => true,
+                Err(f) => {
+                    last_fail = f;
+                    false
+                }
+            }
+        });
+        match found {
+            Some(n) => {
+                p.segment_lag = n;
+                let below = if n == 0 { "it is the least".to_string() } else { format!("{} disagree", range(&tried[..tried.len() - 1])) };
+                evidence("segment-lag", format!("{n}: the least that agrees on probes {} (BTR writes at BRP 0 landing at 3 clocks of the running bit; {below}; bound {SEGMENT_LAG_MAX}); {} runs", names(&grid_probes), pr.runs - runs0));
+            }
+            None => {
+                devs.push(Deviation { freedom: "segment-lag".into(), bound: bound("segment-lag"), probe: last_fail.0, divergence: last_fail.1 });
+                evidence("segment-lag", format!("NOT MEASURED: no lag 0..{SEGMENT_LAG_MAX} agrees on probes {} (candidate deviation; left at 0)", names(&grid_probes)));
+            }
+        }
+    }
+
+    // Where the access's edges count from: the other choice on the probes
+    // that placed the writes. Both agreeing: the probes cannot tell them
+    // apart (a CAN edge between the wires and the next host edge moves a
+    // write by one CAN clock, which the phase and grid probes see only
+    // where it moves a BTR write or the reset-mode exit across a quantum's
+    // end); the default stays.
+    if !devs.iter().any(|d| d.freedom.contains("phase-origin")) {
+        let runs0 = pr.runs;
+        let mut on = phase_probes.clone();
+        on.extend(grid_probes.iter().cloned());
+        let mut q = p.clone();
+        set_wires(&mut q, true);
+        match pr.all(&on, &q) {
+            Ok(()) => evidence("count-from", format!("host-edge (the default): \"wires\" agrees as well on probes {}, which cannot tell them apart (the two differ by one CAN clock in about half the host/CAN phases; no write of the probes crosses a quantum's end by it); {} runs", names(&on), pr.runs - runs0)),
+            Err((probe, why)) => evidence("count-from", format!("host-edge: \"wires\" disagrees on probe {probe} ({}); {} runs", why.chars().take(120).collect::<String>(), pr.runs - runs0)),
+        }
+    }
+
     // 2. The command edge: the transmission request landing at other
     // clocks of the bit (0..12 pad reads).
     let cmd_probes: Vec<Probe> = (0..=12).map(probes::command).collect();
     let runs0 = pr.runs;
     let mut cmds = Vec::new();
+    let mut tried = Vec::new();
     let mut last_fail = (String::new(), String::new());
-    for c in 0..=ACCESS_MAX {
+    // Nearest the write edge first (a command crosses as a write does);
+    // the first that agrees at every position is taken.
+    let mut order: Vec<u32> = (0..=ACCESS_MAX).collect();
+    order.sort_by_key(|c| (c.abs_diff(write), *c));
+    for c in order {
         let mut q = p.clone();
         set_access(&mut q, edges(write, write, c));
+        tried.push(c);
         match pr.all(&cmd_probes, &q) {
-            Ok(()) => cmds.push(c),
+            Ok(()) => {
+                cmds.push(c);
+                break;
+            }
             Err(f) => last_fail = f,
         }
     }
@@ -424,15 +576,16 @@ pub fn infer(o: &InferOptions) -> Result<Inference, InferError> {
         evidence("command", "NOT MEASURED: no command edge 0..8 agrees (candidate deviation)".into());
         write
     } else {
-        let c = if cmds.contains(&write) { write } else { nearest(&cmds, write) };
-        evidence("command", format!("command edges agreeing on probes command+0..12 (the request at 13 positions in the bit): {} (chosen {c}, nearest the write edge); {} runs", range(&cmds), pr.runs - runs0));
+        let c = cmds[0];
+        let before = if tried.len() > 1 { format!("; nearer ones disagree: {}", range(&tried[..tried.len() - 1])) } else { String::new() };
+        evidence("command", format!("command edge {c} (the nearest the write edge that agrees) agrees on probes command+0..12 (the request at 13 positions in the bit){before}; {} runs", pr.runs - runs0));
         c
     };
     set_access(&mut p, edges(write, write, command));
 
     // 3. The read edge and the SR/IR latency: for each read edge the least
     // status window under which the status probe agrees; the least overall.
-    let st = [probes::status()];
+    let st = [probes::status(), rec.clone()];
     let runs0 = pr.runs;
     let mut best: Vec<(u32, u32)> = Vec::new();
     let mut last_fail = (String::new(), String::new());
@@ -440,6 +593,8 @@ pub fn infer(o: &InferOptions) -> Result<Inference, InferError> {
         let mut q = p.clone();
         set_access(&mut q, edges(r, write, command));
         q.tolerances.status_tolerance = s;
+        // tx at its bound: the recovery's frame is measured last (stage 5).
+        q.tolerances.tx_edge_tolerance = TX_MAX;
         q
     };
     // The least window at the write edge, then every other read edge tried
@@ -476,15 +631,15 @@ pub fn infer(o: &InferOptions) -> Result<Inference, InferError> {
             // by the same synchroniser as a write, no later).
             let r = reads.iter().copied().filter(|r| *r <= write).max().unwrap_or(reads[0]);
             p.tolerances.status_tolerance = s;
-            evidence("read", format!("read edges with the least SR/IR window on probe status: {} (chosen {r}, the latest not after the write edge)", range(&reads)));
-            evidence("status", format!("SR/IR reads agree within {s} CAN clocks (least window, bound {STATUS_MAX}) polling SR through a received and a sent frame; {} runs", pr.runs - runs0));
+            evidence("read", format!("read edges with the least SR/IR window on probes status, recovery: {} (chosen {r}, the latest not after the write edge)", range(&reads)));
+            evidence("status", format!("SR/IR reads agree within {s} CAN clocks (least window, bound {STATUS_MAX}) polling SR through a received and a sent frame and a bus-off recovery; {} runs", pr.runs - runs0));
             r
         }
     };
     set_access(&mut p, edges(read, write, command));
 
     // 4. The irq and bus-off pins.
-    let pin_probes = [probes::status(), probes::phase(0)];
+    let pin_probes = [probes::status(), probes::phase(0), rec.clone()];
     let runs0 = pr.runs;
     let base = p.clone();
     let with_pins = |n: u32| {
@@ -492,12 +647,13 @@ pub fn infer(o: &InferOptions) -> Result<Inference, InferError> {
         q.tolerances.compare_irq = true;
         q.tolerances.compare_bus_off = true;
         q.tolerances.pin_tolerance = n;
+        q.tolerances.tx_edge_tolerance = TX_MAX;
         q
     };
     match pr.least(&pin_probes, PINS_MAX, with_pins) {
         Ok(n) => {
             p.tolerances.pin_tolerance = n;
-            evidence("pins", format!("irq/bus-off agree within {n} CAN clocks (least, bound {PINS_MAX}) on probes status, phase+0 (interrupts of a received, a sent and a self-received frame); {} runs", pr.runs - runs0));
+            evidence("pins", format!("irq/bus-off agree within {n} CAN clocks (least, bound {PINS_MAX}) on probes status, phase+0, recovery (interrupts of a received, a sent and a self-received frame; bus-off and its recovery); {} runs", pr.runs - runs0));
         }
         Err(f) => {
             p.tolerances.pin_tolerance = PINS_MAX;
@@ -515,7 +671,6 @@ pub fn infer(o: &InferOptions) -> Result<Inference, InferError> {
     let mut all: Vec<Probe> = phase_probes.clone();
     all.extend(cmd_probes.iter().cloned());
     all.extend(st.iter().cloned());
-    all.push(rec.clone());
     let runs0 = pr.runs;
     let base = p.clone();
     let measured_tx = p.tolerances.tx_edge_tolerance;
@@ -574,6 +729,10 @@ fn render(p: &Profile, ev: &[Evidence], devs: &[Deviation], host: &HostBfm, runs
         PhaseOrigin::HardwareReset => "hardware-reset",
         PhaseOrigin::ResetModeExit => "reset-mode-exit",
     });
+    if p.phase_origin == PhaseOrigin::HardwareReset {
+        s += &say("segment-lag");
+        s += &format!("segment-lag = {}\n\n", p.segment_lag);
+    }
     let AccessTiming::CanEdges { read, write, command } = p.wishbone else { unreachable!("the inference writes edge counts") };
     for (i, bus) in ["wishbone", "avalon", "pio"].iter().enumerate() {
         if i == 0 {
@@ -581,8 +740,17 @@ fn render(p: &Profile, ev: &[Evidence], devs: &[Deviation], host: &HostBfm, runs
             s += &say("read");
             s += &say("write");
             s += &say("command");
+            s += &say("busy-after-ack");
+            s += &say("count-from");
         }
-        s += &format!("[access.{bus}]\ntakes-effect = \"can-edges\"\nread = {read}\nwrite = {write}\ncommand = {command}\n\n");
+        s += &format!("[access.{bus}]\n");
+        if let Some(b) = p.holdoff.wishbone {
+            s += &format!("busy-after-ack = [{}, {}, {}]\n", b.can, b.host, b.can_again);
+        }
+        if p.count_from_wires.wishbone {
+            s += "count-from = \"wires\"\n";
+        }
+        s += &format!("takes-effect = \"can-edges\"\nread = {read}\nwrite = {write}\ncommand = {command}\n\n");
     }
     let t = &p.tolerances;
     s += "[tolerances]\n";

@@ -66,6 +66,23 @@ pub fn phase(pad: u32) -> Probe {
     probe(format!("phase+{pad}"), text("profile probe: where the bit timing starts (reset-mode exit moved by pad reads)", &steps, "", 260))
 }
 
+/// Grid: `pad` register writes (ACR0) before the bit-timing writes, so
+/// BTR0 and BTR1 land at another clock of the running bit each time (a
+/// core whose bit timing runs through reset mode takes them there; the
+/// reset-value bit is 6 CAN clocks, a write about 6 to 7), then the phase
+/// probe's self-test frame: its tx edges show where the BTR writes met
+/// the core's quanta (`segment-lag`, and where an access's edges count
+/// from).
+pub fn grid(pad: u32) -> Probe {
+    let steps = "    { write = \"MOD\", value = 0x04 },\n    { wait_bits = 14 },\n    { load_tx = { id = 0x529, data = [0x51] } },\n    \
+         { write = \"CMR\", value = 0x10 },\n    { wait_sr_set = 0x09, timeout_bits = 200 },\n    { read = \"RXFI\", expect = 0x01 },\n    { write = \"CMR\", value = 0x04 },";
+    let t = text("profile probe: where BTR writes in reset mode meet a running bit timing (register writes before them)", steps, "", 260);
+    let anchor = "    { write = \"BTR0\", value = 0x41 },\n    { write = \"BTR1\", value = 0x25 },\n";
+    let pads: String = (0..pad).map(|_| "    { write = \"ACR0\", value = 0x00 },\n").collect();
+    let btr = "    { write = \"BTR0\", value = 0xC0 },\n    { write = \"BTR1\", value = 0x7F },\n";
+    probe(format!("grid+{pad}"), t.replacen(anchor, &(pads + btr), 1))
+}
+
 /// Command: the transmission request `pad` reads after the TX buffer is
 /// filled, so it lands at a different clock of the bit each time: the bit
 /// the start of frame comes in shows when the core took the command.
