@@ -211,6 +211,29 @@ impl Btl {
         self.cpt - self.clk
     }
 
+    /// CAN clocks per time quantum.
+    pub(crate) fn clocks_per_tq(&self) -> u32 {
+        self.cpt
+    }
+
+    /// How many of the next quantum ends, with the bus staying at `rx`,
+    /// return [`Tq::Quiet`] and do nothing but move the quantum count: no
+    /// edge at the next look (after it the level is `rx` at every look), so
+    /// no synchronisation, and neither the sample point nor the bit's end
+    /// among them.
+    pub(crate) fn quiet_tqs(&self, rx: bool) -> u32 {
+        if self.prev_rx && !rx {
+            return 0;
+        }
+        if self.pos < self.sp {
+            u32::from(self.sp - self.pos)
+        } else if self.pos > self.sp && self.pos < self.end {
+            u32::from(self.end - self.pos)
+        } else {
+            0
+        }
+    }
+
     /// One CAN clock; `None` between quantum boundaries.
     #[inline]
     pub(crate) fn clock(&mut self) -> bool {

@@ -351,6 +351,25 @@ impl Engine {
         if self.halted() { 1 } else { self.btl.clocks_to_next_tq() }
     }
 
+    /// CAN clocks from now in which, with the bus staying at `rx`, nothing
+    /// but counting happens: the next that many calls of [`Engine::clock`]
+    /// with `rx` return the same level and move neither
+    /// [`Engine::activity`] nor the events. Beyond
+    /// [`Engine::clocks_to_next_tq`]: the quanta that end with no edge, no
+    /// sample point and no bit start count too (and in reset mode, where
+    /// the bit stream processor takes no part, every quantum once tx is
+    /// recessive).
+    pub fn quiet_clocks(&self, rx: bool) -> u32 {
+        if self.halted() {
+            return 0;
+        }
+        let in_tq = self.btl.clocks_to_next_tq() - 1;
+        if self.bsp.reset_mode {
+            return if self.tx_out == RECESSIVE { u32::MAX } else { in_tq };
+        }
+        in_tq + self.btl.quiet_tqs(rx) * self.btl.clocks_per_tq()
+    }
+
     /// Asleep with the reset-mode-exit origin: the bit timing stands still
     /// and each clock's rx level is looked at (a dominant one wakes the node).
     #[inline]

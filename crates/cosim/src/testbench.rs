@@ -183,6 +183,43 @@ pub struct Testbench {
 /// Instants per batch (see `Testbench::run_batch`).
 const BATCH: usize = 512;
 
+/// A quiet stretch of `run_batch` (see `Testbench::quiet_clocks_ahead`).
+#[derive(Clone, Copy)]
+struct Stretch {
+    /// CAN edges left in it.
+    left: u32,
+    /// The reference's view it holds for.
+    view: RefView,
+    /// The DUT's pins it holds for (tx, irq, bus-off: `out`)...
+    pins: CanPins,
+    /// ...as batch out bits 0..2.
+    out: u8,
+    /// The bus level and the DUT's rx it holds for.
+    level: bool,
+    rx: bool,
+    /// The reference's CLKOUT setting over it.
+    clkout: crate::clkout::ClkoutSetting,
+    /// Edges of it taken but for their CLKOUT check
+    /// (`Testbench::finish_deferred`).
+    deferred: u32,
+}
+
+impl Default for Stretch {
+    /// No stretch.
+    fn default() -> Self {
+        Stretch {
+            left: 0,
+            view: RefView::default(),
+            pins: CanPins::default(),
+            out: 0,
+            level: true,
+            rx: true,
+            clkout: crate::clkout::ClkoutSetting::Unchecked,
+            deferred: 0,
+        }
+    }
+}
+
 impl Testbench {
     /// Builds the DUT, the BFM, the bus and the reference, and runs the
     /// reset sequence.
@@ -621,10 +658,9 @@ impl Testbench {
         // `clkout_levels`, kept in a register between CAN edges (only
         // `can_edge` reads it, and leaves it 0).
         let mut clkout_levels = self.clkout_levels;
-        // A quiet stretch (see `quiet_clocks_ahead`): CAN edges left in it,
-        // and the DUT's pins (out bits 0..2), bus level and reference view
-        // it holds for.
-        let (mut ahead, mut ahead_out, mut ahead_level, mut ahead_view) = (0u32, 0u8, true, RefView::default());
+        // A quiet stretch (see `quiet_clocks_ahead`), and its CAN edges
+        // whose CLKOUT check is done but not the rest (`Stretch::deferred`).
+        let mut ahead = Stretch::default();
         // Only a lockstep run with the golden model has quiet stretches:
         // without one, not even asked.
         let stretches = matches!(self.reference.model, Some(AnyRef::Model(_)));
@@ -651,25 +687,36 @@ impl Testbench {
                 if quiet && !last {
                     self.host.quiet_edge();
                 } else {
+                    self.finish_deferred(&mut ahead);
                     self.host_edge();
                     quiet = quiet_wires && self.host.monitor_saw(s0);
                     // Not promised anything about a host edge taken in full.
-                    ahead = 0;
+                    ahead.left = 0;
                 }
             }
             if l & 4 != 0 {
-                self.clkout_levels = std::mem::take(&mut clkout_levels);
                 let pins = VerilatedDut::batch_pins(o, active_high);
-                if ahead > 0 && o & 7 == ahead_out && self.bus.level() == ahead_level {
-                    ahead -= 1;
-                    if !self.quiet_can_edge(tm[i], pins, &ahead_view) {
-                        ahead = 0;
+                if ahead.left > 0 && o & 7 == ahead.out && self.bus.level() == ahead.level {
+                    ahead.left -= 1;
+                    if self.checks.quiet_clkout(ahead.clkout, pins.clkout) {
+                        // The rest of this edge's `quiet_can_edge` is done
+                        // with its neighbours' in one go (`finish_deferred`).
+                        clkout_levels = 0;
+                        ahead.deferred += 1;
+                    } else {
+                        self.finish_deferred(&mut ahead);
+                        self.clkout_levels = std::mem::take(&mut clkout_levels);
+                        if !self.quiet_can_edge(tm[i], pins, &ahead.view) {
+                            ahead.left = 0;
+                        }
                     }
                 } else {
+                    self.finish_deferred(&mut ahead);
+                    self.clkout_levels = std::mem::take(&mut clkout_levels);
                     self.can_edge(tm[i], pins);
                     if stretches {
-                        (ahead, ahead_view) = self.quiet_clocks_ahead(pins);
-                        (ahead_out, ahead_level) = (o & 7, self.bus.level());
+                        ahead = self.quiet_clocks_ahead(pins);
+                        ahead.out = o & 7;
                     }
                 }
             }
@@ -681,6 +728,7 @@ impl Testbench {
                 break;
             }
         }
+        self.finish_deferred(&mut ahead);
         self.clkout_levels |= clkout_levels;
         if replayed > 0 {
             self.dut_pins = VerilatedDut::batch_pins(out[replayed - 1], active_high);
@@ -786,27 +834,60 @@ impl Testbench {
     /// how many of the next CAN edges, while the DUT's tx, irq and bus-off
     /// pins and the bus level stay as they are now, can take
     /// [`Testbench::quiet_can_edge`], and the reference's view on them.
-    /// Only in lockstep with the golden model: none of them is a quantum
-    /// boundary of the reference (it only counts: `ModelRef::counting_clocks`,
-    /// so its view stays), none is a sample point of the bench's bit clock
+    /// Only in lockstep with the golden model: on none of them does the
+    /// reference do more than count (`ModelRef::counting_clocks`, so its
+    /// view stays), none is a sample point of the bench's bit clock
     /// (`Observer::clocks_before_sample`), no frame waits for the DUT's SOF,
     /// and the comparator takes its short path with these inputs
     /// (`ComparatorAgent::quiet_ahead`, which that path keeps true).
-    fn quiet_clocks_ahead(&self, pins: CanPins) -> (u32, RefView) {
-        let none = (0, RefView::default());
+    fn quiet_clocks_ahead(&self, pins: CanPins) -> Stretch {
+        let none = Stretch::default();
         let Some(AnyRef::Model(m)) = &self.reference.model else { return none };
         if self.reference.awaiting_dut_sof() {
             return none;
         }
-        let n = m.counting_clocks().min(self.obs.clocks_before_sample(self.bus.level()));
+        let rx = self.bus.dut_rx();
+        let n = m.counting_clocks(rx).min(self.obs.clocks_before_sample(self.bus.level()));
         if n == 0 {
             return none;
         }
-        let v = m.view_now();
-        if !self.checks.quiet_ahead(&v, &pins) {
+        let view = m.view_now();
+        if !self.checks.quiet_ahead(&view, &pins) {
             return none;
         }
-        (n, v)
+        Stretch {
+            left: n,
+            view,
+            pins,
+            level: self.bus.level(),
+            rx,
+            // The model's CDR and sleep stay as they are while it only counts.
+            clkout: crate::types::Reference::clkout_setting(m),
+            ..none
+        }
+    }
+
+    /// The deferred part of a stretch's quiet CAN edges (`Stretch::deferred`,
+    /// whose CLKOUT check was done, finding nothing): what
+    /// [`Testbench::quiet_can_edge`] does on them besides that, in one go.
+    /// Each agent's state is its own, so doing each agent's part of the
+    /// edges together is doing the edges one by one. Called before anything
+    /// else looks at the agents.
+    #[inline]
+    fn finish_deferred(&mut self, s: &mut Stretch) {
+        let n = std::mem::take(&mut s.deferred);
+        if n == 0 {
+            return;
+        }
+        self.can_clocks += u64::from(n);
+        self.host.on_can_edges(n);
+        self.obs.quiet_clocks(n);
+        let Some(AnyRef::Model(m)) = &mut self.reference.model else {
+            unreachable!("quiet_clocks_ahead checked the reference");
+        };
+        m.counting_clocks_run(n, s.rx);
+        let field = s.view.field.or(self.obs.field());
+        self.checks.quiet_clocks(n, field, self.obs.bits(), &s.view, &s.pins);
     }
 
     /// A CAN edge promised by [`Testbench::quiet_clocks_ahead`] (`v`: the

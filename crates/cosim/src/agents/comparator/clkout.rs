@@ -111,27 +111,51 @@ impl ClkoutCheck {
     /// One CAN clock: the reference's setting now, the DUT's `clkout_o`.
     #[inline]
     pub fn clock(&mut self, setting: ClkoutSetting, dut_level: bool) -> Option<ClkoutMismatch> {
-        // Most clocks: a divider setting that has settled, with nothing found
-        // yet. `clock_general` then does exactly this: no reset (same
-        // setting), the instants dropped (only `Fosc` reads them), past the
-        // settle time (`since_change` only grows), no finding ageing, and
-        // the divider check, whose finding starts ageing.
-        if let ClkoutSetting::Divide { half_period } = setting
+        if self.settled(setting) {
+            self.settled_divide(setting, dut_level);
+            return None;
+        }
+        self.clock_general(setting, dut_level)
+    }
+
+    /// [`ClkoutCheck::instants`] (any levels) then [`ClkoutCheck::clock`],
+    /// if that clock takes the short path, which reports nothing: true if
+    /// it did (false: nothing done).
+    #[inline]
+    pub fn settled_clock(&mut self, setting: ClkoutSetting, dut_level: bool) -> bool {
+        if !self.settled(setting) {
+            return false;
+        }
+        // What `instants` leaves once the short path has dropped the levels.
+        self.sub_clock = true;
+        self.settled_divide(setting, dut_level);
+        true
+    }
+
+    /// Most clocks: a divider setting that has settled, with nothing found
+    /// yet. `clock_general` then does exactly what `settled_divide` does: no
+    /// reset (same setting), the instants dropped (only `Fosc` reads them),
+    /// past the settle time (`since_change` only grows), no finding ageing,
+    /// and the divider check, whose finding starts ageing.
+    #[inline]
+    fn settled(&self, setting: ClkoutSetting) -> bool {
+        matches!(setting, ClkoutSetting::Divide { .. })
             && setting == self.setting
             && !self.reported
             && self.pending.is_none()
             && self.since_change > SETTLE_CLOCKS
-        {
-            self.instant_levels = 0;
-            let toggled = self.last_level.is_some_and(|l| l != dut_level);
-            self.last_level = Some(dut_level);
-            self.since_change = self.since_change.saturating_add(1);
-            if let Some(m) = self.divide(half_period, toggled) {
-                self.pending = Some((m, 0));
-            }
-            return None;
+    }
+
+    #[inline]
+    fn settled_divide(&mut self, setting: ClkoutSetting, dut_level: bool) {
+        let ClkoutSetting::Divide { half_period } = setting else { return };
+        self.instant_levels = 0;
+        let toggled = self.last_level.is_some_and(|l| l != dut_level);
+        self.last_level = Some(dut_level);
+        self.since_change = self.since_change.saturating_add(1);
+        if let Some(m) = self.divide(half_period, toggled) {
+            self.pending = Some((m, 0));
         }
-        self.clock_general(setting, dut_level)
     }
 
     /// [`ClkoutCheck::clock`] in full.

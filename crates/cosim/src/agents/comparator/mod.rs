@@ -427,6 +427,26 @@ impl Comparator {
         self.pins.quiet_clock(bit < self.skip_until_bit);
     }
 
+    /// `n` clocks in a row that take the short path with the same inputs
+    /// (the test bench's quiet stretches): what `n` calls of
+    /// [`Comparator::quiet_clock`] do (CLKOUT apart).
+    pub(crate) fn quiet_clocks(&mut self, n: u32, field: Option<Field>, bit: u64, reference: &CanPins, dut: &CanPins) {
+        self.tx.quiet_clocks(n, reference, dut, idle(field));
+        self.reads.quiet_clocks(n);
+        self.pins.quiet_clock(bit < self.skip_until_bit);
+    }
+
+    /// The CLKOUT check of one clock of a quiet stretch, with whatever
+    /// levels [`Comparator::clkout_instants`] would be given, if it takes
+    /// the check's short path ([`clkout::ClkoutCheck::settled_clock`]),
+    /// which reports nothing: true if it did. False (nothing done)
+    /// otherwise: the clock then takes `clkout_instants` and
+    /// [`Comparator::clkout_clock`].
+    #[inline]
+    pub(crate) fn quiet_clkout(&mut self, setting: clkout::ClkoutSetting, dut_level: bool) -> bool {
+        self.cfg.compare_clkout && self.clkout.settled_clock(setting, dut_level)
+    }
+
     /// [`Comparator::can_clock`] on the clocks its short path does not
     /// take (not halted): each checker in turn, tx, reads, pins; what they
     /// find is judged here. Out of line: the short path inlined into the

@@ -143,6 +143,29 @@ impl ComparatorAgent {
         }
     }
 
+    /// The CLKOUT part of a quiet clock, if it finds nothing to report
+    /// ([`Comparator::quiet_clkout`]): true if it was done; false (nothing
+    /// done) without lockstep, once stopped, or when the clock needs
+    /// [`ComparatorAgent::quiet_clock`] in full.
+    #[inline]
+    pub fn quiet_clkout(&mut self, setting: super::clkout::ClkoutSetting, dut_level: bool) -> bool {
+        match &mut self.comparator {
+            Some(c) if !self.stopped => c.quiet_clkout(setting, dut_level),
+            _ => false,
+        }
+    }
+
+    /// The rest of `n` quiet clocks in a row whose CLKOUT part was done
+    /// ([`ComparatorAgent::quiet_clkout`]): what `quiet_clock` does on them
+    /// besides it, which finds nothing.
+    pub fn quiet_clocks(&mut self, n: u32, field: Option<can_proto::Field>, bit: u64, v: &RefView, dut: &CanPins) {
+        if let Some(c) = &mut self.comparator
+            && !self.stopped
+        {
+            c.quiet_clocks(n, field, bit, &v.pins, dut);
+        }
+    }
+
     /// A register read completed on both sides (see [`Comparator::read`]):
     /// true when a divergence waits for [`ComparatorAgent::handle_divergences`].
     pub fn read(&mut self, stamp: Stamp, addr: u8, dut: u8, model: u8, name: Option<String>) -> bool {

@@ -103,6 +103,17 @@ impl TxChecker {
         self.prev_idle = idle_now;
     }
 
+    /// `n` [`TxChecker::quiet`] clocks in a row with these inputs: what
+    /// `n` calls of [`TxChecker::quiet_clock`] do.
+    pub(super) fn quiet_clocks(&mut self, n: u32, reference: &CanPins, dut: &CanPins, idle_now: bool) {
+        let v = reference.tx as u8 | (dut.tx as u8) << 1;
+        for _ in 0..n {
+            self.tx_hist.push(self.pushed, v);
+            self.pushed += 1;
+        }
+        self.prev_idle = idle_now;
+    }
+
     /// Any other clock: the sample point that reached the middle of its
     /// window this clock, if it is to be compared (a sample point, not
     /// excused, not before `skip_until_bit`, the reference tx stable over
