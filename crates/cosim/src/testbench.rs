@@ -199,9 +199,6 @@ struct Stretch {
     rx: bool,
     /// The reference's CLKOUT setting over it.
     clkout: crate::clkout::ClkoutSetting,
-    /// Edges of it taken but for their CLKOUT check
-    /// (`Testbench::finish_deferred`).
-    deferred: u32,
 }
 
 impl Default for Stretch {
@@ -215,7 +212,6 @@ impl Default for Stretch {
             level: true,
             rx: true,
             clkout: crate::clkout::ClkoutSetting::Unchecked,
-            deferred: 0,
         }
     }
 }
@@ -653,32 +649,40 @@ impl Testbench {
         // An instant without a rising edge only changes the pins: `after_eval`
         // (without the traces, see `batch_rx`) for the others.
         let (lv, ot, tm) = (&levels[..made], &out[..made], &times[..made]);
-        // The DUT's tx of the instant before (for the first, as of now).
-        let mut prev_tx = self.dut_pins.tx;
-        // `clkout_levels`, kept in a register between CAN edges (only
-        // `can_edge` reads it, and leaves it 0).
-        let mut clkout_levels = self.clkout_levels;
-        // A quiet stretch (see `quiet_clocks_ahead`), and its CAN edges
-        // whose CLKOUT check is done but not the rest (`Stretch::deferred`).
+        // The DUT's tx before the first instant (for the others: the
+        // instant before's, in `ot`).
+        let tx0 = self.dut_pins.tx;
+        // Levels of clkout_o since the last CAN edge: those carried in, and
+        // the instants from `since` on, gathered only when an edge takes them.
+        let (mut carried, mut since) = (self.clkout_levels, 0usize);
+        let gather = |from: usize, to: usize| ot[from..to].iter().fold(0u8, |a, &o| a | 1 << (o >> 3 & 1));
+        // A quiet stretch (see `quiet_clocks_ahead`).
         let mut ahead = Stretch::default();
         // Only a lockstep run with the golden model has quiet stretches:
         // without one, not even asked.
         let stretches = matches!(self.reference.model, Some(AnyRef::Model(_)));
-        for i in 0..made {
+        let mut i = 0;
+        while i < made {
+            if ahead.left > 0 {
+                let (next, last_rise) = self.quiet_run(lv, ot, i, quiet, &mut ahead);
+                if let Some(r) = last_rise {
+                    (carried, since) = (0, r + 1);
+                }
+                i = next;
+            }
             let l = lv[i];
-            let o = ot[i];
-            clkout_levels |= 1 << (o >> 3 & 1);
             if l & 0b1100 == 0 {
-                prev_tx = o & 1 != 0;
+                i += 1;
                 continue;
             }
+            let o = ot[i];
             let last = i + 1 == made;
             if l & 4 != 0 {
                 // `can_rise_rx` without model nodes or faults (see
                 // `batch_rx`), with the DUT's tx of the instant before.
+                let prev_tx = if i == 0 { tx0 } else { ot[i - 1] & 1 != 0 };
                 self.bus.replay_rise(prev_tx, rx);
             }
-            prev_tx = o & 1 != 0;
             if last && let AnyDut::Verilated(d) = &mut self.dut {
                 // The host edge of the last instant may see new outputs.
                 d.sync_outputs();
@@ -687,7 +691,6 @@ impl Testbench {
                 if quiet && !last {
                     self.host.quiet_edge();
                 } else {
-                    self.finish_deferred(&mut ahead);
                     self.host_edge();
                     quiet = quiet_wires && self.host.monitor_saw(s0);
                     // Not promised anything about a host edge taken in full.
@@ -696,23 +699,14 @@ impl Testbench {
             }
             if l & 4 != 0 {
                 let pins = VerilatedDut::batch_pins(o, active_high);
+                self.clkout_levels = carried | gather(since, i + 1);
+                (carried, since) = (0, i + 1);
                 if ahead.left > 0 && o & 7 == ahead.out && self.bus.level() == ahead.level {
                     ahead.left -= 1;
-                    if self.checks.quiet_clkout(ahead.clkout, pins.clkout) {
-                        // The rest of this edge's `quiet_can_edge` is done
-                        // with its neighbours' in one go (`finish_deferred`).
-                        clkout_levels = 0;
-                        ahead.deferred += 1;
-                    } else {
-                        self.finish_deferred(&mut ahead);
-                        self.clkout_levels = std::mem::take(&mut clkout_levels);
-                        if !self.quiet_can_edge(tm[i], pins, &ahead.view) {
-                            ahead.left = 0;
-                        }
+                    if !self.quiet_can_edge(tm[i], pins, &ahead.view) {
+                        ahead.left = 0;
                     }
                 } else {
-                    self.finish_deferred(&mut ahead);
-                    self.clkout_levels = std::mem::take(&mut clkout_levels);
                     self.can_edge(tm[i], pins);
                     if stretches {
                         ahead = self.quiet_clocks_ahead(pins);
@@ -727,9 +721,9 @@ impl Testbench {
                 replayed = i + 1;
                 break;
             }
+            i += 1;
         }
-        self.finish_deferred(&mut ahead);
-        self.clkout_levels |= clkout_levels;
+        self.clkout_levels = carried | gather(since, replayed);
         if replayed > 0 {
             self.dut_pins = VerilatedDut::batch_pins(out[replayed - 1], active_high);
         }
@@ -838,8 +832,9 @@ impl Testbench {
     /// reference do more than count (`ModelRef::counting_clocks`, so its
     /// view stays), none is a sample point of the bench's bit clock
     /// (`Observer::clocks_before_sample`), no frame waits for the DUT's SOF,
-    /// and the comparator takes its short path with these inputs
-    /// (`ComparatorAgent::quiet_ahead`, which that path keeps true).
+    /// and the comparator does no more than its short path with these
+    /// inputs (`ComparatorAgent::quiet_ahead`: also while a sample point
+    /// waits in its tx window, until it is judged).
     fn quiet_clocks_ahead(&self, pins: CanPins) -> Stretch {
         let none = Stretch::default();
         let Some(AnyRef::Model(m)) = &self.reference.model else { return none };
@@ -852,7 +847,8 @@ impl Testbench {
             return none;
         }
         let view = m.view_now();
-        if !self.checks.quiet_ahead(&view, &pins) {
+        let n = n.min(self.checks.quiet_ahead(&view, &pins));
+        if n == 0 {
             return none;
         }
         Stretch {
@@ -867,15 +863,54 @@ impl Testbench {
         }
     }
 
-    /// The deferred part of a stretch's quiet CAN edges (`Stretch::deferred`,
-    /// whose CLKOUT check was done, finding nothing): what
-    /// [`Testbench::quiet_can_edge`] does on them besides that, in one go.
-    /// Each agent's state is its own, so doing each agent's part of the
-    /// edges together is doing the edges one by one. Called before anything
-    /// else looks at the agents.
+    /// The instants of a batch (levels `lv`, pins `ot`) from `from` on
+    /// that continue the quiet stretch `s`, taken in one go: up to the
+    /// first that is not a quiet host edge (as `run_batch` takes it), not a
+    /// CAN edge of the stretch (pins, bus level, edges left), or a CAN edge
+    /// whose CLKOUT check would not take its short path; never the batch's
+    /// last instant. For the CAN edges that is what
+    /// [`Testbench::quiet_can_edge`] does on each, only the CLKOUT check
+    /// per edge, the rest for all of them at once (`quiet_edges_done`).
+    /// Returns the first instant not taken and the last CAN edge taken.
+    fn quiet_run(&mut self, lv: &[u8], ot: &[u8], from: usize, quiet_host: bool, s: &mut Stretch) -> (usize, Option<usize>) {
+        let (mut j, mut clocks, mut host, mut last_rise) = (from, 0u32, 0u32, None);
+        while j + 1 < lv.len() {
+            let l = lv[j];
+            if l & 0b1100 != 0 {
+                if l & 8 != 0 && !quiet_host {
+                    break;
+                }
+                if l & 4 != 0 {
+                    let o = ot[j];
+                    if s.left == 0
+                        || j == 0
+                        || o & 7 != s.out
+                        || self.bus.replay_level(ot[j - 1] & 1 != 0) != s.level
+                        || !self.checks.quiet_clkout(s.clkout, o & 8 != 0)
+                    {
+                        break;
+                    }
+                    s.left -= 1;
+                    clocks += 1;
+                    last_rise = Some(j);
+                }
+                host += u32::from(l >> 3 & 1);
+            }
+            j += 1;
+        }
+        self.host.quiet_edges(host);
+        self.quiet_edges_done(clocks, s);
+        (j, last_rise)
+    }
+
+    /// `n` CAN edges of the stretch `s` whose CLKOUT check was done
+    /// (finding nothing): what [`Testbench::quiet_can_edge`] does on them
+    /// besides that, in one go. Each agent's state is its own, so doing each
+    /// agent's part of the edges together is doing the edges one by one.
+    /// The bus keeps the level and rx it had (replayed rises of the stretch
+    /// set the same).
     #[inline]
-    fn finish_deferred(&mut self, s: &mut Stretch) {
-        let n = std::mem::take(&mut s.deferred);
+    fn quiet_edges_done(&mut self, n: u32, s: &Stretch) {
         if n == 0 {
             return;
         }

@@ -442,6 +442,12 @@ impl HostAgent {
         self.host_cycle += 1;
     }
 
+    /// `n` [`HostAgent::quiet_edge`]s.
+    #[inline]
+    pub fn quiet_edges(&mut self, n: u32) {
+        self.host_cycle += u64::from(n);
+    }
+
     /// A host rising edge after the DUT's eval: the reset sequence, or the
     /// monitors see the pins and the DUT's outputs, the master steps and
     /// its next pins are applied. Monitor violations go to `violations`.

@@ -146,7 +146,7 @@ impl ClkoutCheck {
             && self.since_change > SETTLE_CLOCKS
     }
 
-    #[inline]
+    #[inline(always)]
     fn settled_divide(&mut self, setting: ClkoutSetting, dut_level: bool) {
         let ClkoutSetting::Divide { half_period } = setting else { return };
         self.instant_levels = 0;
@@ -229,7 +229,7 @@ impl ClkoutCheck {
         })
     }
 
-    #[inline]
+    #[inline(always)]
     fn divide(&mut self, half_period: u32, toggled: bool) -> Option<ClkoutMismatch> {
         let run = self.since_toggle.map_or(self.since_change - SETTLE_CLOCKS, |n| n + 1);
         if toggled {

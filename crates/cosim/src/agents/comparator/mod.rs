@@ -409,17 +409,24 @@ impl Comparator {
         self.can_clock_general(stamp, sample, reference, dut, sr, ir);
     }
 
-    /// A clock that is not a sample point, with these inputs, takes the
-    /// short path of [`Comparator::can_clock`]. The short path changes
-    /// nothing this condition reads, so with the same inputs it holds at
-    /// the next such clock too (the test bench's quiet stretches).
+    /// How many of the next clocks, none a sample point, with these inputs,
+    /// [`Comparator::can_clock`] does no more than its short path
+    /// ([`Comparator::quiet_clock`]) on (the test bench's quiet stretches;
+    /// 0: none): the short path's condition but for sample points waiting
+    /// in the tx window, until the first of them is judged
+    /// (`TxChecker::quiet_for`). The short path changes nothing else the
+    /// condition reads, so it holds for all of them.
     #[inline]
-    pub(crate) fn quiet_ahead(&self, reference: &CanPins, dut: &CanPins, sr: u8, ir: u8) -> bool {
-        !self.halted && self.tx.quiet(false, reference, dut) && self.reads.quiet(sr, ir) && PinChecker::agree(reference, dut)
+    pub(crate) fn quiet_ahead(&self, reference: &CanPins, dut: &CanPins, sr: u8, ir: u8) -> u32 {
+        if self.halted || !self.reads.quiet(sr, ir) || !PinChecker::agree(reference, dut) {
+            return 0;
+        }
+        self.tx.quiet_for(reference, dut)
     }
 
-    /// The short path of [`Comparator::can_clock`] (its condition holds):
-    /// `field` and `bit` as in the clock's stamp.
+    /// The short path of [`Comparator::can_clock`] (its condition holds, or
+    /// the clock is one of [`Comparator::quiet_ahead`]'s): `field` and `bit`
+    /// as in the clock's stamp.
     #[inline]
     pub(crate) fn quiet_clock(&mut self, field: Option<Field>, bit: u64, reference: &CanPins, dut: &CanPins) {
         self.tx.quiet_clock(reference, dut, idle(field));

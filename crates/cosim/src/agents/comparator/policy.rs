@@ -105,15 +105,15 @@ impl ComparatorAgent {
         }
     }
 
-    /// The next CAN clocks, if none is a sample point and the reference's
-    /// view `v` and the DUT's pins `dut` stay as they are, take the
-    /// comparator's short path ([`Comparator::quiet_ahead`]); false without
+    /// How many of the next CAN clocks, if none is a sample point and the
+    /// reference's view `v` and the DUT's pins `dut` stay as they are, take
+    /// the comparator's short path ([`Comparator::quiet_ahead`]); 0 without
     /// lockstep or once stopped.
     #[inline]
-    pub fn quiet_ahead(&self, v: &RefView, dut: &CanPins) -> bool {
+    pub fn quiet_ahead(&self, v: &RefView, dut: &CanPins) -> u32 {
         match &self.comparator {
             Some(c) if !self.stopped => c.quiet_ahead(&v.pins, dut, v.sr, v.ir),
-            _ => false,
+            _ => 0,
         }
     }
 

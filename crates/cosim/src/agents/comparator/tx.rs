@@ -94,7 +94,29 @@ impl TxChecker {
             && dut.tx == self.prev_dut_tx
     }
 
-    /// A [`TxChecker::quiet`] clock.
+    /// How many of the next clocks, none a sample point, with these inputs,
+    /// [`TxChecker::clock`] does no more than [`TxChecker::quiet_clock`]
+    /// (push them): the conditions of [`TxChecker::quiet`] but for sample
+    /// points waiting in the window, until the first of those reaches its
+    /// middle (before that, no sample point is popped or judged).
+    #[inline]
+    pub(super) fn quiet_for(&self, reference: &CanPins, dut: &CanPins) -> u32 {
+        if !(self.sof_grace == 0
+            && (self.ref_off | self.dut_off) == 0
+            && reference.tx == self.prev_ref_tx
+            && reference.tx == self.last_win_ref_tx
+            && dut.tx == self.prev_dut_tx)
+        {
+            return 0;
+        }
+        match self.samples.front() {
+            None => u32::MAX,
+            // Judged (or dropped) at the push with index `index + tol`.
+            Some(m) => (m.index + u64::from(self.edge_tolerance)).saturating_sub(self.pushed).min(u64::from(u32::MAX)) as u32,
+        }
+    }
+
+    /// A [`TxChecker::quiet`] clock, or one of [`TxChecker::quiet_for`]'s.
     #[inline]
     pub(super) fn quiet_clock(&mut self, reference: &CanPins, dut: &CanPins, idle_now: bool) {
         let pushed = self.pushed;
