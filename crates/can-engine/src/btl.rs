@@ -234,6 +234,14 @@ impl Btl {
         }
     }
 
+    /// `n` CAN clocks that end no quantum (`n` below
+    /// [`Btl::clocks_to_next_tq`]): `clock` `n` times.
+    #[inline]
+    pub(crate) fn count(&mut self, n: u32) {
+        debug_assert!(n < self.clocks_to_next_tq());
+        self.clk += n;
+    }
+
     /// One CAN clock; `None` between quantum boundaries.
     #[inline]
     pub(crate) fn clock(&mut self) -> bool {

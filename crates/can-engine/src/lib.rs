@@ -370,6 +370,25 @@ impl Engine {
         in_tq + self.btl.quiet_tqs(rx) * self.btl.clocks_per_tq()
     }
 
+    /// `n` of the [`Engine::quiet_clocks`] of `rx`: what `n` calls of
+    /// [`Engine::clock`] with `rx` do, the clocks within a quantum counted
+    /// at once.
+    pub fn quiet_run(&mut self, n: u32, rx: bool) {
+        debug_assert!(n <= self.quiet_clocks(rx));
+        let mut left = n;
+        while left > 0 {
+            let to_tq = self.btl.clocks_to_next_tq();
+            if left < to_tq {
+                self.btl.count(left);
+                return;
+            }
+            self.btl.count(to_tq - 1);
+            left -= to_tq;
+            // The quantum's end, a quiet one.
+            let _ = self.clock(rx);
+        }
+    }
+
     /// Asleep with the reset-mode-exit origin: the bit timing stands still
     /// and each clock's rx level is looked at (a dominant one wakes the node).
     #[inline]

@@ -874,6 +874,9 @@ impl Testbench {
     /// Returns the first instant not taken and the last CAN edge taken.
     fn quiet_run(&mut self, lv: &[u8], ot: &[u8], from: usize, quiet_host: bool, s: &mut Stretch) -> (usize, Option<usize>) {
         let (mut j, mut clocks, mut host, mut last_rise) = (from, 0u32, 0u32, None);
+        let Some((clkout, half_period)) = self.checks.quiet_clkout(s.clkout) else {
+            return (from, None);
+        };
         while j + 1 < lv.len() {
             let l = lv[j];
             if l & 0b1100 != 0 {
@@ -886,7 +889,7 @@ impl Testbench {
                         || j == 0
                         || o & 7 != s.out
                         || self.bus.replay_level(ot[j - 1] & 1 != 0) != s.level
-                        || !self.checks.quiet_clkout(s.clkout, o & 8 != 0)
+                        || !clkout.settled_next(half_period, o & 8 != 0)
                     {
                         break;
                     }

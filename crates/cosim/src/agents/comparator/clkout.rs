@@ -118,17 +118,31 @@ impl ClkoutCheck {
         self.clock_general(setting, dut_level)
     }
 
-    /// [`ClkoutCheck::instants`] (any levels) then [`ClkoutCheck::clock`],
-    /// if that clock takes the short path, which reports nothing: true if
-    /// it did (false: nothing done).
+    /// The clocks ahead with the reference's `setting` take the short path
+    /// of [`ClkoutCheck::clock`] while nothing is found
+    /// ([`ClkoutCheck::settled_next`]): the divider's half period if so.
     #[inline]
-    pub fn settled_clock(&mut self, setting: ClkoutSetting, dut_level: bool) -> bool {
-        if !self.settled(setting) {
+    pub fn settled_half_period(&self, setting: ClkoutSetting) -> Option<u32> {
+        match setting {
+            ClkoutSetting::Divide { half_period } if self.settled(setting) => Some(half_period),
+            _ => None,
+        }
+    }
+
+    /// After [`ClkoutCheck::settled_half_period`] gave `half_period` for the
+    /// setting, on one of the clocks ahead with it: [`ClkoutCheck::instants`]
+    /// (any levels) then [`ClkoutCheck::clock`], if that clock takes the
+    /// short path, which reports nothing; true if it did (false: nothing
+    /// done, something was found). Of what the short path's condition
+    /// reads, only `pending` changes on the way.
+    #[inline]
+    pub fn settled_next(&mut self, half_period: u32, dut_level: bool) -> bool {
+        if self.pending.is_some() {
             return false;
         }
         // What `instants` leaves once the short path has dropped the levels.
         self.sub_clock = true;
-        self.settled_divide(setting, dut_level);
+        self.settled_divide(ClkoutSetting::Divide { half_period }, dut_level);
         true
     }
 

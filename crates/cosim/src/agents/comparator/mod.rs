@@ -443,15 +443,18 @@ impl Comparator {
         self.pins.quiet_clock(bit < self.skip_until_bit);
     }
 
-    /// The CLKOUT check of one clock of a quiet stretch, with whatever
-    /// levels [`Comparator::clkout_instants`] would be given, if it takes
-    /// the check's short path ([`clkout::ClkoutCheck::settled_clock`]),
-    /// which reports nothing: true if it did. False (nothing done)
-    /// otherwise: the clock then takes `clkout_instants` and
+    /// The CLKOUT check for the clocks of a quiet stretch, if they take its
+    /// short path while it finds nothing ([`clkout::ClkoutCheck::settled_half_period`]):
+    /// the check and the half period, for [`clkout::ClkoutCheck::settled_next`]
+    /// on each, in place of [`Comparator::clkout_instants`] and
     /// [`Comparator::clkout_clock`].
     #[inline]
-    pub(crate) fn quiet_clkout(&mut self, setting: clkout::ClkoutSetting, dut_level: bool) -> bool {
-        self.cfg.compare_clkout && self.clkout.settled_clock(setting, dut_level)
+    pub(crate) fn quiet_clkout(&mut self, setting: clkout::ClkoutSetting) -> Option<(&mut clkout::ClkoutCheck, u32)> {
+        if !self.cfg.compare_clkout {
+            return None;
+        }
+        let h = self.clkout.settled_half_period(setting)?;
+        Some((&mut self.clkout, h))
     }
 
     /// [`Comparator::can_clock`] on the clocks its short path does not

@@ -143,15 +143,14 @@ impl ComparatorAgent {
         }
     }
 
-    /// The CLKOUT part of a quiet clock, if it finds nothing to report
-    /// ([`Comparator::quiet_clkout`]): true if it was done; false (nothing
-    /// done) without lockstep, once stopped, or when the clock needs
-    /// [`ComparatorAgent::quiet_clock`] in full.
+    /// The CLKOUT part of quiet clocks, while it finds nothing to report
+    /// ([`Comparator::quiet_clkout`]); None without lockstep, once stopped,
+    /// or when the clocks need [`ComparatorAgent::quiet_clock`] in full.
     #[inline]
-    pub fn quiet_clkout(&mut self, setting: super::clkout::ClkoutSetting, dut_level: bool) -> bool {
+    pub fn quiet_clkout(&mut self, setting: super::clkout::ClkoutSetting) -> Option<(&mut super::clkout::ClkoutCheck, u32)> {
         match &mut self.comparator {
-            Some(c) if !self.stopped => c.quiet_clkout(setting, dut_level),
-            _ => false,
+            Some(c) if !self.stopped => c.quiet_clkout(setting),
+            _ => None,
         }
     }
 

@@ -129,10 +129,8 @@ impl TxChecker {
     /// `n` calls of [`TxChecker::quiet_clock`] do.
     pub(super) fn quiet_clocks(&mut self, n: u32, reference: &CanPins, dut: &CanPins, idle_now: bool) {
         let v = reference.tx as u8 | (dut.tx as u8) << 1;
-        for _ in 0..n {
-            self.tx_hist.push(self.pushed, v);
-            self.pushed += 1;
-        }
+        self.tx_hist.push_n(self.pushed, u64::from(n), v);
+        self.pushed += u64::from(n);
         self.prev_idle = idle_now;
     }
 
@@ -278,6 +276,18 @@ impl TxRing {
             self.grow();
         }
         self.buf[(index & self.mask) as usize] = v;
+    }
+
+    /// Stores `v` as push numbers `index..index + n`: once the buffer
+    /// wraps, only the last `size` of them are kept anyway.
+    fn push_n(&mut self, index: u64, n: u64, v: u8) {
+        while !self.full && index + n > self.buf.len() as u64 {
+            self.grow();
+        }
+        let kept = n.min(self.buf.len() as u64);
+        for i in index + n - kept..index + n {
+            self.buf[(i & self.mask) as usize] = v;
+        }
     }
 
     /// Doubles the buffer (up to `size`): rare, kept out of `push`'s way.
