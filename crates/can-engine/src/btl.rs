@@ -220,17 +220,25 @@ impl Btl {
     /// return [`Tq::Quiet`] and do nothing but move the quantum count: no
     /// edge at the next look (after it the level is `rx` at every look), so
     /// no synchronisation, and neither the sample point nor the bit's end
-    /// among them.
-    pub(crate) fn quiet_tqs(&self, rx: bool) -> u32 {
+    /// among them. With `through_bit_start` (the caller does nothing at a
+    /// [`Tq::BitStart`]), the bit's end counts too, and the next bit's
+    /// quanta up to its sample point.
+    pub(crate) fn quiet_tqs(&self, rx: bool, through_bit_start: bool) -> u32 {
         if self.prev_rx && !rx {
             return 0;
         }
         if self.pos < self.sp {
-            u32::from(self.sp - self.pos)
-        } else if self.pos > self.sp && self.pos < self.end {
-            u32::from(self.end - self.pos)
+            return u32::from(self.sp - self.pos);
+        }
+        if self.pos == self.sp {
+            return 0;
+        }
+        let before_end = u32::from(self.end.saturating_sub(self.pos));
+        if through_bit_start {
+            // The bit's end, then a fresh bit's quanta before its sample point.
+            before_end + 1 + u32::from(self.sp0)
         } else {
-            0
+            before_end
         }
     }
 

@@ -355,10 +355,10 @@ impl Engine {
     /// but counting happens: the next that many calls of [`Engine::clock`]
     /// with `rx` return the same level and move neither
     /// [`Engine::activity`] nor the events. Beyond
-    /// [`Engine::clocks_to_next_tq`]: the quanta that end with no edge, no
-    /// sample point and no bit start count too (and in reset mode, where
-    /// the bit stream processor takes no part, every quantum once tx is
-    /// recessive).
+    /// [`Engine::clocks_to_next_tq`]: the quanta that end with no edge and
+    /// no sample point count too, a bit start among them if it drives the
+    /// level already driven (and in reset mode, where the bit stream
+    /// processor takes no part, every quantum once tx is recessive).
     pub fn quiet_clocks(&self, rx: bool) -> u32 {
         if self.halted() {
             return 0;
@@ -367,7 +367,9 @@ impl Engine {
         if self.bsp.reset_mode {
             return if self.tx_out == RECESSIVE { u32::MAX } else { in_tq };
         }
-        in_tq + self.btl.quiet_tqs(rx) * self.btl.clocks_per_tq()
+        // A bit start that drives the level already driven changes nothing.
+        let same_tx = self.bsp.tx == self.tx_out;
+        in_tq + self.btl.quiet_tqs(rx, same_tx) * self.btl.clocks_per_tq()
     }
 
     /// `n` of the [`Engine::quiet_clocks`] of `rx`: what `n` calls of
