@@ -56,6 +56,11 @@ impl CosimHost {
         self.tb.record()
     }
 
+    /// The lockstep comparator, if any (for comparing two runs).
+    pub fn comparator(&self) -> Option<&cosim::Comparator> {
+        self.tb.comparator()
+    }
+
     /// Host clock cycles simulated so far.
     pub fn host_cycles(&self) -> u64 {
         self.tb.host_cycles()

@@ -211,6 +211,45 @@ impl Btl {
         self.cpt - self.clk
     }
 
+    /// CAN clocks per time quantum.
+    pub(crate) fn clocks_per_tq(&self) -> u32 {
+        self.cpt
+    }
+
+    /// How many of the next quantum ends, with the bus staying at `rx`,
+    /// return [`Tq::Quiet`] and do nothing but move the quantum count: no
+    /// edge at the next look (after it the level is `rx` at every look), so
+    /// no synchronisation, and neither the sample point nor the bit's end
+    /// among them. With `through_bit_start` (the caller does nothing at a
+    /// [`Tq::BitStart`]), the bit's end counts too, and the next bit's
+    /// quanta up to its sample point.
+    pub(crate) fn quiet_tqs(&self, rx: bool, through_bit_start: bool) -> u32 {
+        if self.prev_rx && !rx {
+            return 0;
+        }
+        if self.pos < self.sp {
+            return u32::from(self.sp - self.pos);
+        }
+        if self.pos == self.sp {
+            return 0;
+        }
+        let before_end = u32::from(self.end.saturating_sub(self.pos));
+        if through_bit_start {
+            // The bit's end, then a fresh bit's quanta before its sample point.
+            before_end + 1 + u32::from(self.sp0)
+        } else {
+            before_end
+        }
+    }
+
+    /// `n` CAN clocks that end no quantum (`n` below
+    /// [`Btl::clocks_to_next_tq`]): `clock` `n` times.
+    #[inline]
+    pub(crate) fn count(&mut self, n: u32) {
+        debug_assert!(n < self.clocks_to_next_tq());
+        self.clk += n;
+    }
+
     /// One CAN clock; `None` between quantum boundaries.
     #[inline]
     pub(crate) fn clock(&mut self) -> bool {

@@ -351,6 +351,46 @@ impl Engine {
         if self.halted() { 1 } else { self.btl.clocks_to_next_tq() }
     }
 
+    /// CAN clocks from now in which, with the bus staying at `rx`, nothing
+    /// but counting happens: the next that many calls of [`Engine::clock`]
+    /// with `rx` return the same level and move neither
+    /// [`Engine::activity`] nor the events. Beyond
+    /// [`Engine::clocks_to_next_tq`]: the quanta that end with no edge and
+    /// no sample point count too, a bit start among them if it drives the
+    /// level already driven (and in reset mode, where the bit stream
+    /// processor takes no part, every quantum once tx is recessive).
+    pub fn quiet_clocks(&self, rx: bool) -> u32 {
+        if self.halted() {
+            return 0;
+        }
+        let in_tq = self.btl.clocks_to_next_tq() - 1;
+        if self.bsp.reset_mode {
+            return if self.tx_out == RECESSIVE { u32::MAX } else { in_tq };
+        }
+        // A bit start that drives the level already driven changes nothing.
+        let same_tx = self.bsp.tx == self.tx_out;
+        in_tq + self.btl.quiet_tqs(rx, same_tx) * self.btl.clocks_per_tq()
+    }
+
+    /// `n` of the [`Engine::quiet_clocks`] of `rx`: what `n` calls of
+    /// [`Engine::clock`] with `rx` do, the clocks within a quantum counted
+    /// at once.
+    pub fn quiet_run(&mut self, n: u32, rx: bool) {
+        debug_assert!(n <= self.quiet_clocks(rx));
+        let mut left = n;
+        while left > 0 {
+            let to_tq = self.btl.clocks_to_next_tq();
+            if left < to_tq {
+                self.btl.count(left);
+                return;
+            }
+            self.btl.count(to_tq - 1);
+            left -= to_tq;
+            // The quantum's end, a quiet one.
+            let _ = self.clock(rx);
+        }
+    }
+
     /// Asleep with the reset-mode-exit origin: the bit timing stands still
     /// and each clock's rx level is looked at (a dominant one wakes the node).
     #[inline]

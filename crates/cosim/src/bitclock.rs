@@ -95,6 +95,19 @@ impl BitClock {
         }
     }
 
+    /// `n` clocks with the bus at the last clock's level, none of them a
+    /// sample point (`n` at most [`BitClock::clocks_before_sample`] of that
+    /// level): what `clock` does `n` times.
+    #[inline]
+    pub fn quiet_clocks(&mut self, n: u32) {
+        debug_assert!(n <= self.clocks_before_sample(self.prev));
+        // Below two bits' worth (see `clocks_before_sample`): one wrap at most.
+        self.count += n;
+        if self.count >= self.per_bit {
+            self.count -= self.per_bit;
+        }
+    }
+
     /// One CAN clock with bus `level`; true if this clock is a sample point.
     #[inline]
     pub fn clock(&mut self, level: bool) -> bool {

@@ -171,17 +171,32 @@ impl Kernel {
         if self.host == self.can {
             // One clock twice (same frequency and phase, as when the host
             // and the CAN clock are one): every instant moves both, and a
-            // rise of one is a rise of both.
+            // rise of one is a rise of both. Rises and falls alternate, so
+            // the count of instants is known up front; then the levels
+            // and the times (`ClockGen::step` with its fields in locals)
+            // in loops of their own.
             let mut c = self.can;
-            while n < levels.len() && rises < can_rises {
-                let t = c.next_edge();
-                c.step();
-                let up = c.level as u8;
-                rises += up as u64;
-                levels[n] = up * 0b1111;
-                times[n] = t;
-                n += 1;
+            // The next instant is a rise when the clock is low now.
+            let first_up = !c.level;
+            let to_rise = can_rises.saturating_mul(2).saturating_sub(first_up as u64);
+            n = levels.len().min(usize::try_from(to_rise).unwrap_or(usize::MAX));
+            for (k, l) in levels[..n].iter_mut().enumerate() {
+                *l = (first_up as u8 ^ (k & 1) as u8) * 0b1111;
             }
+            let (mut t, mut rem) = (c.next_t, c.next_rem);
+            let d = 2 * c.freq_hz;
+            for tk in &mut times[..n] {
+                *tk = t;
+                t += c.half_q;
+                rem += c.half_r;
+                if rem >= d {
+                    rem -= d;
+                    t += 1;
+                }
+            }
+            (c.next_t, c.next_rem) = (t, rem);
+            c.level ^= n % 2 == 1;
+            c.edges += n as u64;
             if n > 0 {
                 self.now_ps = times[n - 1];
             }

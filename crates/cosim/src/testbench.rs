@@ -183,6 +183,39 @@ pub struct Testbench {
 /// Instants per batch (see `Testbench::run_batch`).
 const BATCH: usize = 512;
 
+/// A quiet stretch of `run_batch` (see `Testbench::quiet_clocks_ahead`).
+#[derive(Clone, Copy)]
+struct Stretch {
+    /// CAN edges left in it.
+    left: u32,
+    /// The reference's view it holds for.
+    view: RefView,
+    /// The DUT's pins it holds for (tx, irq, bus-off: `out`)...
+    pins: CanPins,
+    /// ...as batch out bits 0..2.
+    out: u8,
+    /// The bus level and the DUT's rx it holds for.
+    level: bool,
+    rx: bool,
+    /// The reference's CLKOUT setting over it.
+    clkout: crate::clkout::ClkoutSetting,
+}
+
+impl Default for Stretch {
+    /// No stretch.
+    fn default() -> Self {
+        Stretch {
+            left: 0,
+            view: RefView::default(),
+            pins: CanPins::default(),
+            out: 0,
+            level: true,
+            rx: true,
+            clkout: crate::clkout::ClkoutSetting::Unchecked,
+        }
+    }
+}
+
 impl Testbench {
     /// Builds the DUT, the BFM, the bus and the reference, and runs the
     /// reset sequence.
@@ -616,33 +649,40 @@ impl Testbench {
         // An instant without a rising edge only changes the pins: `after_eval`
         // (without the traces, see `batch_rx`) for the others.
         let (lv, ot, tm) = (&levels[..made], &out[..made], &times[..made]);
-        // The DUT's tx of the instant before (for the first, as of now).
-        let mut prev_tx = self.dut_pins.tx;
-        // `clkout_levels`, kept in a register between CAN edges (only
-        // `can_edge` reads it, and leaves it 0).
-        let mut clkout_levels = self.clkout_levels;
-        // A quiet stretch (see `quiet_clocks_ahead`): CAN edges left in it,
-        // and the DUT's pins (out bits 0..2), bus level and reference view
-        // it holds for.
-        let (mut ahead, mut ahead_out, mut ahead_level, mut ahead_view) = (0u32, 0u8, true, RefView::default());
+        // The DUT's tx before the first instant (for the others: the
+        // instant before's, in `ot`).
+        let tx0 = self.dut_pins.tx;
+        // Levels of clkout_o since the last CAN edge: those carried in, and
+        // the instants from `since` on, gathered only when an edge takes them.
+        let (mut carried, mut since) = (self.clkout_levels, 0usize);
+        let gather = |from: usize, to: usize| ot[from..to].iter().fold(0u8, |a, &o| a | 1 << (o >> 3 & 1));
+        // A quiet stretch (see `quiet_clocks_ahead`).
+        let mut ahead = Stretch::default();
         // Only a lockstep run with the golden model has quiet stretches:
         // without one, not even asked.
         let stretches = matches!(self.reference.model, Some(AnyRef::Model(_)));
-        for i in 0..made {
+        let mut i = 0;
+        while i < made {
+            if ahead.left > 0 {
+                let (next, last_rise) = self.quiet_run(lv, ot, i, quiet, &mut ahead);
+                if let Some(r) = last_rise {
+                    (carried, since) = (0, r + 1);
+                }
+                i = next;
+            }
             let l = lv[i];
-            let o = ot[i];
-            clkout_levels |= 1 << (o >> 3 & 1);
             if l & 0b1100 == 0 {
-                prev_tx = o & 1 != 0;
+                i += 1;
                 continue;
             }
+            let o = ot[i];
             let last = i + 1 == made;
             if l & 4 != 0 {
                 // `can_rise_rx` without model nodes or faults (see
                 // `batch_rx`), with the DUT's tx of the instant before.
+                let prev_tx = if i == 0 { tx0 } else { ot[i - 1] & 1 != 0 };
                 self.bus.replay_rise(prev_tx, rx);
             }
-            prev_tx = o & 1 != 0;
             if last && let AnyDut::Verilated(d) = &mut self.dut {
                 // The host edge of the last instant may see new outputs.
                 d.sync_outputs();
@@ -654,22 +694,23 @@ impl Testbench {
                     self.host_edge();
                     quiet = quiet_wires && self.host.monitor_saw(s0);
                     // Not promised anything about a host edge taken in full.
-                    ahead = 0;
+                    ahead.left = 0;
                 }
             }
             if l & 4 != 0 {
-                self.clkout_levels = std::mem::take(&mut clkout_levels);
                 let pins = VerilatedDut::batch_pins(o, active_high);
-                if ahead > 0 && o & 7 == ahead_out && self.bus.level() == ahead_level {
-                    ahead -= 1;
-                    if !self.quiet_can_edge(tm[i], pins, &ahead_view) {
-                        ahead = 0;
+                self.clkout_levels = carried | gather(since, i + 1);
+                (carried, since) = (0, i + 1);
+                if ahead.left > 0 && o & 7 == ahead.out && self.bus.level() == ahead.level {
+                    ahead.left -= 1;
+                    if !self.quiet_can_edge(tm[i], pins, &ahead.view) {
+                        ahead.left = 0;
                     }
                 } else {
                     self.can_edge(tm[i], pins);
                     if stretches {
-                        (ahead, ahead_view) = self.quiet_clocks_ahead(pins);
-                        (ahead_out, ahead_level) = (o & 7, self.bus.level());
+                        ahead = self.quiet_clocks_ahead(pins);
+                        ahead.out = o & 7;
                     }
                 }
             }
@@ -680,8 +721,9 @@ impl Testbench {
                 replayed = i + 1;
                 break;
             }
+            i += 1;
         }
-        self.clkout_levels |= clkout_levels;
+        self.clkout_levels = carried | gather(since, replayed);
         if replayed > 0 {
             self.dut_pins = VerilatedDut::batch_pins(out[replayed - 1], active_high);
         }
@@ -786,27 +828,104 @@ impl Testbench {
     /// how many of the next CAN edges, while the DUT's tx, irq and bus-off
     /// pins and the bus level stay as they are now, can take
     /// [`Testbench::quiet_can_edge`], and the reference's view on them.
-    /// Only in lockstep with the golden model: none of them is a quantum
-    /// boundary of the reference (it only counts: `ModelRef::counting_clocks`,
-    /// so its view stays), none is a sample point of the bench's bit clock
+    /// Only in lockstep with the golden model: on none of them does the
+    /// reference do more than count (`ModelRef::counting_clocks`, so its
+    /// view stays), none is a sample point of the bench's bit clock
     /// (`Observer::clocks_before_sample`), no frame waits for the DUT's SOF,
-    /// and the comparator takes its short path with these inputs
-    /// (`ComparatorAgent::quiet_ahead`, which that path keeps true).
-    fn quiet_clocks_ahead(&self, pins: CanPins) -> (u32, RefView) {
-        let none = (0, RefView::default());
+    /// and the comparator does no more than its short path with these
+    /// inputs (`ComparatorAgent::quiet_ahead`: also while a sample point
+    /// waits in its tx window, until it is judged).
+    fn quiet_clocks_ahead(&self, pins: CanPins) -> Stretch {
+        let none = Stretch::default();
         let Some(AnyRef::Model(m)) = &self.reference.model else { return none };
         if self.reference.awaiting_dut_sof() {
             return none;
         }
-        let n = m.counting_clocks().min(self.obs.clocks_before_sample(self.bus.level()));
+        let rx = self.bus.dut_rx();
+        let n = m.counting_clocks(rx).min(self.obs.clocks_before_sample(self.bus.level()));
         if n == 0 {
             return none;
         }
-        let v = m.view_now();
-        if !self.checks.quiet_ahead(&v, &pins) {
+        let view = m.view_now();
+        let n = n.min(self.checks.quiet_ahead(&view, &pins));
+        if n == 0 {
             return none;
         }
-        (n, v)
+        Stretch {
+            left: n,
+            view,
+            pins,
+            level: self.bus.level(),
+            rx,
+            // The model's CDR and sleep stay as they are while it only counts.
+            clkout: crate::types::Reference::clkout_setting(m),
+            ..none
+        }
+    }
+
+    /// The instants of a batch (levels `lv`, pins `ot`) from `from` on
+    /// that continue the quiet stretch `s`, taken in one go: up to the
+    /// first that is not a quiet host edge (as `run_batch` takes it), not a
+    /// CAN edge of the stretch (pins, bus level, edges left), or a CAN edge
+    /// whose CLKOUT check would not take its short path; never the batch's
+    /// last instant. For the CAN edges that is what
+    /// [`Testbench::quiet_can_edge`] does on each, only the CLKOUT check
+    /// per edge, the rest for all of them at once (`quiet_edges_done`).
+    /// Returns the first instant not taken and the last CAN edge taken.
+    fn quiet_run(&mut self, lv: &[u8], ot: &[u8], from: usize, quiet_host: bool, s: &mut Stretch) -> (usize, Option<usize>) {
+        let (mut j, mut clocks, mut host, mut last_rise) = (from, 0u32, 0u32, None);
+        let Some((clkout, half_period)) = self.checks.quiet_clkout(s.clkout) else {
+            return (from, None);
+        };
+        while j + 1 < lv.len() {
+            let l = lv[j];
+            if l & 0b1100 != 0 {
+                if l & 8 != 0 && !quiet_host {
+                    break;
+                }
+                if l & 4 != 0 {
+                    let o = ot[j];
+                    if s.left == 0
+                        || j == 0
+                        || o & 7 != s.out
+                        || self.bus.replay_level(ot[j - 1] & 1 != 0) != s.level
+                        || !clkout.settled_next(half_period, o & 8 != 0)
+                    {
+                        break;
+                    }
+                    s.left -= 1;
+                    clocks += 1;
+                    last_rise = Some(j);
+                }
+                host += u32::from(l >> 3 & 1);
+            }
+            j += 1;
+        }
+        self.host.quiet_edges(host);
+        self.quiet_edges_done(clocks, s);
+        (j, last_rise)
+    }
+
+    /// `n` CAN edges of the stretch `s` whose CLKOUT check was done
+    /// (finding nothing): what [`Testbench::quiet_can_edge`] does on them
+    /// besides that, in one go. Each agent's state is its own, so doing each
+    /// agent's part of the edges together is doing the edges one by one.
+    /// The bus keeps the level and rx it had (replayed rises of the stretch
+    /// set the same).
+    #[inline]
+    fn quiet_edges_done(&mut self, n: u32, s: &Stretch) {
+        if n == 0 {
+            return;
+        }
+        self.can_clocks += u64::from(n);
+        self.host.on_can_edges(n);
+        self.obs.quiet_clocks(n);
+        let Some(AnyRef::Model(m)) = &mut self.reference.model else {
+            unreachable!("quiet_clocks_ahead checked the reference");
+        };
+        m.counting_clocks_run(n, s.rx);
+        let field = s.view.field.or(self.obs.field());
+        self.checks.quiet_clocks(n, field, self.obs.bits(), &s.view, &s.pins);
     }
 
     /// A CAN edge promised by [`Testbench::quiet_clocks_ahead`] (`v`: the

@@ -680,6 +680,28 @@ impl Sja1000 {
         }
     }
 
+    /// `n` clocks with bus level `rx` in which the engine only counts
+    /// ([`can_engine::Engine::quiet_clocks`]), so no event comes: what `n`
+    /// calls of [`Sja1000::clock`] with `rx` do.
+    pub fn quiet_clocks_run(&mut self, n: u32, rx: bool) {
+        if n == 0 {
+            return;
+        }
+        self.engine.quiet_run(n, rx);
+        debug_assert!(!self.engine.has_events());
+        // `tick_clkout` n times: a toggle every CD + 1 clocks (a count
+        // already past a lowered CD toggles at the first).
+        let period = u32::from(self.cdr & peli::cdr::CD) + 1;
+        let mut left = n;
+        if u32::from(self.clk_cnt) >= period {
+            self.tick_clkout();
+            left -= 1;
+        }
+        let total = u32::from(self.clk_cnt) + left;
+        self.clk_cnt = (total % period) as u8;
+        self.clkout ^= (total / period) % 2 == 1;
+    }
+
     #[inline]
     fn tick_clkout(&mut self) {
         let cd = self.cdr & peli::cdr::CD;

@@ -144,12 +144,18 @@ impl BusAgent {
         })
     }
 
+    /// The bus level [`BusAgent::replay_rise`] takes from `prev_tx`.
+    #[inline]
+    pub fn replay_level(&self, prev_tx: bool) -> bool {
+        if self.tx_on_bus { prev_tx } else { RECESSIVE }
+    }
+
     /// [`BusAgent::can_rise`] for an instant replayed from a batch (see
     /// [`BusAgent::loopback_rx`]): the DUT's tx of the instant before,
     /// the rx the batch drove.
     #[inline]
     pub fn replay_rise(&mut self, prev_tx: bool, rx: Option<bool>) {
-        let level = if self.tx_on_bus { prev_tx } else { RECESSIVE };
+        let level = self.replay_level(prev_tx);
         self.level = level;
         self.dut_rx = rx.unwrap_or(level);
     }

@@ -407,6 +407,14 @@ impl HostAgent {
         }
     }
 
+    /// `n` CAN rising edges ([`HostAgent::on_can_edge`] `n` times).
+    #[inline]
+    pub fn on_can_edges(&mut self, n: u32) {
+        if self.wb_presented() {
+            self.req_edges = self.req_edges.saturating_add(n);
+        }
+    }
+
     /// A Wishbone request (cyc & stb) is on the DUT's wires.
     #[inline]
     pub fn wb_presented(&self) -> bool {
@@ -432,6 +440,12 @@ impl HostAgent {
     #[inline]
     pub fn quiet_edge(&mut self) {
         self.host_cycle += 1;
+    }
+
+    /// `n` [`HostAgent::quiet_edge`]s.
+    #[inline]
+    pub fn quiet_edges(&mut self, n: u32) {
+        self.host_cycle += u64::from(n);
     }
 
     /// A host rising edge after the DUT's eval: the reset sequence, or the

@@ -106,6 +106,14 @@ impl Observer {
         s
     }
 
+    /// `n` clocks of the bus at the level of the last one, none a sample
+    /// point (at most [`Observer::clocks_before_sample`]): `clock` `n` times.
+    #[inline]
+    pub fn quiet_clocks(&mut self, n: u32) {
+        self.bitclock.quiet_clocks(n);
+        self.sample_now = false;
+    }
+
     /// CAN clocks ahead, with the bus staying at `level`, that are not
     /// sample points of the bench's bit clock ([`BitClock::clocks_before_sample`]).
     #[inline]

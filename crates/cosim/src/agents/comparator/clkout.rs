@@ -111,27 +111,65 @@ impl ClkoutCheck {
     /// One CAN clock: the reference's setting now, the DUT's `clkout_o`.
     #[inline]
     pub fn clock(&mut self, setting: ClkoutSetting, dut_level: bool) -> Option<ClkoutMismatch> {
-        // Most clocks: a divider setting that has settled, with nothing found
-        // yet. `clock_general` then does exactly this: no reset (same
-        // setting), the instants dropped (only `Fosc` reads them), past the
-        // settle time (`since_change` only grows), no finding ageing, and
-        // the divider check, whose finding starts ageing.
-        if let ClkoutSetting::Divide { half_period } = setting
+        if self.settled(setting) {
+            self.settled_divide(setting, dut_level);
+            return None;
+        }
+        self.clock_general(setting, dut_level)
+    }
+
+    /// The clocks ahead with the reference's `setting` take the short path
+    /// of [`ClkoutCheck::clock`] while nothing is found
+    /// ([`ClkoutCheck::settled_next`]): the divider's half period if so.
+    #[inline]
+    pub fn settled_half_period(&self, setting: ClkoutSetting) -> Option<u32> {
+        match setting {
+            ClkoutSetting::Divide { half_period } if self.settled(setting) => Some(half_period),
+            _ => None,
+        }
+    }
+
+    /// After [`ClkoutCheck::settled_half_period`] gave `half_period` for the
+    /// setting, on one of the clocks ahead with it: [`ClkoutCheck::instants`]
+    /// (any levels) then [`ClkoutCheck::clock`], if that clock takes the
+    /// short path, which reports nothing; true if it did (false: nothing
+    /// done, something was found). Of what the short path's condition
+    /// reads, only `pending` changes on the way.
+    #[inline]
+    pub fn settled_next(&mut self, half_period: u32, dut_level: bool) -> bool {
+        if self.pending.is_some() {
+            return false;
+        }
+        // What `instants` leaves once the short path has dropped the levels.
+        self.sub_clock = true;
+        self.settled_divide(ClkoutSetting::Divide { half_period }, dut_level);
+        true
+    }
+
+    /// Most clocks: a divider setting that has settled, with nothing found
+    /// yet. `clock_general` then does exactly what `settled_divide` does: no
+    /// reset (same setting), the instants dropped (only `Fosc` reads them),
+    /// past the settle time (`since_change` only grows), no finding ageing,
+    /// and the divider check, whose finding starts ageing.
+    #[inline]
+    fn settled(&self, setting: ClkoutSetting) -> bool {
+        matches!(setting, ClkoutSetting::Divide { .. })
             && setting == self.setting
             && !self.reported
             && self.pending.is_none()
             && self.since_change > SETTLE_CLOCKS
-        {
-            self.instant_levels = 0;
-            let toggled = self.last_level.is_some_and(|l| l != dut_level);
-            self.last_level = Some(dut_level);
-            self.since_change = self.since_change.saturating_add(1);
-            if let Some(m) = self.divide(half_period, toggled) {
-                self.pending = Some((m, 0));
-            }
-            return None;
+    }
+
+    #[inline(always)]
+    fn settled_divide(&mut self, setting: ClkoutSetting, dut_level: bool) {
+        let ClkoutSetting::Divide { half_period } = setting else { return };
+        self.instant_levels = 0;
+        let toggled = self.last_level.is_some_and(|l| l != dut_level);
+        self.last_level = Some(dut_level);
+        self.since_change = self.since_change.saturating_add(1);
+        if let Some(m) = self.divide(half_period, toggled) {
+            self.pending = Some((m, 0));
         }
-        self.clock_general(setting, dut_level)
     }
 
     /// [`ClkoutCheck::clock`] in full.
@@ -205,7 +243,7 @@ impl ClkoutCheck {
         })
     }
 
-    #[inline]
+    #[inline(always)]
     fn divide(&mut self, half_period: u32, toggled: bool) -> Option<ClkoutMismatch> {
         let run = self.since_toggle.map_or(self.since_change - SETTLE_CLOCKS, |n| n + 1);
         if toggled {

@@ -409,22 +409,52 @@ impl Comparator {
         self.can_clock_general(stamp, sample, reference, dut, sr, ir);
     }
 
-    /// A clock that is not a sample point, with these inputs, takes the
-    /// short path of [`Comparator::can_clock`]. The short path changes
-    /// nothing this condition reads, so with the same inputs it holds at
-    /// the next such clock too (the test bench's quiet stretches).
+    /// How many of the next clocks, none a sample point, with these inputs,
+    /// [`Comparator::can_clock`] does no more than its short path
+    /// ([`Comparator::quiet_clock`]) on (the test bench's quiet stretches;
+    /// 0: none): the short path's condition but for sample points waiting
+    /// in the tx window, until the first of them is judged
+    /// (`TxChecker::quiet_for`). The short path changes nothing else the
+    /// condition reads, so it holds for all of them.
     #[inline]
-    pub(crate) fn quiet_ahead(&self, reference: &CanPins, dut: &CanPins, sr: u8, ir: u8) -> bool {
-        !self.halted && self.tx.quiet(false, reference, dut) && self.reads.quiet(sr, ir) && PinChecker::agree(reference, dut)
+    pub(crate) fn quiet_ahead(&self, reference: &CanPins, dut: &CanPins, sr: u8, ir: u8) -> u32 {
+        if self.halted || !self.reads.quiet(sr, ir) || !PinChecker::agree(reference, dut) {
+            return 0;
+        }
+        self.tx.quiet_for(reference, dut)
     }
 
-    /// The short path of [`Comparator::can_clock`] (its condition holds):
-    /// `field` and `bit` as in the clock's stamp.
+    /// The short path of [`Comparator::can_clock`] (its condition holds, or
+    /// the clock is one of [`Comparator::quiet_ahead`]'s): `field` and `bit`
+    /// as in the clock's stamp.
     #[inline]
     pub(crate) fn quiet_clock(&mut self, field: Option<Field>, bit: u64, reference: &CanPins, dut: &CanPins) {
         self.tx.quiet_clock(reference, dut, idle(field));
         self.reads.quiet_clock();
         self.pins.quiet_clock(bit < self.skip_until_bit);
+    }
+
+    /// `n` clocks in a row that take the short path with the same inputs
+    /// (the test bench's quiet stretches): what `n` calls of
+    /// [`Comparator::quiet_clock`] do (CLKOUT apart).
+    pub(crate) fn quiet_clocks(&mut self, n: u32, field: Option<Field>, bit: u64, reference: &CanPins, dut: &CanPins) {
+        self.tx.quiet_clocks(n, reference, dut, idle(field));
+        self.reads.quiet_clocks(n);
+        self.pins.quiet_clock(bit < self.skip_until_bit);
+    }
+
+    /// The CLKOUT check for the clocks of a quiet stretch, if they take its
+    /// short path while it finds nothing ([`clkout::ClkoutCheck::settled_half_period`]):
+    /// the check and the half period, for [`clkout::ClkoutCheck::settled_next`]
+    /// on each, in place of [`Comparator::clkout_instants`] and
+    /// [`Comparator::clkout_clock`].
+    #[inline]
+    pub(crate) fn quiet_clkout(&mut self, setting: clkout::ClkoutSetting) -> Option<(&mut clkout::ClkoutCheck, u32)> {
+        if !self.cfg.compare_clkout {
+            return None;
+        }
+        let h = self.clkout.settled_half_period(setting)?;
+        Some((&mut self.clkout, h))
     }
 
     /// [`Comparator::can_clock`] on the clocks its short path does not

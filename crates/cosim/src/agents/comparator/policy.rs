@@ -105,15 +105,15 @@ impl ComparatorAgent {
         }
     }
 
-    /// The next CAN clocks, if none is a sample point and the reference's
-    /// view `v` and the DUT's pins `dut` stay as they are, take the
-    /// comparator's short path ([`Comparator::quiet_ahead`]); false without
+    /// How many of the next CAN clocks, if none is a sample point and the
+    /// reference's view `v` and the DUT's pins `dut` stay as they are, take
+    /// the comparator's short path ([`Comparator::quiet_ahead`]); 0 without
     /// lockstep or once stopped.
     #[inline]
-    pub fn quiet_ahead(&self, v: &RefView, dut: &CanPins) -> bool {
+    pub fn quiet_ahead(&self, v: &RefView, dut: &CanPins) -> u32 {
         match &self.comparator {
             Some(c) if !self.stopped => c.quiet_ahead(&v.pins, dut, v.sr, v.ir),
-            _ => false,
+            _ => 0,
         }
     }
 
@@ -140,6 +140,28 @@ impl ComparatorAgent {
                 c.halted()
             }
             _ => false,
+        }
+    }
+
+    /// The CLKOUT part of quiet clocks, while it finds nothing to report
+    /// ([`Comparator::quiet_clkout`]); None without lockstep, once stopped,
+    /// or when the clocks need [`ComparatorAgent::quiet_clock`] in full.
+    #[inline]
+    pub fn quiet_clkout(&mut self, setting: super::clkout::ClkoutSetting) -> Option<(&mut super::clkout::ClkoutCheck, u32)> {
+        match &mut self.comparator {
+            Some(c) if !self.stopped => c.quiet_clkout(setting),
+            _ => None,
+        }
+    }
+
+    /// The rest of `n` quiet clocks in a row whose CLKOUT part was done
+    /// ([`ComparatorAgent::quiet_clkout`]): what `quiet_clock` does on them
+    /// besides it, which finds nothing.
+    pub fn quiet_clocks(&mut self, n: u32, field: Option<can_proto::Field>, bit: u64, v: &RefView, dut: &CanPins) {
+        if let Some(c) = &mut self.comparator
+            && !self.stopped
+        {
+            c.quiet_clocks(n, field, bit, &v.pins, dut);
         }
     }
 

@@ -81,6 +81,11 @@ impl ReadChecker {
         self.status_pushed += 1;
     }
 
+    /// `n` [`ReadChecker::quiet`] clocks in a row.
+    pub(super) fn quiet_clocks(&mut self, n: u32) {
+        self.status_pushed += u64::from(n);
+    }
+
     /// Any other clock: the reference's SR and IR into the histories; the
     /// waiting SR reads look forward. Reads whose window closed go to
     /// `expired` (in order); returns how many were accepted this clock.

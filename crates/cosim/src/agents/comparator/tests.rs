@@ -550,6 +550,19 @@ fn a_read_diverges_exactly_when_the_model_never_held_the_value_in_the_window() {
 /// The comparator reaches exactly the verdicts of the one it replaced
 /// (`before::OldComparator`) on random pin, status and read sequences,
 /// with halts, resumes, skips and latches, for several tolerances.
+/// A run of clocks promised by `quiet_ahead` not yet given to the
+/// comparator: how many, their field and bit, and the inputs held.
+type QuietRun = (u32, Option<Field>, u64, Option<(CanPins, CanPins, u8, u8)>);
+
+/// Gives the comparator the clocks of `run` in one go.
+fn take_run(c: &mut Comparator, run: &mut QuietRun) {
+    if run.0 > 0 {
+        let (r, d, ..) = run.3.expect("a run holds its inputs");
+        c.quiet_clocks(run.0, run.1, run.2, &r, &d);
+        run.0 = 0;
+    }
+}
+
 #[test]
 fn same_verdicts_as_the_per_clock_deque_comparator() {
     let mut seed = 0x9E37_79B9_7F4A_7C15u64;
@@ -594,6 +607,11 @@ fn same_verdicts_as_the_per_clock_deque_comparator() {
         };
         let mut new = Comparator::new(cfg);
         let mut old = before::OldComparator::new(cfg);
+        // A third one takes the clocks `quiet_ahead` promised (inputs held,
+        // no sample point) in runs by the short path, as the test bench's
+        // quiet stretches do: the same verdicts.
+        let mut bulk = Comparator::new(cfg);
+        let (mut left, mut run, mut promised): (u32, QuietRun, u64) = (0, (0, None, 0, None), 0);
         let mut ref_tx_hist = vec![true; 64];
         let (mut lag, mut field, mut phase) = (0usize, None, 5u64);
         let (mut rp, mut dp) = (pins(true), pins(true));
@@ -640,6 +658,24 @@ fn same_verdicts_as_the_per_clock_deque_comparator() {
             let sample = clk % (10 * calm.min(4)) == phase;
             new.can_clock(stamp, sample, &rp, &dp, sr, ir);
             old.can_clock(stamp, sample, &rp, &dp, sr, ir);
+            // A run's clocks share their field and bit (no sample point
+            // among them on the bench).
+            if (run.1, run.2) != (field, stamp.bit) {
+                take_run(&mut bulk, &mut run);
+            }
+            if left > 0 && !sample && run.3 == Some((rp, dp, sr, ir)) {
+                left -= 1;
+                promised += 1;
+                (run.0, run.1, run.2) = (run.0 + 1, field, stamp.bit);
+                if rnd(8) == 0 {
+                    take_run(&mut bulk, &mut run);
+                }
+            } else {
+                take_run(&mut bulk, &mut run);
+                bulk.can_clock(stamp, sample, &rp, &dp, sr, ir);
+                left = bulk.quiet_ahead(&rp, &dp, sr, ir);
+                run.3 = Some((rp, dp, sr, ir));
+            }
             if rnd(90 * calm) == 0 {
                 let addr = [SR_ADDR, IR_ADDR, 6][rnd(3) as usize];
                 let dut = statuses[rnd(5) as usize];
@@ -650,24 +686,42 @@ fn same_verdicts_as_the_per_clock_deque_comparator() {
                 };
                 new.read(stamp, addr, dut, model, None);
                 old.read(stamp, addr, dut, model, None);
+                take_run(&mut bulk, &mut run);
+                bulk.read(stamp, addr, dut, model, None);
+                left = 0;
             }
             loop {
                 let (a, b) = (new.take_divergence(), old.take_divergence());
                 assert_eq!(a, b, "clock {clk}, config {cfg:?}");
+                assert_eq!(a, bulk.take_divergence(), "clock {clk}, config {cfg:?}: quiet runs");
                 if a.is_none() {
                     break;
                 }
                 divergences += 1;
             }
             assert_eq!(new.halted(), old.halted(), "clock {clk}");
+            assert_eq!(new.halted(), bulk.halted(), "clock {clk}: quiet runs");
             if new.halted() && rnd(3) != 0 {
                 let skip = (rnd(2) == 0).then(|| clk / 10 + rnd(5));
                 let latch = rnd(2) == 0;
                 new.resume(skip, latch);
                 old.resume(skip, latch);
+                take_run(&mut bulk, &mut run);
+                bulk.resume(skip, latch);
+                left = 0;
             }
         }
+        take_run(&mut bulk, &mut run);
         assert_eq!(new.divergence(), old.divergence());
+        assert_eq!(new.divergence(), bulk.divergence());
+        assert_eq!(
+            (new.compared_bits, new.compared_reads, new.tolerated_reads, new.pending_reads(), new.repeated, new.cascade),
+            (bulk.compared_bits, bulk.compared_reads, bulk.tolerated_reads, bulk.pending_reads(), bulk.repeated, bulk.cascade),
+            "{cfg:?}: quiet runs"
+        );
+        if calm > 1 {
+            assert!(promised > 1_000, "{cfg:?}: clocks taken in quiet runs: {promised}");
+        }
         assert_eq!(
             (
                 new.compared_bits,

@@ -94,12 +94,43 @@ impl TxChecker {
             && dut.tx == self.prev_dut_tx
     }
 
-    /// A [`TxChecker::quiet`] clock.
+    /// How many of the next clocks, none a sample point, with these inputs,
+    /// [`TxChecker::clock`] does no more than [`TxChecker::quiet_clock`]
+    /// (push them): the conditions of [`TxChecker::quiet`] but for sample
+    /// points waiting in the window, until the first of those reaches its
+    /// middle (before that, no sample point is popped or judged).
+    #[inline]
+    pub(super) fn quiet_for(&self, reference: &CanPins, dut: &CanPins) -> u32 {
+        if !(self.sof_grace == 0
+            && (self.ref_off | self.dut_off) == 0
+            && reference.tx == self.prev_ref_tx
+            && reference.tx == self.last_win_ref_tx
+            && dut.tx == self.prev_dut_tx)
+        {
+            return 0;
+        }
+        match self.samples.front() {
+            None => u32::MAX,
+            // Judged (or dropped) at the push with index `index + tol`.
+            Some(m) => (m.index + u64::from(self.edge_tolerance)).saturating_sub(self.pushed).min(u64::from(u32::MAX)) as u32,
+        }
+    }
+
+    /// A [`TxChecker::quiet`] clock, or one of [`TxChecker::quiet_for`]'s.
     #[inline]
     pub(super) fn quiet_clock(&mut self, reference: &CanPins, dut: &CanPins, idle_now: bool) {
         let pushed = self.pushed;
         self.pushed += 1;
         self.tx_hist.push(pushed, reference.tx as u8 | (dut.tx as u8) << 1);
+        self.prev_idle = idle_now;
+    }
+
+    /// `n` [`TxChecker::quiet`] clocks in a row with these inputs: what
+    /// `n` calls of [`TxChecker::quiet_clock`] do.
+    pub(super) fn quiet_clocks(&mut self, n: u32, reference: &CanPins, dut: &CanPins, idle_now: bool) {
+        let v = reference.tx as u8 | (dut.tx as u8) << 1;
+        self.tx_hist.push_n(self.pushed, u64::from(n), v);
+        self.pushed += u64::from(n);
         self.prev_idle = idle_now;
     }
 
@@ -245,6 +276,18 @@ impl TxRing {
             self.grow();
         }
         self.buf[(index & self.mask) as usize] = v;
+    }
+
+    /// Stores `v` as push numbers `index..index + n`: once the buffer
+    /// wraps, only the last `size` of them are kept anyway.
+    fn push_n(&mut self, index: u64, n: u64, v: u8) {
+        while !self.full && index + n > self.buf.len() as u64 {
+            self.grow();
+        }
+        let kept = n.min(self.buf.len() as u64);
+        for i in index + n - kept..index + n {
+            self.buf[(i & self.mask) as usize] = v;
+        }
     }
 
     /// Doubles the buffer (up to `size`): rare, kept out of `push`'s way.
