@@ -14,9 +14,13 @@ fn cancosim(args: &[&str]) -> (bool, String) {
     (o.status.code().is_some_and(|c| c <= 1), format!("{}{}", String::from_utf8_lossy(&o.stdout), String::from_utf8_lossy(&o.stderr)))
 }
 
+/// One host end to end (a mutate build is a yosys and Verilator build of
+/// its own, about a minute): Motorola, whose wrapper adds two files. The
+/// wrapper of every other host is checked without a build by the unit test
+/// `every_host_wrapper_is_a_module_of_its_files` (crates/cli/src/cmd/mutate.rs).
 #[test]
-fn mutate_runs_on_each_new_host_through_its_wrapper() {
-    for host in ["axi4-lite", "apb", "apb3", "regport", "motorola"] {
+fn mutate_runs_on_a_new_host_through_its_wrapper() {
+    for host in ["motorola"] {
         let out = std::env::temp_dir().join(format!("host-commands-mutate-{host}-{}", std::process::id()));
         let (ok, text) = cancosim(&["mutate", "tb/basic-filter-frames.toml", "--count", "1", "--seed", "3", "--jobs", "1", "--no-formal", "--fresh", "--host", host, "--out", out.to_str().unwrap()]);
         assert!(ok, "{host}: {text}");

@@ -172,3 +172,24 @@ pub fn run(a: Args) -> anyhow::Result<i32> {
     println!("report: {} and {}", a.out.join("report.md").display(), a.out.join("report.json").display());
     Ok(if surv.is_empty() { 0 } else { 1 })
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// Each host's wrapper top is a module declared in the files mutate
+    /// adds for it (a wrong name or a missing file would only show as a
+    /// build failure of the mutated core).
+    #[test]
+    fn every_host_wrapper_is_a_module_of_its_files() {
+        let rtl = PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("../../rtl");
+        for host in ["i8051", "motorola", "axi4-lite", "apb", "apb3", "regport"] {
+            let (top, files) = wrapper_of(host).unwrap_or_else(|| panic!("{host}: no wrapper"));
+            let text: String = files.iter().map(|f| std::fs::read_to_string(rtl.join(f)).unwrap_or_else(|e| panic!("{host}: {f}: {e}"))).collect();
+            assert!(text.contains(&format!("module {top}")), "{host}: no `module {top}` in {files:?}");
+        }
+        for host in ["wishbone", "pio", "pio-edge"] {
+            assert_eq!(wrapper_of(host), None, "{host} drives can_top itself");
+        }
+    }
+}
