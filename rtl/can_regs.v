@@ -221,7 +221,9 @@ module can_regs (
     // ---- sleep request (MOD.SM / CMR.GTS) ----
     wire sleep_wr = wr && !rm && (peli ? (a == PC_MOD) : (a == BC_CMR));
     wire sleep_d  = acc_wdat[4];
-    wire can_sleep = bus_idle && !irq;
+    // a requested transmission (TBS = 0) is bus activity about to start:
+    // sleeping on it would freeze a frame the host is waiting for
+    wire can_sleep = bus_idle && !irq && tbs;
     wire wake_bus  = sleep && !rx_i;
 
     // ---- clock divider (CDR.2..0: fosc/2,4,...,14, 7 = fosc; CDR.3 = off) ----

@@ -993,9 +993,11 @@ impl Bsp {
                 return;
             }
             self.cnt = 0;
-            if self.phase == Phase::BusOff {
-                self.recovery = 0;
-            } else {
+            // A recovery interrupted by reset mode goes on from where it
+            // was: its count is TXERR, which reset mode leaves unchanged
+            // (datasheet reset-value table); only the current run of
+            // recessive bits starts again.
+            if self.phase != Phase::BusOff {
                 self.phase = Phase::Integrating;
             }
             // Status changes from CPU writes to TXERR/RXERR show now.

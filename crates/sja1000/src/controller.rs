@@ -1311,7 +1311,10 @@ impl Sja1000 {
                     reason: "an interrupt is pending",
                 });
             }
-            if self.engine.is_receiving() || self.engine.is_transmitting() {
+            // A requested transmission not yet on the wire is bus activity
+            // about to start (SR.TBS = 0): refused as well, whichever side
+            // of the request's SOF the write falls on.
+            if self.engine.is_receiving() || self.engine.is_transmitting() || self.engine.tx_pending() {
                 self.raise(WUI);
                 return Some(WriteOutcome::CommandIgnored {
                     command,
