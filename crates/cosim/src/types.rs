@@ -39,6 +39,8 @@ pub struct Stamp {
 pub const SR_ADDR: u8 = 2;
 /// IR address (both register views).
 pub const IR_ADDR: u8 = 3;
+/// RMC address (PeliCAN view; a receive buffer byte in BasicCAN).
+pub const RMC_ADDR: u8 = 29;
 
 /// What the comparator needs from the reference after one CAN clock
 /// ([`Reference::step`]).
@@ -52,6 +54,9 @@ pub struct RefView {
     pub sr: u8,
     /// IR as a peek would return it.
     pub ir: u8,
+    /// RMC as a peek would return it, in the PeliCAN view (None in
+    /// BasicCAN, where its address is a receive buffer byte).
+    pub rmc: Option<u8>,
     /// [`Reference::drain_events`] may have something (false: it has nothing).
     pub events: bool,
 }
@@ -82,6 +87,7 @@ pub trait Reference {
             field: self.field(),
             sr: self.peek(SR_ADDR),
             ir: self.peek(IR_ADDR),
+            rmc: matches!(self.mode(), Some((CanMode::PeliCan, _))).then(|| self.peek(RMC_ADDR)),
             events: true,
         }
     }

@@ -1,15 +1,16 @@
-//! The register-read checker: every read is compared exactly, except SR
-//! and IR, whose bits change at implementation-defined instants. A read of
-//! those matches if the reference held the same value at some CAN clock
-//! within `status_tolerance` clocks before it (IR: only before the
-//! reference took the read, which clears its flags); an SR read that
-//! matches nothing yet waits up to as many clocks for the reference to take
-//! that value. The coordinator ([`super::Comparator`]) judges what it
+//! The register-read checker: every read is compared exactly, except SR,
+//! IR and (PeliCAN) RMC, whose values change at implementation-defined
+//! instants: RMC counts a received message at the instant RBS and RI
+//! report it. A read of those matches if the reference held the same value
+//! at some CAN clock within `status_tolerance` clocks before it (IR: only
+//! before the reference took the read, which clears its flags); an SR or
+//! RMC read that matches nothing yet waits up to as many clocks for the
+//! reference to take that value. The coordinator ([`super::Comparator`]) judges what it
 //! reports (collect-mode repeats, divergences).
 
 use std::collections::VecDeque;
 
-use super::{IR_ADDR, SR_ADDR, Stamp};
+use super::{IR_ADDR, RMC_ADDR, SR_ADDR, Stamp};
 
 /// A read the checker has not accepted (yet).
 #[derive(Clone, Debug)]
@@ -41,9 +42,13 @@ pub(super) struct ReadChecker {
     status_pushed: u64,
     sr_hist: VecDeque<(u8, u64)>,
     ir_hist: VecDeque<(u8, u64)>,
-    /// The newest SR and IR of the histories (256: none yet).
+    /// RMC's history: 256 while the reference is in BasicCAN (no RMC).
+    rmc_hist: VecDeque<(u16, u64)>,
+    /// The newest SR, IR and RMC of the histories (256: none yet; RMC 256:
+    /// BasicCAN).
     sr_last: u16,
     ir_last: u16,
+    rmc_last: u16,
     pending: Vec<PendingRead>,
     /// `status_pushed` when the reference took the read now under way, if
     /// it took it before the DUT's ack ([`ReadChecker::reference_read_taken`]).
@@ -60,8 +65,10 @@ impl ReadChecker {
             status_pushed: 0,
             sr_hist: VecDeque::new(),
             ir_hist: VecDeque::new(),
+            rmc_hist: VecDeque::new(),
             sr_last: 256,
             ir_last: 256,
+            rmc_last: 257,
             pending: Vec::new(),
             read_taken_at: None,
             tolerated_read: None,
@@ -71,8 +78,8 @@ impl ReadChecker {
     /// Nothing to do this clock but count it: no read waiting, the same SR
     /// and IR as the last clock.
     #[inline]
-    pub(super) fn quiet(&self, sr: u8, ir: u8) -> bool {
-        self.pending.is_empty() && sr as u16 == self.sr_last && ir as u16 == self.ir_last
+    pub(super) fn quiet(&self, sr: u8, ir: u8, rmc: Option<u8>) -> bool {
+        self.pending.is_empty() && sr as u16 == self.sr_last && ir as u16 == self.ir_last && rmc_code(rmc) == self.rmc_last
     }
 
     /// A [`ReadChecker::quiet`] clock.
@@ -87,9 +94,9 @@ impl ReadChecker {
     }
 
     /// Any other clock: the reference's SR and IR into the histories; the
-    /// waiting SR reads look forward. Reads whose window closed go to
+    /// waiting SR and RMC reads look forward. Reads whose window closed go to
     /// `expired` (in order); returns how many were accepted this clock.
-    pub(super) fn clock(&mut self, sr: u8, ir: u8, expired: &mut Vec<PendingRead>) -> u64 {
+    pub(super) fn clock(&mut self, sr: u8, ir: u8, rmc: Option<u8>, expired: &mut Vec<PendingRead>) -> u64 {
         // Status history for tolerant reads (runs of equal values).
         let at = self.status_pushed;
         self.status_pushed += 1;
@@ -103,12 +110,19 @@ impl ReadChecker {
             self.ir_hist.push_back((ir, at));
             prune_runs(&mut self.ir_hist, self.status_pushed, self.status_tolerance);
         }
-        // Pending SR reads: look forward.
+        let rmc = rmc_code(rmc);
+        if rmc != self.rmc_last {
+            self.rmc_last = rmc;
+            self.rmc_hist.push_back((rmc, at));
+            prune_runs(&mut self.rmc_hist, self.status_pushed, self.status_tolerance);
+        }
+        // Pending SR and RMC reads: look forward.
         let mut tolerated = 0;
         let mut k = 0;
         while k < self.pending.len() {
             let p = &mut self.pending[k];
-            if p.addr == SR_ADDR && sr == p.dut {
+            let now = if p.addr == SR_ADDR { sr as u16 } else { rmc };
+            if now == p.dut as u16 {
                 tolerated += 1;
                 let p = self.pending.swap_remove(k);
                 self.tolerated_read = Some(p);
@@ -136,6 +150,22 @@ impl ReadChecker {
     /// [`ReadChecker::begin_read`].
     pub(super) fn judge(&mut self, stamp: Stamp, addr: u8, dut: u8, model: u8, taken_at: Option<u64>) -> ReadVerdict {
         let (pushed, tol) = (self.status_pushed, self.status_tolerance);
+        if addr == RMC_ADDR {
+            // RMC is a status value only in the PeliCAN view.
+            if self.rmc_last >= 256 {
+                return ReadVerdict::Differs;
+            }
+            prune_runs(&mut self.rmc_hist, pushed, tol);
+            if self.rmc_hist.iter().any(|v| v.0 == dut as u16) {
+                self.tolerated_read = Some(PendingRead { addr, dut, model, clocks_left: 0, stamp });
+                return ReadVerdict::Tolerated;
+            }
+            if tol > 0 {
+                self.pending.push(PendingRead { addr, dut, model, clocks_left: tol, stamp });
+                return ReadVerdict::Waiting;
+            }
+            return ReadVerdict::Differs;
+        }
         let hist = match addr {
             SR_ADDR => Some(&mut self.sr_hist),
             IR_ADDR => Some(&mut self.ir_hist),
@@ -183,10 +213,16 @@ impl ReadChecker {
     }
 }
 
+/// RMC in the history's encoding: 256 for none (BasicCAN).
+#[inline]
+fn rmc_code(rmc: Option<u8>) -> u16 {
+    rmc.map_or(256, u16::from)
+}
+
 /// Drops the runs that ended before the last `tolerance + 1` of `pushed`
 /// clocks (a run ends where the next one starts; the last one is current).
 #[inline]
-fn prune_runs(h: &mut VecDeque<(u8, u64)>, pushed: u64, tolerance: u32) {
+fn prune_runs<T>(h: &mut VecDeque<(T, u64)>, pushed: u64, tolerance: u32) {
     let first = pushed.saturating_sub(tolerance as u64 + 1);
     while h.len() >= 2 && h[1].1 <= first {
         h.pop_front();
@@ -198,11 +234,15 @@ mod tests {
     use super::*;
 
     fn clock(c: &mut ReadChecker, sr: u8, ir: u8, expired: &mut Vec<PendingRead>) -> u64 {
-        if c.quiet(sr, ir) {
+        clock_rmc(c, sr, ir, None, expired)
+    }
+
+    fn clock_rmc(c: &mut ReadChecker, sr: u8, ir: u8, rmc: Option<u8>, expired: &mut Vec<PendingRead>) -> u64 {
+        if c.quiet(sr, ir, rmc) {
             c.quiet_clock();
             0
         } else {
-            c.clock(sr, ir, expired)
+            c.clock(sr, ir, rmc, expired)
         }
     }
 
@@ -249,5 +289,44 @@ mod tests {
         assert!(matches!(c.judge(Stamp::default(), IR_ADDR, 0x00, 0x01, taken), ReadVerdict::Differs));
         // Untaken, the same value would be held within the window.
         assert!(matches!(c.judge(Stamp::default(), IR_ADDR, 0x00, 0x01, None), ReadVerdict::Tolerated));
+    }
+
+    /// RMC counts a message at the instant RBS/RI report it, so in the
+    /// PeliCAN view it has the status window, both ways; outside the window
+    /// it is exact, and in BasicCAN (address 29 is a receive buffer byte)
+    /// it is exact always.
+    #[test]
+    fn rmc_has_the_status_window_in_pelican_only() {
+        let mut c = ReadChecker::new(3);
+        let mut ex = Vec::new();
+        let s = Stamp::default();
+        for rmc in [0, 0, 1, 1] {
+            clock_rmc(&mut c, 0, 0, Some(rmc), &mut ex);
+        }
+        // The DUT counts the message 2 clocks late: tolerated.
+        assert!(matches!(c.judge(s, RMC_ADDR, 0, 1, None), ReadVerdict::Tolerated));
+        // A count the reference never had within the window: not.
+        assert!(matches!(c.judge(s, RMC_ADDR, 2, 1, None), ReadVerdict::Waiting));
+        for _ in 0..4 {
+            clock_rmc(&mut c, 0, 0, Some(1), &mut ex);
+        }
+        assert_eq!(ex.len(), 1, "a count the reference never reaches expires");
+        assert_eq!((ex[0].addr, ex[0].dut, ex[0].model), (RMC_ADDR, 2, 1));
+        // Late by more than the window: a difference.
+        assert!(matches!(c.judge(s, RMC_ADDR, 0, 1, None), ReadVerdict::Waiting));
+        for _ in 0..4 {
+            clock_rmc(&mut c, 0, 0, Some(1), &mut ex);
+        }
+        assert_eq!(ex.len(), 2);
+        // Early within the window: the reference takes the value in time.
+        assert!(matches!(c.judge(s, RMC_ADDR, 2, 1, None), ReadVerdict::Waiting));
+        clock_rmc(&mut c, 0, 0, Some(1), &mut ex);
+        assert_eq!(clock_rmc(&mut c, 0, 0, Some(2), &mut ex), 1);
+        // BasicCAN: address 29 is data, exact.
+        let mut b = ReadChecker::new(3);
+        for _ in 0..4 {
+            clock_rmc(&mut b, 0, 0, None, &mut ex);
+        }
+        assert!(matches!(b.judge(s, RMC_ADDR, 0, 1, None), ReadVerdict::Differs));
     }
 }

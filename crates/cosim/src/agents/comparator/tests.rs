@@ -38,6 +38,7 @@ fn run_in(
             &pins(dut_tx[k]),
             0,
             0,
+            None,
         );
     }
     c
@@ -104,11 +105,11 @@ fn an_ir_read_is_not_matched_by_the_value_the_reference_read_left_behind() {
     let mut c = Comparator::new(CompareConfig { status_tolerance: 40, ..CompareConfig::default() });
     let p = pins(true);
     for _ in 0..50 {
-        c.can_clock(Stamp::default(), false, &p, &p, 0, 0x09);
+        c.can_clock(Stamp::default(), false, &p, &p, 0, 0x09, None);
     }
     c.reference_read_taken();
     for _ in 0..4 {
-        c.can_clock(Stamp::default(), false, &p, &p, 0, 0x01);
+        c.can_clock(Stamp::default(), false, &p, &p, 0, 0x01, None);
     }
     c.read(Stamp::default(), IR_ADDR, 0x01, 0x09, None);
     let d = c.divergence().expect("IR 0x01 only after the read cleared DOI");
@@ -116,17 +117,17 @@ fn an_ir_read_is_not_matched_by_the_value_the_reference_read_left_behind() {
     // A value the model held before the read is still within the window.
     let mut c = Comparator::new(CompareConfig { status_tolerance: 40, ..CompareConfig::default() });
     for ir in [0x01, 0x01, 0x09, 0x09] {
-        c.can_clock(Stamp::default(), false, &p, &p, 0, ir);
+        c.can_clock(Stamp::default(), false, &p, &p, 0, ir, None);
     }
     c.reference_read_taken();
-    c.can_clock(Stamp::default(), false, &p, &p, 0, 0x01);
+    c.can_clock(Stamp::default(), false, &p, &p, 0, 0x01, None);
     c.read(Stamp::default(), IR_ADDR, 0x01, 0x09, None);
     assert!(c.divergence().is_none(), "IR 0x01 two clocks before the read");
     assert_eq!(c.tolerated_reads, 1);
     // Without an early take (reference at the ack) nothing changes.
     let mut c = Comparator::new(CompareConfig { status_tolerance: 40, ..CompareConfig::default() });
     for ir in [0x01, 0x09] {
-        c.can_clock(Stamp::default(), false, &p, &p, 0, ir);
+        c.can_clock(Stamp::default(), false, &p, &p, 0, ir, None);
     }
     c.read(Stamp::default(), IR_ADDR, 0x01, 0x09, None);
     assert!(c.divergence().is_none());
@@ -141,7 +142,7 @@ fn a_tolerated_read_that_misses_an_expectation_the_model_meets_is_a_divergence()
         let mut c = Comparator::new(CompareConfig { status_tolerance: 40, ..CompareConfig::default() });
         let p = pins(true);
         for k in 0..60 {
-            c.can_clock(Stamp::default(), false, &p, &p, if k < 40 { 0x0F } else { 0x0E }, 0);
+            c.can_clock(Stamp::default(), false, &p, &p, if k < 40 { 0x0F } else { 0x0E }, 0, None);
         }
         c.read(Stamp { t_ps: 9, ..Stamp::default() }, SR_ADDR, 0x0F, 0x0E, None);
         assert!(c.divergence().is_none(), "the window accepts it");
@@ -175,7 +176,7 @@ fn status_reads_use_the_window_other_reads_are_exact() {
     });
     let p = pins(true);
     for sr in [0x0C, 0x0C, 0x3C] {
-        c.can_clock(Stamp::default(), false, &p, &p, sr, 0);
+        c.can_clock(Stamp::default(), false, &p, &p, sr, 0, None);
     }
     c.read(Stamp::default(), SR_ADDR, 0x0C, 0x3C, None);
     assert!(
@@ -186,8 +187,8 @@ fn status_reads_use_the_window_other_reads_are_exact() {
     // SR value the model takes 2 clocks after the read: accepted too.
     c.read(Stamp::default(), SR_ADDR, 0x1C, 0x3C, None);
     assert_eq!(c.pending_reads(), 1);
-    c.can_clock(Stamp::default(), false, &p, &p, 0x3C, 0);
-    c.can_clock(Stamp::default(), false, &p, &p, 0x1C, 0);
+    c.can_clock(Stamp::default(), false, &p, &p, 0x3C, 0, None);
+    c.can_clock(Stamp::default(), false, &p, &p, 0x1C, 0, None);
     assert_eq!(c.pending_reads(), 0);
     assert!(c.divergence().is_none());
     // SR value never taken: divergence once the window closes.
@@ -202,7 +203,7 @@ fn status_reads_use_the_window_other_reads_are_exact() {
         None,
     );
     for _ in 0..5 {
-        c.can_clock(Stamp::default(), false, &p, &p, 0x1C, 0);
+        c.can_clock(Stamp::default(), false, &p, &p, 0x1C, 0, None);
     }
     let d = c.divergence().expect("SR 0xFF never held");
     assert_eq!(
@@ -233,7 +234,7 @@ fn run_bits(
                 ..Stamp::default()
             };
             let dut_tx = !(dominant.contains(&bit) && k >= 2);
-            c.can_clock(s, k == 5, &pins(true), &pins(dut_tx), 0, 0);
+            c.can_clock(s, k == 5, &pins(true), &pins(dut_tx), 0, 0, None);
             while let Some(d) = c.take_divergence() {
                 on_div(c, d);
             }
@@ -371,10 +372,11 @@ fn irq_may_differ_briefly_but_not_longer_than_the_tolerance() {
             &d,
             0,
             0,
+            None,
         );
     }
     assert!(c.divergence().is_none());
-    c.can_clock(Stamp::default(), false, &r, &r, 0, 0);
+    c.can_clock(Stamp::default(), false, &r, &r, 0, 0, None);
     for k in 10..14 {
         c.can_clock(
             Stamp {
@@ -386,6 +388,7 @@ fn irq_may_differ_briefly_but_not_longer_than_the_tolerance() {
             &d,
             0,
             0,
+            None,
         );
     }
     let dv = c.divergence().expect("irq divergence");
@@ -418,7 +421,7 @@ fn collect_mode_lists_each_tx_difference_once() {
             for k in 0..10u64 {
                 let s = Stamp { t_ps: bit * 10 + k, bit, field, frame: Some(bit as u32 / 10 + 1) };
                 let dominant = plan.iter().any(|p| p.0 == bit) && k >= 2;
-                c.can_clock(s, k == 5, &pins(true), &pins(!dominant), 0, 0);
+                c.can_clock(s, k == 5, &pins(true), &pins(!dominant), 0, 0, None);
                 while let Some(d) = c.take_divergence() {
                     listed.push((d.bit.unwrap(), d.field));
                     c.resume(None, latch);
@@ -488,7 +491,7 @@ fn a_read_diverges_exactly_when_the_model_never_held_the_value_in_the_window() {
             let r = pins(true);
             let d = CanPins { tx: dut_tx, irq_n: !irq_bad, ..pins(true) };
             let stamp = Stamp { t_ps: clk as u64, bit: clk as u64 / 10, frame: Some(clk as u32 / 200), ..Stamp::default() };
-            c.can_clock(stamp, sample, &r, &d, sr[clk], ir[clk]);
+            c.can_clock(stamp, sample, &r, &d, sr[clk], ir[clk], None);
         };
         let drain = |c: &mut Comparator, flagged: &mut std::collections::BTreeSet<u64>| {
             while let Some(d) = c.take_divergence() {
@@ -656,7 +659,7 @@ fn same_verdicts_as_the_per_clock_deque_comparator() {
             };
             // Calm: a sample point every 40 clocks, as at 40 clocks per bit.
             let sample = clk % (10 * calm.min(4)) == phase;
-            new.can_clock(stamp, sample, &rp, &dp, sr, ir);
+            new.can_clock(stamp, sample, &rp, &dp, sr, ir, None);
             old.can_clock(stamp, sample, &rp, &dp, sr, ir);
             // A run's clocks share their field and bit (no sample point
             // among them on the bench).
@@ -672,8 +675,8 @@ fn same_verdicts_as_the_per_clock_deque_comparator() {
                 }
             } else {
                 take_run(&mut bulk, &mut run);
-                bulk.can_clock(stamp, sample, &rp, &dp, sr, ir);
-                left = bulk.quiet_ahead(&rp, &dp, sr, ir);
+                bulk.can_clock(stamp, sample, &rp, &dp, sr, ir, None);
+                left = bulk.quiet_ahead(&rp, &dp, sr, ir, None);
                 run.3 = Some((rp, dp, sr, ir));
             }
             if rnd(90 * calm) == 0 {
