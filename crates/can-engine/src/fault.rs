@@ -206,11 +206,12 @@ impl Fault {
         if let Some(t) = tec {
             self.tec = t as u16;
             if self.state == FaultState::BusOff {
-                self.state = if self.tec >= 128 || self.rec >= 128 {
-                    FaultState::ErrorPassive
-                } else {
-                    FaultState::ErrorActive
-                };
+                // The write ends bus-off now (BS clears). Whether the
+                // counters make the node error passive is decided with the
+                // next update, when reset mode is left (datasheet TXERR: an
+                // error passive interrupt forced by the new content waits
+                // until then), and it is a change from not passive: EPI.
+                self.state = FaultState::ErrorActive;
                 ev.push(Event::FaultState(self.state));
             }
         }
