@@ -16,7 +16,7 @@ filter compares four of them, so a frame one bit away from one filter's code
 is always rejected by the other.
 
 Expected results come from the construction (one bit away, that bit's mask),
-not from a filter model (crates/scenario/tests/acf_walk.rs checks them with
+not from a filter model (crates/scenario/tests/suite/acf_walk.rs checks them with
 the golden model's filter). The host drains the FIFO as the frames arrive
 (receive interrupt, then the frame information, identifier and data of the
 head message, release, IR = 00), so a frame wrongly accepted or wrongly

@@ -142,7 +142,7 @@ impl I8051Polarity {
 /// hold 40 ns). The RD strobe is stretched to 760 ns (38 cycles), WR is
 /// 400 ns: our `can_top_8051` answers a read through its clock-domain
 /// crossing only from the 31st RD cycle at 50/24 MHz (measured by
-/// `cosim/tests/i8051.rs`), where the chip answers within tens of ns.
+/// `cosim/tests/suite/i8051.rs`), where the chip answers within tens of ns.
 /// Recovery is 260 ns (13 cycles, 6 CAN clocks at 24 MHz) so that a write,
 /// which the wrapper performs after WR is released, is done before the
 /// next access's RD (an 80C51 spends at least that long between two

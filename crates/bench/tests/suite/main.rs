@@ -1,0 +1,6 @@
+//! The bench crate's integration tests, one module per file, in one test
+//! binary: one link instead of one per file, and the files' tests run in
+//! parallel with each other.
+
+mod batching;
+mod smoke;

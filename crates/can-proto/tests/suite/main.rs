@@ -1,0 +1,7 @@
+//! The can-proto crate's integration tests, one module per file, in one test
+//! binary: one link instead of one per file, and the files' tests run in
+//! parallel with each other.
+
+mod bad_input;
+mod crc_tail_stuff;
+mod fuzz_decode;
