@@ -836,7 +836,9 @@ impl Bsp {
 
     /// Rule 12: 128 occurrences of 11 consecutive recessive bits.
     fn bus_off_recovery(&mut self, rx: bool) {
-        if !rx {
+        // The recovery runs only outside reset mode (the bus-off sets it;
+        // the host clears it to start the recovery, datasheet MOD.RM).
+        if !rx || self.reset_mode {
             self.cnt = 0;
             return;
         }

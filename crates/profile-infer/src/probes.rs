@@ -113,8 +113,10 @@ pub fn status() -> Probe {
 /// Recovery: bus-off by bit errors (the core's rx stuck recessive), the
 /// 128 x 11 recessive bits of the recovery, then a frame from bus idle: a
 /// start of frame whose phase nothing synchronised since the recovery.
+/// The error interrupt (EI) is enabled: the bus-off and its end on IR and
+/// the irq pin.
 pub fn recovery() -> Probe {
-    let steps = "    { write = \"MOD\", value = 0x00 },\n    { wait_bits = 12 },\n    { load_tx = { id = 0x2AA, data = [0x99] } },\n    \
+    let steps = "    { write = \"IER\", value = 0x07 },\n    { write = \"MOD\", value = 0x00 },\n    { wait_bits = 12 },\n    { load_tx = { id = 0x2AA, data = [0x99] } },\n    \
         { write = \"CMR\", value = 0x01 },\n    { wait_sr_set = 0x80, timeout_bits = 900 },\n    { wait_bits = 2 },\n    \
         { read = \"SR\" },\n    { read = \"IR\" },\n    { read = \"TXERR\" },\n    { wait_bits = 300 },\n    \
         { write = \"MOD\", value = 0x00 },\n    { wait_bits = 555 },\n    { read = \"TXERR\" },\n    \
@@ -123,4 +125,37 @@ pub fn recovery() -> Probe {
     let tail = "[[node]]\nname = \"acker\"\nbtr0 = 0x41\nbtr1 = 0x25\nmode = \"peli\"\n\
         [[fault]]\nkind = \"stuck-recessive\"\nat_bit = 5\nduration_bits = 600\ntarget = \"dut-rx\"\n";
     probe("recovery".into(), text("profile probe: a start of frame from bus idle after a bus-off recovery", steps, tail, 3500))
+}
+
+/// Wake-up: sleep entered in bus idle and left by a peer's frame (WUI),
+/// a sleep request refused while the next frame is on the bus (WUI at the
+/// write), that frame received (RI), then sleep left by the host (WUI):
+/// the wake-up interrupt's latency on IR and the irq pin.
+pub fn wakeup() -> Probe {
+    let steps = "    { write = \"IER\", value = 0x11 },\n    { write = \"MOD\", value = 0x00 },\n    { wait_bits = 12 },\n    \
+        { write = \"MOD\", value = 0x10 },\n    { wait_irq = true, timeout_bits = 200 },\n    { read = \"IR\" },\n    \
+        { wait_bits = 90 },\n    { wait_sr_set = 0x10, timeout_bits = 200 },\n    { write = \"MOD\", value = 0x10 },\n    \
+        { wait_irq = true, timeout_bits = 200 },\n    { read = \"IR\" },\n    { wait_sr_set = 0x01, timeout_bits = 200 },\n    \
+        { wait_bits = 2 },\n    { read = \"IR\" },\n    { write = \"CMR\", value = 0x04 },\n    { wait_bits = 15 },\n    \
+        { write = \"MOD\", value = 0x10 },\n    { wait_bits = 20 },\n    { write = \"MOD\", value = 0x00 },\n    { read = \"IR\" },\n    { wait_bits = 20 },";
+    let node = "[[node]]\nname = \"talker\"\nbtr0 = 0x41\nbtr1 = 0x25\nmode = \"peli\"\n\
+        send = [ { id = 0x124, data = [0x01], at_bit = 60 }, { id = 0x124, data = [0x02], at_bit = 200 } ]\n";
+    probe("wakeup".into(), text("profile probe: the wake-up interrupt (bus wake-up, refused request, host wake-up) on IR and the irq pin", steps, node, 420))
+}
+
+/// Passive: the core's rx stuck dominant inside a peer's frame (error
+/// flags and rule 6 until RXERR passes EWL, then 127: EI, EPI), then a
+/// frame received whole (rule 8: back under 128, EPI again): the error
+/// interrupts' latency on IR and the irq pin, at an error and at a
+/// successful reception.
+pub fn passive() -> Probe {
+    let steps = "    { write = \"IER\", value = 0x24 },\n    { write = \"EWLR\", value = 0x10 },\n    { write = \"MOD\", value = 0x00 },\n    \
+        { wait_bits = 12 },\n    { wait_irq = true, timeout_bits = 300 },\n    { read = \"IR\" },\n    \
+        { wait_irq = true, timeout_bits = 200 },\n    { read = \"IR\" },\n    { wait_bits = 60 },\n    \
+        { wait_sr_set = 0x01, timeout_bits = 400 },\n    { read = \"IR\" },\n    { read = \"RXERR\" },\n    { write = \"CMR\", value = 0x04 },\n    { wait_bits = 4 },";
+    let tail = "[[node]]\nname = \"sender\"\nbtr0 = 0x41\nbtr1 = 0x25\nmode = \"peli\"\n\
+        send = [ { id = 0x3C3, data = [0x00], at_bit = 40 }, { id = 0x3C3, data = [0x01], at_bit = 500 } ]\n\
+        [[node]]\nname = \"acker\"\nbtr0 = 0x41\nbtr1 = 0x25\nmode = \"peli\"\n\
+        [[fault]]\nkind = \"stuck-dominant\"\nframe = 1\nbit_in_frame = 20\nduration_bits = 150\ntarget = \"dut-rx\"\n";
+    probe("passive".into(), text("profile probe: error warning and error passive interrupts at errors and at a successful reception", steps, tail, 800))
 }

@@ -482,17 +482,13 @@ impl Comparator {
         self.tolerated_reads += self.reads.clock(sr, ir, rmc, &mut expired);
         for p in expired.drain(..) {
             if !self.read_repeats(p.addr, p.dut, p.model) {
-                self.diverge_read(
-                    p.stamp,
-                    p.addr,
-                    p.dut,
-                    p.model,
-                    reg_label(p.addr),
-                    format!(
-                        "read of address {} returned 0x{:02X}, the model 0x{:02X}",
-                        p.addr, p.dut, p.model
-                    ),
-                );
+                // Only SR and (PeliCAN) RMC reads wait for the window.
+                let (label, context) = if p.addr == RMC_ADDR {
+                    (status_label(p.addr), format!("read of RMC (address {}) returned 0x{:02X}, the model 0x{:02X}", p.addr, p.dut, p.model))
+                } else {
+                    (reg_label(p.addr), format!("read of address {} returned 0x{:02X}, the model 0x{:02X}", p.addr, p.dut, p.model))
+                };
+                self.diverge_read(p.stamp, p.addr, p.dut, p.model, label, context);
             }
         }
         self.expired = expired;
@@ -628,12 +624,12 @@ impl Comparator {
         self.tolerated_reads -= 1;
         let context = format!(
             "read of {} (address {addr}) returned 0x{dut:02X}, the model 0x{:02X}: the model held 0x{dut:02X} within the {}-clock status tolerance, but the scenario's expectation at this read (0x{:02X} under mask 0x{mask:02X}) holds for the model's value, not the DUT's",
-            reg_label(addr),
+            status_label(addr),
             p.model,
             self.cfg.status_tolerance,
             expected & mask
         );
-        self.diverge_read(p.stamp, addr, dut, p.model, reg_label(addr), context);
+        self.diverge_read(p.stamp, addr, dut, p.model, status_label(addr), context);
         true
     }
 
@@ -679,6 +675,12 @@ impl Comparator {
 #[inline]
 fn idle(field: Option<Field>) -> bool {
     matches!(field, Some(Field::BusIdle | Field::Intermission | Field::SuspendTransmission))
+}
+
+/// The name of a read the status window judged (SR, IR, or RMC: only the
+/// PeliCAN view's address 29 is judged so).
+fn status_label(addr: u8) -> String {
+    if addr == RMC_ADDR { "RMC".into() } else { reg_label(addr) }
 }
 
 fn reg_label(addr: u8) -> String {
