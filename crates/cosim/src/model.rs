@@ -10,7 +10,7 @@ use diagnose::{CanMode, EventKind, WriteOutcome as RecOutcome};
 use regmap::{Access, Mode, Target};
 use sja1000::{NodeEvent, Sja1000, WriteOutcome};
 
-use crate::compare::{IR_ADDR, RMC_ADDR, RefView, Reference, SR_ADDR};
+use crate::compare::{IR_ADDR, PELI_STATUS_ADDRS, RefView, Reference, SR_ADDR};
 use crate::dut::{CanPins, Dut};
 
 /// The model's write verdict as record data.
@@ -282,7 +282,7 @@ impl ModelRef {
             field: Some(self.m.engine().field()),
             sr: self.m.peek(SR_ADDR),
             ir: self.m.peek(IR_ADDR),
-            rmc: rmc_of(&self.m),
+            peli: peli_status_of(&self.m),
             events: self.m.journal_pending(),
         };
         self.stale = false;
@@ -294,9 +294,10 @@ impl ModelRef {
     }
 }
 
-/// RMC for the comparator's status window, in the PeliCAN view only.
-fn rmc_of(m: &Sja1000) -> Option<u8> {
-    (m.mode() == Mode::PeliCan).then(|| m.peek(RMC_ADDR))
+/// RXERR, TXERR and RMC for the comparator's status window, in the
+/// PeliCAN view only.
+fn peli_status_of(m: &Sja1000) -> Option<[u8; 3]> {
+    (m.mode() == Mode::PeliCan).then(|| PELI_STATUS_ADDRS.map(|a| m.peek(a)))
 }
 
 fn error_kind(ecc: u8) -> ErrorKind {
@@ -507,7 +508,7 @@ mod tests {
             field: Some(m.engine().field()),
             sr: m.peek(SR_ADDR),
             ir: m.peek(IR_ADDR),
-            rmc: rmc_of(m),
+            peli: peli_status_of(m),
             events: m.journal_pending(),
         }
     }

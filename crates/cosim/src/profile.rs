@@ -1471,7 +1471,7 @@ struct RawTolerances {
     /// A start of frame from bus idle may lag the model's this much. Required.
     #[schemars(with = "u32")]
     sof: Spanned<u32>,
-    /// SR, IR and (PeliCAN) RMC reads: a value the model held this recently is accepted. Required.
+    /// SR, IR and (PeliCAN) RXERR, TXERR, RMC reads: a value the model held this recently is accepted. Required.
     #[schemars(with = "u32")]
     status: Spanned<u32>,
     /// The irq and bus-off pins may differ from the model's this long. Required.

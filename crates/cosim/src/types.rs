@@ -41,6 +41,11 @@ pub const SR_ADDR: u8 = 2;
 pub const IR_ADDR: u8 = 3;
 /// RMC address (PeliCAN view; a receive buffer byte in BasicCAN).
 pub const RMC_ADDR: u8 = 29;
+/// The PeliCAN registers whose values change at an instant of an event the
+/// datasheet leaves to the implementation (the error counters at an error
+/// or a success, RMC when a message is stored), judged with the status
+/// window: RXERR, TXERR, RMC. In BasicCAN these addresses are buffer bytes.
+pub const PELI_STATUS_ADDRS: [u8; 3] = [14, 15, RMC_ADDR];
 
 /// What the comparator needs from the reference after one CAN clock
 /// ([`Reference::step`]).
@@ -54,9 +59,9 @@ pub struct RefView {
     pub sr: u8,
     /// IR as a peek would return it.
     pub ir: u8,
-    /// RMC as a peek would return it, in the PeliCAN view (None in
-    /// BasicCAN, where its address is a receive buffer byte).
-    pub rmc: Option<u8>,
+    /// RXERR, TXERR and RMC as peeks would return them, in the PeliCAN
+    /// view ([`PELI_STATUS_ADDRS`]; None in BasicCAN).
+    pub peli: Option<[u8; 3]>,
     /// [`Reference::drain_events`] may have something (false: it has nothing).
     pub events: bool,
 }
@@ -87,7 +92,7 @@ pub trait Reference {
             field: self.field(),
             sr: self.peek(SR_ADDR),
             ir: self.peek(IR_ADDR),
-            rmc: matches!(self.mode(), Some((CanMode::PeliCan, _))).then(|| self.peek(RMC_ADDR)),
+            peli: matches!(self.mode(), Some((CanMode::PeliCan, _))).then(|| PELI_STATUS_ADDRS.map(|a| self.peek(a))),
             events: true,
         }
     }

@@ -465,7 +465,7 @@ impl Shadow {
                 frame: None,
             };
             self.cmp
-                .can_clock(stamp, sample, &view.pins, &d, view.sr, view.ir, view.rmc);
+                .can_clock(stamp, sample, &view.pins, &d, view.sr, view.ir, view.peli);
         }
         // Accesses whose CAN edge this was.
         let mut i = 0;

@@ -41,7 +41,7 @@ use diagnose::{Divergence, DivergenceKind};
 
 use crate::types::CanPins;
 // The reference side lives in `types` (dut.rs implements it too).
-pub use crate::types::{IR_ADDR, RMC_ADDR, RefView, Reference, SR_ADDR, Stamp};
+pub use crate::types::{IR_ADDR, PELI_STATUS_ADDRS, RMC_ADDR, RefView, Reference, SR_ADDR, Stamp};
 
 /// Comparator tolerances.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -84,7 +84,7 @@ impl CompareConfig {
     /// The tolerances in words, for the report.
     pub fn describe(&self) -> String {
         format!(
-            "tx compared at sample points, not within {} CAN clocks of a model tx edge, a start of frame from bus idle may lag by {} CAN clocks; register reads exact except SR/IR/RMC (PeliCAN) \
+            "tx compared at sample points, not within {} CAN clocks of a model tx edge, a start of frame from bus idle may lag by {} CAN clocks; register reads exact except SR/IR and (PeliCAN) RXERR/TXERR/RMC \
              (match if the model held that value within {} CAN clocks); irq_on{} / bus_off_on{} may differ for at most {} CAN clocks",
             self.tx_edge_tolerance,
             self.sof_tolerance,
@@ -382,8 +382,8 @@ impl Comparator {
     }
 
     /// One CAN clock, after both sides were clocked: `sample` says whether
-    /// it is a sample point; `sr`/`ir`/`rmc` are the reference's peeks
-    /// (`rmc`: PeliCAN only).
+    /// it is a sample point; `sr`/`ir`/`peli` are the reference's peeks
+    /// (`peli`: RXERR, TXERR, RMC, PeliCAN only).
     #[inline]
     pub fn can_clock(
         &mut self,
@@ -393,12 +393,12 @@ impl Comparator {
         dut: &CanPins,
         sr: u8,
         ir: u8,
-        rmc: Option<u8>,
+        peli: Option<[u8; 3]>,
     ) {
         if self.halted {
             return;
         }
-        if self.tx.quiet(sample, reference, dut) && self.reads.quiet(sr, ir, rmc) && PinChecker::agree(reference, dut) {
+        if self.tx.quiet(sample, reference, dut) && self.reads.quiet(sr, ir, peli) && PinChecker::agree(reference, dut) {
             // Most clocks: the same tx, status and agreeing pins as the last
             // one, no sample point in the window, no read waiting, no start
             // of frame being excused. What the general path below would do
@@ -408,7 +408,7 @@ impl Comparator {
             self.quiet_clock(stamp.field, stamp.bit, reference, dut);
             return;
         }
-        self.can_clock_general(stamp, sample, reference, dut, sr, ir, rmc);
+        self.can_clock_general(stamp, sample, reference, dut, sr, ir, peli);
     }
 
     /// How many of the next clocks, none a sample point, with these inputs,
@@ -419,8 +419,8 @@ impl Comparator {
     /// (`TxChecker::quiet_for`). The short path changes nothing else the
     /// condition reads, so it holds for all of them.
     #[inline]
-    pub(crate) fn quiet_ahead(&self, reference: &CanPins, dut: &CanPins, sr: u8, ir: u8, rmc: Option<u8>) -> u32 {
-        if self.halted || !self.reads.quiet(sr, ir, rmc) || !PinChecker::agree(reference, dut) {
+    pub(crate) fn quiet_ahead(&self, reference: &CanPins, dut: &CanPins, sr: u8, ir: u8, peli: Option<[u8; 3]>) -> u32 {
+        if self.halted || !self.reads.quiet(sr, ir, peli) || !PinChecker::agree(reference, dut) {
             return 0;
         }
         self.tx.quiet_for(reference, dut)
@@ -472,19 +472,21 @@ impl Comparator {
         dut: &CanPins,
         sr: u8,
         ir: u8,
-        rmc: Option<u8>,
+        peli: Option<[u8; 3]>,
     ) {
         let skipping = stamp.bit < self.skip_until_bit;
         if let Some(mid) = self.tx.clock(stamp, sample, reference, dut, idle(stamp.field), self.skip_until_bit) {
             self.judge_tx(mid);
         }
         let mut expired = std::mem::take(&mut self.expired);
-        self.tolerated_reads += self.reads.clock(sr, ir, rmc, &mut expired);
+        self.tolerated_reads += self.reads.clock(sr, ir, peli, &mut expired);
         for p in expired.drain(..) {
             if !self.read_repeats(p.addr, p.dut, p.model) {
-                // Only SR and (PeliCAN) RMC reads wait for the window.
-                let (label, context) = if p.addr == RMC_ADDR {
-                    (status_label(p.addr), format!("read of RMC (address {}) returned 0x{:02X}, the model 0x{:02X}", p.addr, p.dut, p.model))
+                // Only SR and the PeliCAN status registers wait for the window.
+                let (label, context) = if PELI_STATUS_ADDRS.contains(&p.addr) {
+                    let l = status_label(p.addr);
+                    let c = format!("read of {l} (address {}) returned 0x{:02X}, the model 0x{:02X}", p.addr, p.dut, p.model);
+                    (l, c)
                 } else {
                     (reg_label(p.addr), format!("read of address {} returned 0x{:02X}, the model 0x{:02X}", p.addr, p.dut, p.model))
                 };
@@ -677,10 +679,15 @@ fn idle(field: Option<Field>) -> bool {
     matches!(field, Some(Field::BusIdle | Field::Intermission | Field::SuspendTransmission))
 }
 
-/// The name of a read the status window judged (SR, IR, or RMC: only the
-/// PeliCAN view's address 29 is judged so).
+/// The name of a read the status window judged (SR, IR, or a PeliCAN
+/// status register: only the PeliCAN view's are judged so).
 fn status_label(addr: u8) -> String {
-    if addr == RMC_ADDR { "RMC".into() } else { reg_label(addr) }
+    match addr {
+        14 => "RXERR".into(),
+        15 => "TXERR".into(),
+        RMC_ADDR => "RMC".into(),
+        a => reg_label(a),
+    }
 }
 
 fn reg_label(addr: u8) -> String {

@@ -95,7 +95,7 @@ impl ComparatorAgent {
         match &mut self.comparator {
             Some(c) if !self.stopped => {
                 let stamp = stamp();
-                c.can_clock(stamp, sample, &v.pins, dut, v.sr, v.ir, v.rmc);
+                c.can_clock(stamp, sample, &v.pins, dut, v.sr, v.ir, v.peli);
                 if c.config().compare_clkout {
                     c.clkout_clock(stamp, clkout(), dut.clkout);
                 }
@@ -112,7 +112,7 @@ impl ComparatorAgent {
     #[inline]
     pub fn quiet_ahead(&self, v: &RefView, dut: &CanPins) -> u32 {
         match &self.comparator {
-            Some(c) if !self.stopped => c.quiet_ahead(&v.pins, dut, v.sr, v.ir, v.rmc),
+            Some(c) if !self.stopped => c.quiet_ahead(&v.pins, dut, v.sr, v.ir, v.peli),
             _ => 0,
         }
     }

@@ -1,16 +1,17 @@
 //! The register-read checker: every read is compared exactly, except SR,
-//! IR and (PeliCAN) RMC, whose values change at implementation-defined
-//! instants: RMC counts a received message at the instant RBS and RI
-//! report it. A read of those matches if the reference held the same value
-//! at some CAN clock within `status_tolerance` clocks before it (IR: only
-//! before the reference took the read, which clears its flags); an SR or
-//! RMC read that matches nothing yet waits up to as many clocks for the
-//! reference to take that value. The coordinator ([`super::Comparator`]) judges what it
+//! IR and the PeliCAN view's RXERR, TXERR and RMC, whose values change at
+//! implementation-defined instants of an event: the error counters at the
+//! error or success that moves them, as SR.ES does; RMC when a message is
+//! stored, as RBS and RI. A read of those matches if the reference held the
+//! same value at some CAN clock within `status_tolerance` clocks before it
+//! (IR: only before the reference took the read, which clears its flags);
+//! an SR, RXERR, TXERR or RMC read that matches nothing yet waits up to as
+//! many clocks for the reference to take that value. The coordinator ([`super::Comparator`]) judges what it
 //! reports (collect-mode repeats, divergences).
 
 use std::collections::VecDeque;
 
-use super::{IR_ADDR, RMC_ADDR, SR_ADDR, Stamp};
+use super::{IR_ADDR, PELI_STATUS_ADDRS, SR_ADDR, Stamp};
 
 /// A read the checker has not accepted (yet).
 #[derive(Clone, Debug)]
@@ -42,13 +43,14 @@ pub(super) struct ReadChecker {
     status_pushed: u64,
     sr_hist: VecDeque<(u8, u64)>,
     ir_hist: VecDeque<(u8, u64)>,
-    /// RMC's history: 256 while the reference is in BasicCAN (no RMC).
-    rmc_hist: VecDeque<(u16, u64)>,
-    /// The newest SR, IR and RMC of the histories (256: none yet; RMC 256:
-    /// BasicCAN).
+    /// RXERR's, TXERR's and RMC's histories ([`PELI_STATUS_ADDRS`]): 256
+    /// while the reference is in BasicCAN.
+    peli_hist: [VecDeque<(u16, u64)>; 3],
+    /// The newest SR, IR, RXERR, TXERR and RMC of the histories (256: none
+    /// yet; the PeliCAN three at 256: BasicCAN, 257: none yet).
     sr_last: u16,
     ir_last: u16,
-    rmc_last: u16,
+    peli_last: [u16; 3],
     pending: Vec<PendingRead>,
     /// `status_pushed` when the reference took the read now under way, if
     /// it took it before the DUT's ack ([`ReadChecker::reference_read_taken`]).
@@ -65,10 +67,10 @@ impl ReadChecker {
             status_pushed: 0,
             sr_hist: VecDeque::new(),
             ir_hist: VecDeque::new(),
-            rmc_hist: VecDeque::new(),
+            peli_hist: Default::default(),
             sr_last: 256,
             ir_last: 256,
-            rmc_last: 257,
+            peli_last: [257; 3],
             pending: Vec::new(),
             read_taken_at: None,
             tolerated_read: None,
@@ -78,8 +80,8 @@ impl ReadChecker {
     /// Nothing to do this clock but count it: no read waiting, the same SR
     /// and IR as the last clock.
     #[inline]
-    pub(super) fn quiet(&self, sr: u8, ir: u8, rmc: Option<u8>) -> bool {
-        self.pending.is_empty() && sr as u16 == self.sr_last && ir as u16 == self.ir_last && rmc_code(rmc) == self.rmc_last
+    pub(super) fn quiet(&self, sr: u8, ir: u8, peli: Option<[u8; 3]>) -> bool {
+        self.pending.is_empty() && sr as u16 == self.sr_last && ir as u16 == self.ir_last && peli_codes(peli) == self.peli_last
     }
 
     /// A [`ReadChecker::quiet`] clock.
@@ -96,7 +98,7 @@ impl ReadChecker {
     /// Any other clock: the reference's SR and IR into the histories; the
     /// waiting SR and RMC reads look forward. Reads whose window closed go to
     /// `expired` (in order); returns how many were accepted this clock.
-    pub(super) fn clock(&mut self, sr: u8, ir: u8, rmc: Option<u8>, expired: &mut Vec<PendingRead>) -> u64 {
+    pub(super) fn clock(&mut self, sr: u8, ir: u8, peli: Option<[u8; 3]>, expired: &mut Vec<PendingRead>) -> u64 {
         // Status history for tolerant reads (runs of equal values).
         let at = self.status_pushed;
         self.status_pushed += 1;
@@ -110,18 +112,23 @@ impl ReadChecker {
             self.ir_hist.push_back((ir, at));
             prune_runs(&mut self.ir_hist, self.status_pushed, self.status_tolerance);
         }
-        let rmc = rmc_code(rmc);
-        if rmc != self.rmc_last {
-            self.rmc_last = rmc;
-            self.rmc_hist.push_back((rmc, at));
-            prune_runs(&mut self.rmc_hist, self.status_pushed, self.status_tolerance);
+        let peli = peli_codes(peli);
+        for k in 0..3 {
+            if peli[k] != self.peli_last[k] {
+                self.peli_last[k] = peli[k];
+                self.peli_hist[k].push_back((peli[k], at));
+                prune_runs(&mut self.peli_hist[k], self.status_pushed, self.status_tolerance);
+            }
         }
-        // Pending SR and RMC reads: look forward.
+        // Pending reads (SR, the PeliCAN three): look forward.
         let mut tolerated = 0;
         let mut k = 0;
         while k < self.pending.len() {
             let p = &mut self.pending[k];
-            let now = if p.addr == SR_ADDR { sr as u16 } else { rmc };
+            let now = match peli_index(p.addr) {
+                Some(k) => peli[k],
+                None => sr as u16,
+            };
             if now == p.dut as u16 {
                 tolerated += 1;
                 let p = self.pending.swap_remove(k);
@@ -150,13 +157,13 @@ impl ReadChecker {
     /// [`ReadChecker::begin_read`].
     pub(super) fn judge(&mut self, stamp: Stamp, addr: u8, dut: u8, model: u8, taken_at: Option<u64>) -> ReadVerdict {
         let (pushed, tol) = (self.status_pushed, self.status_tolerance);
-        if addr == RMC_ADDR {
-            // RMC is a status value only in the PeliCAN view.
-            if self.rmc_last >= 256 {
+        if let Some(k) = peli_index(addr) {
+            // A status value only in the PeliCAN view.
+            if self.peli_last[k] >= 256 {
                 return ReadVerdict::Differs;
             }
-            prune_runs(&mut self.rmc_hist, pushed, tol);
-            if self.rmc_hist.iter().any(|v| v.0 == dut as u16) {
+            prune_runs(&mut self.peli_hist[k], pushed, tol);
+            if self.peli_hist[k].iter().any(|v| v.0 == dut as u16) {
                 self.tolerated_read = Some(PendingRead { addr, dut, model, clocks_left: 0, stamp });
                 return ReadVerdict::Tolerated;
             }
@@ -213,10 +220,16 @@ impl ReadChecker {
     }
 }
 
-/// RMC in the history's encoding: 256 for none (BasicCAN).
+/// The PeliCAN three in the histories' encoding: 256 for none (BasicCAN).
 #[inline]
-fn rmc_code(rmc: Option<u8>) -> u16 {
-    rmc.map_or(256, u16::from)
+fn peli_codes(peli: Option<[u8; 3]>) -> [u16; 3] {
+    peli.map_or([256; 3], |v| v.map(u16::from))
+}
+
+/// Index of `addr` among [`PELI_STATUS_ADDRS`].
+#[inline]
+fn peli_index(addr: u8) -> Option<usize> {
+    PELI_STATUS_ADDRS.iter().position(|a| *a == addr)
 }
 
 /// Drops the runs that ended before the last `tolerance + 1` of `pushed`
@@ -232,17 +245,19 @@ fn prune_runs<T>(h: &mut VecDeque<(T, u64)>, pushed: u64, tolerance: u32) {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::types::RMC_ADDR;
 
     fn clock(c: &mut ReadChecker, sr: u8, ir: u8, expired: &mut Vec<PendingRead>) -> u64 {
         clock_rmc(c, sr, ir, None, expired)
     }
 
     fn clock_rmc(c: &mut ReadChecker, sr: u8, ir: u8, rmc: Option<u8>, expired: &mut Vec<PendingRead>) -> u64 {
-        if c.quiet(sr, ir, rmc) {
+        let peli = rmc.map(|r| [0, 0, r]);
+        if c.quiet(sr, ir, peli) {
             c.quiet_clock();
             0
         } else {
-            c.clock(sr, ir, rmc, expired)
+            c.clock(sr, ir, peli, expired)
         }
     }
 
@@ -328,5 +343,34 @@ mod tests {
             clock_rmc(&mut b, 0, 0, None, &mut ex);
         }
         assert!(matches!(b.judge(s, RMC_ADDR, 0, 1, None), ReadVerdict::Differs));
+    }
+
+    /// The error counters have the window too (PeliCAN): RXERR counted up
+    /// by the model at a sample point and by the DUT two clocks later is
+    /// tolerated; a count the model never had (a +8 for a +1) is not.
+    #[test]
+    fn error_counters_have_the_status_window_in_pelican() {
+        let mut c = ReadChecker::new(4);
+        let mut ex = Vec::new();
+        let s = Stamp::default();
+        for rec in [0x77, 0x77, 0x78, 0x78] {
+            let peli = Some([rec, 0x00, 0]);
+            if c.quiet(0, 0, peli) {
+                c.quiet_clock();
+            } else {
+                c.clock(0, 0, peli, &mut ex);
+            }
+        }
+        assert!(matches!(c.judge(s, 14, 0x77, 0x78, None), ReadVerdict::Tolerated));
+        assert!(matches!(c.judge(s, 14, 0x7F, 0x78, None), ReadVerdict::Waiting));
+        for _ in 0..5 {
+            c.clock(0, 0, Some([0x78, 0x00, 0]), &mut ex);
+        }
+        assert_eq!((ex.len(), ex[0].addr, ex[0].dut), (1, 14, 0x7F));
+        // TXERR likewise, and exact in BasicCAN (address 15 is a TX buffer byte).
+        assert!(matches!(c.judge(s, 15, 0x08, 0x00, None), ReadVerdict::Waiting));
+        let mut b = ReadChecker::new(4);
+        b.clock(0, 0, None, &mut ex);
+        assert!(matches!(b.judge(s, 15, 0x08, 0x00, None), ReadVerdict::Differs));
     }
 }
