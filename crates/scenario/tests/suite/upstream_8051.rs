@@ -155,7 +155,6 @@ const OPEN_ON_8051: &[&str] = &[
     "8.5.2 tx error-passive DUT receives a frame starting in the 3rd intermission bit after its error frame",
     "8.5.9 tx error-passive DUT does not start its identifier on a dominant 3rd intermission or suspend bit",
     "8.5.14 tx error passive: the retransmission starts 31 bits after the error",
-    "8.5.10 tx passive DUT: 112 dominant bits after its passive flag, overload-flag bit errors to bus-off, no ACK while bus-off",
 ];
 
 #[test]

@@ -5,8 +5,9 @@
 //! stored, as RBS and RI. A read of those matches if the reference held the
 //! same value at some CAN clock within `status_tolerance` clocks before it
 //! (IR: only before the reference took the read, which clears its flags);
-//! an SR, RXERR, TXERR or RMC read that matches nothing yet waits up to as
-//! many clocks for the reference to take that value. The coordinator ([`super::Comparator`]) judges what it
+//! an SR read that matches nothing yet waits up to as many clocks for the
+//! reference to take that value. The PeliCAN three look back only: the
+//! model moves them at the earliest instant of their event. The coordinator ([`super::Comparator`]) judges what it
 //! reports (collect-mode repeats, divergences).
 
 use std::collections::VecDeque;
@@ -120,16 +121,12 @@ impl ReadChecker {
                 prune_runs(&mut self.peli_hist[k], self.status_pushed, self.status_tolerance);
             }
         }
-        // Pending reads (SR, the PeliCAN three): look forward.
+        // Pending SR reads: look forward.
         let mut tolerated = 0;
         let mut k = 0;
         while k < self.pending.len() {
             let p = &mut self.pending[k];
-            let now = match peli_index(p.addr) {
-                Some(k) => peli[k],
-                None => sr as u16,
-            };
-            if now == p.dut as u16 {
+            if p.addr == SR_ADDR && sr == p.dut {
                 tolerated += 1;
                 let p = self.pending.swap_remove(k);
                 self.tolerated_read = Some(p);
@@ -158,7 +155,10 @@ impl ReadChecker {
     pub(super) fn judge(&mut self, stamp: Stamp, addr: u8, dut: u8, model: u8, taken_at: Option<u64>) -> ReadVerdict {
         let (pushed, tol) = (self.status_pushed, self.status_tolerance);
         if let Some(k) = peli_index(addr) {
-            // A status value only in the PeliCAN view.
+            // A status value only in the PeliCAN view; backward only: the
+            // model moves these at the earliest instant of their event (the
+            // sample point that decides it), so a core may be later, never
+            // earlier. No read waits, so a difference is decided at once.
             if self.peli_last[k] >= 256 {
                 return ReadVerdict::Differs;
             }
@@ -166,10 +166,6 @@ impl ReadChecker {
             if self.peli_hist[k].iter().any(|v| v.0 == dut as u16) {
                 self.tolerated_read = Some(PendingRead { addr, dut, model, clocks_left: 0, stamp });
                 return ReadVerdict::Tolerated;
-            }
-            if tol > 0 {
-                self.pending.push(PendingRead { addr, dut, model, clocks_left: tol, stamp });
-                return ReadVerdict::Waiting;
             }
             return ReadVerdict::Differs;
         }
@@ -307,9 +303,10 @@ mod tests {
     }
 
     /// RMC counts a message at the instant RBS/RI report it, so in the
-    /// PeliCAN view it has the status window, both ways; outside the window
-    /// it is exact, and in BasicCAN (address 29 is a receive buffer byte)
-    /// it is exact always.
+    /// PeliCAN view a DUT that counts it later within the window is
+    /// accepted; earlier than the model, or later than the window, is a
+    /// difference at once (no read waits); in BasicCAN (address 29 is a
+    /// receive buffer byte) it is exact always.
     #[test]
     fn rmc_has_the_status_window_in_pelican_only() {
         let mut c = ReadChecker::new(3);
@@ -320,23 +317,14 @@ mod tests {
         }
         // The DUT counts the message 2 clocks late: tolerated.
         assert!(matches!(c.judge(s, RMC_ADDR, 0, 1, None), ReadVerdict::Tolerated));
-        // A count the reference never had within the window: not.
-        assert!(matches!(c.judge(s, RMC_ADDR, 2, 1, None), ReadVerdict::Waiting));
-        for _ in 0..4 {
-            clock_rmc(&mut c, 0, 0, Some(1), &mut ex);
-        }
-        assert_eq!(ex.len(), 1, "a count the reference never reaches expires");
-        assert_eq!((ex[0].addr, ex[0].dut, ex[0].model), (RMC_ADDR, 2, 1));
+        // A count the reference never had (or has not had yet): a difference.
+        assert!(matches!(c.judge(s, RMC_ADDR, 2, 1, None), ReadVerdict::Differs));
         // Late by more than the window: a difference.
-        assert!(matches!(c.judge(s, RMC_ADDR, 0, 1, None), ReadVerdict::Waiting));
         for _ in 0..4 {
             clock_rmc(&mut c, 0, 0, Some(1), &mut ex);
         }
-        assert_eq!(ex.len(), 2);
-        // Early within the window: the reference takes the value in time.
-        assert!(matches!(c.judge(s, RMC_ADDR, 2, 1, None), ReadVerdict::Waiting));
-        clock_rmc(&mut c, 0, 0, Some(1), &mut ex);
-        assert_eq!(clock_rmc(&mut c, 0, 0, Some(2), &mut ex), 1);
+        assert!(matches!(c.judge(s, RMC_ADDR, 0, 1, None), ReadVerdict::Differs));
+        assert!(ex.is_empty() && c.pending() == 0, "no read waits");
         // BasicCAN: address 29 is data, exact.
         let mut b = ReadChecker::new(3);
         for _ in 0..4 {
@@ -345,9 +333,10 @@ mod tests {
         assert!(matches!(b.judge(s, RMC_ADDR, 0, 1, None), ReadVerdict::Differs));
     }
 
-    /// The error counters have the window too (PeliCAN): RXERR counted up
-    /// by the model at a sample point and by the DUT two clocks later is
-    /// tolerated; a count the model never had (a +8 for a +1) is not.
+    /// The error counters have the window too (PeliCAN), backward: RXERR
+    /// counted up by the model at a sample point and by the DUT two clocks
+    /// later is tolerated; a count the model never had (a +8 for a +1) is
+    /// not; TXERR is exact in BasicCAN (address 15 is a TX buffer byte).
     #[test]
     fn error_counters_have_the_status_window_in_pelican() {
         let mut c = ReadChecker::new(4);
@@ -362,15 +351,10 @@ mod tests {
             }
         }
         assert!(matches!(c.judge(s, 14, 0x77, 0x78, None), ReadVerdict::Tolerated));
-        assert!(matches!(c.judge(s, 14, 0x7F, 0x78, None), ReadVerdict::Waiting));
-        for _ in 0..5 {
-            c.clock(0, 0, Some([0x78, 0x00, 0]), &mut ex);
-        }
-        assert_eq!((ex.len(), ex[0].addr, ex[0].dut), (1, 14, 0x7F));
-        // TXERR likewise, and exact in BasicCAN (address 15 is a TX buffer byte).
-        assert!(matches!(c.judge(s, 15, 0x08, 0x00, None), ReadVerdict::Waiting));
+        assert!(matches!(c.judge(s, 14, 0x7F, 0x78, None), ReadVerdict::Differs));
+        assert!(matches!(c.judge(s, 15, 0x08, 0x00, None), ReadVerdict::Differs));
         let mut b = ReadChecker::new(4);
         b.clock(0, 0, None, &mut ex);
-        assert!(matches!(b.judge(s, 15, 0x08, 0x00, None), ReadVerdict::Differs));
+        assert!(matches!(b.judge(s, 14, 0x77, 0x77, None), ReadVerdict::Differs));
     }
 }
