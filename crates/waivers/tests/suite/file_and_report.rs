@@ -596,9 +596,12 @@ fn wake_up_and_abort_retransmission_waivers_catch_the_rest() {
     assert_ne!(by(&set.check_observed(&read_div("IR", 0x00, 0x82), &dut, &operating)), Some(ti.clone()), "BEI too");
     assert_eq!(by(&set.check_observed(&read_div("IR", 0x00, 0x02), &dut, &operating)), Some(ti.clone()));
     assert_ne!(by(&set.check_observed(&read_div("IR", 0x00, 0x02), &dut, &operating)), Some(ti), "max-hits 1");
-    // D12 on the pin: frame 4's header only, operating mode, 26 reports.
-    let pin = |frame: u32, field: Field| Divergence {
+    // D12 on the pin: the last attempt's header only (its SOF is stamped
+    // frame 3 when the pin window is short), operating mode, one episode
+    // until the host's next read of IR.
+    let pin = |frame: u32, field: Field, t_ps: u64| Divergence {
         kind: DivergenceKind::Irq,
+        time_ps: t_ps,
         bit: Some(374),
         frame: Some(frame),
         field: Some(field),
@@ -606,15 +609,23 @@ fn wake_up_and_abort_retransmission_waivers_catch_the_rest() {
         seen: 0,
         ..Divergence::default()
     };
+    let clock = waivers::Observed::timed(0, 40 * 41_667, 41_667);
+    let new = waivers::Observed { model_mod: Some(0x00), pin_continues: Some(false), ..clock };
+    let again = waivers::Observed { model_mod: Some(0x00), pin_continues: Some(true), ..clock };
+    let reset = waivers::Observed { model_mod: Some(0x01), pin_continues: Some(false), ..clock };
     let irq = "ti-irq-at-retransmission-after-abort".to_string();
     let mut set = WaiverSet::load(path).unwrap();
-    for (frame, field, obs) in [(3, Field::BaseId, &operating), (4, Field::Data, &operating), (4, Field::Eof, &operating), (4, Field::BaseId, &reset)] {
-        assert_ne!(by(&set.check_observed(&pin(frame, field), &dut, obs)), Some(irq.clone()), "frame {frame} {field:?}");
+    for (frame, field, obs) in [(2, Field::BaseId, &new), (4, Field::Data, &new), (4, Field::Eof, &new), (4, Field::BaseId, &reset)] {
+        assert_ne!(by(&set.check_observed(&pin(frame, field, 0), &dut, obs)), Some(irq.clone()), "frame {frame} {field:?}");
     }
-    for _ in 0..26 {
-        assert_eq!(by(&set.check_observed(&pin(4, Field::ExtId), &dut, &operating)), Some(irq.clone()));
+    let t0 = 1_000_000_000;
+    assert_eq!(by(&set.check_observed(&pin(3, Field::Sof, t0), &dut, &new)), Some(irq.clone()));
+    for k in 1..40 {
+        assert_eq!(by(&set.check_observed(&pin(4, Field::ExtId, t0 + k * 2_000_000), &dut, &again)), Some(irq.clone()), "report {k}");
     }
-    assert_ne!(by(&set.check_observed(&pin(4, Field::ExtId), &dut, &operating)), Some(irq), "max-hits 26");
+    set.host_read("IR", t0 + 40 * 2_000_000 - 1);
+    assert_ne!(by(&set.check_observed(&pin(4, Field::ExtId, t0 + 40 * 2_000_000), &dut, &again)), Some(irq.clone()), "the pin outlasted the IR read");
+    assert_ne!(by(&set.check_observed(&pin(4, Field::ExtId, t0 + 50 * 2_000_000), &dut, &new)), Some(irq), "max-hits 1 episode");
 }
 
 /// D10b's BEI part (conformance tx-8.5.11): BEI cleared by bus-off is
