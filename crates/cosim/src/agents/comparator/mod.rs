@@ -482,15 +482,9 @@ impl Comparator {
         self.tolerated_reads += self.reads.clock(sr, ir, peli, &mut expired);
         for p in expired.drain(..) {
             if !self.read_repeats(p.addr, p.dut, p.model) {
-                // Only SR and the PeliCAN status registers wait for the window.
-                let (label, context) = if PELI_STATUS_ADDRS.contains(&p.addr) {
-                    let l = status_label(p.addr);
-                    let c = format!("read of {l} (address {}) returned 0x{:02X}, the model 0x{:02X}", p.addr, p.dut, p.model);
-                    (l, c)
-                } else {
-                    (reg_label(p.addr), format!("read of address {} returned 0x{:02X}, the model 0x{:02X}", p.addr, p.dut, p.model))
-                };
-                self.diverge_read(p.stamp, p.addr, p.dut, p.model, label, context);
+                // Only SR reads wait for the window (the PeliCAN three look back only).
+                let context = format!("read of address {} returned 0x{:02X}, the model 0x{:02X}", p.addr, p.dut, p.model);
+                self.diverge_read(p.stamp, p.addr, p.dut, p.model, reg_label(p.addr), context);
             }
         }
         self.expired = expired;

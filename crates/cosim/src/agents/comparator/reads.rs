@@ -96,8 +96,8 @@ impl ReadChecker {
         self.status_pushed += u64::from(n);
     }
 
-    /// Any other clock: the reference's SR and IR into the histories; the
-    /// waiting SR and RMC reads look forward. Reads whose window closed go to
+    /// Any other clock: the reference's SR, IR and PeliCAN three into the
+    /// histories; the waiting SR reads look forward. Reads whose window closed go to
     /// `expired` (in order); returns how many were accepted this clock.
     pub(super) fn clock(&mut self, sr: u8, ir: u8, peli: Option<[u8; 3]>, expired: &mut Vec<PendingRead>) -> u64 {
         // Status history for tolerant reads (runs of equal values).
