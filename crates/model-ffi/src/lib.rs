@@ -28,6 +28,24 @@ mod shadow;
 
 pub use shadow::{DutPins, Shadow, ShadowError};
 
+/// The host bus named `name` as the benches name it (`"wishbone"`,
+/// `"avalon"`, `"pio"`, `"axi4-lite"`, `"apb"`; any case), for
+/// [`Shadow::set_host_bus`].
+pub fn host_bus_named(name: &str) -> Option<diagnose::HostBus> {
+    use diagnose::HostBus;
+    Some(match name.to_ascii_lowercase().as_str() {
+        "wishbone" => HostBus::Wishbone,
+        "avalon" => HostBus::Avalon,
+        "pio" => HostBus::Pio,
+        "axi4-lite" | "axi4lite" => HostBus::Axi4Lite,
+        "apb" => HostBus::Apb,
+        _ => return None,
+    })
+}
+
+/// The names [`host_bus_named`] takes, for a message.
+pub const HOST_BUS_NAMES: &str = "\"wishbone\", \"avalon\", \"pio\", \"axi4-lite\" or \"apb\"";
+
 use std::cell::RefCell;
 use std::ffi::{CStr, CString, c_char, c_double, c_int};
 
@@ -126,6 +144,39 @@ pub unsafe extern "C" fn sja1000_model_set_name(m: *mut Sja1000Model, name: *con
         // SAFETY: the caller passes a NUL-terminated string (header).
         let n = unsafe { CStr::from_ptr(name) }.to_string_lossy();
         m.shadow.set_test_name(&n);
+    }
+}
+
+/// The host bus the accesses come through: "wishbone" (default), "avalon",
+/// "pio", "axi4-lite" or "apb"; the model takes them at the CAN clock the
+/// profile declares for that bus. 0, or -1 for an unknown name (the
+/// reason in `sja1000_model_last_error`) or a NULL argument.
+///
+/// # Safety
+/// `m` is NULL or a live handle from `sja1000_model_new`; `name` is NULL or a NUL-terminated string.
+#[unsafe(no_mangle)]
+pub unsafe extern "C" fn sja1000_model_set_host_bus(
+    m: *mut Sja1000Model,
+    name: *const c_char,
+) -> c_int {
+    let Some(m) = (unsafe { model(m) }) else {
+        return -1;
+    };
+    if name.is_null() {
+        set_error("host bus: NULL name");
+        return -1;
+    }
+    // SAFETY: the caller passes a NUL-terminated string (header).
+    let n = unsafe { CStr::from_ptr(name) }.to_string_lossy();
+    match host_bus_named(&n) {
+        Some(b) => {
+            m.shadow.set_host_bus(b);
+            0
+        }
+        None => {
+            set_error(&format!("host bus {n:?}: expected {HOST_BUS_NAMES}"));
+            -1
+        }
     }
 }
 

@@ -77,8 +77,9 @@ pub struct Shadow {
     reference: ModelRef,
     cmp: Comparator,
     timing: AccessTiming,
-    /// The profile's access timing per host bus, and the bus in use.
-    access: [AccessTiming; 3],
+    /// The profile's access timing per host bus (Wishbone, Avalon-MM, PIO,
+    /// AXI4-Lite, APB), and the bus in use.
+    access: [AccessTiming; 5],
     host_bus: HostBus,
     profile_name: String,
     tolerances: String,
@@ -144,7 +145,13 @@ impl Shadow {
             reference,
             cmp: Comparator::new(p.tolerances),
             timing: p.wishbone,
-            access: [p.wishbone, p.avalon, p.pio],
+            access: [
+                p.wishbone,
+                p.avalon,
+                p.pio,
+                p.axi4lite.unwrap_or(p.wishbone),
+                p.apb.unwrap_or(p.wishbone),
+            ],
             host_bus: HostBus::Wishbone,
             profile_name: p.name.clone(),
             tolerances: p.tolerances.describe(),
@@ -178,6 +185,8 @@ impl Shadow {
         p.wishbone = AccessTiming::AtAck;
         p.avalon = AccessTiming::AtAck;
         p.pio = AccessTiming::AtAck;
+        p.axi4lite = Some(AccessTiming::AtAck);
+        p.apb = Some(AccessTiming::AtAck);
         p.phase_origin = PhaseOrigin::ResetModeExit;
         Shadow::with_profile(&p, can_hz)
     }
@@ -187,20 +196,26 @@ impl Shadow {
         self.record.scenario = name.to_string();
     }
 
-    /// The host bus the bench's accesses come through (Wishbone, Avalon-MM
-    /// or PIO; default Wishbone): the model takes them at the CAN clock the
-    /// profile declares for that bus (`[access.avalon]`...), and the run
-    /// record names the bus. An 8051 bus has no timing of its own in a
-    /// profile here: it keeps the Wishbone timing.
+    /// The host bus the bench's accesses come through (Wishbone, Avalon-MM,
+    /// PIO, AXI4-Lite or APB; default Wishbone): the model takes them at the
+    /// CAN clock the profile declares for that bus (`[access.avalon]`,
+    /// `[access.axi4-lite]`, `[access.apb]`...; AXI4-Lite and APB without
+    /// one: as Wishbone), and the run record names the bus. The 8051,
+    /// Motorola and register-port buses have no timing of their own here:
+    /// they keep the Wishbone timing.
     pub fn set_host_bus(&mut self, bus: HostBus) {
         self.host_bus = bus;
         self.record.host_bus = bus;
         self.timing = match bus {
             HostBus::Avalon => self.access[1],
             HostBus::Pio => self.access[2],
-            // The other buses' wrappers are can_top behind a request of
-            // that bus: its Wishbone timing.
-            HostBus::Wishbone | HostBus::I8051 | HostBus::Motorola | HostBus::Regport | HostBus::Axi4Lite | HostBus::Apb => self.access[0],
+            HostBus::Axi4Lite => self.access[3],
+            HostBus::Apb => self.access[4],
+            // Their wrappers are can_top behind a request of that bus: its
+            // Wishbone timing.
+            HostBus::Wishbone | HostBus::I8051 | HostBus::Motorola | HostBus::Regport => {
+                self.access[0]
+            }
         };
     }
 

@@ -15,6 +15,7 @@ package sja1000_model_pkg;
   import "DPI-C" function string  sja1000_model_last_error();
   import "DPI-C" function void    sja1000_model_free(input chandle m);
   import "DPI-C" function void    sja1000_model_set_name(input chandle m, input string name);
+  import "DPI-C" function int     sja1000_model_set_host_bus(input chandle m, input string name);
   import "DPI-C" function void    sja1000_model_reset(input chandle m);
   import "DPI-C" function int     sja1000_model_clock(input chandle m, input int rx);
   import "DPI-C" function int     sja1000_model_clock_compare(input chandle m, input int rx,
@@ -51,6 +52,13 @@ package sja1000_model_pkg;
     // The test's name, for the diagnosis's first line.
     function void set_name(string name);
       sja1000_model_set_name(h, name);
+    endfunction
+
+    // The host bus the accesses come through: "wishbone" (default),
+    // "avalon", "pio", "axi4-lite" or "apb"; the profile's timing for it.
+    function void set_host_bus(string name);
+      if (sja1000_model_set_host_bus(h, name) != 0)
+        $fatal(1, "sja1000_model_set_host_bus: %s", sja1000_model_last_error());
     endfunction
 
     // The DUT's reset input.

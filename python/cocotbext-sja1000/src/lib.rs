@@ -21,7 +21,6 @@ use pyo3::exceptions::PyValueError;
 use pyo3::prelude::*;
 use sja1000::Sja1000;
 use sja1000::host::{self, Config};
-use diagnose::HostBus;
 use sja1000_model::{DutPins, Shadow};
 
 /// A frame as Python sees it: (arbitration id, extended, remote, data).
@@ -106,18 +105,14 @@ impl Model {
     }
 
     /// The host bus the accesses come through: "wishbone" (default),
-    /// "avalon" or "pio"; the model takes them at the CAN clock the
-    /// profile declares for that bus.
+    /// "avalon", "pio", "axi4-lite" or "apb"; the model takes them at the
+    /// CAN clock the profile declares for that bus.
     fn set_host_bus(&mut self, bus: &str) -> PyResult<()> {
-        let b = match bus.to_ascii_lowercase().as_str() {
-            "wishbone" => HostBus::Wishbone,
-            "avalon" => HostBus::Avalon,
-            "pio" => HostBus::Pio,
-            other => {
-                return Err(PyValueError::new_err(format!(
-                    "host bus {other:?}: expected \"wishbone\", \"avalon\" or \"pio\""
-                )));
-            }
+        let Some(b) = sja1000_model::host_bus_named(bus) else {
+            return Err(PyValueError::new_err(format!(
+                "host bus {bus:?}: expected {}",
+                sja1000_model::HOST_BUS_NAMES
+            )));
         };
         self.inner.set_host_bus(b);
         Ok(())

@@ -318,6 +318,80 @@ fn an_avalon_access_is_taken_at_the_edges_the_profile_declares_for_avalon() {
     assert_eq!(shadow.peek(31) & 0x80, 0);
 }
 
+/// CAN clocks until a write of CDR = PeliCAN through `bus` reaches the model.
+fn edges_to_take_a_write(shadow: &mut Shadow, bus: diagnose::HostBus) -> u32 {
+    shadow.set_host_bus(bus);
+    shadow.write(0, 0x01);
+    shadow.write(31, 0x00);
+    shadow.request(true, 31, 0x80);
+    for n in 1..=16 {
+        shadow.clock(true, None);
+        if shadow.peek(31) & 0x80 != 0 {
+            return n;
+        }
+    }
+    panic!("the write through {bus:?} never reached the model");
+}
+
+#[test]
+fn axi4_lite_and_apb_accesses_take_their_profile_timing_or_else_wishbone_s() {
+    let mut p = cosim::Profile::rtl();
+    p.wishbone = cosim::AccessTiming::CanEdges {
+        read: 3,
+        write: 4,
+        command: 4,
+    };
+    p.axi4lite = Some(cosim::AccessTiming::CanEdges {
+        read: 2,
+        write: 6,
+        command: 6,
+    });
+    p.apb = Some(cosim::AccessTiming::CanEdges {
+        read: 1,
+        write: 9,
+        command: 9,
+    });
+    let mut shadow = Shadow::with_profile(&p, 24e6).unwrap();
+    assert_eq!(edges_to_take_a_write(&mut shadow, diagnose::HostBus::Axi4Lite), 6);
+    assert_eq!(edges_to_take_a_write(&mut shadow, diagnose::HostBus::Apb), 9);
+    assert_eq!(edges_to_take_a_write(&mut shadow, diagnose::HostBus::Wishbone), 4);
+    let r = shadow.record();
+    assert!(
+        r.host_ops.iter().any(|o| o.bfm == diagnose::HostBus::Axi4Lite)
+            && r.host_ops.iter().any(|o| o.bfm == diagnose::HostBus::Apb),
+        "{:?}",
+        r.host_ops
+    );
+    // Without [access.axi4-lite] / [access.apb]: the Wishbone timing.
+    p.axi4lite = None;
+    p.apb = None;
+    let mut shadow = Shadow::with_profile(&p, 24e6).unwrap();
+    assert_eq!(edges_to_take_a_write(&mut shadow, diagnose::HostBus::Axi4Lite), 4);
+    assert_eq!(edges_to_take_a_write(&mut shadow, diagnose::HostBus::Apb), 4);
+}
+
+#[test]
+fn the_c_abi_sets_the_host_bus_by_name_and_refuses_an_unknown_one() {
+    // SAFETY: the handle comes from sja1000_model_new and is freed once; strings are NUL-terminated.
+    unsafe {
+        let m = sja1000_model_new(std::ptr::null(), 24e6);
+        assert!(!m.is_null());
+        for name in ["axi4-lite", "APB", "avalon", "wishbone"] {
+            let n = CString::new(name).unwrap();
+            assert_eq!(sja1000_model_set_host_bus(m, n.as_ptr()), 0, "{name}");
+        }
+        let n = CString::new("ahb").unwrap();
+        assert_eq!(sja1000_model_set_host_bus(m, n.as_ptr()), -1);
+        let e = (CStr::from_ptr(sja1000_model_last_error()))
+            .to_str()
+            .unwrap()
+            .to_string();
+        assert!(e.contains("\"ahb\"") && e.contains("axi4-lite"), "{e}");
+        assert_eq!(sja1000_model_set_host_bus(m, std::ptr::null()), -1);
+        sja1000_model_free(m);
+    }
+}
+
 /// The time at which `var` of the marker VCD first takes `value`.
 fn first_change(path: &std::path::Path, var: &str, value: &str) -> Option<u64> {
     let mut p = vcd::Parser::new(std::io::BufReader::new(std::fs::File::open(path).unwrap()));
