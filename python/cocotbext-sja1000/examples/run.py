@@ -1,18 +1,21 @@
-"""Runs the cocotb bench of rtl/can_top (examples/test_can_top.py) or of
-rtl/can_avalon (examples/test_can_avalon.py, ``--top can_avalon``).
+"""Runs the cocotb bench of rtl/can_top (examples/test_can_top.py), of
+rtl/can_avalon (examples/test_can_avalon.py, ``--top can_avalon``) or of
+rtl/can_axi4lite and rtl/can_apb (examples/test_can_amba.py, ``--top
+can_axi4lite``, ``--top can_apb``).
 
     python run.py --sim icarus                       # our rtl/: every test passes
     python run.py --sim icarus --mutant              # a one-line mutant: must fail with the diagnosis
     python run.py --sim icarus --no-scoreboard       # the same bench without the scoreboard
     python run.py --sim icarus --top can_avalon [--mutant]
+    python run.py --sim icarus --top can_apb [--mutant]   # also can_axi4lite
     python run.py --sim icarus --readme              # the package README's example, as written
     python run.py --sim icarus --top av_slave_pipe   # the Avalon agents on a small slave
                                                      # (also av_slave_wait, av_slave_fixed)
 
-With ``--top can_avalon --mutant`` the scoreboard's divergence marker
-(``<test>.markers.vcd`` and ``<test>.gtkw``) must also sit at the failing SR
-read: within one CAN clock before the simulator time at which the bench's
-own Avalon monitor saw that read complete.
+With ``--mutant`` on can_avalon, can_axi4lite or can_apb the scoreboard's
+divergence marker (``<test>.markers.vcd`` and ``<test>.gtkw``) must also
+sit at the failing SR read: within one CAN clock before the simulator time
+at which the bench's own bus monitor saw that read complete.
 
 Exit status 0 when the outcome is the expected one. Prints the wall time of
 the test run (not the build) for the benchmark.
@@ -61,7 +64,12 @@ def failures(xml: Path):
 
 
 # The test each mutant must fail, per top.
-MUTANT_TEST = {"can_top": "self_test_frame", "can_avalon": "avalon_self_test_frame"}
+MUTANT_TEST = {
+    "can_top": "self_test_frame",
+    "can_avalon": "avalon_self_test_frame",
+    "can_axi4lite": "amba_self_test_frame",
+    "can_apb": "amba_self_test_frame",
+}
 CAN_PERIOD_PS = 41_666
 
 
@@ -115,7 +123,8 @@ def main() -> int:
     ap = argparse.ArgumentParser()
     ap.add_argument("--sim", default="icarus", choices=["icarus", "verilator"])
     ap.add_argument("--top", default="can_top",
-                    choices=["can_top", "can_avalon", "av_slave_wait", "av_slave_pipe", "av_slave_fixed"])
+                    choices=["can_top", "can_avalon", "can_axi4lite", "can_apb",
+                             "av_slave_wait", "av_slave_pipe", "av_slave_fixed"])
     ap.add_argument("--mutant", action="store_true")
     ap.add_argument("--no-scoreboard", action="store_true")
     ap.add_argument("--readme", action="store_true", help="run the package README's example (can_top)")
@@ -130,7 +139,8 @@ def main() -> int:
         sources = [HERE / "avalon_slaves.v"]
     runner = get_runner(a.sim)
     top = a.top
-    module = {"can_top": "test_can_top", "can_avalon": "test_can_avalon"}.get(top, "test_avalon_agents")
+    module = {"can_top": "test_can_top", "can_avalon": "test_can_avalon",
+              "can_axi4lite": "test_can_amba", "can_apb": "test_can_amba"}.get(top, "test_avalon_agents")
     test_dir = HERE
     build_dir = work / f"build-{top}-{a.sim}{'-mutant' if a.mutant else ''}"
     if a.readme:
@@ -177,7 +187,7 @@ def main() -> int:
     text = report.read_text() if report.is_file() else ""
     ok = "DutDeviatesFromModel" in text and "register SR" in text and "TCS" in text
     print(("mutant caught, diagnosis:\n" if ok else "mutant failed without the diagnosis:\n") + text)
-    if ok and top == "can_avalon":
+    if ok and top != "can_top":
         wrong = check_marker(reports, test)
         print(f"marker: {wrong}" if wrong else "marker: the divergence marker sits at the failing SR read")
         ok = not wrong

@@ -16,10 +16,17 @@ diagnoser's text.
 - :class:`AvalonMaster`, :class:`AvalonMonitor`: an Avalon-MM driver and
   monitor (8-bit data; waitrequest, pipelined reads with readdatavalid, or
   fixed wait states); the monitor feeds the scoreboard (``monitor=``).
+- :class:`Axi4LiteMaster`, :class:`Axi4LiteMonitor`, :class:`ApbMaster`,
+  :class:`ApbMonitor`: AXI4-Lite and APB (APB3, APB4) drivers and monitors
+  (32-bit data, register n at byte n * stride); the monitors feed the
+  scoreboard and flag the protocol violations they see
+  (:class:`ProtocolViolation`).
 """
 
 from ._native import Decoder, Model, Node
+from .apb import ApbAccess, ApbBus, ApbMaster, ApbMonitor
 from .avalon import AvalonAccess, AvalonBus, AvalonMaster, AvalonMonitor
+from .axi4lite import Axi4LiteAccess, Axi4LiteBus, Axi4LiteMaster, Axi4LiteMonitor, ProtocolViolation
 from .bus import CanBus, CanNode
 from .frame import CanFrame
 from .monitor import CanMonitor, BusEvent
@@ -27,10 +34,18 @@ from .scoreboard import HostAccess, HostMonitor, Sja1000Mismatch, Sja1000Scorebo
 from .wishbone import WishboneMaster, WishboneMonitor, WishboneAccess
 
 __all__ = [
+    "ApbAccess",
+    "ApbBus",
+    "ApbMaster",
+    "ApbMonitor",
     "AvalonAccess",
     "AvalonBus",
     "AvalonMaster",
     "AvalonMonitor",
+    "Axi4LiteAccess",
+    "Axi4LiteBus",
+    "Axi4LiteMaster",
+    "Axi4LiteMonitor",
     "BusEvent",
     "CanBus",
     "CanFrame",
@@ -41,6 +56,7 @@ __all__ = [
     "HostMonitor",
     "Model",
     "Node",
+    "ProtocolViolation",
     "Sja1000Mismatch",
     "Sja1000Scoreboard",
     "WishboneAccess",

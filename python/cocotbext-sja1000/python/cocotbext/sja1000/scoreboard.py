@@ -19,7 +19,7 @@ from .wishbone import WishboneMonitor
 
 class HostAccess(Protocol):
     """What a host-bus monitor hands its callbacks (:class:`WishboneAccess`,
-    :class:`AvalonAccess`): at the launch (``launch`` True, ``data`` = write
+    :class:`AvalonAccess`, :class:`Axi4LiteAccess`, :class:`ApbAccess`): at the launch (``launch`` True, ``data`` = write
     data) and at the completion (``data`` = read data) of each access."""
 
     write: bool
@@ -30,9 +30,10 @@ class HostAccess(Protocol):
 
 class HostMonitor(Protocol):
     """A host-bus monitor the scoreboard can listen to
-    (:class:`WishboneMonitor`, :class:`AvalonMonitor`, or your own):
+    (:class:`WishboneMonitor`, :class:`AvalonMonitor`,
+    :class:`Axi4LiteMonitor`, :class:`ApbMonitor`, or your own):
     ``host_bus`` names the profile's timing (``"wishbone"``, ``"avalon"``,
-    ``"pio"``)."""
+    ``"pio"``, ``"axi4-lite"``, ``"apb"``)."""
 
     host_bus: str
 
@@ -54,8 +55,11 @@ class Sja1000Scoreboard:
 
     - a :class:`WishboneMonitor` on ``dut.<wb_prefix>*`` (the default);
     - ``monitor=``: a host-bus monitor made by the bench, such as
-      :class:`AvalonMonitor` (its ``host_bus`` chooses the profile's access
-      timing, ``[access.avalon]``); ``wb_prefix`` is then not used;
+      :class:`AvalonMonitor`, :class:`Axi4LiteMonitor` or
+      :class:`ApbMonitor` (its ``host_bus`` chooses the profile's access
+      timing, ``[access.avalon]``, ``[access.axi4-lite]``,
+      ``[access.apb]``; the last two fall back to the Wishbone timing);
+      ``wb_prefix`` is then not used;
     - ``wb_prefix=None`` and calls to :meth:`request` / :meth:`read_data`
       from a monitor of any bus (a processor model...).
 
@@ -64,7 +68,8 @@ class Sja1000Scoreboard:
     ``tx_o`` (at sample points), ``irq_on`` and ``bus_off_on``
     (``irq_active_low=False`` for an active-high interrupt such as
     ``can_avalon``'s ``irq``). ``reset`` (a name on ``dut`` or a handle)
-    holds the model still while high.
+    holds the model still while high (while low with
+    ``reset_active_low=True``, as ``s_axi_aresetn`` or ``presetn``).
 
     Times in what it writes are the simulator's: the scoreboard measures
     the CAN clock's period and anchors its time line after each reset.
@@ -111,6 +116,7 @@ class Sja1000Scoreboard:
         irq_active_low: bool = True,
         bus_off: Optional[str] = "bus_off_on",
         reset: Union[str, Any, None] = "wb_rst_i",
+        reset_active_low: bool = False,
         name: Optional[str] = None,
         report_dir: Optional[str] = None,
         candump_iface: str = "can0",
@@ -128,6 +134,7 @@ class Sja1000Scoreboard:
         self.bus_off = bind(dut, prefix, bus_off) if bus_off else None
         self.irq_active_low = irq_active_low
         self.reset = (bind(dut, "", reset) if isinstance(reset, str) else reset) if reset else None
+        self.reset_active_low = reset_active_low
         self.monitor: Optional[HostMonitor] = monitor
         self.wishbone: Optional[WishboneMonitor] = None
         if monitor is None and wb_prefix is not None:
@@ -214,7 +221,7 @@ class Sja1000Scoreboard:
         measured = False
         while True:
             await FallingEdge(self.clock)
-            if self.reset is not None and level(self.reset):
+            if self.reset is not None and level(self.reset) != self.reset_active_low:
                 anchor = None
                 continue
             if anchor is None or not measured:
