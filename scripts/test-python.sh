@@ -6,7 +6,10 @@
 # fed by the Avalon-MM monitor) and its mutant, whose divergence marker must
 # sit at the failing read, the Avalon-MM master and monitor on three small
 # slaves (waitrequest, pipelined reads, fixed wait states: examples/
-# avalon_slaves.v), and the package README's example as written:
+# avalon_slaves.v), the benches of rtl/can_axi4lite and rtl/can_apb
+# (examples/test_can_amba.py: the scoreboard fed by the AXI4-Lite and APB
+# monitors, their protocol checks) and their mutants, and the package
+# README's example as written:
 #   Icarus    with cocotb 2.x  (cocotb 2.x needs Verilator >= 5.036)
 #   Verilator with cocotb 1.9.2 (the newest cocotb that takes Debian's 5.006)
 # Each pair must pass on rtl/ and fail on the mutant with the diagnosis.
@@ -15,10 +18,10 @@
 #
 #   scripts/test-python.sh            # everything on both pairs
 #   scripts/test-python.sh --quick    # what scripts/test.sh runs: the same, but
-#                                     # the can_avalon bench, its mutant and the
-#                                     # Avalon agents on small slaves under Icarus
-#                                     # only (under Verilator: five more builds,
-#                                     # two minutes on 2 cores)
+#                                     # the can_avalon, can_axi4lite and can_apb
+#                                     # benches, their mutants and the Avalon
+#                                     # agents on small slaves under Icarus only
+#                                     # (under Verilator: nine more builds)
 #   scripts/test-python.sh --bench    # also the benchmark: the example without
 #                                     # the scoreboard, and one test against
 #                                     # `cancosim run` of the same workload
@@ -111,7 +114,7 @@ run_pair() {
     cat "$work/mutant.log"; echo "test-python: $name: the mutant was not diagnosed" >&2; fail=1
   fi
   if [ "$quick" = 1 ] && [ "$sim" = verilator ]; then
-    echo "== $name: rtl/can_avalon: under Icarus only in --quick (scripts/test-python.sh runs it here too) =="
+    echo "== $name: rtl/can_avalon, can_axi4lite, can_apb: under Icarus only in --quick (scripts/test-python.sh runs them here too) =="
   else
     echo "== $name: rtl/can_avalon, the scoreboard fed by the Avalon-MM monitor (must pass) =="
     if "$py/bin/python" "$ex/run.py" --sim "$sim" --top can_avalon --build-dir "$work/avalon" > "$work/avalon.log" 2>&1; then
@@ -132,6 +135,20 @@ run_pair() {
         grep -E "TESTS=" "$work/$t.log"
       else
         cat "$work/$t.log"; echo "test-python: $name: the Avalon agents FAILED on $t" >&2; fail=1
+      fi
+    done
+    for t in can_axi4lite can_apb; do
+      echo "== $name: rtl/$t, the scoreboard fed by its bus monitor (must pass) =="
+      if "$py/bin/python" "$ex/run.py" --sim "$sim" --top "$t" --build-dir "$work/$t" > "$work/$t.log" 2>&1; then
+        grep -E "TESTS=|run time" "$work/$t.log"
+      else
+        cat "$work/$t.log"; echo "test-python: $name FAILED on rtl/$t" >&2; fail=1
+      fi
+      echo "== $name: $t on the mutant (must fail with the diagnosis, the marker at the failing read) =="
+      if "$py/bin/python" "$ex/run.py" --sim "$sim" --top "$t" --mutant --tests amba_self_test_frame --build-dir "$work/$t-mutant" > "$work/$t-mutant.log" 2>&1; then
+        grep -E "^(mutant caught|marker:|Figures)" "$work/$t-mutant.log"
+      else
+        cat "$work/$t-mutant.log"; echo "test-python: $name: the $t mutant was not diagnosed at its read" >&2; fail=1
       fi
     done
   fi
