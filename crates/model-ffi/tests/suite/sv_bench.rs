@@ -1,7 +1,9 @@
-//! The SystemVerilog example (`sv/examples/tb_can_top.sv`) under Verilator:
-//! our rtl/ passes with the golden model as scoreboard; the DE2 thesis
-//! wiring (rx tied recessive) and a one-line mutant of rtl/ fail with the
-//! diagnosis. Builds two Verilator binaries (about half a minute each).
+//! The SystemVerilog examples under Verilator: `sv/examples/tb_can_top.sv`
+//! (Wishbone) and `sv/examples/tb_can_apb.sv` (the scoreboard fed from the
+//! APB pins of rtl/can_apb). Our rtl/ passes with the golden model as
+//! scoreboard; the DE2 thesis wiring (rx tied recessive) and a one-line
+//! mutant of rtl/ fail with the diagnosis. Builds four Verilator binaries
+//! (about half a minute each).
 
 use std::path::{Path, PathBuf};
 use std::process::Command;
@@ -26,8 +28,9 @@ fn lib_dir() -> PathBuf {
     dir
 }
 
-/// Verilates the example bench over the Verilog files of `rtl`, returns the binary.
-fn build(rtl: &Path, work: &Path) -> PathBuf {
+/// Verilates the example bench `top` (`sv/examples/<top>.sv`) over the
+/// Verilog files of `rtl`, returns the binary.
+fn build(top: &str, rtl: &Path, work: &Path) -> PathBuf {
     let sv = root().join("crates/model-ffi/sv");
     let lib = lib_dir();
     std::fs::create_dir_all(work).unwrap();
@@ -39,13 +42,13 @@ fn build(rtl: &Path, work: &Path) -> PathBuf {
         "-Wno-lint",
         "-Wno-style",
         "--top-module",
-        "tb_can_top",
+        top,
         "-j",
         "2",
     ])
     .arg(format!("-I{}", rtl.display()))
     .arg(sv.join("sja1000_model_pkg.sv"))
-    .arg(sv.join("examples/tb_can_top.sv"));
+    .arg(sv.join(format!("examples/{top}.sv")));
     for e in std::fs::read_dir(rtl).unwrap() {
         let p = e.unwrap().path();
         let name = p.file_name().unwrap().to_str().unwrap().to_string();
@@ -66,7 +69,32 @@ fn build(rtl: &Path, work: &Path) -> PathBuf {
         "verilator failed:\n{}",
         String::from_utf8_lossy(&out.stderr)
     );
-    work.join("obj/Vtb_can_top")
+    work.join(format!("obj/V{top}"))
+}
+
+/// A one-line mutant of rtl/ in `work`: a completed transmission no longer
+/// sets SR.TCS.
+fn mutant_rtl(work: &Path) -> PathBuf {
+    let mutant = work.join("mutant-rtl");
+    std::fs::create_dir(&mutant).unwrap();
+    for e in std::fs::read_dir(root().join("rtl")).unwrap() {
+        let p = e.unwrap().path();
+        std::fs::copy(&p, mutant.join(p.file_name().unwrap())).unwrap();
+    }
+    let regs = mutant.join("can_regs.v");
+    let src = std::fs::read_to_string(&regs).unwrap();
+    let line = "if (tx_done) begin tbs <= 1'b1; tcs <= 1'b1; end";
+    assert_eq!(
+        src.matches(line).count(),
+        1,
+        "the line to mutate is in rtl/can_regs.v once"
+    );
+    std::fs::write(
+        &regs,
+        src.replace(line, "if (tx_done) begin tbs <= 1'b1; end"),
+    )
+    .unwrap();
+    mutant
 }
 
 fn run(bin: &Path, args: &[&str]) -> (bool, String) {
@@ -88,7 +116,7 @@ fn run(bin: &Path, args: &[&str]) -> (bool, String) {
 #[test]
 fn the_sv_scoreboard_passes_our_rtl_and_diagnoses_the_thesis_wiring_and_a_mutant() {
     let work = tempfile::tempdir().unwrap();
-    let bin = build(&root().join("rtl"), &work.path().join("rtl"));
+    let bin = build("tb_can_top", &root().join("rtl"), &work.path().join("rtl"));
     let (ok, text) = run(&bin, &[]);
     assert!(ok && text.contains("SCOREBOARD PASS"), "{text}");
     let (ok, text) = run(&bin, &["+tied_rx"]);
@@ -99,27 +127,8 @@ fn the_sv_scoreboard_passes_our_rtl_and_diagnoses_the_thesis_wiring_and_a_mutant
     );
     assert!(text.contains("rx_i is tied to 1"), "{text}");
 
-    // A one-line mutant: a completed transmission no longer sets SR.TCS.
-    let mutant = work.path().join("mutant-rtl");
-    std::fs::create_dir(&mutant).unwrap();
-    for e in std::fs::read_dir(root().join("rtl")).unwrap() {
-        let p = e.unwrap().path();
-        std::fs::copy(&p, mutant.join(p.file_name().unwrap())).unwrap();
-    }
-    let regs = mutant.join("can_regs.v");
-    let src = std::fs::read_to_string(&regs).unwrap();
-    let line = "if (tx_done) begin tbs <= 1'b1; tcs <= 1'b1; end";
-    assert_eq!(
-        src.matches(line).count(),
-        1,
-        "the line to mutate is in rtl/can_regs.v once"
-    );
-    std::fs::write(
-        &regs,
-        src.replace(line, "if (tx_done) begin tbs <= 1'b1; end"),
-    )
-    .unwrap();
-    let bin = build(&mutant, &work.path().join("mutant"));
+    let mutant = mutant_rtl(work.path());
+    let bin = build("tb_can_top", &mutant, &work.path().join("mutant"));
     let (ok, text) = run(&bin, &[]);
     assert!(!ok, "{text}");
     assert!(
@@ -128,6 +137,25 @@ fn the_sv_scoreboard_passes_our_rtl_and_diagnoses_the_thesis_wiring_and_a_mutant
     );
     assert!(
         text.contains("register SR") && text.contains("TCS"),
+        "{text}"
+    );
+}
+
+#[test]
+fn the_sv_scoreboard_fed_from_apb_pins_passes_can_apb_and_diagnoses_a_mutant() {
+    let work = tempfile::tempdir().unwrap();
+    let bin = build("tb_can_apb", &root().join("rtl"), &work.path().join("rtl"));
+    let (ok, text) = run(&bin, &[]);
+    assert!(ok && text.contains("SCOREBOARD PASS"), "{text}");
+    let mutant = mutant_rtl(work.path());
+    let bin = build("tb_can_apb", &mutant, &work.path().join("mutant"));
+    let (ok, text) = run(&bin, &[]);
+    assert!(!ok, "{text}");
+    assert!(
+        text.contains("SCOREBOARD FAIL")
+            && text.contains("DutDeviatesFromModel")
+            && text.contains("register SR")
+            && text.contains("TCS"),
         "{text}"
     );
 }
