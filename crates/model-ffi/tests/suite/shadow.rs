@@ -352,12 +352,23 @@ fn axi4_lite_and_apb_accesses_take_their_profile_timing_or_else_wishbone_s() {
         command: 9,
     });
     let mut shadow = Shadow::with_profile(&p, 24e6).unwrap();
-    assert_eq!(edges_to_take_a_write(&mut shadow, diagnose::HostBus::Axi4Lite), 6);
-    assert_eq!(edges_to_take_a_write(&mut shadow, diagnose::HostBus::Apb), 9);
-    assert_eq!(edges_to_take_a_write(&mut shadow, diagnose::HostBus::Wishbone), 4);
+    assert_eq!(
+        edges_to_take_a_write(&mut shadow, diagnose::HostBus::Axi4Lite),
+        6
+    );
+    assert_eq!(
+        edges_to_take_a_write(&mut shadow, diagnose::HostBus::Apb),
+        9
+    );
+    assert_eq!(
+        edges_to_take_a_write(&mut shadow, diagnose::HostBus::Wishbone),
+        4
+    );
     let r = shadow.record();
     assert!(
-        r.host_ops.iter().any(|o| o.bfm == diagnose::HostBus::Axi4Lite)
+        r.host_ops
+            .iter()
+            .any(|o| o.bfm == diagnose::HostBus::Axi4Lite)
             && r.host_ops.iter().any(|o| o.bfm == diagnose::HostBus::Apb),
         "{:?}",
         r.host_ops
@@ -366,8 +377,14 @@ fn axi4_lite_and_apb_accesses_take_their_profile_timing_or_else_wishbone_s() {
     p.axi4lite = None;
     p.apb = None;
     let mut shadow = Shadow::with_profile(&p, 24e6).unwrap();
-    assert_eq!(edges_to_take_a_write(&mut shadow, diagnose::HostBus::Axi4Lite), 4);
-    assert_eq!(edges_to_take_a_write(&mut shadow, diagnose::HostBus::Apb), 4);
+    assert_eq!(
+        edges_to_take_a_write(&mut shadow, diagnose::HostBus::Axi4Lite),
+        4
+    );
+    assert_eq!(
+        edges_to_take_a_write(&mut shadow, diagnose::HostBus::Apb),
+        4
+    );
 }
 
 #[test]
