@@ -31,6 +31,7 @@ from cocotbext.sja1000 import (
     CanBus,
     CanFrame,
     CanMonitor,
+    ProtocolViolation,
     Sja1000Scoreboard,
 )
 
@@ -229,3 +230,17 @@ async def amba_monitor_flags_protocol_violations(dut):
     assert len(monitor.violations) == len(want), monitor.violations
     for got, text in zip(monitor.violations, want):
         assert text in got and "protocol violation at" in got, (got, text)
+
+
+@cocotb.test(expect_error=ProtocolViolation)
+async def amba_strict_monitor_fails_the_test_at_a_violation(dut):
+    """A monitor left strict (the default) fails the running test at the
+    first violation with the sentence; the test must not get past it."""
+    _, _, master_cls, monitor_cls, prefix, _ = bus_of(dut)
+    await clocks_and_reset(dut)
+    master_cls(dut, prefix)
+    monitor_cls(dut, prefix)
+    await release_reset(dut)
+    await (axi_violations if dut._name == "can_axi4lite" else apb_violations)(dut, None)
+    await ClockCycles(dut.clk_i, 10)
+    raise AssertionError("no ProtocolViolation from the strict monitor")
