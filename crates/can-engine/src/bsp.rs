@@ -373,6 +373,14 @@ impl Bsp {
         self.try_start_tx();
     }
 
+    /// Starts a request made in bus idle just after a sample point, as if
+    /// it had been pending there (its start of frame is the next bit).
+    pub(crate) fn start_idle_request(&mut self) {
+        if self.phase == Phase::Idle && !self.role_tx {
+            self.try_start_tx();
+        }
+    }
+
     fn try_start_tx(&mut self) {
         if let Some(req) = &self.pending {
             if !self.opt.listen_only && !self.reset_mode {

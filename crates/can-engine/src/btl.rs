@@ -211,6 +211,13 @@ impl Btl {
         self.cpt - self.clk
     }
 
+    /// The last quantum's end was a sample point, less than the declared
+    /// segment lag ago: a core whose segments act that late has not yet
+    /// sampled this bit.
+    pub(crate) fn within_lag_of_sample_point(&self) -> bool {
+        self.pos == self.sp + 1 && self.clk < self.redo_lag
+    }
+
     /// CAN clocks per time quantum.
     pub(crate) fn clocks_per_tq(&self) -> u32 {
         self.cpt

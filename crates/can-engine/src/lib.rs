@@ -197,7 +197,9 @@ impl Engine {
     /// bit-timing change in reset mode that lands less than `lag` CAN
     /// clocks after a quantum's end redoes that quantum with the new
     /// lengths, as a core whose segment logic acts `lag` clocks after its
-    /// prescaler's quantum does. Kept across [`Engine::hard_reset`].
+    /// prescaler's quantum does; a transmission request in bus idle that
+    /// lands that soon after a sample point is taken at it
+    /// ([`Engine::request_tx`]). Kept across [`Engine::hard_reset`].
     pub fn set_segment_lag(&mut self, lag: u32) {
         self.segment_lag = lag;
         self.btl.set_redo_lag(lag);
@@ -492,9 +494,17 @@ impl Engine {
     /// The transmission starts at the next bus-idle bit; a request made
     /// while another one is under way replaces it for later attempts only
     /// (the controller never does this: TBS is 0 then).
+    ///
+    /// With a segment lag ([`Engine::set_segment_lag`]) a request made in
+    /// bus idle less than that many CAN clocks after a sample point counts
+    /// as pending at that sample point: the core's sample point, as its
+    /// segments, comes that late, so it still sees the request there.
     pub fn request_tx(&mut self, frame: CanFrame, single_shot: bool, self_rx: bool) {
         self.bsp
             .request(TxRequest::new(frame, single_shot, self_rx));
+        if self.btl.within_lag_of_sample_point() && !self.bsp.reset_mode {
+            self.bsp.start_idle_request();
+        }
     }
 
     /// CMR.AT: drop the pending request if its transmission has not started

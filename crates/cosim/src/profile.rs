@@ -12,7 +12,9 @@
 //!                                        #   clocks from the end of a quantum of the core's
 //!                                        #   prescaler (the model's) to its segment counters
 //!                                        #   acting on it; a BTR write in reset mode that
-//!                                        #   lands within it redoes that quantum (see below)
+//!                                        #   lands within it redoes that quantum, and a
+//!                                        #   request in bus idle landing within it after a
+//!                                        #   sample point is taken at that sample point
 //! [access.wishbone]                      # when a host access takes effect, per host bus
 //! takes-effect = "can-edges"             # or "at-ack" (alone)
 //! read = 3                               # after the n-th CAN (core) clock rising edge
@@ -606,7 +608,10 @@ pub struct Profile {
     /// `segment_lag` clocks after a quantum's end still decides that
     /// quantum on the core: the reference's model redoes the quantum with
     /// the new lengths, in reset mode (`Sja1000::set_segment_lag`; at BRP 0,
-    /// 2 clocks a quantum, it decides which segment the bit is in).
+    /// 2 clocks a quantum, it decides which segment the bit is in). Its
+    /// sample point comes as late: a transmission request made in bus idle
+    /// less than `segment_lag` clocks after the model's sample point is
+    /// taken at it (`Engine::request_tx`).
     pub segment_lag: u32,
     /// When a Wishbone access takes effect.
     pub wishbone: AccessTiming,
@@ -1243,7 +1248,9 @@ struct RawProfile {
     phase_origin: OriginName,
     /// CAN clocks from the end of a quantum of the core's prescaler to its segment
     /// counters acting on it; a BTR write in reset mode landing within them redoes that
-    /// quantum. At most 8; only with `phase-origin = "hardware-reset"`. Default: 0.
+    /// quantum, and a transmission request made in bus idle within them after a sample
+    /// point is taken at that sample point. At most 8; only with
+    /// `phase-origin = "hardware-reset"`. Default: 0.
     #[schemars(with = "Option<u32>")]
     segment_lag: Option<Spanned<u32>>,
     /// When a host access takes effect in the core, per host bus.

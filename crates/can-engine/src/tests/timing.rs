@@ -614,3 +614,45 @@ fn leaving_reset_mode_restarts_the_prescaler() {
         assert_eq!(e.clocks_to_next_tq(), t.clocks_per_tq(), "after {phase} clocks in reset mode");
     }
 }
+
+/// Clocks from a transmission request made `after` CAN clocks past a
+/// sample point in bus idle to the node's start of frame, with the given
+/// segment lag.
+fn clocks_to_sof(lag: u32, after: u32) -> u32 {
+    let mut e = Engine::new(BusTiming::from_btr(0x41, 0x25), Options::default());
+    e.set_segment_lag(lag);
+    // Bus integration, then to the clock of a sample point in bus idle.
+    while e.bits_sampled() < 13 {
+        e.clock(RECESSIVE);
+    }
+    let b = e.bits_sampled();
+    while e.bits_sampled() == b {
+        e.clock(RECESSIVE);
+    }
+    for _ in 0..after {
+        e.clock(RECESSIVE);
+    }
+    e.request_tx(std_frame(0x123, &[1]), false, false);
+    let mut n = 0;
+    while e.clock(RECESSIVE) == RECESSIVE {
+        n += 1;
+        assert!(n < 1000, "no start of frame");
+    }
+    n
+}
+
+#[test]
+fn a_request_within_the_segment_lag_after_a_sample_point_counts_as_pending_there() {
+    // BRP 1: 4 CAN clocks a quantum; 10 tq a bit (40 clocks), TSEG2 3 tq.
+    let bit = 40;
+    let at_once = clocks_to_sof(0, 0);
+    assert!(at_once > bit && at_once < 2 * bit, "a request right after the sample point waits for the next one: {at_once}");
+    // No lag: a request just after the sample point waits a whole bit more.
+    assert_eq!(clocks_to_sof(0, 0), clocks_to_sof(0, 1) + 1);
+    // Lag 2: within 2 clocks of the sample point the frame starts with the next bit.
+    assert_eq!(clocks_to_sof(2, 0) + bit, clocks_to_sof(0, 0));
+    assert_eq!(clocks_to_sof(2, 1) + bit, clocks_to_sof(0, 1));
+    // At the lag and later: as without one.
+    assert_eq!(clocks_to_sof(2, 2), clocks_to_sof(0, 2));
+    assert_eq!(clocks_to_sof(2, 5), clocks_to_sof(0, 5));
+}

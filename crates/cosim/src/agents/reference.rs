@@ -341,10 +341,10 @@ mod tests {
     fn the_segment_lag_goes_to_the_model_not_to_the_access_timing() {
         let oc = Profile::find("opencores-can").expect("shipped profile");
         let t = RefTiming::for_dut(DutKind::External, HostKind::Wishbone, Some(&oc));
-        assert_eq!(t, RefTiming::CanEdges { read: 3, write: 3, command: 0 });
+        assert_eq!(t, RefTiming::CanEdges { read: 3, write: 3, command: 3 });
         let r = ReferenceAgent::new(Some(ReferenceChoice::Model), Some(&oc), t);
         // Every access as declared, BTR1 (7) included.
-        assert_eq!((r.due_edges(true, 7), r.due_edges(true, 6), r.due_edges(false, 7), r.due_edges(true, 1)), (3, 3, 3, 0));
+        assert_eq!((r.due_edges(true, 7), r.due_edges(true, 6), r.due_edges(false, 7), r.due_edges(true, 1)), (3, 3, 3, 3));
         let lag = |r: &ReferenceAgent| match &r.model {
             Some(AnyRef::Model(m)) => m.model().segment_lag(),
             _ => panic!("a model reference"),

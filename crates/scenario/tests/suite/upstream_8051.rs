@@ -143,14 +143,8 @@ const WISHBONE: &[(&str, usize, usize)] = &[
 /// Conformance scenarios without a clean verdict on the 8051 build yet
 /// (docs/opencores-deviations.md, "The 8051 build over every list": open).
 const OPEN_ON_8051: &[&str] = &[
-    "7.6.14 / 7.6.21 rx REC decrement and the error warning limit",
     "7.7.4 / 7.7.6 rx beyond the tolerance at the minimum bit timing (+5 % node, SJW 1 of 5 tq)",
-    "7.7.7 / 8.7.6 glitches at maximum bit timing",
-    "7.7.7 / 8.7.6 glitches with triple sampling",
-    "8.1.2 tx extended format frames",
-    "8.2.2 tx bit errors in an extended frame",
     "8.6.4 / 8.5.3 tx dominant bits after the DUT's passive error flag",
-    "8.6.15 / 8.4.5 tx dominant last bit of the overload delimiter",
     "8.5.8 tx error passive, no suspend transmission after losing arbitration",
     "8.5.2 tx error-passive DUT receives a frame starting in the 3rd intermission bit after its error frame",
     "8.5.9 tx error-passive DUT does not start its identifier on a dominant 3rd intermission or suspend bit",
