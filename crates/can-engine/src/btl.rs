@@ -211,11 +211,12 @@ impl Btl {
         self.cpt - self.clk
     }
 
-    /// The last quantum's end was a sample point, less than the declared
-    /// segment lag ago: a core whose segments act that late has not yet
-    /// sampled this bit.
+    /// In phase segment 2, the sample point at most the declared segment
+    /// lag ago (and a lag is declared): a core whose segments act
+    /// that late samples this bit at that clock, with what its registers
+    /// held before it, so a request written then is still in time.
     pub(crate) fn within_lag_of_sample_point(&self) -> bool {
-        self.pos == self.sp + 1 && self.clk < self.redo_lag
+        self.redo_lag > 0 && self.pos > self.sp && u32::from(self.pos - self.sp - 1) * self.cpt + self.clk <= self.redo_lag
     }
 
     /// CAN clocks per time quantum.

@@ -585,6 +585,12 @@ impl Engine {
         self.bsp.role_tx
     }
 
+    /// In suspend transmission (an error-passive transmitter's 8 bits
+    /// after intermission; still a transmitter, [`Engine::is_transmitting`]).
+    pub fn in_suspend(&self) -> bool {
+        self.bsp.phase == bsp::Phase::Suspend
+    }
+
     /// Bus idle: integrated, no frame, intermission or suspension under
     /// way (the datasheet's "no bus activity" condition for sleep).
     pub fn is_bus_idle(&self) -> bool {

@@ -234,6 +234,13 @@ impl ModelRef {
         self
     }
 
+    /// With the DUT's declared SR.TS in suspend transmission (profile
+    /// `ts-in-suspend`; `true`: "clear").
+    pub fn with_ts_clear_in_suspend(mut self, on: bool) -> ModelRef {
+        self.m.set_ts_clear_in_suspend(on);
+        self
+    }
+
     /// How many of the next CAN clocks, with the bus staying at `rx`, only
     /// count in the model: its quanta end quietly if at all
     /// ([`can_engine::Engine::quiet_clocks`]), with no host access or resync

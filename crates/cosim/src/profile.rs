@@ -613,6 +613,11 @@ pub struct Profile {
     /// less than `segment_lag` clocks after the model's sample point is
     /// taken at it (`Engine::request_tx`).
     pub segment_lag: u32,
+    /// `ts-in-suspend = "clear"`: SR.TS reads 0 during suspend
+    /// transmission (the default `"set"`: 1, the node is still the
+    /// transmitter). The datasheet's TS, "transmitting a message", says
+    /// nothing of those 8 bits.
+    pub ts_clear_in_suspend: bool,
     /// When a Wishbone access takes effect.
     pub wishbone: AccessTiming,
     /// When an Avalon-MM access takes effect.
@@ -1015,6 +1020,7 @@ impl Profile {
                 OriginName::ResetModeExit => PhaseOrigin::ResetModeExit,
             },
             segment_lag,
+            ts_clear_in_suspend: matches!(raw.ts_in_suspend, Some(TsInSuspend::Clear)),
             latch: Latch {
                 wishbone: raw.access.wishbone.latch.as_ref().map(|v| *v.get_ref()),
                 avalon: raw.access.avalon.latch.as_ref().map(|v| *v.get_ref()),
@@ -1062,6 +1068,7 @@ impl Profile {
             0 => String::new(),
             n => format!(" (its segments act {n} CAN clocks after each quantum: a BTR write in reset mode landing within them redoes that quantum)"),
         };
+        let lag = if self.ts_clear_in_suspend { format!("{lag}; SR.TS 0 in suspend transmission") } else { lag };
         format!(
             "profile {}{}{}: bit timing phase from the {origin}{lag}; host access takes effect: wishbone {}{}, avalon {}{}, pio {}{}; ports {}",
             self.name,
@@ -1253,6 +1260,10 @@ struct RawProfile {
     /// `phase-origin = "hardware-reset"`. Default: 0.
     #[schemars(with = "Option<u32>")]
     segment_lag: Option<Spanned<u32>>,
+    /// SR.TS during suspend transmission (an error-passive transmitter's 8 recessive bits
+    /// after intermission): `"set"` (the default: 1, still the transmitter) or `"clear"`
+    /// (0, sending nothing). The datasheet's TS ("transmitting a message") leaves it open.
+    ts_in_suspend: Option<TsInSuspend>,
     /// When a host access takes effect in the core, per host bus.
     access: RawAccessSet,
     /// The comparator's tolerances for this core, in CAN clocks (printed in every report).
@@ -1286,6 +1297,13 @@ struct RawVhdl {
 enum OriginName {
     HardwareReset,
     ResetModeExit,
+}
+
+#[derive(Deserialize, Clone, Copy, schemars::JsonSchema)]
+#[serde(rename_all = "kebab-case")]
+enum TsInSuspend {
+    Set,
+    Clear,
 }
 
 /// `[access]`: one table per host bus.
@@ -1752,6 +1770,18 @@ mod tests {
         assert!(e.starts_with("p.toml:19: standard: `2019`: expected"), "{e}");
         let e = err(&format!("{GOOD}[vhdl]\nstd = \"08\"\n"));
         assert!(e.starts_with("p.toml:19: std: unknown field"), "{e}");
+    }
+
+    #[test]
+    fn ts_in_suspend_is_set_unless_declared_clear() {
+        assert!(!Profile::rtl().ts_clear_in_suspend);
+        assert!(!Profile::parse(GOOD, "p.toml").unwrap().ts_clear_in_suspend);
+        let oc = Profile::find("opencores-can").unwrap();
+        assert!(oc.ts_clear_in_suspend && oc.describe().contains("SR.TS 0 in suspend transmission"), "{}", oc.describe());
+        let p = |v: &str| Profile::parse(&GOOD.replacen("\n[", &format!("\nts-in-suspend = {v:?}\n["), 1), "p.toml");
+        assert!(!p("set").unwrap().ts_clear_in_suspend);
+        assert!(p("clear").unwrap().ts_clear_in_suspend);
+        assert!(p("sometimes").is_err());
     }
 
     #[test]

@@ -131,7 +131,9 @@ impl Shadow {
             return Err(ShadowError::Clock(can_hz));
         }
         let mut reference =
-            ModelRef::with_phase_origin(p.phase_origin).with_segment_lag(p.segment_lag);
+            ModelRef::with_phase_origin(p.phase_origin)
+                .with_segment_lag(p.segment_lag)
+                .with_ts_clear_in_suspend(p.ts_clear_in_suspend);
         reference.hard_reset();
         let timing = Timing {
             can_clock_hz: can_hz,

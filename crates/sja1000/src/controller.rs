@@ -354,6 +354,9 @@ const BEI: u8 = peli::ir::BEI;
 #[derive(Clone, Debug)]
 pub struct Sja1000 {
     engine: Engine,
+    /// SR.TS reads 0 during suspend transmission (a profile's
+    /// `ts-in-suspend = "clear"`); kept across hardware resets.
+    ts_clear_in_suspend: bool,
     mode: Mode,
     // MOD / CR
     rm: bool,
@@ -428,6 +431,15 @@ impl Sja1000 {
         self.engine.set_segment_lag(lag);
     }
 
+    /// SR.TS during suspend transmission (a profile's `ts-in-suspend`):
+    /// `true` reads 0 there. The datasheet's TS is "transmitting a
+    /// message" and says nothing of the 8 suspend bits, in which the node
+    /// is still the transmitter (CAN 2.0B §4) but sends nothing: either
+    /// reading is the datasheet's. Default: 1 (still the transmitter).
+    pub fn set_ts_clear_in_suspend(&mut self, on: bool) {
+        self.ts_clear_in_suspend = on;
+    }
+
     /// The declared segment lag ([`Sja1000::set_segment_lag`]).
     pub fn segment_lag(&self) -> u32 {
         self.engine.segment_lag()
@@ -443,11 +455,13 @@ impl Sja1000 {
         let scratch = std::mem::take(&mut self.scratch);
         let origin = self.engine.phase_origin();
         let segment_lag = self.engine.segment_lag();
+        let ts_clear_in_suspend = self.ts_clear_in_suspend;
         *self = Sja1000 {
             engine: Engine::new(BusTiming::from_btr(0, 0), Options::default()),
             fifo: RxFifo::default(),
             scratch,
             journal,
+            ts_clear_in_suspend,
             ..Sja1000::blank()
         };
         // CDR first: it selects the view (hardware reset: BasicCAN).
@@ -488,6 +502,7 @@ impl Sja1000 {
     fn blank() -> Sja1000 {
         Sja1000 {
             engine: Engine::new(BusTiming::from_btr(0, 0), Options::default()),
+            ts_clear_in_suspend: false,
             mode: Mode::BasicCan,
             rm: true,
             lom: false,
@@ -929,7 +944,7 @@ impl Sja1000 {
         use peli::sr;
         let mut v = bit(self.bs, sr::BS)
             | bit(self.es, sr::ES)
-            | bit(self.engine.is_transmitting(), sr::TS)
+            | bit(self.engine.is_transmitting() && !(self.ts_clear_in_suspend && self.engine.in_suspend()), sr::TS)
             | bit(self.engine.is_receiving(), sr::RS)
             | bit(self.tcs, sr::TCS)
             | bit(self.tbs, sr::TBS)

@@ -1137,3 +1137,33 @@ fn reference_timing_ignores_a_node_in_reset_mode() {
     let acc = bus.check_accounting().unwrap();
     assert_eq!((acc.sent, acc.sender_cut_off), (0, 1), "{acc:?}");
 }
+
+/// Bits with SR.TS = 1 at an error-passive sender from the request to bus
+/// idle after its frame, with SR.TS in suspend declared clear or not.
+fn ts_bits_of_a_passive_sender(ts_clear_in_suspend: bool) -> usize {
+    let mut bus = bus_of(&[Config::pelican(), Config::pelican()]);
+    let n = bus.node_mut(0);
+    n.set_ts_clear_in_suspend(ts_clear_in_suspend);
+    n.write(peli::MOD, peli::r#mod::RM);
+    n.write(peli::TXERR, 0x90);
+    n.write(peli::MOD, 0);
+    bus.run_bits(20);
+    host::transmit(bus.node_mut(0), &std_frame(0x55, &[1]), peli::cmr::TR).unwrap();
+    let mut ts = 0;
+    for _ in 0..200 {
+        bus.run_bits(1);
+        ts += usize::from(bus.node(0).peek(peli::SR) & peli::sr::TS != 0);
+    }
+    assert_eq!(bus.node_mut(0).read(peli::TXERR), 0x8F, "sent once: TEC - 1, still error passive");
+    ts
+}
+
+/// An error-passive transmitter waits 8 suspend bits after intermission
+/// (CAN 2.0B §8). SR.TS there: 1 by default (still the transmitter), 0
+/// with a profile's `ts-in-suspend = "clear"`: 8 bits apart, nothing else.
+#[test]
+fn ts_in_suspend_transmission_follows_the_declared_freedom() {
+    let (set, clear) = (ts_bits_of_a_passive_sender(false), ts_bits_of_a_passive_sender(true));
+    assert_eq!(set, clear + 8, "TS set {set} bits, cleared in suspend {clear}");
+    assert!(clear > 40, "TS through the frame: {clear} bits");
+}
