@@ -31,13 +31,16 @@ fn core_dir(fixture: Option<&str>) -> tempfile::TempDir {
 }
 
 /// The fork fixtures (our bus wrappers under a fork's names, with copies
-/// of the rtl files they wrap) copied into one directory.
-fn fork_dir() -> tempfile::TempDir {
-    let d = tempfile::tempdir().unwrap();
+/// of the rtl files they wrap) copied into a directory of their own per
+/// test; a stable one, so a rerun finds the core's build in the cache
+/// (its key holds the path).
+fn fork_dir(top: &str) -> PathBuf {
+    let d = Path::new(env!("CARGO_TARGET_TMPDIR")).join(format!("infer-{top}"));
+    std::fs::create_dir_all(&d).unwrap();
     for e in std::fs::read_dir(root().join("tb/fixtures/fork")).unwrap() {
         let p = e.unwrap().path();
         if p.extension().is_some_and(|x| x == "v" || x == "vh") {
-            std::fs::copy(&p, d.path().join(p.file_name().unwrap())).unwrap();
+            std::fs::copy(&p, d.join(p.file_name().unwrap())).unwrap();
         }
     }
     d
@@ -72,10 +75,12 @@ fn verdicts_on(dut: &DutSpec, host: HostBfm) -> Vec<(String, bool)> {
 /// Infers the fork top `top` through `host` and checks it against the
 /// hand-written `profile`: the same port map (bus roles with their
 /// polarities and the CAN-side roles), the measured timing in that bus's
-/// entry, and the same main-list verdicts on that host.
-fn fork_against_its_profile(top: &str, profile: &str, host: HostBfm) -> profile_infer::Inference {
-    let d = fork_dir();
-    let inf = infer(&InferOptions { host, ..opts(d.path(), top) }).unwrap();
+/// entry, and the main-list verdicts on that host: every scenario passes
+/// under the inferred profile, and under the hand-written one all but
+/// `hand_fails`.
+fn fork_against_its_profile(top: &str, profile: &str, host: HostBfm, hand_fails: &[&str]) -> profile_infer::Inference {
+    let d = fork_dir(top);
+    let inf = infer(&InferOptions { host, ..opts(&d, top) }).unwrap();
     assert!(inf.deviations.is_empty(), "{:?}\n{}", inf.deviations, inf.toml);
     let hand = cosim::Profile::load(root().join("tb/fixtures/fork").join(format!("{profile}.toml"))).unwrap();
     assert_eq!(inf.profile.ports, hand.ports, "{top}: inferred [ports] and [ports.<bus>] differ from {profile}.toml\n{}", inf.toml);
@@ -87,10 +92,12 @@ fn fork_against_its_profile(top: &str, profile: &str, host: HostBfm) -> profile_
     };
     assert!(inf.toml.contains(&format!("[access.{key}]\ntakes-effect = \"can-edges\"")), "{}", inf.toml);
     assert!(inf.toml.contains(&format!("[ports.{key}]")), "{}", inf.toml);
-    let inferred = verdicts_on(&external(d.path(), top, inf.profile.clone()), host);
-    let shipped = verdicts_on(&external(d.path(), top, hand), host);
-    assert_eq!(inferred, shipped, "{top}: the inferred profile's verdicts differ from {profile}.toml's");
+    let inferred = verdicts_on(&external(&d, top, inf.profile.clone()), host);
+    let shipped = verdicts_on(&external(&d, top, hand), host);
     assert!(inferred.iter().all(|v| v.1), "{top}: the fork is our RTL behind a wrapper, correct everywhere: {inferred:?}");
+    let failed: Vec<&str> = shipped.iter().filter(|v| !v.1).map(|v| v.0.as_str()).collect();
+    assert_eq!(failed, hand_fails, "{top}: {profile}.toml's verdicts on the main list");
+    assert_eq!(inferred.len(), shipped.len());
     inf
 }
 
@@ -147,7 +154,7 @@ fn a_late_interrupt_is_reported_as_a_deviation_not_profiled() {
 
 #[test]
 fn an_axi4_lite_fork_gets_its_hand_written_ports_and_verdicts() {
-    let inf = fork_against_its_profile("fork_axi", "axi4-lite", HostBfm::Axi4Lite);
+    let inf = fork_against_its_profile("fork_axi", "axi4-lite", HostBfm::Axi4Lite, &[]);
     let Some(cosim::AccessTiming::CanEdges { write, .. }) = inf.profile.axi4lite else { panic!("edge counts in [access.axi4-lite]") };
     assert_eq!(write, 4, "can_axi4lite is can_top behind a combinational request: its 4th CAN edge");
     assert_eq!(inf.profile.wishbone, cosim::AccessTiming::AtAck, "no Wishbone port: not measured");
@@ -155,13 +162,13 @@ fn an_axi4_lite_fork_gets_its_hand_written_ports_and_verdicts() {
 
 #[test]
 fn an_apb3_fork_gets_its_hand_written_ports_and_verdicts() {
-    let inf = fork_against_its_profile("fork_apb", "apb", HostBfm::Apb3);
+    let inf = fork_against_its_profile("fork_apb", "apb", HostBfm::Apb3, &[]);
     assert!(matches!(inf.profile.apb, Some(cosim::AccessTiming::CanEdges { write: 4, .. })), "{:?}", inf.profile.apb);
 }
 
 #[test]
 fn a_register_port_fork_gets_its_read_latency_measured() {
-    let inf = fork_against_its_profile("fork_regport", "regport", HostBfm::Regport);
+    let inf = fork_against_its_profile("fork_regport", "regport", HostBfm::Regport, &[]);
     // Its delay line answers 8 clocks after can_regport's 14: one less and
     // the port's monitor sees the data change after the master sampled it.
     assert_eq!(inf.profile.regport.read_latency, Some(22), "{}", inf.toml);
@@ -172,9 +179,15 @@ fn a_register_port_fork_gets_its_read_latency_measured() {
 
 #[test]
 fn a_motorola_fork_gets_its_hand_written_ports_and_verdicts() {
-    let inf = fork_against_its_profile("fork_mcu", "motorola", HostBfm::Motorola);
-    let Some(cosim::AccessTiming::CanEdges { write, .. }) = inf.profile.motorola.timing else { panic!("edge counts in [access.motorola]") };
-    assert!(write <= profile_infer::MOTOROLA_ACCESS_MAX, "{write}");
+    // motorola.toml counts a write as can_top_8051's timing does, from the
+    // edge that ends E (9); the reference counts an external core's
+    // Motorola access from the edge raising E, so under it the model takes
+    // writes a write's E (10 CAN clocks) early and three frames diverge in
+    // their error frames. The inferred edges count from E's rise.
+    let hand_fails = ["pelican-self-reception", "pelican-error-kinds", "pelican-frame-kinds"];
+    let inf = fork_against_its_profile("fork_mcu", "motorola", HostBfm::Motorola, &hand_fails);
+    let Some(cosim::AccessTiming::CanEdges { write, command, .. }) = inf.profile.motorola.timing else { panic!("edge counts in [access.motorola]") };
+    assert!(write > profile_infer::MOTOROLA_E_WRITE && command >= write, "a write is taken after E falls: {write}/{command}");
 }
 
 #[test]
