@@ -417,7 +417,7 @@ pub fn infer(o: &InferOptions) -> Result<Inference, InferError> {
             None => match pr.least(&lat_probes, READ_LATENCY_MAX, with) {
                 Ok(l) => {
                     let below = match l.checked_sub(1).map(|b| (b, pr.all(&lat_probes, &with(b)))) {
-                        Some((b, Err((probe, why)))) => format!("; at {b} probe {probe}: {}", why.chars().take(200).collect::<String>()),
+                        Some((b, Err((probe, why)))) => format!("; at {b} probe {probe}: {why}"),
                         _ => String::new(),
                     };
                     evidence("read-latency", format!("{l}: the least read latency at which every read of probes {} agrees (bound {READ_LATENCY_MAX}){below}; {} runs", names(&lat_probes), pr.runs - runs0));

@@ -110,6 +110,14 @@ const CAN_SIDE: &[&str] = &["clkout", "can-clock", "rx", "tx", "irq", "bus-off"]
 /// bus (`bus`), that bus's roles and the CAN-side ones; the Wishbone roles
 /// keep their defaults (no such port is bound on that host).
 pub fn find_roles(ports: &[PortSig], overrides: &Overrides, bus: Option<PortBus>) -> Result<PortMap, InferError> {
+    find(ports, overrides, bus).map_err(|e| match (e, bus) {
+        // A top without the Wishbone roles may be on another bus.
+        (InferError::Ports(m), None) if m.starts_with("no port") => InferError::Ports(format!("{m} (a top on another host bus: --host axi4-lite, apb, apb3, regport or motorola)")),
+        (e, _) => e,
+    })
+}
+
+fn find(ports: &[PortSig], overrides: &Overrides, bus: Option<PortBus>) -> Result<PortMap, InferError> {
     let mut map = PortMap::default();
     let mut taken: Vec<String> = Vec::new();
     let mut can_overrides: Overrides = Vec::new();
@@ -398,7 +406,8 @@ fn find_bus_roles(ports: &[PortSig], overrides: &Overrides, b: PortBus, map: &mu
     }
     if b == PortBus::Regport {
         let has = |r: &str| found.iter().any(|f| f.0 == r);
-        if !has("adr") && !(has("wr-adr") && has("rd-adr")) {
+        let (one, two) = (has("adr"), has("wr-adr") && has("rd-adr"));
+        if !one && !two {
             return Err(InferError::Ports(format!(
                 "no address port of the register port by its name: one (`adr`) or a write and a read address (`wr-adr`, `rd-adr`) (the top has: {}); name it with --port regport.adr=NAME, or --port regport.wr-adr=NAME --port regport.rd-adr=NAME",
                 names(ports)
