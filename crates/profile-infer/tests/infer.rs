@@ -191,6 +191,25 @@ fn a_motorola_fork_gets_its_hand_written_ports_and_verdicts() {
 }
 
 #[test]
+fn an_axi4_lite_top_with_one_clock_runs_the_list_on_it() {
+    // fork_axi with its CAN clock tied to the bus clock: one clock port.
+    let d = fork_dir("one_axi");
+    let v = std::fs::read_to_string(d.join("fork_axi.v")).unwrap();
+    let one = v.replace("module fork_axi", "module one_axi").replace("    input  wire        can_clk,\n", "").replace(".clk_i(can_clk)", ".clk_i(S_AXI_ACLK)");
+    assert!(!one.contains("can_clk"), "the fixture changed: {one}");
+    std::fs::write(d.join("one_axi.v"), one).unwrap();
+    let inf = infer(&InferOptions { host: HostBfm::Axi4Lite, ..opts(&d, "one_axi") }).unwrap();
+    assert!(inf.deviations.is_empty(), "{:?}", inf.deviations);
+    let m = &inf.profile.ports;
+    assert_eq!((m.axi4lite.pin("clock").name.as_str(), m.can_clock.name.as_str()), ("S_AXI_ACLK", "S_AXI_ACLK"));
+    assert!(inf.evidence.iter().any(|e| e.line.starts_with("one clock (S_AXI_ACLK)")), "{}", inf.toml);
+    // The scenarios' 50 MHz host clock would drive the same port as their
+    // CAN clock: the host runs on the CAN clock.
+    let v = verdicts_on(&external(&d, "one_axi", inf.profile.clone()), HostBfm::Axi4Lite);
+    assert!(v.iter().all(|x| x.1), "{v:?}");
+}
+
+#[test]
 fn a_bus_role_missing_or_twice_names_the_port_option() {
     use cosim::bridge::PortDir::{In, Out};
     use cosim::profile::PortBus;
