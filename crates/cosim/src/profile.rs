@@ -419,6 +419,35 @@ impl BusPorts {
         self.bus.roles().iter().map(|r| r.key).collect()
     }
 
+    /// The bus these ports are of.
+    pub fn bus(&self) -> PortBus {
+        self.bus
+    }
+
+    /// Names the port of `role` as a profile's `[ports.<bus>]` would (an
+    /// optional role named becomes required). Err: the bus has no such role.
+    pub fn set(&mut self, role: &str, pin: Pin) -> Result<(), String> {
+        let i = self.bus.roles().iter().position(|r| r.key == role).ok_or_else(|| format!("[ports.{}] has no role `{role}` (roles: {})", self.bus.key(), self.roles().join(", ")))?;
+        self.pins[i] = pin;
+        self.named[i] = true;
+        Ok(())
+    }
+
+    /// Whether a profile named the port of `role`.
+    pub fn named(&self, role: &str) -> bool {
+        self.named[self.index(role)]
+    }
+
+    /// Whether `role` carries a polarity (`active`) in a profile.
+    pub fn polar(&self, role: &str) -> bool {
+        self.bus.roles()[self.index(role)].polar
+    }
+
+    /// Whether a top of the bus may lack the port of `role`.
+    pub fn optional(&self, role: &str) -> bool {
+        self.bus.roles()[self.index(role)].optional
+    }
+
     fn describe(&self, out: &mut Vec<String>) {
         for ((r, p), q) in self.bus.roles().iter().zip(&self.pins).zip(BusPorts::default_for(self.bus).pins) {
             if *p != q {

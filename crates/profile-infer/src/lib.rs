@@ -22,6 +22,7 @@ use std::path::PathBuf;
 use std::time::{Duration, Instant};
 
 use cosim::holdoff::BusyAfterAck;
+use cosim::profile::PortBus;
 use cosim::{AccessTiming, CompareConfig, PhaseOrigin, Profile};
 use probes::{BIT_CLOCKS, Probe, SJW_CLOCKS};
 use scenario::{DutSpec, HostBfm, RunOptions};
@@ -48,8 +49,13 @@ pub struct InferOptions {
     pub defines: Vec<String>,
     /// Include directories (the core's directory is always one).
     pub includes: Vec<PathBuf>,
-    /// The host bus the probes drive (Wishbone, Avalon or PIO).
+    /// The host bus the probes drive: Wishbone, Avalon or PIO (the
+    /// `[ports]` Wishbone roles), or AXI4-Lite, APB, the register port or
+    /// the Motorola bus (that bus's `[ports.<bus>]` roles).
     pub host: HostBfm,
+    /// The register port's read latency (clocks), when the user knows it;
+    /// else it is measured (register port only).
+    pub read_latency: Option<u32>,
     /// Roles named by the user: (role, NAME or NAME:low|high).
     pub ports: ports::Overrides,
     /// The profile's name (the DUT is "<name> (<dir>)", which waiver
@@ -74,6 +80,14 @@ pub struct Bound {
 
 /// Largest access edge count (read, write, command).
 pub const ACCESS_MAX: u32 = 8;
+/// CAN clocks of E in a Motorola write at the probes' clocks (the kit's
+/// 400 ns at 50 MHz host, 24 MHz CAN: 20 host cycles).
+pub const MOTOROLA_E_WRITE: u32 = 10;
+/// Largest access edge count on the Motorola bus, counted from E's rise:
+/// a write waits for E's fall, then a sampling front and a crossing.
+pub const MOTOROLA_ACCESS_MAX: u32 = MOTOROLA_E_WRITE + 2 * ACCESS_MAX;
+/// Largest register-port read latency (clocks after the read strobe).
+pub const READ_LATENCY_MAX: u32 = 2 * BIT_CLOCKS;
 /// Largest tx edge window.
 pub const TX_MAX: u32 = SJW_CLOCKS;
 /// Largest lag of a start of frame from bus idle.
@@ -99,6 +113,16 @@ pub const BOUNDS: &[Bound] = &[
         key: "access read/write/command",
         max: ACCESS_MAX,
         reason: "a host access crosses into the CAN clock through a synchroniser (two or three flops and a register stage); the SJA1000 itself takes a write at the end of /WR, so more than 8 CAN clocks is no crossing but a late register",
+    },
+    Bound {
+        key: "access on the Motorola bus",
+        max: MOTOROLA_ACCESS_MAX,
+        reason: "edges count from the host edge raising E, and the datasheet takes a write at the end of E (10 CAN clocks at the probes' timing); the bus has no clock, so the core samples AS, E and R/W into its CAN clock (synchroniser flops, the strobe's edge, a registered request) before the access crosses as on a clocked bus: E, then two crossings bounded as one access each (8)",
+    },
+    Bound {
+        key: "read-latency",
+        max: READ_LATENCY_MAX,
+        reason: "a register port has no acknowledge: the host samples read data a fixed number of clocks after the strobe; the SJA1000 drives read data within its /RD pulse, so data later than two bit times (80 CAN clocks at the probes' timing) is a port the host waits on, not a latency",
     },
     Bound {
         key: "phase-origin",
@@ -134,6 +158,11 @@ pub const BOUNDS: &[Bound] = &[
         key: "status",
         max: STATUS_MAX,
         reason: "the datasheet sets each SR/IR bit at a given bit of the frame (RBS/RI at the end of frame, TCS/TI after it): a value later than one bit (40 CAN clocks) belongs to the next bit",
+    },
+    Bound {
+        key: "status on the register port",
+        max: STATUS_MAX,
+        reason: "plus the read latency: the port has no acknowledge, so the host cannot tell when within the latency the core took the SR/IR value it returns",
     },
     Bound {
         key: "pins",
@@ -236,10 +265,16 @@ impl Prober {
     }
 }
 
+/// Every bus's entry: the probes drive one host, and the render writes
+/// that host's entries only.
 fn set_access(p: &mut Profile, t: AccessTiming) {
     p.wishbone = t;
     p.avalon = t;
     p.pio = t;
+    p.axi4lite = Some(t);
+    p.apb = Some(t);
+    p.regport.timing = Some(t);
+    p.motorola.timing = Some(t);
 }
 
 fn set_busy(p: &mut Profile, b: Option<BusyAfterAck>) {
@@ -281,6 +316,13 @@ fn range(v: &[u32]) -> String {
 /// Infers the profile of the core `o` describes. Builds it (cached), finds
 /// its ports, runs the probes.
 pub fn infer(o: &InferOptions) -> Result<Inference, InferError> {
+    let bus = ports::bus_of(o.host)?;
+    if o.read_latency.is_some() && bus != Some(PortBus::Regport) {
+        return Err(InferError::Ports(format!("--read-latency is the register port's (--host regport), not {}'s", o.host)));
+    }
+    if let Some(l) = o.read_latency.filter(|l| *l > 256) {
+        return Err(InferError::Ports(format!("--read-latency {l}: at most 256 clocks")));
+    }
     let t0 = Instant::now();
     let mut defines = o.defines.clone();
     if !defines.iter().any(|d| d == "CAN_WISHBONE_IF") {
@@ -294,8 +336,8 @@ pub fn infer(o: &InferOptions) -> Result<Inference, InferError> {
     let compiled = cosim::build_external(&core).map_err(|e| InferError::Build(format!("{}: {e}", o.dir.display())))?;
     let build = t0.elapsed();
     let mut model = compiled.instantiate(false);
-    let mut ports = ports::find_roles(model.ports(), &o.ports)?;
-    let idle = ports::polarities(&mut model, &mut ports, &o.ports)?;
+    let mut ports = ports::find_roles(&ports::sigs(model.ports()), &o.ports, bus)?;
+    let idle = ports::polarities(&mut model, &mut ports, bus, &o.ports)?;
     drop(model);
 
     let t1 = Instant::now();
@@ -304,6 +346,10 @@ pub fn infer(o: &InferOptions) -> Result<Inference, InferError> {
         *d = defines;
         *i = includes;
     }
+    let one_clock = bus.is_some_and(|b| {
+        let bp = ports::bus_ports(&ports, b);
+        bp.roles().contains(&"clock") && bp.pin("clock").name == ports.can_clock.name
+    });
     let mut pr = Prober { dut, host: o.host, waivers: o.waivers.clone(), runs: 0 };
     let mut ev: Vec<Evidence> = Vec::new();
     let mut devs: Vec<Deviation> = Vec::new();
@@ -311,7 +357,18 @@ pub fn infer(o: &InferOptions) -> Result<Inference, InferError> {
     let bound = |key: &str| BOUNDS.iter().find(|b| b.key.contains(key)).map(|b| format!("at most {}: {}", b.max, b.reason)).unwrap_or_default();
 
     let pname = |p: &ports::IdleLevels| format!("irq idle {} so active {}, bus-off idle {} so active {}", u8::from(p.irq), if p.irq { "low" } else { "high" }, u8::from(p.bus_off), if p.bus_off { "low" } else { "high" });
-    evidence("ports", format!("roles from the top's port names, directions and widths; {} after a reset in bus idle (no interrupt enabled, node on the bus); reset active {} by its name", pname(&idle), if ports.reset.active_high { "high" } else { "low" }));
+    let reset = bus.map_or(&ports.reset, |b| ports::bus_ports(&ports, b).pin("reset"));
+    let roles = bus.map_or("roles".to_string(), |b| format!("[ports.{}] and CAN-side roles", b.key()));
+    evidence("ports", format!("{roles} from the top's port names, directions and widths; {} after a reset in bus idle (no interrupt enabled, node on the bus); reset active {} by its name", pname(&idle), if reset.active_high { "high" } else { "low" }));
+    if one_clock {
+        // scenario::run::tb_config runs the host on the CAN clock for a
+        // profile whose bus clock is its CAN clock.
+        evidence("ports", format!("one clock ({}): the CAN clock is the bus clock; the probes, as run and regress, run the host at the CAN clock (24 MHz)", ports.can_clock.name));
+    }
+    // The largest access edge count on this host.
+    let (access_max, access_key) = if bus == Some(PortBus::Motorola) { (MOTOROLA_ACCESS_MAX, "Motorola") } else { (ACCESS_MAX, "access read") };
+    // The handshake and count-from families exist on Wishbone-family hosts only.
+    let wb_family = bus.is_none();
 
     // Every stage isolates its own freedom: the others at their bounds or
     // not compared.
@@ -321,6 +378,55 @@ pub fn infer(o: &InferOptions) -> Result<Inference, InferError> {
     p.file = None;
     p.ports = ports;
     p.tolerances = CompareConfig { tx_edge_tolerance: TX_MAX, sof_tolerance: TX_MAX, status_tolerance: 1000, pin_tolerance: 1000, compare_irq: false, compare_bus_off: false, ..CompareConfig::default() };
+    if bus == Some(PortBus::Regport) {
+        p.regport.one_address = Some(p.ports.regport.named("adr"));
+    }
+
+    // 0. The register port's read latency: the host samples read data a
+    // fixed number of clocks after the strobe, and the port's monitor
+    // fails a read whose data changes later than that. The least latency
+    // at which every read of the probes agrees, on probes whose first
+    // access after the reset is a read (the slowest on a port that
+    // acknowledges through a clock crossing's reset) and a frame.
+    if bus == Some(PortBus::Regport) {
+        let lat_probes = [probes::first_read(), probes::phase(0)];
+        let runs0 = pr.runs;
+        let base = p.clone();
+        let with = |l: u32| {
+            let mut q = base.clone();
+            q.regport.read_latency = Some(l);
+            q
+        };
+        p.regport.read_latency = Some(match o.read_latency {
+            Some(l) => {
+                match pr.all(&lat_probes, &with(l)) {
+                    Ok(()) => evidence("read-latency", format!("{l}: given with --read-latency; probes {} agree with it; {} runs", names(&lat_probes), pr.runs - runs0)),
+                    Err((probe, why)) => evidence("read-latency", format!("{l}: given with --read-latency; probe {probe} disagrees with it ({}); {} runs", why.chars().take(160).collect::<String>(), pr.runs - runs0)),
+                }
+                l
+            }
+            None => match pr.least(&lat_probes, READ_LATENCY_MAX, with) {
+                Ok(l) => {
+                    let below = match l.checked_sub(1).map(|b| (b, pr.all(&lat_probes, &with(b)))) {
+                        Some((b, Err((probe, why)))) => format!("; at {b} probe {probe}: {why}"),
+                        _ => String::new(),
+                    };
+                    evidence("read-latency", format!("{l}: the least read latency at which every read of probes {} agrees (bound {READ_LATENCY_MAX}){below}; {} runs", names(&lat_probes), pr.runs - runs0));
+                    l
+                }
+                Err(f) => {
+                    devs.push(Deviation { freedom: "read-latency".into(), bound: bound("read-latency"), probe: f.0, divergence: f.1 });
+                    evidence("read-latency", format!("NOT MEASURED: reads disagree at every latency up to {READ_LATENCY_MAX} clocks (candidate deviation; name it with --read-latency)"));
+                    READ_LATENCY_MAX
+                }
+            },
+        });
+    }
+
+    // On a port without acknowledge the host cannot tell when within the
+    // read latency the core took its SR snapshot: the window's bound grows
+    // by that latency.
+    let status_max = STATUS_MAX + if bus == Some(PortBus::Regport) { p.regport.read_latency.unwrap_or(0) } else { 0 };
 
     // 1. Phase origin and the write edge: the tx edges of a self-test
     // frame after reset-mode exits at several offsets, the core's against
@@ -353,7 +459,7 @@ pub fn infer(o: &InferOptions) -> Result<Inference, InferError> {
             cands.push(Cand { spread: hi - lo, worst: lo.abs().max(hi.abs()), origin, write: w, busy: b, sofs });
         }
     };
-    for (origin, writes) in [(PhaseOrigin::ResetModeExit, 0..=ACCESS_MAX), (PhaseOrigin::HardwareReset, 3..=3)] {
+    for (origin, writes) in [(PhaseOrigin::ResetModeExit, 0..=access_max), (PhaseOrigin::HardwareReset, 3..=3)] {
         for w in writes {
             let mut q = p.clone();
             q.phase_origin = origin;
@@ -363,7 +469,7 @@ pub fn infer(o: &InferOptions) -> Result<Inference, InferError> {
         }
     }
     let good = |c: &Cand| c.spread <= 1 && c.worst <= TX_MAX as i64 && c.sofs.len() == phase_probes.len();
-    if !cands.iter().any(good) {
+    if !cands.iter().any(good) && wb_family {
         // No constant lag with requests seen at once: a core that blocks
         // new requests after an ack (a handshake returning to idle) takes
         // back-to-back writes later than the model would. The handshake
@@ -373,7 +479,7 @@ pub fn infer(o: &InferOptions) -> Result<Inference, InferError> {
         // the origins apart).
         let mut best: Vec<u32> = Vec::new();
         for origin in [PhaseOrigin::HardwareReset, PhaseOrigin::ResetModeExit] {
-            let writes: Vec<u32> = if best.is_empty() { (0..=ACCESS_MAX).collect() } else { best.clone() };
+            let writes: Vec<u32> = if best.is_empty() { (0..=access_max).collect() } else { best.clone() };
             for w in writes {
                 for c in 0..=w.min(BUSY_MAX) {
                     let mut q = p.clone();
@@ -417,7 +523,8 @@ pub fn infer(o: &InferOptions) -> Result<Inference, InferError> {
                     let none = cands.iter().filter(|c| c.busy.is_none()).map(|c| c.spread).min().map_or("no frame like the model's".to_string(), |s| format!("lags spread over {s} CAN clocks at best"));
                     evidence("busy-after-ack", format!("[{}, {}, {}]: with requests seen at once right after an ack the phase probes give {none}; the handshake [w, w, c] (c <= w, bound {BUSY_MAX}) gives the same lag at every edge for write edge {w} with c = {} (chosen {}, the middle)", b.can, b.host, b.can_again, range(&closing), b.can_again));
                 }
-                None => evidence("busy-after-ack", "none: with requests seen at once right after an ack the phase probes' lags are constant".into()),
+                None if wb_family => evidence("busy-after-ack", "none: with requests seen at once right after an ack the phase probes' lags are constant".into()),
+                None => evidence("busy-after-ack", format!("not searched: a request/acknowledge handshake's return to idle is modelled on wishbone, avalon and pio only ({} has no busy-after-ack entry)", o.host)),
             }
             if *origin == PhaseOrigin::ResetModeExit || b.is_some() {
                 let at = if b.is_some() { " with the handshake" } else { " after the reset-mode exit" };
@@ -447,7 +554,7 @@ pub fn infer(o: &InferOptions) -> Result<Inference, InferError> {
     // SR at its bound, not uncompared: a waiver that realigns the model
     // after a register read (a known deviation) must see the read.
     let mut rp = p.clone();
-    rp.tolerances.status_tolerance = STATUS_MAX;
+    rp.tolerances.status_tolerance = status_max;
     if let Some(l) = pr.tx_edges(&rec, &rp).and_then(|e| e.lags()) {
         let sof = l.iter().map(|x| x.unsigned_abs() as u32).max().unwrap_or(0);
         if sof > p.tolerances.sof_tolerance && sof <= SOF_MAX {
@@ -465,7 +572,7 @@ pub fn infer(o: &InferOptions) -> Result<Inference, InferError> {
     match pr.least(std::slice::from_ref(&rec), SOF_MAX, |n| {
         let mut q = base.clone();
         q.tolerances.sof_tolerance = n.max(base.tolerances.sof_tolerance);
-        q.tolerances.status_tolerance = STATUS_MAX;
+        q.tolerances.status_tolerance = status_max;
         q.tolerances.tx_edge_tolerance = TX_MAX;
         q
     }) {
@@ -482,7 +589,7 @@ pub fn infer(o: &InferOptions) -> Result<Inference, InferError> {
     if p.phase_origin == PhaseOrigin::HardwareReset && p.holdoff.wishbone.is_none() {
         // The write edge does not move the phase: the earliest that agrees.
         let mut writes = Vec::new();
-        for w in 0..=ACCESS_MAX {
+        for w in 0..=access_max {
             let mut q = p.clone();
             set_access(&mut q, edges(w, w, w));
             if pr.all(&phase_probes, &q).is_ok() {
@@ -542,7 +649,9 @@ pub fn infer(o: &InferOptions) -> Result<Inference, InferError> {
     // write by one CAN clock, which the phase and grid probes see only
     // where it moves a BTR write or the reset-mode exit across a quantum's
     // end); the default stays.
-    if !devs.iter().any(|d| d.freedom.contains("phase-origin")) {
+    if !wb_family {
+        evidence("count-from", format!("not measured: where the edges count from (host edge or wires) is a choice of wishbone, avalon and pio only; on {} they count from the edge the bus's own entry names", o.host));
+    } else if !devs.iter().any(|d| d.freedom.contains("phase-origin")) {
         let runs0 = pr.runs;
         let mut on = phase_probes.clone();
         on.extend(grid_probes.iter().cloned());
@@ -563,7 +672,7 @@ pub fn infer(o: &InferOptions) -> Result<Inference, InferError> {
     let mut last_fail = (String::new(), String::new());
     // Nearest the write edge first (a command crosses as a write does);
     // the first that agrees at every position is taken.
-    let mut order: Vec<u32> = (0..=ACCESS_MAX).collect();
+    let mut order: Vec<u32> = (0..=access_max).collect();
     order.sort_by_key(|c| (c.abs_diff(write), *c));
     for c in order {
         let mut q = p.clone();
@@ -578,8 +687,8 @@ pub fn infer(o: &InferOptions) -> Result<Inference, InferError> {
         }
     }
     let command = if cmds.is_empty() {
-        devs.push(Deviation { freedom: "command".into(), bound: bound("access"), probe: last_fail.0, divergence: last_fail.1 });
-        evidence("command", "NOT MEASURED: no command edge 0..8 agrees (candidate deviation)".into());
+        devs.push(Deviation { freedom: "command".into(), bound: bound(access_key), probe: last_fail.0, divergence: last_fail.1 });
+        evidence("command", format!("NOT MEASURED: no command edge 0..{access_max} agrees (candidate deviation)"));
         write
     } else {
         let c = cmds[0];
@@ -605,18 +714,21 @@ pub fn infer(o: &InferOptions) -> Result<Inference, InferError> {
     };
     // The least window at the write edge, then every other read edge tried
     // one clock narrower (and searched down only where that agrees).
-    match pr.least(&st, STATUS_MAX, |s| with_read(write, s)) {
+    match pr.least(&st, status_max, |s| with_read(write, s)) {
         Ok(s) => best.push((write, s)),
         Err(f) => last_fail = f,
     }
-    let at = best.first().map_or(STATUS_MAX, |b| b.1);
-    for r in (0..=ACCESS_MAX).filter(|r| *r != write) {
+    let at = best.first().map_or(status_max, |b| b.1);
+    // A read is taken at E's rise on the Motorola bus (no E fall to wait
+    // for): its front and crossing only.
+    let read_max = if bus == Some(PortBus::Motorola) { 2 * ACCESS_MAX } else { access_max };
+    for r in (0..=read_max).filter(|r| *r != write) {
         if at > 0 && pr.all(&st, &with_read(r, at - 1)).is_ok() {
             if let Ok(s) = pr.least(&st, at - 1, |s| with_read(r, s)) {
                 best.push((r, s));
             }
         } else if best.is_empty() {
-            match pr.least(&st, STATUS_MAX, |s| with_read(r, s)) {
+            match pr.least(&st, status_max, |s| with_read(r, s)) {
                 Ok(s) => best.push((r, s)),
                 Err(f) => last_fail = f,
             }
@@ -627,8 +739,8 @@ pub fn infer(o: &InferOptions) -> Result<Inference, InferError> {
     let read = match best.iter().map(|b| b.1).min() {
         None => {
             devs.push(Deviation { freedom: "status".into(), bound: bound("status"), probe: last_fail.0, divergence: last_fail.1 });
-            evidence("status", format!("NOT MEASURED: SR/IR reads disagree at every read edge 0..8 with a window of {STATUS_MAX} (candidate deviation)"));
-            p.tolerances.status_tolerance = STATUS_MAX;
+            evidence("status", format!("NOT MEASURED: SR/IR reads disagree at every read edge 0..{read_max} with a window of {status_max} (candidate deviation)"));
+            p.tolerances.status_tolerance = status_max;
             write.saturating_sub(1)
         }
         Some(s) => {
@@ -636,10 +748,10 @@ pub fn infer(o: &InferOptions) -> Result<Inference, InferError> {
             // Ties: the latest edge not after the write edge (a read crosses
             // by the same synchroniser as a write, no later).
             let r = reads.iter().copied().filter(|r| *r <= write).max().unwrap_or(reads[0]);
-            let w = (s + POLL_MARGIN).min(STATUS_MAX);
+            let w = (s + POLL_MARGIN).min(status_max);
             p.tolerances.status_tolerance = w;
             evidence("read", format!("read edges with the least SR/IR window on probes status, recovery, passive: {} (chosen {r}, the latest not after the write edge)", range(&reads)));
-            evidence("status", format!("{w}: SR/IR reads agree within {s} CAN clocks (least window, bound {STATUS_MAX}; written with one polled read more, {POLL_MARGIN}) polling SR through a received and a sent frame, a bus-off recovery and error passive; {} runs", pr.runs - runs0));
+            evidence("status", format!("{w}: SR/IR reads agree within {s} CAN clocks (least window, bound {status_max}; written with one polled read more, {POLL_MARGIN}) polling SR through a received and a sent frame, a bus-off recovery and error passive; {} runs", pr.runs - runs0));
             r
         }
     };
@@ -708,9 +820,17 @@ pub fn infer(o: &InferOptions) -> Result<Inference, InferError> {
             evidence("tx-edge", format!("NOT MEASURED: tx differs at sample points {TX_MAX} CAN clocks from a model tx edge (candidate deviation)"));
         }
     }
-    evidence("access", format!("measured on {}; the other buses take the same crossing (re-run with --host avalon|pio to measure them)", o.host));
+    match bus {
+        None => evidence("access", format!("measured on {}; the other buses take the same crossing (re-run with --host avalon|pio to measure them)", o.host)),
+        Some(b) => evidence("access", format!("measured on {}, written to [access.{}] only ([access.wishbone], [access.avalon], [access.pio], which the file format requires, say at-ack: not measured, the top has no Wishbone port)", o.host, b.key())),
+    }
+    match bus {
+        Some(PortBus::Regport) => evidence("strobe", "strobe and gap: the kit's defaults for the register port (not measured: the probes agree with them)".into()),
+        Some(PortBus::Motorola) => evidence("strobe", "AS, E and recovery phases: the kit's defaults (not measured: a probe that agrees shows the defaults suffice, not the core's minimums; enter the datasheet's as `*-ns` keys)".into()),
+        _ => {}
+    }
 
-    let toml = render(&p, &ev, &devs, &o.host, pr.runs);
+    let toml = render(&p, &ev, &devs, &o.host, bus, pr.runs);
     let profile = Profile::parse(&toml, "inferred profile").map_err(|e| InferError::Build(format!("the inferred profile does not parse (a bug): {e}")))?;
     Ok(Inference { profile, toml, evidence: ev, deviations: devs, runs: pr.runs, build, probing: t1.elapsed() })
 }
@@ -720,7 +840,7 @@ fn names(p: &[Probe]) -> String {
 }
 
 /// The profile file: every entry with its evidence as a comment above it.
-fn render(p: &Profile, ev: &[Evidence], devs: &[Deviation], host: &HostBfm, runs: usize) -> String {
+fn render(p: &Profile, ev: &[Evidence], devs: &[Deviation], host: &HostBfm, bus: Option<PortBus>, runs: usize) -> String {
     let say = |key: &str| -> String {
         ev.iter().filter(|e| e.key == key).map(|e| format!("# evidence: {}\n", e.line)).collect()
     };
@@ -742,23 +862,42 @@ fn render(p: &Profile, ev: &[Evidence], devs: &[Deviation], host: &HostBfm, runs
         s += &format!("segment-lag = {}\n\n", p.segment_lag);
     }
     let AccessTiming::CanEdges { read, write, command } = p.wishbone else { unreachable!("the inference writes edge counts") };
-    for (i, bus) in ["wishbone", "avalon", "pio"].iter().enumerate() {
-        if i == 0 {
-            s += &say("access");
-            s += &say("read");
-            s += &say("write");
-            s += &say("command");
-            s += &say("busy-after-ack");
-            s += &say("count-from");
+    let measured = |s: &mut String| {
+        for k in ["access", "read-latency", "read", "write", "command", "busy-after-ack", "count-from", "strobe"] {
+            *s += &say(k);
         }
-        s += &format!("[access.{bus}]\n");
-        if let Some(b) = p.holdoff.wishbone {
-            s += &format!("busy-after-ack = [{}, {}, {}]\n", b.can, b.host, b.can_again);
+    };
+    match bus {
+        None => {
+            measured(&mut s);
+            for bus in ["wishbone", "avalon", "pio"] {
+                s += &format!("[access.{bus}]\n");
+                if let Some(b) = p.holdoff.wishbone {
+                    s += &format!("busy-after-ack = [{}, {}, {}]\n", b.can, b.host, b.can_again);
+                }
+                if p.count_from_wires.wishbone {
+                    s += "count-from = \"wires\"\n";
+                }
+                s += &format!("takes-effect = \"can-edges\"\nread = {read}\nwrite = {write}\ncommand = {command}\n\n");
+            }
         }
-        if p.count_from_wires.wishbone {
-            s += "count-from = \"wires\"\n";
+        Some(b) => {
+            s += "# Not measured: the top has no Wishbone port (the file format requires these).\n";
+            for w in ["wishbone", "avalon", "pio"] {
+                s += &format!("[access.{w}]\ntakes-effect = \"at-ack\"\n\n");
+            }
+            measured(&mut s);
+            s += &format!("[access.{}]\ntakes-effect = \"can-edges\"\nread = {read}\nwrite = {write}\ncommand = {command}\n", b.key());
+            if b == PortBus::Regport {
+                if let Some(l) = p.regport.read_latency {
+                    s += &format!("read-latency = {l}\n");
+                }
+                if let Some(one) = p.regport.one_address {
+                    s += &format!("addresses = \"{}\"\n", if one { "one" } else { "separate" });
+                }
+            }
+            s += "\n";
         }
-        s += &format!("takes-effect = \"can-edges\"\nread = {read}\nwrite = {write}\ncommand = {command}\n\n");
     }
     let t = &p.tolerances;
     s += "[tolerances]\n";
@@ -771,7 +910,7 @@ fn render(p: &Profile, ev: &[Evidence], devs: &[Deviation], host: &HostBfm, runs
     s += "[ports]\n";
     let m = &p.ports;
     let polar = |pin: &cosim::profile::Pin| format!("{{ name = {:?}, active = \"{}\" }}", pin.name, if pin.active_high { "high" } else { "low" });
-    for (k, v) in [
+    let wb = [
         ("host-clock", format!("{:?}", m.host_clock.name)),
         ("reset", polar(&m.reset)),
         ("dat-i", format!("{:?}", m.dat_i.name)),
@@ -781,14 +920,27 @@ fn render(p: &Profile, ev: &[Evidence], devs: &[Deviation], host: &HostBfm, runs
         ("we", format!("{:?}", m.we.name)),
         ("adr", format!("{:?}", m.adr.name)),
         ("ack", format!("{:?}", m.ack.name)),
+    ];
+    let can = [
         ("can-clock", format!("{:?}", m.can_clock.name)),
         ("rx", format!("{:?}", m.rx.name)),
         ("tx", format!("{:?}", m.tx.name)),
         ("irq", polar(&m.irq)),
         ("bus-off", polar(&m.bus_off)),
         ("clkout", format!("{:?}", m.clkout.name)),
-    ] {
+    ];
+    // On another bus the Wishbone roles are not bound: left out.
+    for (k, v) in wb.into_iter().filter(|_| bus.is_none()).chain(can) {
         s += &format!("{k} = {v}\n");
+    }
+    if let Some(b) = bus {
+        let bp = ports::bus_ports(m, b);
+        s += &format!("\n[ports.{}]\n", b.key());
+        for role in bp.roles().into_iter().filter(|r| bp.named(r)) {
+            let pin = bp.pin(role);
+            let v = if bp.polar(role) { polar(pin) } else { format!("{:?}", pin.name) };
+            s += &format!("{role} = {v}\n");
+        }
     }
     s
 }
@@ -858,5 +1010,16 @@ impl Prober {
         };
         scenario::run(&probe.scenario, &opts);
         read_tx_edges(&vcd, probe.scenario.can_hz / 1e6)
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn the_motorola_bound_has_the_kits_write_e() {
+        let t = cosim::i8051_timing_for_rtl(50_000_000, 24_000_000);
+        assert_eq!((t.wr * 24).div_ceil(50), MOTOROLA_E_WRITE, "E of a write in CAN clocks at the probes' 50 and 24 MHz");
     }
 }

@@ -159,3 +159,15 @@ pub fn passive() -> Probe {
         [[fault]]\nkind = \"stuck-dominant\"\nframe = 1\nbit_in_frame = 20\nduration_bits = 150\ntarget = \"dut-rx\"\n";
     probe("passive".into(), text("profile probe: error warning and error passive interrupts at errors and at a successful reception", steps, tail, 800))
 }
+
+/// First read: SR read as the first access after the reset, then the
+/// configuration and a self-test frame whose reception is read back: the
+/// read data of a first access (on a port that acknowledges through a
+/// clock crossing, the slowest) and of reads in a running core.
+pub fn first_read() -> Probe {
+    let steps = "    { write = \"MOD\", value = 0x04 },\n    { wait_bits = 14 },\n    { load_tx = { id = 0x529, data = [0x51] } },\n    \
+         { write = \"CMR\", value = 0x10 },\n    { wait_sr_set = 0x09, timeout_bits = 200 },\n    { read = \"RXFI\", expect = 0x01 },\n    { read = \"IR\" },\n    { write = \"CMR\", value = 0x04 },";
+    let t = text("profile probe: read data of the first access after the reset and of a running core's reads", steps, "", 260);
+    let first = "    { write = \"CR\", value = 0x01 },\n";
+    probe("first-read".into(), t.replacen(first, &format!("    {{ read = \"SR\" }},\n{first}"), 1))
+}

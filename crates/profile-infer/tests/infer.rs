@@ -2,7 +2,9 @@
 //! fixture with renamed ports, an active-low reset, inverted irq/bus-off
 //! and two host clocks more of access latency, and a fixture whose
 //! interrupt is one bit late (a deviation: reported, never profiled). The
-//! opencores core is checked when CAN_UPSTREAM_DIR names it.
+//! opencores core is checked when CAN_UPSTREAM_DIR names it. On AXI4-Lite,
+//! APB3, the register port and the Motorola bus: the fork fixtures
+//! (tb/fixtures/fork), each against its hand-written profile.
 
 use profile_infer::{InferOptions, infer};
 use scenario::regress::{RegressOptions, Status, regress};
@@ -28,8 +30,24 @@ fn core_dir(fixture: Option<&str>) -> tempfile::TempDir {
     d
 }
 
+/// The fork fixtures (our bus wrappers under a fork's names, with copies
+/// of the rtl files they wrap) copied into a directory of their own per
+/// test; a stable one, so a rerun finds the core's build in the cache
+/// (its key holds the path).
+fn fork_dir(top: &str) -> PathBuf {
+    let d = Path::new(env!("CARGO_TARGET_TMPDIR")).join(format!("infer-{top}"));
+    std::fs::create_dir_all(&d).unwrap();
+    for e in std::fs::read_dir(root().join("tb/fixtures/fork")).unwrap() {
+        let p = e.unwrap().path();
+        if p.extension().is_some_and(|x| x == "v" || x == "vh") {
+            std::fs::copy(&p, d.join(p.file_name().unwrap())).unwrap();
+        }
+    }
+    d
+}
+
 fn opts(dir: &Path, top: &str) -> InferOptions {
-    InferOptions { dir: dir.into(), top: top.into(), defines: Vec::new(), includes: Vec::new(), host: HostBfm::Wishbone, ports: Vec::new(), name: top.into(), waivers: Vec::new() }
+    InferOptions { dir: dir.into(), top: top.into(), defines: Vec::new(), includes: Vec::new(), host: HostBfm::Wishbone, read_latency: None, ports: Vec::new(), name: top.into(), waivers: Vec::new() }
 }
 
 fn external(dir: &Path, top: &str, p: cosim::Profile) -> DutSpec {
@@ -43,10 +61,44 @@ fn external(dir: &Path, top: &str, p: cosim::Profile) -> DutSpec {
 
 /// Pass / not pass per scenario of the main list on `dut` (Wishbone host).
 fn verdicts(dut: &DutSpec) -> Vec<(String, bool)> {
+    verdicts_on(dut, HostBfm::Wishbone)
+}
+
+/// Pass / not pass per scenario of the main list on `dut` through `host`.
+fn verdicts_on(dut: &DutSpec, host: HostBfm) -> Vec<(String, bool)> {
     let list = scenario::load_list(root().join("tb/regression.list")).unwrap();
-    let opts = RegressOptions { jobs: 2, host: Some(HostBfm::Wishbone), ..RegressOptions::default() };
+    let opts = RegressOptions { jobs: 2, host: Some(host), ..RegressOptions::default() };
     let r = regress(&list, std::slice::from_ref(dut), &opts);
     r.cells.iter().map(|c| (c.scenario.clone(), matches!(c.status, Status::Pass | Status::Skipped(_)))).collect()
+}
+
+/// Infers the fork top `top` through `host` and checks it against the
+/// hand-written `profile`: the same port map (bus roles with their
+/// polarities and the CAN-side roles), the measured timing in that bus's
+/// entry, and the main-list verdicts on that host: every scenario passes
+/// under the inferred profile, and under the hand-written one all but
+/// `hand_fails`.
+fn fork_against_its_profile(top: &str, profile: &str, host: HostBfm, hand_fails: &[&str]) -> profile_infer::Inference {
+    let d = fork_dir(top);
+    let inf = infer(&InferOptions { host, ..opts(&d, top) }).unwrap();
+    assert!(inf.deviations.is_empty(), "{:?}\n{}", inf.deviations, inf.toml);
+    let hand = cosim::Profile::load(root().join("tb/fixtures/fork").join(format!("{profile}.toml"))).unwrap();
+    assert_eq!(inf.profile.ports, hand.ports, "{top}: inferred [ports] and [ports.<bus>] differ from {profile}.toml\n{}", inf.toml);
+    let key = match host {
+        HostBfm::Axi4Lite => "axi4-lite",
+        HostBfm::Apb | HostBfm::Apb3 => "apb",
+        HostBfm::Regport => "regport",
+        _ => "motorola",
+    };
+    assert!(inf.toml.contains(&format!("[access.{key}]\ntakes-effect = \"can-edges\"")), "{}", inf.toml);
+    assert!(inf.toml.contains(&format!("[ports.{key}]")), "{}", inf.toml);
+    let inferred = verdicts_on(&external(&d, top, inf.profile.clone()), host);
+    let shipped = verdicts_on(&external(&d, top, hand), host);
+    assert!(inferred.iter().all(|v| v.1), "{top}: the fork is our RTL behind a wrapper, correct everywhere: {inferred:?}");
+    let failed: Vec<&str> = shipped.iter().filter(|v| !v.1).map(|v| v.0.as_str()).collect();
+    assert_eq!(failed, hand_fails, "{top}: {profile}.toml's verdicts on the main list");
+    assert_eq!(inferred.len(), shipped.len());
+    inf
 }
 
 #[test]
@@ -98,6 +150,92 @@ fn a_late_interrupt_is_reported_as_a_deviation_not_profiled() {
     // At its bound the comparator still shows the late interrupt.
     let v = verdicts(&external(d.path(), "fx_late_irq", inf.profile.clone()));
     assert!(v.iter().any(|x| !x.1), "the late interrupt is not absorbed: every scenario passed");
+}
+
+#[test]
+fn an_axi4_lite_fork_gets_its_hand_written_ports_and_verdicts() {
+    let inf = fork_against_its_profile("fork_axi", "axi4-lite", HostBfm::Axi4Lite, &[]);
+    let Some(cosim::AccessTiming::CanEdges { write, .. }) = inf.profile.axi4lite else { panic!("edge counts in [access.axi4-lite]") };
+    assert_eq!(write, 4, "can_axi4lite is can_top behind a combinational request: its 4th CAN edge");
+    assert_eq!(inf.profile.wishbone, cosim::AccessTiming::AtAck, "no Wishbone port: not measured");
+}
+
+#[test]
+fn an_apb3_fork_gets_its_hand_written_ports_and_verdicts() {
+    let inf = fork_against_its_profile("fork_apb", "apb", HostBfm::Apb3, &[]);
+    assert!(matches!(inf.profile.apb, Some(cosim::AccessTiming::CanEdges { write: 4, .. })), "{:?}", inf.profile.apb);
+}
+
+#[test]
+fn a_register_port_fork_gets_its_read_latency_measured() {
+    let inf = fork_against_its_profile("fork_regport", "regport", HostBfm::Regport, &[]);
+    // Its delay line answers 8 clocks after can_regport's 14: one less and
+    // the port's monitor sees the data change after the master sampled it.
+    assert_eq!(inf.profile.regport.read_latency, Some(22), "{}", inf.toml);
+    assert_eq!(inf.profile.regport.one_address, Some(true));
+    let e = inf.evidence.iter().find(|e| e.key == "read-latency").expect("read-latency evidence");
+    assert!(e.line.contains("at 21") && e.line.contains("later than its read latency of 21"), "{}", e.line);
+}
+
+#[test]
+fn a_motorola_fork_gets_its_hand_written_ports_and_verdicts() {
+    // motorola.toml counts a write as can_top_8051's timing does, from the
+    // edge that ends E (9); the reference counts an external core's
+    // Motorola access from the edge raising E, so under it the model takes
+    // writes a write's E (10 CAN clocks) early and three frames diverge in
+    // their error frames. The inferred edges count from E's rise.
+    let hand_fails = ["pelican-self-reception", "pelican-error-kinds", "pelican-frame-kinds"];
+    let inf = fork_against_its_profile("fork_mcu", "motorola", HostBfm::Motorola, &hand_fails);
+    let Some(cosim::AccessTiming::CanEdges { write, command, .. }) = inf.profile.motorola.timing else { panic!("edge counts in [access.motorola]") };
+    assert!(write > profile_infer::MOTOROLA_E_WRITE && command >= write, "a write is taken after E falls: {write}/{command}");
+}
+
+#[test]
+fn an_axi4_lite_top_with_one_clock_runs_the_list_on_it() {
+    // fork_axi with its CAN clock tied to the bus clock: one clock port.
+    let d = fork_dir("one_axi");
+    let v = std::fs::read_to_string(d.join("fork_axi.v")).unwrap();
+    let one = v.replace("module fork_axi", "module one_axi").replace("    input  wire        can_clk,\n", "").replace(".clk_i(can_clk)", ".clk_i(S_AXI_ACLK)");
+    assert!(!one.contains("can_clk"), "the fixture changed: {one}");
+    std::fs::write(d.join("one_axi.v"), one).unwrap();
+    let inf = infer(&InferOptions { host: HostBfm::Axi4Lite, ..opts(&d, "one_axi") }).unwrap();
+    assert!(inf.deviations.is_empty(), "{:?}", inf.deviations);
+    let m = &inf.profile.ports;
+    assert_eq!((m.axi4lite.pin("clock").name.as_str(), m.can_clock.name.as_str()), ("S_AXI_ACLK", "S_AXI_ACLK"));
+    assert!(inf.evidence.iter().any(|e| e.line.starts_with("one clock (S_AXI_ACLK)")), "{}", inf.toml);
+    // The scenarios' 50 MHz host clock would drive the same port as their
+    // CAN clock: the host runs on the CAN clock.
+    let v = verdicts_on(&external(&d, "one_axi", inf.profile.clone()), HostBfm::Axi4Lite);
+    assert!(v.iter().all(|x| x.1), "{v:?}");
+}
+
+#[test]
+fn a_bus_role_missing_or_twice_names_the_port_option() {
+    use cosim::bridge::PortDir::{In, Out};
+    use cosim::profile::PortBus;
+    use profile_infer::ports::{PortSig, find_roles};
+    let apb = |extra: &[(&str, cosim::bridge::PortDir)]| -> Vec<PortSig> {
+        let mut v: Vec<PortSig> = [("PCLK", In), ("PRESETn", In), ("PENABLE", In), ("PWRITE", In), ("PREADY", Out), ("PSLVERR", Out), ("CAN_CLK", In), ("CAN_RX", In), ("CAN_TX", Out), ("IRQ_N", Out), ("BUS_OFF_N", Out), ("CLKOUT", Out)]
+            .iter()
+            .chain(extra)
+            .map(|(n, d)| PortSig::new(n, *d, 1))
+            .collect();
+        v.extend([PortSig::new("PADDR", In, 32), PortSig::new("PWDATA", In, 32), PortSig::new("PRDATA", Out, 32)]);
+        v
+    };
+    let e = find_roles(&apb(&[("SEL", In)]), &Vec::new(), Some(PortBus::Apb)).unwrap_err().to_string();
+    assert!(e.contains("`apb.psel`") && e.contains("--port apb.psel=NAME"), "{e}");
+    let e = find_roles(&apb(&[("PSEL", In), ("apb_psel", In)]), &Vec::new(), Some(PortBus::Apb)).unwrap_err().to_string();
+    assert!(e.contains("PSEL, apb_psel") && e.contains("--port apb.psel=PSEL"), "{e}");
+    // The override settles both.
+    let m = find_roles(&apb(&[("SEL", In)]), &vec![("apb.psel".into(), "SEL".into())], Some(PortBus::Apb)).unwrap();
+    assert_eq!(m.apb.pin("psel").name, "SEL");
+    let m = find_roles(&apb(&[("PSEL", In), ("apb_psel", In)]), &vec![("apb.psel".into(), "apb_psel".into())], Some(PortBus::Apb)).unwrap();
+    assert_eq!(m.apb.pin("psel").name, "apb_psel");
+    // The Wishbone roles are not asked for on another bus, and a bus role
+    // is no role on Wishbone.
+    let e = find_roles(&apb(&[("PSEL", In)]), &vec![("apb.psel".into(), "PSEL".into())], None).unwrap_err().to_string();
+    assert!(e.contains("no such role"), "{e}");
 }
 
 #[test]

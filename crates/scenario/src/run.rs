@@ -243,6 +243,21 @@ fn external_core_of(kind: &DutKind, profile: Option<&cosim::Profile>, host: Opti
 
 /// Builds the test-bench configuration for `s` on `dut`.
 pub fn tb_config(s: &Scenario, dut: &DutKind, opts: &RunOptions) -> Result<TbConfig, String> {
+    // An AXI4-Lite or APB top with one clock port for the bus and the core
+    // (its profile's bus clock is its CAN clock): the host runs on the CAN
+    // clock, as on the register port (both clocks drive the same port).
+    let one_clock = opts.dut.as_ref().and_then(|d| d.profile.as_ref()).is_some_and(|p| match s.host {
+        HostBfm::Axi4Lite => p.ports.axi4lite.pin("clock").name == p.ports.can_clock.name,
+        HostBfm::Apb | HostBfm::Apb3 => p.ports.apb.pin("clock").name == p.ports.can_clock.name,
+        _ => false,
+    });
+    let on_can_clock;
+    let s = if one_clock && s.host_hz != s.can_hz {
+        on_can_clock = Scenario { host_hz: s.can_hz, ..s.clone() };
+        &on_can_clock
+    } else {
+        s
+    };
     let avalon_dut = matches!(s.dut, DutKind::AvalonWrapper);
     let choice = match dut {
         _ if opts.custom_dut.is_some() => DutChoice::Custom(opts.custom_dut.clone().expect("checked")),

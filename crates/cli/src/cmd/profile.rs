@@ -33,13 +33,20 @@ pub struct InferArgs {
     /// Extra include directory (repeatable).
     #[arg(long = "include", value_name = "DIR")]
     includes: Vec<PathBuf>,
-    /// The host bus the probes drive; the profile gives the other buses the same timing.
-    #[arg(long, default_value = "wishbone", value_parser = ["wishbone", "avalon", "pio"])]
+    /// The host bus the probes drive. `wishbone`, `avalon`, `pio`: the top's Wishbone roles
+    /// ([ports]), the timing written to all three; `axi4-lite`, `apb`, `apb3`, `regport`,
+    /// `motorola`: that bus's roles ([ports.<bus>]) and its [access.<bus>] entry only.
+    #[arg(long, default_value = "wishbone", value_parser = ["wishbone", "avalon", "pio", "axi4-lite", "apb", "apb3", "regport", "motorola"])]
     host: String,
     /// A port role the names leave open, ROLE=NAME or ROLE=NAME:low|high (repeatable),
-    /// e.g. --port host-clock=clk --port reset=nrst:low.
+    /// e.g. --port host-clock=clk --port reset=nrst:low; a host bus's role as BUS.ROLE,
+    /// e.g. --port apb.psel=SEL --port regport.wr=we_n:low.
     #[arg(long = "port", value_name = "ROLE=NAME")]
     ports: Vec<String>,
+    /// The register port's read latency in clocks after the strobe (--host regport), when
+    /// known; without it the least latency at which the probes' reads agree is measured.
+    #[arg(long, value_name = "CLOCKS")]
+    read_latency: Option<u32>,
     /// The profile's name (default: the top's).
     #[arg(long)]
     name: Option<String>,
@@ -69,6 +76,7 @@ pub fn run(a: Args) -> anyhow::Result<i32> {
         defines: a.defines,
         includes: a.includes,
         host: scenario::HostBfm::from_name(&a.host).context("--host")?,
+        read_latency: a.read_latency,
         ports,
         name: a.name.unwrap_or_else(|| a.top.clone()),
         waivers: a.waivers,
@@ -89,7 +97,8 @@ pub fn run(a: Args) -> anyhow::Result<i32> {
         if inf.build.as_secs_f64() < 1.0 { ", cached" } else { "" }
     );
     if inf.deviations.is_empty() {
-        println!("next: cancosim regress tb/regression.list --external mine={} --top {} --profile {}", a.external.display(), a.top, a.out.display());
+        let host = if a.host == "wishbone" { String::new() } else { format!(" --host {}", a.host) };
+        println!("next: cancosim regress tb/regression.list --external mine={} --top {} --profile {}{host}", a.external.display(), a.top, a.out.display());
         return Ok(0);
     }
     for d in &inf.deviations {
