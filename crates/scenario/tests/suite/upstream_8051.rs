@@ -144,8 +144,6 @@ const WISHBONE: &[(&str, usize, usize)] = &[
 /// (docs/opencores-deviations.md, "The 8051 build over every list": open).
 const OPEN_ON_8051: &[&str] = &[
     "7.7.4 / 7.7.6 rx beyond the tolerance at the minimum bit timing (+5 % node, SJW 1 of 5 tq)",
-    "8.5.8 tx error passive, no suspend transmission after losing arbitration",
-    "8.5.14 tx error passive: the retransmission starts 31 bits after the error",
 ];
 
 #[test]

@@ -23,10 +23,11 @@ diagnoser's text.
   (:class:`ProtocolViolation`).
 """
 
+from ._monitor import ProtocolViolation
 from ._native import Decoder, Model, Node
 from .apb import ApbAccess, ApbBus, ApbMaster, ApbMonitor
 from .avalon import AvalonAccess, AvalonBus, AvalonMaster, AvalonMonitor
-from .axi4lite import Axi4LiteAccess, Axi4LiteBus, Axi4LiteMaster, Axi4LiteMonitor, ProtocolViolation
+from .axi4lite import Axi4LiteAccess, Axi4LiteBus, Axi4LiteMaster, Axi4LiteMonitor
 from .bus import CanBus, CanNode
 from .frame import CanFrame
 from .monitor import CanMonitor, BusEvent

@@ -16,19 +16,14 @@ which is what that edge samples.
 """
 
 import logging
-from typing import Any, Callable, Dict, List, NamedTuple, Optional, Union
+from typing import Any, Dict, NamedTuple, Optional, Union
 
 import cocotb
-from cocotb.queue import Queue
 from cocotb.triggers import FallingEdge, ReadOnly
 
-try:  # cocotb 2.x
-    from cocotb.simtime import get_sim_time
-except ImportError:  # cocotb 1.9
-    from cocotb.utils import get_sim_time
-
-from ._signals import bind, level, stop_task, value
-from .axi4lite import ProtocolViolation, _handle, _layout
+from ._monitor import AccessMonitor
+from ._signals import bind, level, value
+from .axi4lite import _handle, _layout
 
 
 class ApbAccess(NamedTuple):
@@ -141,7 +136,7 @@ class ApbMaster:
         return await self._access(False, reg, 0)
 
 
-class ApbMonitor:
+class ApbMonitor(AccessMonitor):
     """Watches an APB completer and calls each callback with an
     :class:`ApbAccess` at the launch and at the completion of every
     access; ``await recv()`` gives completed accesses in order. It drives
@@ -161,6 +156,7 @@ class ApbMonitor:
 
     #: The host bus's name, for the scoreboard (the profile's ``[access.apb]``).
     host_bus = "apb"
+    protocol = "APB"
 
     def __init__(
         self,
@@ -181,40 +177,10 @@ class ApbMonitor:
         self.reset = _handle(dut, prefix, reset)
         self.reset_active_low = reset_active_low
         self.stride, self.lane = stride, byte_lane
-        self.strict = strict
-        self.violations: List[str] = []
-        self.accesses = 0
-        self._callbacks: List[Callable[[ApbAccess], None]] = []
-        self._queue: "Queue[ApbAccess]" = Queue()
+        self._init_monitor(strict)
         self.log.info("APB monitor on '%s*', register n at byte n*%d, lane %d; %s",
                       prefix, stride, byte_lane, self.bus.describe())
         self._task = cocotb.start_soon(self._run())
-
-    def add_callback(self, fn: Callable[[ApbAccess], None]) -> None:
-        """``fn(access)`` at each launch and each completion."""
-        self._callbacks.append(fn)
-
-    async def recv(self) -> ApbAccess:
-        """The next completed access."""
-        return await self._queue.get()
-
-    def stop(self) -> None:
-        """Stops watching."""
-        stop_task(self._task)
-
-    def _emit(self, a: ApbAccess) -> None:
-        if not a.launch:
-            self.accesses += 1
-            self._queue.put_nowait(a)
-        for cb in self._callbacks:
-            cb(a)
-
-    def _violation(self, text: str) -> None:
-        msg = f"APB protocol violation at {get_sim_time('ns'):.0f} ns: {text}"
-        self.violations.append(msg)
-        if self.strict:
-            raise ProtocolViolation(msg)
-        self.log.error("%s", msg)
 
     def _sample(self) -> Dict[str, int]:
         """The pins as the next rising edge samples them (absent PREADY: 1)."""

@@ -25,13 +25,13 @@ falling edge after it.
 """
 
 import logging
-from typing import Any, Callable, List, NamedTuple, Optional, Tuple, Union
+from typing import Any, List, NamedTuple, Optional, Tuple, Union
 
 import cocotb
-from cocotb.queue import Queue
 from cocotb.triggers import FallingEdge, ReadOnly
 
-from ._signals import bind, level, stop_task, value
+from ._monitor import AccessMonitor
+from ._signals import bind, level, value
 
 
 class AvalonAccess(NamedTuple):
@@ -192,7 +192,7 @@ class AvalonMaster:
         return await self._access(False, addr, 0)
 
 
-class AvalonMonitor:
+class AvalonMonitor(AccessMonitor):
     """Watches an Avalon-MM slave interface (the pins of
     :class:`AvalonBus`) and calls each callback with an
     :class:`AvalonAccess` at the launch and at the completion of every
@@ -223,30 +223,9 @@ class AvalonMonitor:
         self.clock = _handle(dut, clock)
         self.reset = _handle(dut, reset)
         self.timing = _Timing(self.bus, read_wait, write_wait)
-        self._callbacks: List[Callable[[AvalonAccess], None]] = []
-        self._queue: "Queue[AvalonAccess]" = Queue()
-        self.accesses = 0
+        self._init_monitor()
         self.log.info("Avalon-MM monitor on '%s*', %s; %s", prefix, self.timing.describe(), self.bus.describe())
         self._task = cocotb.start_soon(self._run())
-
-    def add_callback(self, fn: Callable[[AvalonAccess], None]) -> None:
-        """``fn(access)`` at each launch and each completion."""
-        self._callbacks.append(fn)
-
-    async def recv(self) -> AvalonAccess:
-        """The next completed access."""
-        return await self._queue.get()
-
-    def stop(self) -> None:
-        """Stops watching."""
-        stop_task(self._task)
-
-    def _emit(self, a: AvalonAccess) -> None:
-        if not a.launch:
-            self.accesses += 1
-            self._queue.put_nowait(a)
-        for cb in self._callbacks:
-            cb(a)
 
     def _sample(self) -> Tuple[bool, bool, bool, bool, int, int, int, bool, bool]:
         """The pins as the next rising edge samples them: reset,

@@ -17,23 +17,13 @@ which is what that edge samples.
 """
 
 import logging
-from typing import Any, Callable, Dict, List, NamedTuple, Optional, Union
+from typing import Any, Callable, Dict, NamedTuple, Optional, Union
 
 import cocotb
-from cocotb.queue import Queue
 from cocotb.triggers import FallingEdge, ReadOnly
 
-try:  # cocotb 2.x
-    from cocotb.simtime import get_sim_time
-except ImportError:  # cocotb 1.9
-    from cocotb.utils import get_sim_time
-
-from ._signals import bind, level, stop_task, value
-
-
-class ProtocolViolation(AssertionError):
-    """A host-bus monitor saw the master or the slave break the bus's
-    protocol; the message says what, in one sentence."""
+from ._monitor import AccessMonitor
+from ._signals import bind, level, value
 
 
 class Axi4LiteAccess(NamedTuple):
@@ -190,7 +180,7 @@ _CHANNELS = (
 )
 
 
-class Axi4LiteMonitor:
+class Axi4LiteMonitor(AccessMonitor):
     """Watches an AXI4-Lite slave interface and calls each callback with
     an :class:`Axi4LiteAccess` at the launch and at the response of every
     access (one write and one read in flight at a time); ``await recv()``
@@ -206,6 +196,7 @@ class Axi4LiteMonitor:
 
     #: The host bus's name, for the scoreboard (the profile's ``[access.axi4-lite]``).
     host_bus = "axi4-lite"
+    protocol = "AXI4-Lite"
 
     def __init__(
         self,
@@ -226,40 +217,10 @@ class Axi4LiteMonitor:
         self.reset = _handle(dut, prefix, reset)
         self.reset_active_low = reset_active_low
         self.stride, self.lane = stride, byte_lane
-        self.strict = strict
-        self.violations: List[str] = []
-        self.accesses = 0
-        self._callbacks: List[Callable[[Axi4LiteAccess], None]] = []
-        self._queue: "Queue[Axi4LiteAccess]" = Queue()
+        self._init_monitor(strict)
         self.log.info("AXI4-Lite monitor on '%s*', register n at byte n*%d, lane %d; %s",
                       prefix, stride, byte_lane, self.bus.describe())
         self._task = cocotb.start_soon(self._run())
-
-    def add_callback(self, fn: Callable[[Axi4LiteAccess], None]) -> None:
-        """``fn(access)`` at each launch and each completion."""
-        self._callbacks.append(fn)
-
-    async def recv(self) -> Axi4LiteAccess:
-        """The next completed access."""
-        return await self._queue.get()
-
-    def stop(self) -> None:
-        """Stops watching."""
-        stop_task(self._task)
-
-    def _emit(self, a: Axi4LiteAccess) -> None:
-        if not a.launch:
-            self.accesses += 1
-            self._queue.put_nowait(a)
-        for cb in self._callbacks:
-            cb(a)
-
-    def _violation(self, text: str) -> None:
-        msg = f"AXI4-Lite protocol violation at {get_sim_time('ns'):.0f} ns: {text}"
-        self.violations.append(msg)
-        if self.strict:
-            raise ProtocolViolation(msg)
-        self.log.error("%s", msg)
 
     def _sample(self) -> Dict[str, int]:
         """The pins as the next rising edge samples them (absent ones 0)."""
