@@ -1036,7 +1036,7 @@ _cancosim() {
             return 0
             ;;
         cancosim__subcmd__profile__subcmd__infer)
-            opts="-h --external --top --define --include --host --port --name --waivers --out --help"
+            opts="-h --external --top --define --include --host --port --read-latency --name --waivers --out --help"
             if [[ ${cur} == -* || ${COMP_CWORD} -eq 3 ]] ; then
                 COMPREPLY=( $(compgen -W "${opts}" -- "${cur}") )
                 return 0
@@ -1059,10 +1059,14 @@ _cancosim() {
                     return 0
                     ;;
                 --host)
-                    COMPREPLY=($(compgen -W "wishbone avalon pio" -- "${cur}"))
+                    COMPREPLY=($(compgen -W "wishbone avalon pio axi4-lite apb apb3 regport motorola" -- "${cur}"))
                     return 0
                     ;;
                 --port)
+                    COMPREPLY=($(compgen -f "${cur}"))
+                    return 0
+                    ;;
+                --read-latency)
                     COMPREPLY=($(compgen -f "${cur}"))
                     return 0
                     ;;

@@ -187,10 +187,16 @@ complete -c cancosim -n "__fish_cancosim_using_subcommand profile; and __fish_se
 complete -c cancosim -n "__fish_cancosim_using_subcommand profile; and __fish_seen_subcommand_from infer" -l top -d 'Its top module' -r
 complete -c cancosim -n "__fish_cancosim_using_subcommand profile; and __fish_seen_subcommand_from infer" -l define -d 'Verilog define (repeatable; CAN_WISHBONE_IF is always defined)' -r
 complete -c cancosim -n "__fish_cancosim_using_subcommand profile; and __fish_seen_subcommand_from infer" -l include -d 'Extra include directory (repeatable)' -r -F
-complete -c cancosim -n "__fish_cancosim_using_subcommand profile; and __fish_seen_subcommand_from infer" -l host -d 'The host bus the probes drive; the profile gives the other buses the same timing' -r -f -a "wishbone\t''
+complete -c cancosim -n "__fish_cancosim_using_subcommand profile; and __fish_seen_subcommand_from infer" -l host -d 'The host bus the probes drive. `wishbone`, `avalon`, `pio`: the top\'s Wishbone roles ([ports]), the timing written to all three; `axi4-lite`, `apb`, `apb3`, `regport`, `motorola`: that bus\'s roles ([ports.<bus>]) and its [access.<bus>] entry only' -r -f -a "wishbone\t''
 avalon\t''
-pio\t''"
-complete -c cancosim -n "__fish_cancosim_using_subcommand profile; and __fish_seen_subcommand_from infer" -l port -d 'A port role the names leave open, ROLE=NAME or ROLE=NAME:low|high (repeatable), e.g. --port host-clock=clk --port reset=nrst:low' -r
+pio\t''
+axi4-lite\t''
+apb\t''
+apb3\t''
+regport\t''
+motorola\t''"
+complete -c cancosim -n "__fish_cancosim_using_subcommand profile; and __fish_seen_subcommand_from infer" -l port -d 'A port role the names leave open, ROLE=NAME or ROLE=NAME:low|high (repeatable), e.g. --port host-clock=clk --port reset=nrst:low; a host bus\'s role as BUS.ROLE, e.g. --port apb.psel=SEL --port regport.wr=we_n:low' -r
+complete -c cancosim -n "__fish_cancosim_using_subcommand profile; and __fish_seen_subcommand_from infer" -l read-latency -d 'The register port\'s read latency in clocks after the strobe (--host regport), when known; without it the least latency at which the probes\' reads agree is measured' -r
 complete -c cancosim -n "__fish_cancosim_using_subcommand profile; and __fish_seen_subcommand_from infer" -l name -d 'The profile\'s name (default: the top\'s)' -r
 complete -c cancosim -n "__fish_cancosim_using_subcommand profile; and __fish_seen_subcommand_from infer" -l waivers -d 'Waiver file of deviations already known and accepted (repeatable): the probes run with it, as regress --waivers does; its `dut` globs match "<name> (<dir>)"' -r -F
 complete -c cancosim -n "__fish_cancosim_using_subcommand profile; and __fish_seen_subcommand_from infer" -l out -d 'Where to write the profile' -r -F
