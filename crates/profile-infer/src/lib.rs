@@ -547,6 +547,29 @@ pub fn infer(o: &InferOptions) -> Result<Inference, InferError> {
             4
         }
     };
+    // SR.TS in suspend transmission (a freedom, `ts-in-suspend`): the
+    // recovery and passive probes read SR while an error-passive
+    // transmitter waits out its suspend bits. The default unless only
+    // "clear" agrees.
+    {
+        let ts_probes = [probes::recovery(), probes::passive()];
+        let runs0 = pr.runs;
+        let mut tp = p.clone();
+        tp.tolerances.status_tolerance = status_max;
+        match pr.all(&ts_probes, &tp) {
+            Ok(()) => evidence("ts-in-suspend", format!("set (the default): SR agrees with TS = 1 in suspend transmission on probes {}; {} runs", names(&ts_probes), pr.runs - runs0)),
+            Err((probe, why)) => {
+                tp.ts_clear_in_suspend = true;
+                if pr.all(&ts_probes, &tp).is_ok() {
+                    p.ts_clear_in_suspend = true;
+                    evidence("ts-in-suspend", format!("clear: with TS = 1 in suspend transmission probe {probe} disagrees ({}); with TS = 0 probes {} agree; {} runs", why.chars().take(120).collect::<String>(), names(&ts_probes), pr.runs - runs0));
+                } else {
+                    evidence("ts-in-suspend", format!("set (the default): probe {probe} disagrees with either reading ({}); the later stages report it; {} runs", why.chars().take(120).collect::<String>(), pr.runs - runs0));
+                }
+            }
+        }
+    }
+
     // A start of frame from bus idle after a bus-off recovery: the lag
     // of that frame (the sof window keeps it for the frame).
     let rec = probes::recovery();
@@ -861,6 +884,8 @@ fn render(p: &Profile, ev: &[Evidence], devs: &[Deviation], host: &HostBfm, bus:
         s += &say("segment-lag");
         s += &format!("segment-lag = {}\n\n", p.segment_lag);
     }
+    s += &say("ts-in-suspend");
+    s += &format!("ts-in-suspend = \"{}\"\n\n", if p.ts_clear_in_suspend { "clear" } else { "set" });
     let AccessTiming::CanEdges { read, write, command } = p.wishbone else { unreachable!("the inference writes edge counts") };
     let measured = |s: &mut String| {
         for k in ["access", "read-latency", "read", "write", "command", "busy-after-ack", "count-from", "strobe"] {

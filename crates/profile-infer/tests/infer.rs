@@ -108,11 +108,12 @@ fn our_rtl_gets_a_profile_with_the_verdicts_of_rtl_toml() {
     assert!(inf.deviations.is_empty(), "{:?}", inf.deviations);
     let p = &inf.profile;
     assert_eq!(p.phase_origin, cosim::PhaseOrigin::ResetModeExit);
+    assert!(!p.ts_clear_in_suspend, "rtl/ keeps SR.TS through suspend transmission");
     assert_eq!(p.ports, cosim::PortMap::default(), "can_top's names and polarities");
     let cosim::AccessTiming::CanEdges { write, .. } = p.wishbone else { panic!("edge counts") };
     assert_eq!(write, 4, "can_wb_cdc writes at the 4th CAN edge (rtl.toml)");
     // Every entry carries its evidence in the file.
-    for key in ["phase-origin", "sof", "status", "pins", "tx-edge", "command", "read", "ports"] {
+    for key in ["phase-origin", "sof", "status", "pins", "tx-edge", "command", "read", "ports", "ts-in-suspend"] {
         assert!(inf.evidence.iter().any(|e| e.key == key), "no evidence for {key}");
     }
     assert!(inf.toml.matches("# evidence: ").count() >= 8, "{}", inf.toml);
@@ -244,6 +245,7 @@ fn opencores_gets_a_profile_with_the_verdicts_of_its_shipped_one() {
     eprintln!("{}", inf.toml);
     assert!(inf.deviations.is_empty(), "{:?}", inf.deviations);
     assert_eq!(inf.profile.phase_origin, cosim::PhaseOrigin::HardwareReset);
+    assert!(inf.profile.ts_clear_in_suspend, "D3: the core's SR.TS reads 0 in suspend transmission");
     let run = |p: cosim::Profile| {
         let mut d = external(&dir, "can_top", p);
         d.name = "opencores-can".into();
