@@ -285,3 +285,24 @@ async def bus_strict_monitor_fails_the_test_at_a_violation(dut):
     await (regport_violations if dut._name == "can_regport" else motorola_violations)(dut)
     await ClockCycles(dut.clk_i, 10)
     raise AssertionError("no ProtocolViolation from the strict monitor")
+
+
+@cocotb.test()
+async def bus_monitor_names_a_configuration_the_pins_contradict(dut):
+    """can_regport: a monitor told the read data comes 4 clocks after the
+    strobe sees it come later; can_top_mcu: MODE high (Intel mode) during a
+    Motorola access."""
+    master_cls, monitor_cls, _ = bus_of(dut)
+    await clocks_and_reset(dut)
+    host = master_cls(dut)
+    if dut._name == "can_regport":
+        monitor = monitor_cls(dut, read_latency=4, strict=False)
+        want = "later than its read latency of 4"
+    else:
+        monitor = monitor_cls(dut, strict=False)
+        dut.mode_i.value = 1
+        want = "MODE is high (Intel mode)"
+    await release_reset(dut)
+    await host.read(2)
+    await ClockCycles(dut.clk_i, 20)
+    assert monitor.violations and want in monitor.violations[0], monitor.violations
