@@ -1,10 +1,11 @@
 //! The SystemVerilog examples under Verilator: `sv/examples/tb_can_top.sv`
 //! (Wishbone), `sv/examples/tb_can_apb.sv` (the scoreboard fed from the
-//! APB pins of rtl/can_apb) and `sv/examples/tb_can_regport.sv` (fed from
-//! the register-port pins of rtl/can_regport). Our rtl/ passes with the
-//! golden model as scoreboard; the DE2 thesis wiring (rx tied recessive)
-//! and a one-line mutant of rtl/ fail with the diagnosis. Builds six
-//! Verilator binaries (about half a minute each).
+//! APB pins of rtl/can_apb), `sv/examples/tb_can_regport.sv` (fed from
+//! the register-port pins of rtl/can_regport) and `sv/examples/tb_can_mcu.sv`
+//! (fed from the Motorola-mode pins of rtl/can_top_mcu). Our rtl/ passes
+//! with the golden model as scoreboard; the DE2 thesis wiring (rx tied
+//! recessive) and a one-line mutant of rtl/ fail with the diagnosis.
+//! Builds eight Verilator binaries (about half a minute each).
 
 use std::path::{Path, PathBuf};
 use std::process::Command;
@@ -169,4 +170,9 @@ fn the_sv_scoreboard_fed_from_apb_pins_passes_can_apb_and_diagnoses_a_mutant() {
 #[test]
 fn the_sv_scoreboard_fed_from_register_port_pins_passes_can_regport_and_diagnoses_a_mutant() {
     passes_rtl_and_diagnoses_the_mutant("tb_can_regport");
+}
+
+#[test]
+fn the_sv_scoreboard_fed_from_motorola_pins_passes_can_top_mcu_and_diagnoses_a_mutant() {
+    passes_rtl_and_diagnoses_the_mutant("tb_can_mcu");
 }
