@@ -33,6 +33,7 @@ except ImportError:  # cocotb 1.9
 
 from ._monitor import AccessMonitor
 from ._signals import bind, changed, level, resolved, stop_task, value
+from .axi4lite import _handle
 
 
 class MotorolaTiming(NamedTuple):
@@ -191,7 +192,7 @@ class MotorolaMonitor(AccessMonitor):
     ) -> None:
         self.log = logging.getLogger(f"cocotb.{dut._name}.motorolamonitor")
         self.bus = MotorolaBus(dut, prefix, names=names)
-        self.reset = (bind(dut, prefix, reset) if isinstance(reset, str) else reset) if reset else None
+        self.reset = _handle(dut, prefix, reset)
         self.reset_active_low = reset_active_low
         self.timing = timing
         self.write_at_e_fall = write_at_e_fall
