@@ -8,8 +8,10 @@
 # slaves (waitrequest, pipelined reads, fixed wait states: examples/
 # avalon_slaves.v), the benches of rtl/can_axi4lite and rtl/can_apb
 # (examples/test_can_amba.py: the scoreboard fed by the AXI4-Lite and APB
-# monitors, their protocol checks) and their mutants, and the package
-# README's example as written:
+# monitors, their protocol checks), the benches of rtl/can_regport and
+# rtl/can_top_mcu in Motorola mode (examples/test_can_regport_motorola.py:
+# the register-port and Motorola monitors) and their mutants, and the
+# package README's example as written:
 #   Icarus    with cocotb 2.x  (cocotb 2.x needs Verilator >= 5.036)
 #   Verilator with cocotb 1.9.2 (the newest cocotb that takes Debian's 5.006)
 # Each pair must pass on rtl/ and fail on the mutant with the diagnosis.
@@ -18,10 +20,11 @@
 #
 #   scripts/test-python.sh            # everything on both pairs
 #   scripts/test-python.sh --quick    # what scripts/test.sh runs: the same, but
-#                                     # the can_avalon, can_axi4lite and can_apb
-#                                     # benches, their mutants and the Avalon
-#                                     # agents on small slaves under Icarus only
-#                                     # (under Verilator: nine more builds)
+#                                     # the can_avalon, can_axi4lite, can_apb,
+#                                     # can_regport and can_top_mcu benches,
+#                                     # their mutants and the Avalon agents on
+#                                     # small slaves under Icarus only (under
+#                                     # Verilator: thirteen more builds)
 #   scripts/test-python.sh --bench    # also the benchmark: the example without
 #                                     # the scoreboard, and one test against
 #                                     # `cancosim run` of the same workload
@@ -114,7 +117,7 @@ run_pair() {
     cat "$work/mutant.log"; echo "test-python: $name: the mutant was not diagnosed" >&2; fail=1
   fi
   if [ "$quick" = 1 ] && [ "$sim" = verilator ]; then
-    echo "== $name: rtl/can_avalon, can_axi4lite, can_apb: under Icarus only in --quick (scripts/test-python.sh runs them here too) =="
+    echo "== $name: rtl/can_avalon, can_axi4lite, can_apb, can_regport, can_top_mcu: under Icarus only in --quick (scripts/test-python.sh runs them here too) =="
   else
     echo "== $name: rtl/can_avalon, the scoreboard fed by the Avalon-MM monitor (must pass) =="
     if "$py/bin/python" "$ex/run.py" --sim "$sim" --top can_avalon --build-dir "$work/avalon" > "$work/avalon.log" 2>&1; then
@@ -137,7 +140,9 @@ run_pair() {
         cat "$work/$t.log"; echo "test-python: $name: the Avalon agents FAILED on $t" >&2; fail=1
       fi
     done
-    for t in can_axi4lite can_apb; do
+    local st
+    for t in can_axi4lite can_apb can_regport can_top_mcu; do
+      case $t in can_axi4lite | can_apb) st=amba_self_test_frame ;; *) st=bus_self_test_frame ;; esac
       echo "== $name: rtl/$t, the scoreboard fed by its bus monitor (must pass) =="
       if "$py/bin/python" "$ex/run.py" --sim "$sim" --top "$t" --build-dir "$work/$t" > "$work/$t.log" 2>&1; then
         grep -E "TESTS=|run time" "$work/$t.log"
@@ -145,7 +150,7 @@ run_pair() {
         cat "$work/$t.log"; echo "test-python: $name FAILED on rtl/$t" >&2; fail=1
       fi
       echo "== $name: $t on the mutant (must fail with the diagnosis, the marker at the failing read) =="
-      if "$py/bin/python" "$ex/run.py" --sim "$sim" --top "$t" --mutant --tests amba_self_test_frame --build-dir "$work/$t-mutant" > "$work/$t-mutant.log" 2>&1; then
+      if "$py/bin/python" "$ex/run.py" --sim "$sim" --top "$t" --mutant --tests "$st" --build-dir "$work/$t-mutant" > "$work/$t-mutant.log" 2>&1; then
         grep -E "^(mutant caught|marker:|Figures)" "$work/$t-mutant.log"
       else
         cat "$work/$t-mutant.log"; echo "test-python: $name: the $t mutant was not diagnosed at its read" >&2; fail=1

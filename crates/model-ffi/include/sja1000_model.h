@@ -41,9 +41,9 @@ void sja1000_model_free(sja1000_model *m);
 /* The test's name, for the diagnosis's first line. */
 void sja1000_model_set_name(sja1000_model *m, const char *name);
 /* The host bus the accesses come through: "wishbone" (default), "avalon",
- * "pio", "axi4-lite" or "apb"; the model takes them at the CAN clock the
- * profile declares for that bus. 0, or -1 for an unknown name (the reason
- * in sja1000_model_last_error). */
+ * "pio", "axi4-lite", "apb", "regport" or "motorola"; the model takes them
+ * at the CAN clock the profile declares for that bus. 0, or -1 for an
+ * unknown name (the reason in sja1000_model_last_error). */
 int sja1000_model_set_host_bus(sja1000_model *m, const char *name);
 /* Hardware reset of the model (the DUT's reset input). */
 void sja1000_model_reset(sja1000_model *m);

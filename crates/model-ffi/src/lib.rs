@@ -29,7 +29,8 @@ mod shadow;
 pub use shadow::{DutPins, Shadow, ShadowError};
 
 /// The host bus named `name` as the benches name it (`"wishbone"`,
-/// `"avalon"`, `"pio"`, `"axi4-lite"`, `"apb"`; any case), for
+/// `"avalon"`, `"pio"`, `"axi4-lite"`, `"apb"`, `"regport"`, `"motorola"`;
+/// any case), for
 /// [`Shadow::set_host_bus`].
 pub fn host_bus_named(name: &str) -> Option<diagnose::HostBus> {
     use diagnose::HostBus;
@@ -39,12 +40,15 @@ pub fn host_bus_named(name: &str) -> Option<diagnose::HostBus> {
         "pio" => HostBus::Pio,
         "axi4-lite" | "axi4lite" => HostBus::Axi4Lite,
         "apb" => HostBus::Apb,
+        "regport" => HostBus::Regport,
+        "motorola" => HostBus::Motorola,
         _ => return None,
     })
 }
 
 /// The names [`host_bus_named`] takes, for a message.
-pub const HOST_BUS_NAMES: &str = "\"wishbone\", \"avalon\", \"pio\", \"axi4-lite\" or \"apb\"";
+pub const HOST_BUS_NAMES: &str =
+    "\"wishbone\", \"avalon\", \"pio\", \"axi4-lite\", \"apb\", \"regport\" or \"motorola\"";
 
 use std::cell::RefCell;
 use std::ffi::{CStr, CString, c_char, c_double, c_int};
@@ -148,9 +152,10 @@ pub unsafe extern "C" fn sja1000_model_set_name(m: *mut Sja1000Model, name: *con
 }
 
 /// The host bus the accesses come through: "wishbone" (default), "avalon",
-/// "pio", "axi4-lite" or "apb"; the model takes them at the CAN clock the
-/// profile declares for that bus. 0, or -1 for an unknown name (the
-/// reason in `sja1000_model_last_error`) or a NULL argument.
+/// "pio", "axi4-lite", "apb", "regport" or "motorola"; the model takes them
+/// at the CAN clock the profile declares for that bus. 0, or -1 for an
+/// unknown name (the reason in `sja1000_model_last_error`) or a NULL
+/// argument.
 ///
 /// # Safety
 /// `m` is NULL or a live handle from `sja1000_model_new`; `name` is NULL or a NUL-terminated string.

@@ -78,8 +78,8 @@ pub struct Shadow {
     cmp: Comparator,
     timing: AccessTiming,
     /// The profile's access timing per host bus (Wishbone, Avalon-MM, PIO,
-    /// AXI4-Lite, APB), and the bus in use.
-    access: [AccessTiming; 5],
+    /// AXI4-Lite, APB, register port, 8051, Motorola), and the bus in use.
+    access: [AccessTiming; 8],
     host_bus: HostBus,
     profile_name: String,
     tolerances: String,
@@ -141,6 +141,13 @@ impl Shadow {
             btr0: 0,
             btr1: 0,
         };
+        // As `cosim`'s reference takes them: a profile without
+        // `[access.i8051]` acts at the first CAN edge of the strobe.
+        let i8051 = p.i8051.unwrap_or(AccessTiming::CanEdges {
+            read: 1,
+            write: 1,
+            command: 1,
+        });
         let mut record = RunRecord::new("bench", &p.name).with_timing(timing);
         record.host_bus = HostBus::Wishbone;
         Ok(Shadow {
@@ -153,6 +160,9 @@ impl Shadow {
                 p.pio,
                 p.axi4lite.unwrap_or(p.wishbone),
                 p.apb.unwrap_or(p.wishbone),
+                p.regport.timing.unwrap_or(p.wishbone),
+                i8051,
+                p.motorola.timing.unwrap_or(i8051),
             ],
             host_bus: HostBus::Wishbone,
             profile_name: p.name.clone(),
@@ -189,6 +199,9 @@ impl Shadow {
         p.pio = AccessTiming::AtAck;
         p.axi4lite = Some(AccessTiming::AtAck);
         p.apb = Some(AccessTiming::AtAck);
+        p.i8051 = Some(AccessTiming::AtAck);
+        p.regport.timing = Some(AccessTiming::AtAck);
+        p.motorola.timing = Some(AccessTiming::AtAck);
         p.phase_origin = PhaseOrigin::ResetModeExit;
         Shadow::with_profile(&p, can_hz)
     }
@@ -198,27 +211,28 @@ impl Shadow {
         self.record.scenario = name.to_string();
     }
 
-    /// The host bus the bench's accesses come through (Wishbone, Avalon-MM,
-    /// PIO, AXI4-Lite or APB; default Wishbone): the model takes them at the
-    /// CAN clock the profile declares for that bus (`[access.avalon]`,
-    /// `[access.axi4-lite]`, `[access.apb]`...; AXI4-Lite and APB without
-    /// one: as Wishbone), and the run record names the bus. The 8051,
-    /// Motorola and register-port buses have no timing of their own here:
-    /// they keep the Wishbone timing.
+    /// The host bus the bench's accesses come through (default Wishbone):
+    /// the model takes them at the CAN clock the profile declares for that
+    /// bus (`[access.avalon]`, `[access.axi4-lite]`, `[access.apb]`,
+    /// `[access.regport]`...), and the run record names the bus. AXI4-Lite,
+    /// APB and the register port without one: as Wishbone (our wrappers
+    /// are `can_top` behind a combinational request); Motorola without
+    /// `[access.motorola]`: as the 8051 bus (`can_top_mcu` decodes it into
+    /// the 8051 strobes; its bench requests a read at E rising, a write at
+    /// E falling, as our RTL takes them).
     pub fn set_host_bus(&mut self, bus: HostBus) {
         self.host_bus = bus;
         self.record.host_bus = bus;
-        self.timing = match bus {
-            HostBus::Avalon => self.access[1],
-            HostBus::Pio => self.access[2],
-            HostBus::Axi4Lite => self.access[3],
-            HostBus::Apb => self.access[4],
-            // Their wrappers are can_top behind a request of that bus: its
-            // Wishbone timing.
-            HostBus::Wishbone | HostBus::I8051 | HostBus::Motorola | HostBus::Regport => {
-                self.access[0]
-            }
-        };
+        self.timing = self.access[match bus {
+            HostBus::Wishbone => 0,
+            HostBus::Avalon => 1,
+            HostBus::Pio => 2,
+            HostBus::Axi4Lite => 3,
+            HostBus::Apb => 4,
+            HostBus::Regport => 5,
+            HostBus::I8051 => 6,
+            HostBus::Motorola => 7,
+        }];
     }
 
     /// The host bus set by [`Shadow::set_host_bus`].

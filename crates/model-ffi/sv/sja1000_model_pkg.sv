@@ -55,7 +55,8 @@ package sja1000_model_pkg;
     endfunction
 
     // The host bus the accesses come through: "wishbone" (default),
-    // "avalon", "pio", "axi4-lite" or "apb"; the profile's timing for it.
+    // "avalon", "pio", "axi4-lite", "apb", "regport" or "motorola"; the
+    // profile's timing for it.
     function void set_host_bus(string name);
       if (sja1000_model_set_host_bus(h, name) != 0)
         $fatal(1, "sja1000_model_set_host_bus: %s", sja1000_model_last_error());

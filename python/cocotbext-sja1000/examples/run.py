@@ -1,18 +1,21 @@
 """Runs the cocotb bench of rtl/can_top (examples/test_can_top.py), of
-rtl/can_avalon (examples/test_can_avalon.py, ``--top can_avalon``) or of
+rtl/can_avalon (examples/test_can_avalon.py, ``--top can_avalon``), of
 rtl/can_axi4lite and rtl/can_apb (examples/test_can_amba.py, ``--top
-can_axi4lite``, ``--top can_apb``).
+can_axi4lite``, ``--top can_apb``) or of rtl/can_regport and
+rtl/can_top_mcu in Motorola mode (examples/test_can_regport_motorola.py,
+``--top can_regport``, ``--top can_top_mcu``).
 
     python run.py --sim icarus                       # our rtl/: every test passes
     python run.py --sim icarus --mutant              # a one-line mutant: must fail with the diagnosis
     python run.py --sim icarus --no-scoreboard       # the same bench without the scoreboard
     python run.py --sim icarus --top can_avalon [--mutant]
     python run.py --sim icarus --top can_apb [--mutant]   # also can_axi4lite
+    python run.py --sim icarus --top can_top_mcu [--mutant]   # also can_regport
     python run.py --sim icarus --readme              # the package README's example, as written
     python run.py --sim icarus --top av_slave_pipe   # the Avalon agents on a small slave
                                                      # (also av_slave_wait, av_slave_fixed)
 
-With ``--mutant`` on can_avalon, can_axi4lite or can_apb the scoreboard's
+With ``--mutant`` on any top but can_top the scoreboard's
 divergence marker (``<test>.markers.vcd`` and ``<test>.gtkw``) must also
 sit at the failing SR read: within one CAN clock before the simulator time
 at which the bench's own bus monitor saw that read complete.
@@ -69,6 +72,8 @@ MUTANT_TEST = {
     "can_avalon": "avalon_self_test_frame",
     "can_axi4lite": "amba_self_test_frame",
     "can_apb": "amba_self_test_frame",
+    "can_regport": "bus_self_test_frame",
+    "can_top_mcu": "bus_self_test_frame",
 }
 CAN_PERIOD_PS = 41_666
 
@@ -123,7 +128,7 @@ def main() -> int:
     ap = argparse.ArgumentParser()
     ap.add_argument("--sim", default="icarus", choices=["icarus", "verilator"])
     ap.add_argument("--top", default="can_top",
-                    choices=["can_top", "can_avalon", "can_axi4lite", "can_apb",
+                    choices=["can_top", "can_avalon", "can_axi4lite", "can_apb", "can_regport", "can_top_mcu",
                              "av_slave_wait", "av_slave_pipe", "av_slave_fixed"])
     ap.add_argument("--mutant", action="store_true")
     ap.add_argument("--no-scoreboard", action="store_true")
@@ -140,7 +145,9 @@ def main() -> int:
     runner = get_runner(a.sim)
     top = a.top
     module = {"can_top": "test_can_top", "can_avalon": "test_can_avalon",
-              "can_axi4lite": "test_can_amba", "can_apb": "test_can_amba"}.get(top, "test_avalon_agents")
+              "can_axi4lite": "test_can_amba", "can_apb": "test_can_amba",
+              "can_regport": "test_can_regport_motorola",
+              "can_top_mcu": "test_can_regport_motorola"}.get(top, "test_avalon_agents")
     test_dir = HERE
     build_dir = work / f"build-{top}-{a.sim}{'-mutant' if a.mutant else ''}"
     if a.readme:

@@ -105,8 +105,8 @@ impl Model {
     }
 
     /// The host bus the accesses come through: "wishbone" (default),
-    /// "avalon", "pio", "axi4-lite" or "apb"; the model takes them at the
-    /// CAN clock the profile declares for that bus.
+    /// "avalon", "pio", "axi4-lite", "apb", "regport" or "motorola"; the
+    /// model takes them at the CAN clock the profile declares for that bus.
     fn set_host_bus(&mut self, bus: &str) -> PyResult<()> {
         let Some(b) = sja1000_model::host_bus_named(bus) else {
             return Err(PyValueError::new_err(format!(

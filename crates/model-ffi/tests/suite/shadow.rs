@@ -388,12 +388,66 @@ fn axi4_lite_and_apb_accesses_take_their_profile_timing_or_else_wishbone_s() {
 }
 
 #[test]
+fn register_port_and_motorola_accesses_take_their_profile_timing_or_their_fallback() {
+    let mut p = cosim::Profile::rtl();
+    p.wishbone = cosim::AccessTiming::CanEdges {
+        read: 3,
+        write: 4,
+        command: 4,
+    };
+    p.i8051 = Some(cosim::AccessTiming::CanEdges {
+        read: 8,
+        write: 9,
+        command: 9,
+    });
+    p.regport.timing = None;
+    p.motorola.timing = None;
+    // Without [access.regport] / [access.motorola]: Wishbone's and the 8051 bus's.
+    let mut shadow = Shadow::with_profile(&p, 24e6).unwrap();
+    assert_eq!(
+        edges_to_take_a_write(&mut shadow, diagnose::HostBus::Regport),
+        4
+    );
+    assert_eq!(
+        edges_to_take_a_write(&mut shadow, diagnose::HostBus::Motorola),
+        9
+    );
+    p.regport.timing = Some(cosim::AccessTiming::CanEdges {
+        read: 2,
+        write: 5,
+        command: 5,
+    });
+    p.motorola.timing = Some(cosim::AccessTiming::CanEdges {
+        read: 2,
+        write: 3,
+        command: 3,
+    });
+    let mut shadow = Shadow::with_profile(&p, 24e6).unwrap();
+    assert_eq!(
+        edges_to_take_a_write(&mut shadow, diagnose::HostBus::Regport),
+        5
+    );
+    assert_eq!(
+        edges_to_take_a_write(&mut shadow, diagnose::HostBus::Motorola),
+        3
+    );
+    assert_eq!(shadow.record().host_bus, diagnose::HostBus::Motorola);
+}
+
+#[test]
 fn the_c_abi_sets_the_host_bus_by_name_and_refuses_an_unknown_one() {
     // SAFETY: the handle comes from sja1000_model_new and is freed once; strings are NUL-terminated.
     unsafe {
         let m = sja1000_model_new(std::ptr::null(), 24e6);
         assert!(!m.is_null());
-        for name in ["axi4-lite", "APB", "avalon", "wishbone"] {
+        for name in [
+            "axi4-lite",
+            "APB",
+            "avalon",
+            "regport",
+            "Motorola",
+            "wishbone",
+        ] {
             let n = CString::new(name).unwrap();
             assert_eq!(sja1000_model_set_host_bus(m, n.as_ptr()), 0, "{name}");
         }

@@ -1,9 +1,11 @@
 //! The SystemVerilog examples under Verilator: `sv/examples/tb_can_top.sv`
-//! (Wishbone) and `sv/examples/tb_can_apb.sv` (the scoreboard fed from the
-//! APB pins of rtl/can_apb). Our rtl/ passes with the golden model as
-//! scoreboard; the DE2 thesis wiring (rx tied recessive) and a one-line
-//! mutant of rtl/ fail with the diagnosis. Builds four Verilator binaries
-//! (about half a minute each).
+//! (Wishbone), `sv/examples/tb_can_apb.sv` (the scoreboard fed from the
+//! APB pins of rtl/can_apb), `sv/examples/tb_can_regport.sv` (fed from
+//! the register-port pins of rtl/can_regport) and `sv/examples/tb_can_mcu.sv`
+//! (fed from the Motorola-mode pins of rtl/can_top_mcu). Our rtl/ passes
+//! with the golden model as scoreboard; the DE2 thesis wiring (rx tied
+//! recessive) and a one-line mutant of rtl/ fail with the diagnosis.
+//! Builds eight Verilator binaries (about half a minute each).
 
 use std::path::{Path, PathBuf};
 use std::process::Command;
@@ -141,14 +143,14 @@ fn the_sv_scoreboard_passes_our_rtl_and_diagnoses_the_thesis_wiring_and_a_mutant
     );
 }
 
-#[test]
-fn the_sv_scoreboard_fed_from_apb_pins_passes_can_apb_and_diagnoses_a_mutant() {
+/// `top` passes on rtl/ and fails on the one-line mutant with the diagnosis.
+fn passes_rtl_and_diagnoses_the_mutant(top: &str) {
     let work = tempfile::tempdir().unwrap();
-    let bin = build("tb_can_apb", &root().join("rtl"), &work.path().join("rtl"));
+    let bin = build(top, &root().join("rtl"), &work.path().join("rtl"));
     let (ok, text) = run(&bin, &[]);
     assert!(ok && text.contains("SCOREBOARD PASS"), "{text}");
     let mutant = mutant_rtl(work.path());
-    let bin = build("tb_can_apb", &mutant, &work.path().join("mutant"));
+    let bin = build(top, &mutant, &work.path().join("mutant"));
     let (ok, text) = run(&bin, &[]);
     assert!(!ok, "{text}");
     assert!(
@@ -158,4 +160,19 @@ fn the_sv_scoreboard_fed_from_apb_pins_passes_can_apb_and_diagnoses_a_mutant() {
             && text.contains("TCS"),
         "{text}"
     );
+}
+
+#[test]
+fn the_sv_scoreboard_fed_from_apb_pins_passes_can_apb_and_diagnoses_a_mutant() {
+    passes_rtl_and_diagnoses_the_mutant("tb_can_apb");
+}
+
+#[test]
+fn the_sv_scoreboard_fed_from_register_port_pins_passes_can_regport_and_diagnoses_a_mutant() {
+    passes_rtl_and_diagnoses_the_mutant("tb_can_regport");
+}
+
+#[test]
+fn the_sv_scoreboard_fed_from_motorola_pins_passes_can_top_mcu_and_diagnoses_a_mutant() {
+    passes_rtl_and_diagnoses_the_mutant("tb_can_mcu");
 }

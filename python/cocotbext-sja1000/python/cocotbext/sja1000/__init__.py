@@ -21,6 +21,12 @@ diagnoser's text.
   (32-bit data, register n at byte n * stride); the monitors feed the
   scoreboard and flag the protocol violations they see
   (:class:`ProtocolViolation`).
+- :class:`RegportMaster`, :class:`RegportMonitor`: a plain register port
+  (read and write strobes, no acknowledge, read data a fixed number of
+  clocks after the strobe); :class:`MotorolaMaster`,
+  :class:`MotorolaMonitor`: the SJA1000's Motorola mode (AS, E, R/W, CS,
+  multiplexed AD, phases in ns). Their monitors feed the scoreboard and
+  flag violations the same way.
 """
 
 from ._monitor import ProtocolViolation
@@ -31,6 +37,8 @@ from .axi4lite import Axi4LiteAccess, Axi4LiteBus, Axi4LiteMaster, Axi4LiteMonit
 from .bus import CanBus, CanNode
 from .frame import CanFrame
 from .monitor import CanMonitor, BusEvent
+from .motorola import MotorolaAccess, MotorolaBus, MotorolaMaster, MotorolaMonitor, MotorolaTiming
+from .regport import RegportAccess, RegportBus, RegportMaster, RegportMonitor
 from .scoreboard import HostAccess, HostMonitor, Sja1000Mismatch, Sja1000Scoreboard
 from .wishbone import WishboneMaster, WishboneMonitor, WishboneAccess
 
@@ -56,8 +64,17 @@ __all__ = [
     "HostAccess",
     "HostMonitor",
     "Model",
+    "MotorolaAccess",
+    "MotorolaBus",
+    "MotorolaMaster",
+    "MotorolaMonitor",
+    "MotorolaTiming",
     "Node",
     "ProtocolViolation",
+    "RegportAccess",
+    "RegportBus",
+    "RegportMaster",
+    "RegportMonitor",
     "Sja1000Mismatch",
     "Sja1000Scoreboard",
     "WishboneAccess",

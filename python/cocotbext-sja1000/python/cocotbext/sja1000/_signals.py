@@ -37,3 +37,23 @@ def stop_task(task: Any) -> None:
         task.cancel()
     else:
         task.kill()
+
+
+def resolved(sig: Any) -> bool:
+    """The signal has no X or Z bit."""
+    try:
+        int(sig.value)
+        return True
+    except ValueError:
+        return False
+
+
+def changed(sig: Any) -> Any:
+    """A trigger on any change of ``sig`` (``value_change`` in cocotb 2.x,
+    ``Edge`` in 1.9)."""
+    vc = getattr(sig, "value_change", None)
+    if vc is not None:
+        return vc
+    from cocotb.triggers import Edge
+
+    return Edge(sig)

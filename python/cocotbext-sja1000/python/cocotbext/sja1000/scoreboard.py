@@ -19,8 +19,10 @@ from .wishbone import WishboneMonitor
 
 class HostAccess(Protocol):
     """What a host-bus monitor hands its callbacks (:class:`WishboneAccess`,
-    :class:`AvalonAccess`, :class:`Axi4LiteAccess`, :class:`ApbAccess`): at the launch (``launch`` True, ``data`` = write
-    data) and at the completion (``data`` = read data) of each access."""
+    :class:`AvalonAccess`, :class:`Axi4LiteAccess`, :class:`ApbAccess`,
+    :class:`RegportAccess`, :class:`MotorolaAccess`): at the launch
+    (``launch`` True, ``data`` = write data) and at the completion
+    (``data`` = read data) of each access."""
 
     write: bool
     addr: int
@@ -31,9 +33,11 @@ class HostAccess(Protocol):
 class HostMonitor(Protocol):
     """A host-bus monitor the scoreboard can listen to
     (:class:`WishboneMonitor`, :class:`AvalonMonitor`,
-    :class:`Axi4LiteMonitor`, :class:`ApbMonitor`, or your own):
+    :class:`Axi4LiteMonitor`, :class:`ApbMonitor`,
+    :class:`RegportMonitor`, :class:`MotorolaMonitor`, or your own):
     ``host_bus`` names the profile's timing (``"wishbone"``, ``"avalon"``,
-    ``"pio"``, ``"axi4-lite"``, ``"apb"``)."""
+    ``"pio"``, ``"axi4-lite"``, ``"apb"``, ``"regport"``,
+    ``"motorola"``)."""
 
     host_bus: str
 
@@ -55,10 +59,13 @@ class Sja1000Scoreboard:
 
     - a :class:`WishboneMonitor` on ``dut.<wb_prefix>*`` (the default);
     - ``monitor=``: a host-bus monitor made by the bench, such as
-      :class:`AvalonMonitor`, :class:`Axi4LiteMonitor` or
-      :class:`ApbMonitor` (its ``host_bus`` chooses the profile's access
-      timing, ``[access.avalon]``, ``[access.axi4-lite]``,
-      ``[access.apb]``; the last two fall back to the Wishbone timing);
+      :class:`AvalonMonitor`, :class:`Axi4LiteMonitor`,
+      :class:`ApbMonitor`, :class:`RegportMonitor` or
+      :class:`MotorolaMonitor` (its ``host_bus`` chooses the profile's
+      access timing, ``[access.avalon]``, ``[access.axi4-lite]``,
+      ``[access.apb]``, ``[access.regport]``, ``[access.motorola]``;
+      without one, AXI4-Lite, APB and the register port take the Wishbone
+      timing, Motorola the 8051 bus's);
       ``wb_prefix`` is then not used;
     - ``wb_prefix=None`` and calls to :meth:`request` / :meth:`read_data`
       from a monitor of any bus (a processor model...).
