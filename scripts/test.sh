@@ -24,9 +24,15 @@ if [ "$fresh" = 1 ]; then
   export COSIM_CACHE_DIR="$cold/cosim-cache" TMPDIR="$cold/tmp"
   echo "test: empty build caches in $cold (removed at exit; COSIM_FRESH_CACHES=0 keeps the warm ones)"
 fi
-echo "== RTL self-checks (Icarus) =="
+# Each phase says how long it took, so a slow phase is seen, not guessed.
+phase() { echo "== $1 =="; t0=$SECONDS; }
+took() { echo "-- $1: $((SECONDS - t0)) s"; }
+phase "RTL self-checks (Icarus)"
 sh tb/rtl/run.sh
-echo "== Rust workspace tests =="
+took "RTL self-checks"
+phase "Rust workspace tests"
 cargo test --workspace --release "$@"
-echo "== cocotb benches of rtl/ with the model as scoreboard (Python wheel) =="
+took "Rust workspace tests (build included)"
+phase "cocotb benches of rtl/ with the model as scoreboard (Python wheel)"
 bash scripts/test-python.sh --quick
+took "cocotb benches"

@@ -74,11 +74,11 @@ fn verdicts_on(dut: &DutSpec, host: HostBfm) -> Vec<(String, bool)> {
 
 /// Infers the fork top `top` through `host` and checks it against the
 /// hand-written `profile`: the same port map (bus roles with their
-/// polarities and the CAN-side roles), the measured timing in that bus's
-/// entry, and the main-list verdicts on that host: every scenario passes
-/// under the inferred profile, and under the hand-written one all but
-/// `hand_fails`.
-fn fork_against_its_profile(top: &str, profile: &str, host: HostBfm, hand_fails: &[&str]) -> profile_infer::Inference {
+/// polarities and the CAN-side roles), the same timing where the
+/// hand-written file states one (so its verdicts are the inferred one's),
+/// and the main-list verdicts on that host: every scenario passes under the
+/// inferred profile.
+fn fork_against_its_profile(top: &str, profile: &str, host: HostBfm) -> profile_infer::Inference {
     let d = fork_dir(top);
     let inf = infer(&InferOptions { host, ..opts(&d, top) }).unwrap();
     assert!(inf.deviations.is_empty(), "{:?}\n{}", inf.deviations, inf.toml);
@@ -92,12 +92,15 @@ fn fork_against_its_profile(top: &str, profile: &str, host: HostBfm, hand_fails:
     };
     assert!(inf.toml.contains(&format!("[access.{key}]\ntakes-effect = \"can-edges\"")), "{}", inf.toml);
     assert!(inf.toml.contains(&format!("[ports.{key}]")), "{}", inf.toml);
+    // The hand-written entry, where there is one, is what was measured.
+    match host {
+        HostBfm::Motorola if hand.motorola.timing.is_some() => assert_eq!(inf.profile.motorola.timing, hand.motorola.timing, "{top}: [access.motorola] differs from {profile}.toml\n{}", inf.toml),
+        HostBfm::Regport if hand.regport.read_latency.is_some() => assert_eq!(inf.profile.regport.read_latency, hand.regport.read_latency, "{top}: read-latency differs from {profile}.toml\n{}", inf.toml),
+        _ => {}
+    }
     let inferred = verdicts_on(&external(&d, top, inf.profile.clone()), host);
-    let shipped = verdicts_on(&external(&d, top, hand), host);
     assert!(inferred.iter().all(|v| v.1), "{top}: the fork is our RTL behind a wrapper, correct everywhere: {inferred:?}");
-    let failed: Vec<&str> = shipped.iter().filter(|v| !v.1).map(|v| v.0.as_str()).collect();
-    assert_eq!(failed, hand_fails, "{top}: {profile}.toml's verdicts on the main list");
-    assert_eq!(inferred.len(), shipped.len());
+    assert!(inferred.len() >= 20, "the main list ran: {inferred:?}");
     inf
 }
 
@@ -155,7 +158,7 @@ fn a_late_interrupt_is_reported_as_a_deviation_not_profiled() {
 
 #[test]
 fn an_axi4_lite_fork_gets_its_hand_written_ports_and_verdicts() {
-    let inf = fork_against_its_profile("fork_axi", "axi4-lite", HostBfm::Axi4Lite, &[]);
+    let inf = fork_against_its_profile("fork_axi", "axi4-lite", HostBfm::Axi4Lite);
     let Some(cosim::AccessTiming::CanEdges { write, .. }) = inf.profile.axi4lite else { panic!("edge counts in [access.axi4-lite]") };
     assert_eq!(write, 4, "can_axi4lite is can_top behind a combinational request: its 4th CAN edge");
     assert_eq!(inf.profile.wishbone, cosim::AccessTiming::AtAck, "no Wishbone port: not measured");
@@ -163,13 +166,13 @@ fn an_axi4_lite_fork_gets_its_hand_written_ports_and_verdicts() {
 
 #[test]
 fn an_apb3_fork_gets_its_hand_written_ports_and_verdicts() {
-    let inf = fork_against_its_profile("fork_apb", "apb", HostBfm::Apb3, &[]);
+    let inf = fork_against_its_profile("fork_apb", "apb", HostBfm::Apb3);
     assert!(matches!(inf.profile.apb, Some(cosim::AccessTiming::CanEdges { write: 4, .. })), "{:?}", inf.profile.apb);
 }
 
 #[test]
 fn a_register_port_fork_gets_its_read_latency_measured() {
-    let inf = fork_against_its_profile("fork_regport", "regport", HostBfm::Regport, &[]);
+    let inf = fork_against_its_profile("fork_regport", "regport", HostBfm::Regport);
     // Its delay line answers 8 clocks after can_regport's 14: one less and
     // the port's monitor sees the data change after the master sampled it.
     assert_eq!(inf.profile.regport.read_latency, Some(22), "{}", inf.toml);
@@ -182,8 +185,7 @@ fn a_register_port_fork_gets_its_read_latency_measured() {
 fn a_motorola_fork_gets_its_hand_written_ports_and_verdicts() {
     // motorola.toml counts from the edge raising E, as the reference does
     // for an external core; a write lands after E falls.
-    let hand_fails: [&str; 0] = [];
-    let inf = fork_against_its_profile("fork_mcu", "motorola", HostBfm::Motorola, &hand_fails);
+    let inf = fork_against_its_profile("fork_mcu", "motorola", HostBfm::Motorola);
     let Some(cosim::AccessTiming::CanEdges { write, command, .. }) = inf.profile.motorola.timing else { panic!("edge counts in [access.motorola]") };
     assert!(write > profile_infer::MOTOROLA_E_WRITE && command >= write, "a write is taken after E falls: {write}/{command}");
 }

@@ -706,8 +706,11 @@ pub(crate) struct RawWaiver {
     #[serde(default)]
     #[schemars(with = "Vec<String>")]
     pub revisions: Vec<RevRange>,
-    /// tx-bit, irq, bus-off: the CAN fields the model was in (`can_proto::Field` names,
-    /// `"ActiveErrorFlag"`). Default: any field.
+    /// The CAN fields (`can_proto::Field` names, `"ActiveErrorFlag"`): the model's at
+    /// the difference for tx-bit, irq and bus-off; for register-read the field on the
+    /// bus, as the bus decoder labels it, when the read was made (a bound on where a
+    /// deviation shows that does not depend on how often the host reads). Default:
+    /// any field.
     #[serde(default)]
     #[schemars(with = "Option<Vec<String>>")]
     pub fields: Option<Spanned<Vec<FieldName>>>,

@@ -392,7 +392,7 @@ impl Waiver {
         None
     }
 
-    /// Same field (tx-bit) and register as `d`, where the waiver names them.
+    /// Same field and register as `d`, where the waiver names them.
     fn same_place(&self, d: &Divergence) -> bool {
         (self.fields.is_empty() || d.field.is_some_and(|f| self.fields.contains(&f)))
             && self.register.as_ref().is_none_or(|r| d.register.as_deref().is_some_and(|x| x.eq_ignore_ascii_case(r)))
@@ -844,16 +844,6 @@ fn validate(name: &str, src: &str, w: RawWaiver) -> Result<Waiver, WaiverError> 
         return Err(invalid(name, at(w.dut.span()), "dut", format!("waiver `{id}` names no DUT")));
     }
     let kind = w.kind.kind();
-    if let Some(f) = &w.fields
-        && w.kind == KindName::RegisterRead
-    {
-        return Err(invalid(
-            name,
-            at(f.span()),
-            "fields",
-            format!("`fields` is for kinds tx-bit, irq and bus-off, not {}", w.kind.as_str()),
-        ));
-    }
     if let Some(r) = &w.register
         && w.kind != KindName::RegisterRead
     {

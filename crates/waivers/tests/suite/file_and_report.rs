@@ -403,7 +403,7 @@ fn several_files_load_into_one_set_and_ids_stay_unique() {
 
 /// Every entry of the shipped upstream file is bounded by a count or by a
 /// bound that follows the run whatever the host's pace (after an abort,
-/// until a read, at most N bits per episode),
+/// until a read, at most N bits per episode, at most so late),
 /// names its row in docs/opencores-deviations.md (or is one of the two
 /// original TEC entries), is for the upstream core only, and the row exists in the doc.
 #[test]
@@ -414,7 +414,7 @@ fn every_shipped_upstream_waiver_is_bounded_documented_and_for_upstream_only() {
     assert!(set.waivers().len() >= 15, "one entry per deviation");
     for w in set.waivers() {
         assert!(
-            w.max_hits.is_some() || w.after_abort || w.until_read.is_some() || w.late_bits.is_some(),
+            w.max_hits.is_some() || w.after_abort || w.until_read.is_some() || w.late_bits.is_some() || w.late_by.is_some(),
             "{}: every waiver has max-hits or a bound that follows the run",
             w.id
         );
@@ -462,9 +462,11 @@ fn bus_off_and_self_reception_waivers_catch_the_rest() {
     assert_eq!(by(&set.check_observed(&read_div("IR", 0x00, 0x04), &dut, &operating)), Some(d10f));
     // D1 with self reception: RBS late with TS = 1, RS = 0 on both.
     let d1s = "rbs-late-at-eof-self-reception".to_string();
-    assert_ne!(by(&set.check(&read_div("SR", 0x2D, 0x28), &dut)), Some(d1s.clone()), "TBS differs too");
-    assert_ne!(by(&set.check(&read_div("SR", 0x0D, 0x0C), &dut)), Some(d1s.clone()), "not transmitting");
-    assert_eq!(by(&set.check(&read_div("SR", 0x2D, 0x2C), &dut)), Some(d1s));
+    let eof = |e, s| Divergence { field: Some(can_proto::Field::Eof), ..read_div("SR", e, s) };
+    assert_ne!(by(&set.check(&eof(0x2D, 0x28), &dut)), Some(d1s.clone()), "TBS differs too");
+    assert_ne!(by(&set.check(&eof(0x0D, 0x0C), &dut)), Some(d1s.clone()), "not transmitting");
+    assert_ne!(by(&set.check(&read_div("SR", 0x2D, 0x2C), &dut)), Some(d1s.clone()), "not in EOF");
+    assert_eq!(by(&set.check(&eof(0x2D, 0x2C), &dut)), Some(d1s));
     assert!(!set.get("rbs-late-at-eof-self-reception").unwrap().applies_to(&DutInfo::new("rtl")));
     // D10d in BasicCAN: RS without TS at bus-off, twice at most; RS with TS,
     // RS while on the bus, or another bit too are still failures.
