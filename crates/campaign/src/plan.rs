@@ -465,6 +465,15 @@ pub fn draw(seed: u64, index: u64, lim: &DrawLimits) -> Plan {
         }
         program = spaced;
     }
+    if lim.avoids("self-reception-retransmitted") {
+        for op in &mut program {
+            if let HostOp::Transmit { command, .. } = op
+                && *command & 0x10 != 0
+            {
+                *command |= 0x02; // single shot: a failed attempt is not repeated
+            }
+        }
+    }
     // The tail's abort stays (it ends what is still pending before the final drain).
     let tail = tail_start(&program).unwrap_or(program.len());
     for op in &mut program[..tail] {
@@ -475,6 +484,10 @@ pub fn draw(seed: u64, index: u64, lim: &DrawLimits) -> Plan {
             _ => {}
         }
     }
+    // With `error-in-received-data` avoided a fault moves into the first 19
+    // wire bits (SOF, identifier, control of a standard frame): the error it
+    // causes is flagged before a receiver has completed a data byte.
+    let fault_bit = |b: u32| if lim.avoids("error-in-received-data") { b % FIRST_DATA_BIT } else { b };
     let faults = (0..frames_n as u32 + 2)
         .filter_map(|i| {
             if !r.random_bool(lim.fault_rate) {
@@ -487,7 +500,7 @@ pub fn draw(seed: u64, index: u64, lim: &DrawLimits) -> Plan {
             };
             Some(PlanFault {
                 frame: i + 1,
-                bit: r.random_range(0..130u32),
+                bit: fault_bit(r.random_range(0..130u32)),
                 what,
                 // A placed glitch is counted on the DUT's bit grid, so it hits the DUT's rx only.
                 place: if matches!(what, FaultWhat::Glitch { .. }) || r.random_bool(0.3) { FaultPlace::DutRx } else { FaultPlace::Bus },
@@ -496,6 +509,10 @@ pub fn draw(seed: u64, index: u64, lim: &DrawLimits) -> Plan {
         .collect();
     Plan { seed, index, config, nodes, program, faults }
 }
+
+/// The wire bit of a standard frame's first data bit (SOF, 11 identifier
+/// bits, RTR, IDE, r0 and 4 DLC bits before it, stuff bits not counted).
+pub const FIRST_DATA_BIT: u32 = 19;
 
 /// CAN clocks a glitch keeps from each of the DUT's sample points: where an
 /// implementation samples within a few clocks of it (input synchronisers)
@@ -750,6 +767,22 @@ mod tests {
                 }
             }
             assert_eq!((p.config.clone(), p.faults.clone()), (q.config.clone(), q.faults.clone()), "run {i}");
+            let once = draw(11, i, &DrawLimits { avoid: vec!["self-reception-retransmitted".into()], ..DrawLimits::default() });
+            assert_eq!(p.program.len(), once.program.len(), "run {i}");
+            for (a, b) in p.program.iter().zip(&once.program) {
+                match (a, b) {
+                    (HostOp::Transmit { command: x, frame: f }, HostOp::Transmit { command: y, frame: g }) => {
+                        assert_eq!(f, g, "run {i}");
+                        assert_eq!(*y, if x & 0x10 != 0 { x | 0x02 } else { *x }, "run {i}: self reception made single shot, nothing else");
+                    }
+                    _ => assert_eq!(a, b, "run {i}"),
+                }
+            }
+            let early = draw(11, i, &DrawLimits { avoid: vec!["error-in-received-data".into()], ..DrawLimits::default() });
+            assert_eq!(early.faults.len(), p.faults.len(), "run {i}: every fault stays");
+            for (a, b) in p.faults.iter().zip(&early.faults) {
+                assert_eq!((a.frame, a.what, a.place, a.bit % FIRST_DATA_BIT), (b.frame, b.what, b.place, b.bit), "run {i}: moved into the first 19 bits");
+            }
             for (a, b) in p.nodes.iter().zip(&q.nodes) {
                 if p.config.pelican {
                     assert_eq!(a.frames, b.frames, "run {i}: PeliCAN plans keep their extended frames");

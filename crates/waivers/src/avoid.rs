@@ -38,6 +38,14 @@ pub const CAMPAIGN_TRIGGERS: &[(&str, &str)] = &[
         "the host waits 2 bit times after each transmission request before its next operation (no other CMR write right after TR)",
     ),
     (
+        "error-in-received-data",
+        "faults are placed in the first 19 wire bits of a frame (start of frame, identifier, control), so an error is flagged before a receiver has taken a data byte; faults later in a frame (data, CRC, ACK, end of frame) are not made",
+    ),
+    (
+        "self-reception-retransmitted",
+        "every self-reception request is single shot (CMR 0x12 for 0x10), so a self-received frame is never retransmitted",
+    ),
+    (
         "abort-in-flight",
         "the host writes CMR.AT on its own only in the program's closing abort, 200 bit times after its last operation; single-shot requests (TR with AT) stay",
     ),
@@ -56,7 +64,8 @@ pub(crate) struct RawAvoid {
     #[schemars(with = "String")]
     pub id: Spanned<String>,
     /// What the campaign leaves out of its plans: `extended-frames-in-basiccan`,
-    /// `software-reset-mode`, `sleep-mode`, `command-right-after-request` or `abort-in-flight`. Required.
+    /// `software-reset-mode`, `sleep-mode`, `command-right-after-request`, `error-in-received-data`,
+    /// `self-reception-retransmitted` or `abort-in-flight`. Required.
     #[schemars(with = "String")]
     pub trigger: Spanned<String>,
     /// The deviation's row in the deviations table (`"D29"`). Required, not empty.
