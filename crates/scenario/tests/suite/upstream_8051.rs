@@ -20,7 +20,7 @@
 //! The second test runs the other lists on both builds: the Wishbone
 //! build's verdicts as docs/opencores-deviations.md records them, and on
 //! the 8051 build a clean verdict (pass, skip or the exact expected failure)
-//! on every scenario but the conformance ones that section lists as open.
+//! on every scenario.
 
 use scenario::regress::Status;
 use scenario::{DutKind, DutSpec, HostBfm, RegressOptions, RunOptions, load_list, regress, run};
@@ -140,15 +140,9 @@ const WISHBONE: &[(&str, usize, usize)] = &[
     ("tb/conformance/list", 114, 6),
 ];
 
-/// Conformance scenarios without a clean verdict on the 8051 build yet
-/// (docs/opencores-deviations.md, "The 8051 build over every list": open).
-const OPEN_ON_8051: &[&str] = &[
-    "7.7.4 / 7.7.6 rx beyond the tolerance at the minimum bit timing (+5 % node, SJW 1 of 5 tq)",
-];
-
 #[test]
 #[ignore = "needs the opencores core: CAN_UPSTREAM_DIR=<its rtl/verilog>; runs four lists on two builds (minutes)"]
-fn upstream_8051_build_gives_a_clean_verdict_on_every_list_but_the_open_conformance_ones() {
+fn upstream_8051_build_gives_a_clean_verdict_on_every_list() {
     let src = PathBuf::from(std::env::var("CAN_UPSTREAM_DIR").expect("set CAN_UPSTREAM_DIR"));
     let waivers = vec![root().join("tb/waivers/opencores-upstream.toml")];
     let profile = cosim::Profile::load(root().join("tb/profiles/opencores-can.toml")).unwrap();
@@ -185,8 +179,5 @@ fn upstream_8051_build_gives_a_clean_verdict_on_every_list_but_the_open_conforma
             }
         }
     }
-    open_seen.sort();
-    let mut open: Vec<String> = OPEN_ON_8051.iter().map(|s| s.to_string()).collect();
-    open.sort();
-    assert_eq!(open_seen, open, "the 8051 build's scenarios without a clean verdict are exactly the documented open ones");
+    assert!(open_seen.is_empty(), "scenarios without a clean verdict on the 8051 build: {open_seen:?}");
 }
