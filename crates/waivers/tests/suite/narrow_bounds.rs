@@ -411,3 +411,28 @@ fn a_read_waiver_with_fields_takes_reads_in_those_fields_only() {
     }
     assert_eq!(set.check(&read(412, can_proto::Field::Intermission), &d), Verdict::Failure);
 }
+
+/// The shipped D38 waiver (`idle-between-receiving-and-own-sof`): TS missing
+/// for a moment at the own start of frame, in the intermission, one bit;
+/// the same read elsewhere, with RS too, or lasting two bits still fails.
+#[test]
+fn the_idle_moment_before_the_own_sof_is_waived_there_and_nowhere_else() {
+    let path = concat!(env!("CARGO_MANIFEST_DIR"), "/../../tb/waivers/opencores-upstream.toml");
+    let read = |bit: u64, field: can_proto::Field, model: u32, seen: u32| Divergence { bit: Some(bit), field: Some(field), ..sr(model, seen) };
+    let by = |v: Verdict| match v {
+        Verdict::Waived { waiver_id, .. } => Some(waiver_id),
+        Verdict::Failure => None,
+    };
+    let d38 = Some("idle-between-receiving-and-own-sof".to_string());
+    let mut set = WaiverSet::load(path).unwrap();
+    assert_eq!(by(set.check(&read(97, can_proto::Field::Intermission, 0x20, 0x00), &dut())), d38);
+    // Still caught: in the identifier (the core not transmitting its frame).
+    assert_ne!(by(set.check(&read(120, can_proto::Field::BaseId, 0x20, 0x00), &dut())), d38);
+    // Still caught: RS shown instead (another state), or TBS differing too.
+    assert_ne!(by(set.check(&read(140, can_proto::Field::Intermission, 0x20, 0x10), &dut())), d38);
+    assert_ne!(by(set.check(&read(160, can_proto::Field::Intermission, 0x20, 0x04), &dut())), d38);
+    // Still caught: the same difference two bits long.
+    let mut set = WaiverSet::load(path).unwrap();
+    assert_eq!(by(set.check(&read(200, can_proto::Field::Intermission, 0x20, 0x00), &dut())), d38);
+    assert_ne!(by(set.check(&read(201, can_proto::Field::Intermission, 0x20, 0x00), &dut())), d38);
+}
