@@ -767,6 +767,11 @@ pub(crate) struct RawWaiver {
     /// The model's mode at the divergence: `"basic"` or `"pelican"`. Default: either.
     #[schemars(with = "Option<String>")]
     pub model_mode: Option<Spanned<String>>,
+    /// register-read: the message at the head of the model's RX FIFO is of this frame
+    /// format, `"extended"` or `"standard"` (PeliCAN frame information bit 7, read in
+    /// operating mode). Default: either.
+    #[schemars(with = "Option<String>")]
+    pub model_rx_frame: Option<Spanned<String>>,
     /// Only while the host's last word on the model's transmission request was an abort
     /// (CMR.AT written since the last TR or SRR). Default: false.
     pub after_abort: Option<bool>,

@@ -46,6 +46,10 @@ pub struct Observed {
     /// `Some(true)` when the host aborted (CMR.AT) the model's last
     /// transmission request; `None`: not observed. For `after-abort`.
     pub model_aborted: Option<bool>,
+    /// The frame information byte of the message at the head of the
+    /// model's RX FIFO (PeliCAN, operating mode); `None`: not observed. For
+    /// `model-rx-frame`.
+    pub model_rx_frame_info: Option<u8>,
 }
 
 impl Observed {
@@ -170,6 +174,9 @@ pub struct Waiver {
     /// Applies only while the model is in this mode: `Some(true)` BasicCAN
     /// (`model-mode = "basic"`), `Some(false)` PeliCAN.
     pub model_basic: Option<bool>,
+    /// register-read: applies only while the model's RX FIFO head is an
+    /// extended (`Some(true)`) or standard frame (`model-rx-frame`).
+    pub model_rx_extended: Option<bool>,
     /// Applies only while the host's last word on the model's transmission
     /// request was an abort (CMR.AT since the last TR/SRR; `after-abort`).
     pub after_abort: bool,
@@ -258,7 +265,11 @@ impl Waiver {
         });
         let mode = self.model_basic.map(|b| format!("only while the model is in {} mode (model-mode = \"{}\")", mode_name(b), mode_key(b)));
         let abort = self.after_abort.then(|| "only after the host aborted the model's last transmission request (after-abort)".to_string());
-        let parts: Vec<String> = [read, after, mode, abort].into_iter().flatten().collect();
+        let rx = self.model_rx_extended.map(|e| {
+            let f = if e { "extended" } else { "standard" };
+            format!("only while the model's RX buffer holds a {f} frame (model-rx-frame = \"{f}\")")
+        });
+        let parts: Vec<String> = [read, after, mode, abort, rx].into_iter().flatten().collect();
         (!parts.is_empty()).then(|| parts.join(", "))
     }
 
@@ -326,6 +337,14 @@ impl Waiver {
                 Some(b) if b == want => {}
                 Some(b) => return Some(format!("the model is in {} mode, model-mode needs {}", mode_name(b), mode_name(want))),
                 None => return Some("model-mode needs the model's mode, not observed".into()),
+            }
+        }
+        if let Some(want) = self.model_rx_extended {
+            let name = |e: bool| if e { "an extended" } else { "a standard" };
+            match obs.model_rx_frame_info {
+                Some(fi) if (fi & 0x80 != 0) == want => {}
+                Some(_) => return Some(format!("the model's RX buffer does not hold {} frame (model-rx-frame)", name(want))),
+                None => return Some("model-rx-frame needs the model's RX frame information, not observed".into()),
             }
         }
         if self.after_abort {
@@ -974,6 +993,19 @@ fn validate(name: &str, src: &str, w: RawWaiver) -> Result<Waiver, WaiverError> 
         },
         None => None,
     };
+    let model_rx_extended = match &w.model_rx_frame {
+        Some(m) if w.kind != KindName::RegisterRead => {
+            return Err(invalid(name, at(m.span()), "model-rx-frame", format!("`model-rx-frame` is for kind register-read, not {}", w.kind.as_str())));
+        }
+        Some(m) => match m.get_ref().trim() {
+            "extended" => Some(true),
+            "standard" => Some(false),
+            other => {
+                return Err(invalid(name, at(m.span()), "model-rx-frame", format!("`{other}`: expected \"extended\" or \"standard\"")));
+            }
+        },
+        None => None,
+    };
     let mut patterns = [None, None];
     for (slot, key, p) in [(0, "expected-bits", &w.expected_bits), (1, "seen-bits", &w.seen_bits)] {
         if let Some(p) = p {
@@ -1062,6 +1094,7 @@ fn validate(name: &str, src: &str, w: RawWaiver) -> Result<Waiver, WaiverError> 
         seen_offset,
         model_mod_bits: w.model_mod_bits,
         model_basic,
+        model_rx_extended,
         after_abort: w.after_abort.unwrap_or(false),
         max_hits: w.max_hits.map(|m| m.into_inner()),
         resync,

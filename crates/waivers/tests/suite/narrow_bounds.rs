@@ -436,3 +436,34 @@ fn the_idle_moment_before_the_own_sof_is_waived_there_and_nowhere_else() {
     assert_eq!(by(set.check(&read(200, can_proto::Field::Intermission, 0x20, 0x00), &dut())), d38);
     assert_ne!(by(set.check(&read(201, can_proto::Field::Intermission, 0x20, 0x00), &dut())), d38);
 }
+
+/// D7's waiver (`eff-rx-id4-without-rtr`) takes address 20 bit 2 only
+/// while the model's RX buffer holds an extended frame: the same bit of a
+/// standard frame's second data byte, or an unobserved buffer, still fails.
+#[test]
+fn the_rtr_bit_of_an_extended_id4_is_waived_only_for_an_extended_frame() {
+    let path = concat!(env!("CARGO_MANIFEST_DIR"), "/../../tb/waivers/opencores-upstream.toml");
+    let id4 = Divergence {
+        kind: DivergenceKind::RegisterRead,
+        bit: Some(300),
+        register: Some("RXB[3]".into()),
+        expected: 0x2C,
+        seen: 0x28,
+        context: "read of RXB[3] (address 20) returned 0x28, the model 0x2C".into(),
+        ..Divergence::default()
+    };
+    let rx = |fi: Option<u8>| Observed { model_rx_frame_info: fi, model_mod: Some(0x00), ..Default::default() };
+    for _ in 0..10 {
+        let mut set = WaiverSet::load(path).unwrap();
+        assert!(matches!(set.check_observed(&id4, &dut(), &rx(Some(0xC8))), Verdict::Waived { .. }), "EFF remote, DLC 8");
+    }
+    let mut set = WaiverSet::load(path).unwrap();
+    for _ in 0..10 {
+        assert!(matches!(set.check_observed(&id4, &dut(), &rx(Some(0xC8))), Verdict::Waived { .. }), "no count of reads");
+    }
+    assert_eq!(set.check_observed(&id4, &dut(), &rx(Some(0x08))), Verdict::Failure, "a standard frame's data byte");
+    assert_eq!(set.check_observed(&id4, &dut(), &rx(None)), Verdict::Failure, "not observed");
+    let src = std::fs::read_to_string(path).unwrap().replace("model-rx-frame = \"extended\"", "model-rx-frame = \"both\"");
+    let e = WaiverSet::parse(&src, "w.toml").unwrap_err().to_string();
+    assert!(e.contains("model-rx-frame") && e.contains("expected \"extended\" or \"standard\""), "{e}");
+}

@@ -266,6 +266,13 @@ impl ComparatorAgent {
         observed.model_lost_messages = r.lost_messages();
         // The host's abort of the model's request, for `after-abort`.
         observed.model_aborted = r.aborted_since_request();
+        // The model's RX frame information (operating mode: address 16 is
+        // the RX buffer), for `model-rx-frame`.
+        if let Some(m) = observed.model_mod
+            && m & 0x01 == 0
+        {
+            observed.model_rx_frame_info = Some(r.peek(16));
+        }
         while let Some(d) = c.take_divergence() {
             let bit = d.bit;
             // An irq report: the same difference again, or a new one
