@@ -46,6 +46,10 @@ pub const CAMPAIGN_TRIGGERS: &[(&str, &str)] = &[
         "every self-reception request is single shot (CMR 0x12 for 0x10), so a self-received frame is never retransmitted",
     ),
     (
+        "rx-fifo-overrun",
+        "the frames the DUT's filter takes (its own self-reception frames included) fit its 64-byte RX FIFO together, later ones are not sent, so no message is lost to an overrun however late the host drains",
+    ),
+    (
         "abort-in-flight",
         "the host writes CMR.AT on its own only in the program's closing abort, 200 bit times after its last operation; single-shot requests (TR with AT) stay",
     ),
@@ -65,7 +69,7 @@ pub(crate) struct RawAvoid {
     pub id: Spanned<String>,
     /// What the campaign leaves out of its plans: `extended-frames-in-basiccan`,
     /// `software-reset-mode`, `sleep-mode`, `command-right-after-request`, `error-in-received-data`,
-    /// `self-reception-retransmitted` or `abort-in-flight`. Required.
+    /// `self-reception-retransmitted`, `rx-fifo-overrun` or `abort-in-flight`. Required.
     #[schemars(with = "String")]
     pub trigger: Spanned<String>,
     /// The deviation's row in the deviations table (`"D29"`). Required, not empty.
