@@ -241,6 +241,13 @@ impl ModelRef {
         self
     }
 
+    /// With the DUT's declared ECC after a read (profile `ecc-after-read`;
+    /// `true`: "cleared").
+    pub fn with_ecc_clear_on_read(mut self, on: bool) -> ModelRef {
+        self.m.set_ecc_clear_on_read(on);
+        self
+    }
+
     /// How many of the next CAN clocks, with the bus staying at `rx`, only
     /// count in the model: its quanta end quietly if at all
     /// ([`can_engine::Engine::quiet_clocks`]), with no host access or resync

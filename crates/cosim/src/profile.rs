@@ -647,6 +647,11 @@ pub struct Profile {
     /// transmitter). The datasheet's TS, "transmitting a message", says
     /// nothing of those 8 bits.
     pub ts_clear_in_suspend: bool,
+    /// `ecc-after-read = "cleared"`: a read of ECC clears it (reads 0 until
+    /// the next capture); the default `"kept"`: it keeps the last code. The
+    /// datasheet fixes ECC until the host has read it once and re-arms the
+    /// capture then; what a second read returns it does not say.
+    pub ecc_clear_on_read: bool,
     /// When a Wishbone access takes effect.
     pub wishbone: AccessTiming,
     /// When an Avalon-MM access takes effect.
@@ -1050,6 +1055,7 @@ impl Profile {
             },
             segment_lag,
             ts_clear_in_suspend: matches!(raw.ts_in_suspend, Some(TsInSuspend::Clear)),
+            ecc_clear_on_read: matches!(raw.ecc_after_read, Some(EccAfterRead::Cleared)),
             latch: Latch {
                 wishbone: raw.access.wishbone.latch.as_ref().map(|v| *v.get_ref()),
                 avalon: raw.access.avalon.latch.as_ref().map(|v| *v.get_ref()),
@@ -1098,6 +1104,7 @@ impl Profile {
             n => format!(" (its segments act {n} CAN clocks after each quantum: a BTR write in reset mode landing within them redoes that quantum)"),
         };
         let lag = if self.ts_clear_in_suspend { format!("{lag}; SR.TS 0 in suspend transmission") } else { lag };
+        let lag = if self.ecc_clear_on_read { format!("{lag}; ECC cleared by a read") } else { lag };
         format!(
             "profile {}{}{}: bit timing phase from the {origin}{lag}; host access takes effect: wishbone {}{}, avalon {}{}, pio {}{}; ports {}",
             self.name,
@@ -1293,6 +1300,10 @@ struct RawProfile {
     /// after intermission): `"set"` (the default: 1, still the transmitter) or `"clear"`
     /// (0, sending nothing). The datasheet's TS ("transmitting a message") leaves it open.
     ts_in_suspend: Option<TsInSuspend>,
+    /// ECC after the host has read it, until the next bus error: `"kept"` (the default:
+    /// the last code) or `"cleared"` (0). The datasheet re-arms the capture at the read
+    /// and leaves the value open.
+    ecc_after_read: Option<EccAfterRead>,
     /// When a host access takes effect in the core, per host bus.
     access: RawAccessSet,
     /// The comparator's tolerances for this core, in CAN clocks (printed in every report).
@@ -1333,6 +1344,13 @@ enum OriginName {
 enum TsInSuspend {
     Set,
     Clear,
+}
+
+#[derive(Deserialize, Clone, Copy, schemars::JsonSchema)]
+#[serde(rename_all = "kebab-case")]
+enum EccAfterRead {
+    Kept,
+    Cleared,
 }
 
 /// `[access]`: one table per host bus.
@@ -1811,6 +1829,18 @@ mod tests {
         assert!(!p("set").unwrap().ts_clear_in_suspend);
         assert!(p("clear").unwrap().ts_clear_in_suspend);
         assert!(p("sometimes").is_err());
+    }
+
+    #[test]
+    fn ecc_is_kept_after_a_read_unless_declared_cleared() {
+        assert!(!Profile::rtl().ecc_clear_on_read);
+        assert!(!Profile::parse(GOOD, "p.toml").unwrap().ecc_clear_on_read);
+        let oc = Profile::find("opencores-can").unwrap();
+        assert!(oc.ecc_clear_on_read && oc.describe().contains("ECC cleared by a read"), "{}", oc.describe());
+        let p = |v: &str| Profile::parse(&GOOD.replacen("\n[", &format!("\necc-after-read = {v:?}\n["), 1), "p.toml");
+        assert!(!p("kept").unwrap().ecc_clear_on_read);
+        assert!(p("cleared").unwrap().ecc_clear_on_read);
+        assert!(p("zero").is_err());
     }
 
     #[test]

@@ -133,7 +133,8 @@ impl Shadow {
         let mut reference =
             ModelRef::with_phase_origin(p.phase_origin)
                 .with_segment_lag(p.segment_lag)
-                .with_ts_clear_in_suspend(p.ts_clear_in_suspend);
+                .with_ts_clear_in_suspend(p.ts_clear_in_suspend)
+                .with_ecc_clear_on_read(p.ecc_clear_on_read);
         reference.hard_reset();
         let timing = Timing {
             can_clock_hz: can_hz,

@@ -357,6 +357,9 @@ pub struct Sja1000 {
     /// SR.TS reads 0 during suspend transmission (a profile's
     /// `ts-in-suspend = "clear"`); kept across hardware resets.
     ts_clear_in_suspend: bool,
+    /// A read of ECC clears it (a profile's `ecc-after-read = "cleared"`);
+    /// kept across hardware resets.
+    ecc_clear_on_read: bool,
     mode: Mode,
     // MOD / CR
     rm: bool,
@@ -440,6 +443,15 @@ impl Sja1000 {
         self.ts_clear_in_suspend = on;
     }
 
+    /// ECC after the host has read it (a profile's `ecc-after-read`):
+    /// `true` clears it, so it reads 0 until the next capture. The
+    /// datasheet fixes ECC until the host has read it once and then re-arms
+    /// the capture; it does not say what a second read returns. Default:
+    /// the last code is kept.
+    pub fn set_ecc_clear_on_read(&mut self, on: bool) {
+        self.ecc_clear_on_read = on;
+    }
+
     /// The declared segment lag ([`Sja1000::set_segment_lag`]).
     pub fn segment_lag(&self) -> u32 {
         self.engine.segment_lag()
@@ -456,12 +468,14 @@ impl Sja1000 {
         let origin = self.engine.phase_origin();
         let segment_lag = self.engine.segment_lag();
         let ts_clear_in_suspend = self.ts_clear_in_suspend;
+        let ecc_clear_on_read = self.ecc_clear_on_read;
         *self = Sja1000 {
             engine: Engine::new(BusTiming::from_btr(0, 0), Options::default()),
             fifo: RxFifo::default(),
             scratch,
             journal,
             ts_clear_in_suspend,
+            ecc_clear_on_read,
             ..Sja1000::blank()
         };
         // CDR first: it selects the view (hardware reset: BasicCAN).
@@ -503,6 +517,7 @@ impl Sja1000 {
         Sja1000 {
             engine: Engine::new(BusTiming::from_btr(0, 0), Options::default()),
             ts_clear_in_suspend: false,
+            ecc_clear_on_read: false,
             mode: Mode::BasicCan,
             rm: true,
             lom: false,
@@ -799,7 +814,12 @@ impl Sja1000 {
                         self.ir &= RI;
                     }
                     R::Alc => self.alc_locked = false,
-                    R::Ecc => self.ecc_locked = false,
+                    R::Ecc => {
+                        self.ecc_locked = false;
+                        if self.ecc_clear_on_read {
+                            self.ecc = 0;
+                        }
+                    }
                     _ => {}
                 }
                 v

@@ -181,7 +181,8 @@ impl ReferenceAgent {
             ReferenceChoice::Model => AnyRef::Model(
                 ModelRef::with_phase_origin(profile.map_or(PhaseOrigin::ResetModeExit, |p| p.phase_origin))
                     .with_segment_lag(profile.map_or(0, |p| p.segment_lag))
-                    .with_ts_clear_in_suspend(profile.is_some_and(|p| p.ts_clear_in_suspend)),
+                    .with_ts_clear_in_suspend(profile.is_some_and(|p| p.ts_clear_in_suspend))
+                    .with_ecc_clear_on_read(profile.is_some_and(|p| p.ecc_clear_on_read)),
             ),
             ReferenceChoice::Echo => AnyRef::Other(Box::new(EchoModel::new())),
         });

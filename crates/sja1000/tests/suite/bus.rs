@@ -1167,3 +1167,26 @@ fn ts_in_suspend_transmission_follows_the_declared_freedom() {
     assert_eq!(set, clear + 8, "TS set {set} bits, cleared in suspend {clear}");
     assert!(clear > 40, "TS through the frame: {clear} bits");
 }
+
+/// ECC after a read: a lone sender's ACK error is captured; a second read
+/// before the next bus error returns the code again by default, 0 with a
+/// profile's `ecc-after-read = "cleared"`. The first read is the same.
+#[test]
+fn ecc_after_a_read_follows_the_declared_freedom() {
+    let reads = |cleared: bool| {
+        let mut bus = bus_of(&[Config::pelican()]);
+        let n = bus.node_mut(0);
+        n.set_ecc_clear_on_read(cleared);
+        bus.run_bits(20);
+        host::transmit(bus.node_mut(0), &std_frame(0x55, &[1]), peli::cmr::TR | peli::cmr::AT).unwrap();
+        bus.run_bits(80);
+        let n = bus.node_mut(0);
+        let first = n.read(peli::ECC);
+        let peeked = n.peek(peli::ECC);
+        (first, peeked, n.read(peli::ECC))
+    };
+    let (kept, cleared) = (reads(false), reads(true));
+    assert_ne!(kept.0, 0, "an ACK error was captured: {kept:?}");
+    assert_eq!(kept, (kept.0, kept.0, kept.0), "kept: the last code on every read");
+    assert_eq!(cleared, (kept.0, 0, 0), "cleared: the first read has the code, then 0");
+}
