@@ -467,3 +467,34 @@ fn the_rtr_bit_of_an_extended_id4_is_waived_only_for_an_extended_frame() {
     let e = WaiverSet::parse(&src, "w.toml").unwrap_err().to_string();
     assert!(e.contains("model-rx-frame") && e.contains("expected \"extended\" or \"standard\""), "{e}");
 }
+
+/// D4's waiver (`error-flag-in-listen-only`): one flag of six bits per
+/// error, as many errors as the run has; a seventh dominant bit in a row,
+/// or a flag while the model is not listen-only, still fails.
+#[test]
+fn a_listen_only_error_flag_is_waived_per_flag_of_six_bits() {
+    let path = concat!(env!("CARGO_MANIFEST_DIR"), "/../../tb/waivers/opencores-upstream.toml");
+    let flag_bit = |bit: u64| Divergence {
+        kind: DivergenceKind::TxBit,
+        bit: Some(bit),
+        field: Some(can_proto::Field::PassiveErrorFlag),
+        expected: 1,
+        seen: 0,
+        ..Divergence::default()
+    };
+    let lom = Observed { model_mod: Some(0x02), ..Default::default() };
+    let mut set = WaiverSet::load(path).unwrap();
+    for error in 0..5u64 {
+        for k in 0..6 {
+            let bit = 100 + error * 60 + k;
+            assert!(matches!(set.check_observed(&flag_bit(bit), &dut(), &lom), Verdict::Waived { .. }), "error {error}, flag bit {k}");
+        }
+    }
+    assert!(matches!(set.check_observed(&flag_bit(500), &dut(), &lom), Verdict::Waived { .. }));
+    for bit in 501..=505 {
+        set.check_observed(&flag_bit(bit), &dut(), &lom);
+    }
+    assert_eq!(set.check_observed(&flag_bit(506), &dut(), &lom), Verdict::Failure, "a seventh dominant bit in a row");
+    let operating = Observed { model_mod: Some(0x00), ..Default::default() };
+    assert_eq!(WaiverSet::load(path).unwrap().check_observed(&flag_bit(100), &dut(), &operating), Verdict::Failure, "not listen-only");
+}
