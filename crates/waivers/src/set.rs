@@ -196,6 +196,10 @@ pub struct Waiver {
     read_episode: Option<ReadEpisode>,
     /// Completion times (ps) of the host's recent reads of `until_read`.
     reads: Vec<u64>,
+    /// register-read with `late-bits`: completion times (ps) of the host's
+    /// recent reads of `register`; one between two hits ended the episode
+    /// (that read agreed, or another entry took it).
+    own_reads: Vec<u64>,
     /// The last report refused because it outlasted a read: (its start, the read), ps.
     outlasted: Option<(u64, u64)>,
 }
@@ -218,6 +222,8 @@ const RECENT_READS: usize = 64;
 struct Episode {
     first_bit: u64,
     covered_to: u64,
+    /// Time of the last hit (ps).
+    last_ps: u64,
 }
 
 /// The pin difference a `late-by` waiver is following: when it started
@@ -721,17 +727,21 @@ impl WaiverSet {
             }
             if let Some(late) = w.late_bits {
                 let reach = w.skip().max(late as u64);
+                // A read of the register between two hits that was not one
+                // of them showed the DUT agreeing: the deviation had ended.
+                let read_between = |e: &Episode| w.own_reads.iter().any(|&t| t > e.last_ps && t < d.time_ps);
                 match w.episode {
-                    Some(e) if bit >= e.first_bit && bit <= e.covered_to + 1 => {
+                    Some(e) if bit >= e.first_bit && bit <= e.covered_to + 1 && !read_between(&e) => {
                         // Same deviation still going on: it stays one episode
                         // (even once rejected), so it cannot restart the count.
-                        w.episode = Some(Episode { first_bit: e.first_bit, covered_to: bit + reach });
+                        w.episode = Some(Episode { first_bit: e.first_bit, covered_to: bit + reach, last_ps: d.time_ps });
                         if bit - e.first_bit + 1 > late as u64 {
                             continue;
                         }
                     }
-                    _ => w.episode = Some(Episode { first_bit: bit, covered_to: bit + reach }),
+                    _ => w.episode = Some(Episode { first_bit: bit, covered_to: bit + reach, last_ps: d.time_ps }),
                 }
+                w.own_reads.retain(|&t| t >= d.time_ps);
             }
             w.hits += 1;
             return Verdict::Waived { waiver_id: w.id.clone(), resync: w.resolve(d, obs) };
@@ -807,14 +817,27 @@ impl WaiverSet {
             w.late = None;
             w.read_episode = None;
             w.reads.clear();
+            w.own_reads.clear();
             w.outlasted = None;
         }
     }
 
     /// The host's read of `register` completed at `t_ps` (simulated time):
-    /// it ends the open episode of every `until-read` waiver on that register.
+    /// it ends the open episode of every `until-read` waiver on that
+    /// register, and of every register-read waiver with `late-bits` on it
+    /// unless the read is the episode's next hit (an agreeing read between
+    /// two hits shows the deviation had ended).
     pub fn host_read(&mut self, register: &str, t_ps: u64) {
         for w in &mut self.waivers {
+            if w.kind == DivergenceKind::RegisterRead
+                && w.late_bits.is_some()
+                && w.register.as_deref().is_some_and(|r| r.eq_ignore_ascii_case(register))
+            {
+                if w.own_reads.len() >= RECENT_READS {
+                    w.own_reads.remove(0);
+                }
+                w.own_reads.push(t_ps);
+            }
             if w.until_read.as_deref().is_some_and(|r| r.eq_ignore_ascii_case(register)) {
                 if w.read_episode.is_none() && w.reads.len() >= RECENT_READS {
                     w.reads.remove(0);
@@ -1105,6 +1128,7 @@ fn validate(name: &str, src: &str, w: RawWaiver) -> Result<Waiver, WaiverError> 
         late: None,
         read_episode: None,
         reads: Vec::new(),
+        own_reads: Vec::new(),
         outlasted: None,
     })
 }

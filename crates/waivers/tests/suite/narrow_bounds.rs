@@ -498,3 +498,28 @@ fn a_listen_only_error_flag_is_waived_per_flag_of_six_bits() {
     let operating = Observed { model_mod: Some(0x00), ..Default::default() };
     assert_eq!(WaiverSet::load(path).unwrap().check_observed(&flag_bit(100), &dut(), &operating), Verdict::Failure, "not listen-only");
 }
+
+/// A register read's `late-bits` episode ends at a read of that register
+/// that agreed (no hit) between two hits: two D2 episodes a few bits apart
+/// stay two, each bounded; without the agreeing read they are one, and
+/// its length fails.
+#[test]
+fn an_agreeing_read_between_two_hits_ends_a_read_episode() {
+    let src = TS_FOR_RS.replace("max-hits = 3\n", "late-bits = 10\n");
+    let at = |bit: u64| Divergence { bit: Some(bit), time_ps: bit * 1_000, ..sr(0x1C, 0x2C) };
+    let run = |agree_between: bool| {
+        let mut set = WaiverSet::parse(&src, "p.toml").unwrap();
+        let mut verdicts = Vec::new();
+        for bit in (100..=108).chain(112..=118) {
+            if agree_between && bit == 112 {
+                set.host_read("SR", 110 * 1_000); // read at bit 110: no hit
+            }
+            set.host_read("SR", bit * 1_000);
+            verdicts.push(matches!(set.check(&at(bit), &dut()), Verdict::Waived { .. }));
+        }
+        verdicts
+    };
+    assert!(run(true).iter().all(|w| *w), "two episodes of 9 and 7 bits: {:?}", run(true));
+    let merged = run(false);
+    assert!(merged[..9].iter().all(|w| *w) && !merged[9..].iter().any(|w| *w), "one episode past 10 bits: {merged:?}");
+}
