@@ -163,6 +163,7 @@ fn an_axi4_lite_fork_gets_its_hand_written_ports_and_verdicts() {
 }
 
 #[test]
+#[ignore = "an inference and the main list, about 40 s; the AXI4-Lite and register-port forks run in the default suite; run with: cargo test --release -p profile-infer --test infer -- --ignored fork"]
 fn an_apb3_fork_gets_its_hand_written_ports_and_verdicts() {
     let inf = fork_against_its_profile("fork_apb", "apb", HostBfm::Apb3);
     assert!(matches!(inf.profile.apb, Some(cosim::AccessTiming::CanEdges { write: 4, .. })), "{:?}", inf.profile.apb);
@@ -180,6 +181,7 @@ fn a_register_port_fork_gets_its_read_latency_measured() {
 }
 
 #[test]
+#[ignore = "an inference and the main list, about 40 s; the AXI4-Lite and register-port forks run in the default suite; run with: cargo test --release -p profile-infer --test infer -- --ignored fork"]
 fn a_motorola_fork_gets_its_hand_written_ports_and_verdicts() {
     // motorola.toml counts from the edge raising E, as the reference does
     // for an external core; a write lands after E falls.

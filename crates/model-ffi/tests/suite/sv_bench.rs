@@ -168,11 +168,13 @@ fn the_sv_scoreboard_fed_from_apb_pins_passes_can_apb_and_diagnoses_a_mutant() {
 }
 
 #[test]
+#[ignore = "two Verilator builds (about 25 s); the APB bench covers the same package in the default suite; run with: cargo test --release -p model-ffi --test suite sv_bench -- --ignored"]
 fn the_sv_scoreboard_fed_from_register_port_pins_passes_can_regport_and_diagnoses_a_mutant() {
     passes_rtl_and_diagnoses_the_mutant("tb_can_regport");
 }
 
 #[test]
+#[ignore = "two Verilator builds (about 25 s); the APB bench covers the same package in the default suite; run with: cargo test --release -p model-ffi --test suite sv_bench -- --ignored"]
 fn the_sv_scoreboard_fed_from_motorola_pins_passes_can_top_mcu_and_diagnoses_a_mutant() {
     passes_rtl_and_diagnoses_the_mutant("tb_can_mcu");
 }
