@@ -7,6 +7,7 @@
 //! nothing; shrinking simplifies the value; saving is serialisation
 //! ([`crate::render`]).
 
+use can_proto::stuff::STUFF_WIDTH;
 use can_proto::timing::{BusTiming, INFORMATION_PROCESSING_TQ, MAX_BIT_RATE, MAX_TRIPLE_SAMPLING_BIT_RATE, TQ_PER_BIT_RANGE};
 use rand::{RngExt, SeedableRng, rngs::StdRng};
 use serde::{Deserialize, Serialize};
@@ -411,6 +412,7 @@ pub fn draw(seed: u64, index: u64, lim: &DrawLimits) -> Plan {
     let fields = draw_arbitration_fields(&mut r, frames_n + 4, !pelican);
     let senders = nodes_n + 1;
     let owner: Vec<usize> = (0..fields.len()).map(|_| r.random_range(0..senders)).collect();
+    let fields = if lim.avoids("stuff-error-in-own-arbitration") { without_own_arbitration_stuff(fields, &owner, nodes_n) } else { fields };
     let tol = t.oscillator_tolerance();
     let mut nodes: Vec<PlanNode> = (0..nodes_n)
         .map(|_| {
@@ -488,9 +490,14 @@ pub fn draw(seed: u64, index: u64, lim: &DrawLimits) -> Plan {
         }
     }
     // With `error-in-received-data` avoided a fault moves into the first 19
-    // wire bits (SOF, identifier, control of a standard frame): the error it
-    // causes is flagged before a receiver has completed a data byte.
-    let fault_bit = |b: u32| if lim.avoids("error-in-received-data") { b % FIRST_DATA_BIT } else { b };
+    // wire bits (SOF, identifier, control of a standard frame) and onto the
+    // bus: the sender sees it too and flags the error at once, before a
+    // receiver has completed a data byte. A flip on the DUT's rx alone can
+    // shift its destuffing, so it would read on, into the data field, and
+    // flag the error only at the frame's end. Glitches, placed clear of the
+    // sample points, stay on the DUT's rx.
+    let early_faults = lim.avoids("error-in-received-data");
+    let fault_bit = |b: u32| if early_faults { b % FIRST_DATA_BIT } else { b };
     let faults = (0..frames_n as u32 + 2)
         .filter_map(|i| {
             if !r.random_bool(lim.fault_rate) {
@@ -506,11 +513,78 @@ pub fn draw(seed: u64, index: u64, lim: &DrawLimits) -> Plan {
                 bit: fault_bit(r.random_range(0..130u32)),
                 what,
                 // A placed glitch is counted on the DUT's bit grid, so it hits the DUT's rx only.
-                place: if matches!(what, FaultWhat::Glitch { .. }) || r.random_bool(0.3) { FaultPlace::DutRx } else { FaultPlace::Bus },
+                place: match (matches!(what, FaultWhat::Glitch { .. }), r.random_bool(0.3)) {
+                    (true, _) => FaultPlace::DutRx,
+                    (false, _) if early_faults => FaultPlace::Bus,
+                    (false, rx) => if rx { FaultPlace::DutRx } else { FaultPlace::Bus },
+                },
             })
         })
         .collect();
     Plan { seed, index, config, nodes, program, faults }
+}
+
+/// Does a recessive stuff bit follow a bit of this arbitration field (SOF
+/// to RTR)? The stuff bit after five dominant bits is the only place where a
+/// transmitter's recessive bit monitored dominant is a stuff error, not lost
+/// arbitration (CAN 2.0B §8 rule 3 exception 2). Returns the identifier
+/// bit (as a mask of `id`) closest before it, to be made recessive.
+pub fn arbitration_stuff_bit(id: u32, extended: bool, rtr: bool) -> Option<u32> {
+    // (level, identifier bit mask or 0) from SOF to RTR.
+    let mut bits: Vec<(bool, u32)> = vec![(false, 0)];
+    let width = if extended { 29 } else { 11 };
+    for i in (0..width).rev() {
+        if extended && i == 17 {
+            bits.push((true, 0)); // SRR
+            bits.push((true, 0)); // IDE
+        }
+        bits.push((id >> i & 1 != 0, 1 << i));
+    }
+    bits.push((rtr, 0));
+    let mut run = 0;
+    let mut last = None;
+    let mut last_id_bit = 0;
+    for (level, mask) in bits {
+        if mask != 0 && !level {
+            last_id_bit = mask;
+        }
+        run = if last == Some(level) { run + 1 } else { 1 };
+        last = Some(level);
+        if run == STUFF_WIDTH {
+            if !level {
+                return Some(last_id_bit);
+            }
+            run = 1; // the dominant stuff bit starts the next run
+            last = Some(false);
+        }
+    }
+    None
+}
+
+/// With `stuff-error-in-own-arbitration` avoided: the DUT's identifiers
+/// get no recessive stuff bit in their arbitration field (an identifier bit
+/// before each is made recessive), and stay distinct from every other
+/// sender's.
+fn without_own_arbitration_stuff(mut fields: Vec<(u32, bool, bool)>, owner: &[usize], dut: usize) -> Vec<(u32, bool, bool)> {
+    for k in 0..fields.len() {
+        if owner[k] != dut {
+            continue;
+        }
+        let (mut id, ext, rtr) = fields[k];
+        loop {
+            while let Some(mask) = arbitration_stuff_bit(id, ext, rtr) {
+                id |= mask;
+            }
+            let taken = fields.iter().enumerate().any(|(j, f)| j != k && *f == (id, ext, rtr));
+            let all = if ext { 0x1FFF_FFFF } else { 0x7FF };
+            if !taken || id == all {
+                break;
+            }
+            id |= 1 << (!id & all).trailing_zeros(); // one more recessive bit, then again
+        }
+        fields[k].0 = id;
+    }
+    fields
 }
 
 /// RX FIFO bytes a message takes (PeliCAN layout, at least the BasicCAN
@@ -738,6 +812,24 @@ mod tests {
     }
 
     #[test]
+    fn the_recessive_stuff_bits_of_an_arbitration_field_are_found() {
+        // ID 0x000: SOF and ID.10-7 are five dominant bits; ID.7 made recessive.
+        assert_eq!(arbitration_stuff_bit(0x000, false, false), Some(1 << 7));
+        // 0x7FF: its stuff bits are dominant.
+        assert_eq!(arbitration_stuff_bit(0x7FF, false, true), None);
+        // 0x7C0: the dominant stuff bit after ID.10-6 starts the run that ID.5-2 complete.
+        assert_eq!(arbitration_stuff_bit(0x7C0, false, false), Some(1 << 2));
+        assert_eq!(arbitration_stuff_bit(0x7E0, false, true), Some(1 << 0));
+        assert_eq!(arbitration_stuff_bit(0x7E1, false, true), None);
+        // A dominant RTR ends the run: the identifier bit before it is made recessive.
+        assert_eq!(arbitration_stuff_bit(0x7F0, false, false), Some(1 << 0));
+        assert_eq!(arbitration_stuff_bit(0x7F0, false, true), None);
+        // Extended: base 0x760 ends with five dominant bits (ID.22-18).
+        assert_eq!(arbitration_stuff_bit(0x1D82_0000, true, false), Some(1 << 18));
+        assert_eq!(arbitration_stuff_bit(0x1D86_1084, true, true), None);
+    }
+
+    #[test]
     fn no_two_senders_share_an_arbitration_field() {
         let l = DrawLimits::default();
         for i in 0..200 {
@@ -797,7 +889,7 @@ mod tests {
             avoid: vec!["software-reset-mode".into(), "extended-frames-in-basiccan".into(), "sleep-mode".into(), "abort-in-flight".into()],
             ..DrawLimits::default()
         };
-        let (mut toggles, mut sleeps, mut basic_ext, mut aborts, mut overflow_cut) = (0, 0, 0, 0, 0);
+        let (mut toggles, mut sleeps, mut basic_ext, mut aborts, mut overflow_cut, mut rx_moved) = (0, 0, 0, 0, 0, 0);
         for i in 0..300 {
             let (p, q) = (draw(11, i, &DrawLimits::default()), draw(11, i, &avoid));
             toggles += p.program.iter().filter(|o| matches!(o, HostOp::ResetToggle { .. })).count();
@@ -844,7 +936,9 @@ mod tests {
             let early = draw(11, i, &DrawLimits { avoid: vec!["error-in-received-data".into()], ..DrawLimits::default() });
             assert_eq!(early.faults.len(), p.faults.len(), "run {i}: every fault stays");
             for (a, b) in p.faults.iter().zip(&early.faults) {
-                assert_eq!((a.frame, a.what, a.place, a.bit % FIRST_DATA_BIT), (b.frame, b.what, b.place, b.bit), "run {i}: moved into the first 19 bits");
+                let place = if matches!(a.what, FaultWhat::Glitch { .. }) { FaultPlace::DutRx } else { FaultPlace::Bus };
+                assert_eq!((a.frame, a.what, place, a.bit % FIRST_DATA_BIT), (b.frame, b.what, b.place, b.bit), "run {i}: moved into the first 19 bits, on the bus");
+                rx_moved += (a.place != b.place) as usize;
             }
             for (a, b) in p.nodes.iter().zip(&q.nodes) {
                 if p.config.pelican {
@@ -856,6 +950,33 @@ mod tests {
                 }
             }
         }
-        assert!(toggles > 20 && sleeps > 10 && basic_ext > 5 && aborts > 20 && overflow_cut > 20, "the draw has every trigger to take out: {toggles} {sleeps} {basic_ext} {aborts} {overflow_cut}");
+        let mut moved = 0;
+        for i in 0..200 {
+            let p = draw(11, i, &DrawLimits::default());
+            let q = draw(11, i, &DrawLimits { avoid: vec!["stuff-error-in-own-arbitration".into()], ..DrawLimits::default() });
+            assert_eq!((&p.config, &p.faults, p.program.len()), (&q.config, &q.faults, q.program.len()), "run {i}");
+            for (a, b) in p.program.iter().zip(&q.program) {
+                match (a, b) {
+                    (HostOp::Transmit { command: x, frame: f }, HostOp::Transmit { command: y, frame: g }) => {
+                        assert_eq!(x, y, "run {i}");
+                        assert_eq!(arbitration_stuff_bit(g.id, g.extended, g.rtr), None, "run {i}: {g:?}");
+                        assert_eq!(f.id & !g.id, 0, "run {i}: only dominant identifier bits made recessive");
+                        assert_eq!((f.extended, f.rtr, f.dlc, &f.data), (g.extended, g.rtr, g.dlc, &g.data), "run {i}");
+                        moved += (f.id != g.id) as usize;
+                    }
+                    _ => assert_eq!(a, b, "run {i}"),
+                }
+            }
+            // The model nodes' frames keep their stuff bits; the DUT's stay its own.
+            assert_eq!(p.nodes.iter().map(|n| &n.frames).collect::<Vec<_>>(), q.nodes.iter().map(|n| &n.frames).collect::<Vec<_>>(), "run {i}");
+            let theirs: Vec<_> = q.nodes.iter().flat_map(|n| n.frames.iter().map(|f| f.1.arbitration())).collect();
+            for o in &q.program {
+                if let HostOp::Transmit { frame, .. } = o {
+                    assert!(!theirs.contains(&frame.arbitration()), "run {i}: {frame:?} is another sender's");
+                }
+            }
+        }
+        assert!(moved > 20, "the draw has own identifiers with a recessive stuff bit in arbitration: {moved}");
+        assert!(toggles > 20 && sleeps > 10 && basic_ext > 5 && aborts > 20 && overflow_cut > 20 && rx_moved > 10, "the draw has every trigger to take out: {toggles} {sleeps} {basic_ext} {aborts} {overflow_cut} {rx_moved}");
     }
 }

@@ -39,7 +39,7 @@ pub const CAMPAIGN_TRIGGERS: &[(&str, &str)] = &[
     ),
     (
         "error-in-received-data",
-        "faults are placed in the first 19 wire bits of a frame (start of frame, identifier, control), so an error is flagged before a receiver has taken a data byte; faults later in a frame (data, CRC, ACK, end of frame) are not made",
+        "faults are placed in the first 19 wire bits of a frame (start of frame, identifier, control) and on the bus, where the sender sees them too, so an error is flagged before a receiver has taken a data byte; faults later in a frame (data, CRC, ACK, end of frame) and flips or stuck bits on the DUT's rx alone are not made (glitches stay on its rx)",
     ),
     (
         "self-reception-retransmitted",
@@ -48,6 +48,10 @@ pub const CAMPAIGN_TRIGGERS: &[(&str, &str)] = &[
     (
         "rx-fifo-overrun",
         "the frames the DUT's filter takes (its own self-reception frames included) fit its 64-byte RX FIFO together, later ones are not sent, so no message is lost to an overrun however late the host drains",
+    ),
+    (
+        "stuff-error-in-own-arbitration",
+        "the DUT's identifiers have no recessive stuff bit in their arbitration field (an identifier bit before each is made recessive), so no error flag or fault can make one read dominant",
     ),
     (
         "abort-in-flight",
@@ -69,7 +73,7 @@ pub(crate) struct RawAvoid {
     pub id: Spanned<String>,
     /// What the campaign leaves out of its plans: `extended-frames-in-basiccan`,
     /// `software-reset-mode`, `sleep-mode`, `command-right-after-request`, `error-in-received-data`,
-    /// `self-reception-retransmitted`, `rx-fifo-overrun` or `abort-in-flight`. Required.
+    /// `self-reception-retransmitted`, `rx-fifo-overrun`, `stuff-error-in-own-arbitration` or `abort-in-flight`. Required.
     #[schemars(with = "String")]
     pub trigger: Spanned<String>,
     /// The deviation's row in the deviations table (`"D29"`). Required, not empty.
