@@ -377,6 +377,9 @@ pub fn draw(seed: u64, index: u64, lim: &DrawLimits) -> Plan {
     let mut r = rng_for(seed, index);
     let pelican = r.random_bool(0.75);
     let t = draw_timing(&mut r, lim.max_brp);
+    // With `one-quantum-tseg1` avoided, TSEG1 is at least two quanta; only
+    // the runs drawn with one quantum change.
+    let t = if lim.avoids("one-quantum-tseg1") && t.tseg1 == 0 { BusTiming { tseg1: 1, ..t } } else { t };
     let nodes_n = r.random_range(lim.nodes.0..=lim.nodes.1);
     let frames_n = r.random_range(lim.frames.0..=lim.frames.1);
     // A run costs CAN clocks: with long quanta, fewer frames (the extremes
@@ -506,7 +509,7 @@ pub fn draw(seed: u64, index: u64, lim: &DrawLimits) -> Plan {
             let what = match r.random_range(0..10u32) {
                 0..5 => FaultWhat::Flip,
                 5..6 => FaultWhat::StuckDominant { bits: r.random_range(1..=12u32) },
-                _ => glitch(&mut r, &t)?,
+                _ => glitch(&mut r, &t, lim.avoids("early-edge-beyond-sjw"))?,
             };
             Some(PlanFault {
                 frame: i + 1,
@@ -646,11 +649,14 @@ pub const GLITCH_SAMPLE_MARGIN: u32 = 4;
 
 /// A pulse of whole or part quanta that stays [`GLITCH_SAMPLE_MARGIN`]
 /// clocks from the sample point (and, with SAM, the two quanta before it).
-fn glitch(r: &mut StdRng, t: &BusTiming) -> Option<FaultWhat> {
+/// With `no_early_edge`, neither of its edges falls in phase segment 2 more
+/// than SJW before the bit's end (a negative phase error beyond SJW).
+fn glitch(r: &mut StdRng, t: &BusTiming, no_early_edge: bool) -> Option<FaultWhat> {
     let cptq = t.clocks_per_tq();
     let cpb = t.clocks_per_bit();
     let sample = (2 + t.tseg1 as u32) * cptq;
     let samples: Vec<u32> = if t.sam { vec![sample - 2 * cptq, sample - cptq, sample] } else { vec![sample] };
+    let early = early_edge_zone(t);
     for _ in 0..20 {
         let start_tq = r.random_range(0..t.tq_per_bit());
         let width = if cptq >= 4 && r.random_bool(0.5) { r.random_range(1..cptq) } else { cptq * r.random_range(1..=2u32) };
@@ -658,12 +664,22 @@ fn glitch(r: &mut StdRng, t: &BusTiming) -> Option<FaultWhat> {
         if offset + width >= cpb {
             continue;
         }
-        let clear = samples.iter().all(|&s| s + GLITCH_SAMPLE_MARGIN <= offset || offset + width + GLITCH_SAMPLE_MARGIN <= s);
+        let clear = samples.iter().all(|&s| s + GLITCH_SAMPLE_MARGIN <= offset || offset + width + GLITCH_SAMPLE_MARGIN <= s)
+            && !(no_early_edge && (early.contains(&offset) || early.contains(&(offset + width))));
         if clear {
             return Some(FaultWhat::Glitch { offset, width });
         }
     }
     None
+}
+
+/// Clocks from the bit's start where an edge is a negative phase error
+/// larger than SJW: from the sample point to SJW before the bit's end
+/// (CAN 2.0B §9.2.4).
+pub fn early_edge_zone(t: &BusTiming) -> std::ops::Range<u32> {
+    let cptq = t.clocks_per_tq();
+    let sample = (2 + t.tseg1 as u32) * cptq;
+    sample..t.clocks_per_bit().saturating_sub((t.sjw as u32 + 1) * cptq).max(sample)
 }
 
 fn draw_program(r: &mut StdRng, cfg: &HostConfig, dut_frames: Vec<PlanFrame>, horizon: u64) -> Vec<HostOp> {
@@ -830,6 +846,16 @@ mod tests {
     }
 
     #[test]
+    fn the_early_edge_zone_is_phase_segment_2_before_the_sjw_window() {
+        // 10 tq of 1 clock: sync, TSEG1 2 tq (sample at 3), TSEG2 7 tq, SJW 2 tq.
+        let t = BusTiming { brp: 0, sjw: 1, tseg1: 1, tseg2: 6, sam: false };
+        let cptq = t.clocks_per_tq();
+        assert_eq!(early_edge_zone(&t), 3 * cptq..8 * cptq);
+        // SJW as long as phase segment 2: no edge there is beyond SJW.
+        assert!(early_edge_zone(&BusTiming { sjw: 3, tseg2: 3, ..t }).is_empty());
+    }
+
+    #[test]
     fn no_two_senders_share_an_arbitration_field() {
         let l = DrawLimits::default();
         for i in 0..200 {
@@ -950,6 +976,29 @@ mod tests {
                 }
             }
         }
+        let (mut retimed, mut kept_glitches, mut early_without) = (0, 0, 0);
+        for i in 0..300 {
+            let p = draw(11, i, &DrawLimits::default());
+            let q = draw(11, i, &DrawLimits { avoid: vec!["one-quantum-tseg1".into(), "early-edge-beyond-sjw".into()], ..DrawLimits::default() });
+            let (t, u) = (BusTiming::from_btr(p.config.btr.0, p.config.btr.1), BusTiming::from_btr(q.config.btr.0, q.config.btr.1));
+            assert!(u.tseg1 >= 1, "run {i}: {u:?}");
+            if t.tseg1 == 0 {
+                retimed += 1;
+                assert_eq!(u, BusTiming { tseg1: 1, ..t }, "run {i}: only TSEG1 changes");
+            } else {
+                assert_eq!(t, u, "run {i}");
+            }
+            let free = early_edge_zone(&t);
+            early_without += p.faults.iter().filter(|f| matches!(f.what, FaultWhat::Glitch { offset, width } if free.contains(&offset) || free.contains(&(offset + width)))).count();
+            let zone = early_edge_zone(&u);
+            for f in &q.faults {
+                if let FaultWhat::Glitch { offset, width } = f.what {
+                    kept_glitches += 1;
+                    assert!(!zone.contains(&offset) && !zone.contains(&(offset + width)), "run {i}: {f:?} has an edge in {zone:?}");
+                }
+            }
+        }
+        assert!(retimed >= 5 && kept_glitches > 50 && early_without > 20, "{retimed} runs retimed, {kept_glitches} glitches kept, {early_without} early edges without the trigger");
         let mut moved = 0;
         for i in 0..200 {
             let p = draw(11, i, &DrawLimits::default());

@@ -54,6 +54,14 @@ pub const CAMPAIGN_TRIGGERS: &[(&str, &str)] = &[
         "the DUT's identifiers have no recessive stuff bit in their arbitration field (an identifier bit before each is made recessive), so no error flag or fault can make one read dominant",
     ),
     (
+        "one-quantum-tseg1",
+        "TSEG1 is at least two time quanta (a run drawn with BTR1.TSEG1 = 0 gets 1; nothing else of it changes)",
+    ),
+    (
+        "early-edge-beyond-sjw",
+        "no glitch has an edge in phase segment 2 more than SJW before the end of the bit (a negative phase error beyond SJW); glitches elsewhere in the bit stay",
+    ),
+    (
         "abort-in-flight",
         "the host writes CMR.AT on its own only in the program's closing abort, 200 bit times after its last operation; single-shot requests (TR with AT) stay",
     ),
@@ -73,7 +81,8 @@ pub(crate) struct RawAvoid {
     pub id: Spanned<String>,
     /// What the campaign leaves out of its plans: `extended-frames-in-basiccan`,
     /// `software-reset-mode`, `sleep-mode`, `command-right-after-request`, `error-in-received-data`,
-    /// `self-reception-retransmitted`, `rx-fifo-overrun`, `stuff-error-in-own-arbitration` or `abort-in-flight`. Required.
+    /// `self-reception-retransmitted`, `rx-fifo-overrun`, `stuff-error-in-own-arbitration`, `one-quantum-tseg1`,
+    /// `early-edge-beyond-sjw` or `abort-in-flight`. Required.
     #[schemars(with = "String")]
     pub trigger: Spanned<String>,
     /// The deviation's row in the deviations table (`"D29"`). Required, not empty.
