@@ -278,6 +278,10 @@ pub struct DrawLimits {
     /// Triggers of known deviations kept out of the plans (a core's
     /// `[[avoid]]` entries): names of `waivers::CAMPAIGN_TRIGGERS`.
     pub avoid: Vec<String>,
+    /// Glitches are whole time quanta: the DUT's profile says it sees edges
+    /// at every CAN clock, where the model looks once per quantum (a
+    /// freedom), so only a pulse of a quantum or more is an edge to both.
+    pub whole_quantum_glitches: bool,
 }
 
 impl DrawLimits {
@@ -288,7 +292,7 @@ impl DrawLimits {
 
 impl Default for DrawLimits {
     fn default() -> Self {
-        DrawLimits { nodes: (2, 8), frames: (3, 16), fault_rate: 0.25, max_brp: 63, avoid: Vec::new() }
+        DrawLimits { nodes: (2, 8), frames: (3, 16), fault_rate: 0.25, max_brp: 63, avoid: Vec::new(), whole_quantum_glitches: false }
     }
 }
 
@@ -380,6 +384,9 @@ pub fn draw(seed: u64, index: u64, lim: &DrawLimits) -> Plan {
     // With `one-quantum-tseg1` avoided, TSEG1 is at least two quanta; only
     // the runs drawn with one quantum change.
     let t = if lim.avoids("one-quantum-tseg1") && t.tseg1 == 0 { BusTiming { tseg1: 1, ..t } } else { t };
+    // With `one-quantum-sjw` avoided, SJW is at least two quanta where both
+    // segments allow it.
+    let t = if lim.avoids("one-quantum-sjw") && t.sjw == 0 && t.tseg1 >= 1 { BusTiming { sjw: 1, ..t } } else { t };
     let nodes_n = r.random_range(lim.nodes.0..=lim.nodes.1);
     let frames_n = r.random_range(lim.frames.0..=lim.frames.1);
     // A run costs CAN clocks: with long quanta, fewer frames (the extremes
@@ -509,7 +516,7 @@ pub fn draw(seed: u64, index: u64, lim: &DrawLimits) -> Plan {
             let what = match r.random_range(0..10u32) {
                 0..5 => FaultWhat::Flip,
                 5..6 => FaultWhat::StuckDominant { bits: r.random_range(1..=12u32) },
-                _ => glitch(&mut r, &t, lim.avoids("early-edge-beyond-sjw"))?,
+                _ => glitch(&mut r, &t, lim.avoids("early-edge-beyond-sjw"), lim.whole_quantum_glitches)?,
             };
             Some(PlanFault {
                 frame: i + 1,
@@ -651,7 +658,8 @@ pub const GLITCH_SAMPLE_MARGIN: u32 = 4;
 /// clocks from the sample point (and, with SAM, the two quanta before it).
 /// With `no_early_edge`, neither of its edges falls in phase segment 2 more
 /// than SJW before the bit's end (a negative phase error beyond SJW).
-fn glitch(r: &mut StdRng, t: &BusTiming, no_early_edge: bool) -> Option<FaultWhat> {
+/// With `whole_quanta`, its width is one or two quanta.
+fn glitch(r: &mut StdRng, t: &BusTiming, no_early_edge: bool, whole_quanta: bool) -> Option<FaultWhat> {
     let cptq = t.clocks_per_tq();
     let cpb = t.clocks_per_bit();
     let sample = (2 + t.tseg1 as u32) * cptq;
@@ -659,7 +667,7 @@ fn glitch(r: &mut StdRng, t: &BusTiming, no_early_edge: bool) -> Option<FaultWha
     let early = early_edge_zone(t);
     for _ in 0..20 {
         let start_tq = r.random_range(0..t.tq_per_bit());
-        let width = if cptq >= 4 && r.random_bool(0.5) { r.random_range(1..cptq) } else { cptq * r.random_range(1..=2u32) };
+        let width = if cptq >= 4 && r.random_bool(0.5) && !whole_quanta { r.random_range(1..cptq) } else { cptq * r.random_range(1..=2u32) };
         let offset = start_tq * cptq + if width < cptq { r.random_range(0..cptq - width) } else { 0 };
         if offset + width >= cpb {
             continue;
@@ -979,12 +987,12 @@ mod tests {
         let (mut retimed, mut kept_glitches, mut early_without) = (0, 0, 0);
         for i in 0..300 {
             let p = draw(11, i, &DrawLimits::default());
-            let q = draw(11, i, &DrawLimits { avoid: vec!["one-quantum-tseg1".into(), "early-edge-beyond-sjw".into()], ..DrawLimits::default() });
+            let q = draw(11, i, &DrawLimits { avoid: vec!["one-quantum-tseg1".into(), "early-edge-beyond-sjw".into(), "one-quantum-sjw".into()], ..DrawLimits::default() });
             let (t, u) = (BusTiming::from_btr(p.config.btr.0, p.config.btr.1), BusTiming::from_btr(q.config.btr.0, q.config.btr.1));
-            assert!(u.tseg1 >= 1, "run {i}: {u:?}");
-            if t.tseg1 == 0 {
+            assert!(u.tseg1 >= 1 && u.sjw >= 1 && legal_timing(&u), "run {i}: {u:?}");
+            if t.tseg1 == 0 || t.sjw == 0 {
                 retimed += 1;
-                assert_eq!(u, BusTiming { tseg1: 1, ..t }, "run {i}: only TSEG1 changes");
+                assert_eq!(u, BusTiming { tseg1: t.tseg1.max(1), sjw: t.sjw.max(1), ..t }, "run {i}: only TSEG1 and SJW change");
             } else {
                 assert_eq!(t, u, "run {i}");
             }
@@ -998,6 +1006,20 @@ mod tests {
                 }
             }
         }
+        let (mut whole, mut part) = (0, 0);
+        for i in 0..300 {
+            let q = draw(11, i, &DrawLimits { whole_quantum_glitches: true, ..DrawLimits::default() });
+            let p = draw(11, i, &DrawLimits::default());
+            let cptq = BusTiming::from_btr(q.config.btr.0, q.config.btr.1).clocks_per_tq();
+            for f in &q.faults {
+                if let FaultWhat::Glitch { width, .. } = f.what {
+                    assert_eq!(width % cptq, 0, "run {i}: {f:?} is not whole quanta of {cptq} clocks");
+                    whole += 1;
+                }
+            }
+            part += p.faults.iter().filter(|f| matches!(f.what, FaultWhat::Glitch { width, .. } if width % cptq != 0)).count();
+        }
+        assert!(whole > 50 && part > 20, "{whole} whole-quantum glitches, {part} shorter ones without the limit");
         assert!(retimed >= 5 && kept_glitches > 50 && early_without > 20, "{retimed} runs retimed, {kept_glitches} glitches kept, {early_without} early edges without the trigger");
         let mut moved = 0;
         for i in 0..200 {

@@ -426,7 +426,7 @@ impl CampaignResult {
         )
         .unwrap();
         if !self.avoided.is_empty() {
-            writeln!(s, "kept out of the plans on this DUT (its [[avoid]] entries: known deviations no waiver can bound):").unwrap();
+            writeln!(s, "kept out of the plans on this DUT (its [[avoid]] entries: known deviations no waiver can bound; its profile's freedoms):").unwrap();
             for a in &self.avoided {
                 writeln!(s, "  {a}").unwrap();
             }
@@ -516,15 +516,23 @@ impl CampaignResult {
 /// reports the file's error.
 pub fn avoided_limits(cfg: &RandomConfig) -> (DrawLimits, Vec<String>) {
     let mut limits = cfg.limits.clone();
+    let mut lines = Vec::new();
+    // A freedom of the profile, not an avoided deviation: stated the same way.
+    if let Some(p) = cfg.dut.profile.as_ref().filter(|p| p.edges_every_clock) {
+        limits.whole_quantum_glitches = true;
+        lines.push(format!(
+            "glitches are whole time quanta: profile {} sees edges at every CAN clock (edge-sampling = \"clock\"), the model once per quantum",
+            p.name
+        ));
+    }
     let Ok(set) = waivers::WaiverSet::load_all(&cfg.waivers) else {
-        return (limits, Vec::new());
+        return (limits, lines);
     };
     let mut dut = waivers::DutInfo::new(&cfg.dut.name);
     dut.revision = cfg.dut_revision.clone();
     if let Some(p) = &cfg.dut.profile {
         dut = dut.in_family(&p.name, &p.ancestors);
     }
-    let mut lines = Vec::new();
     for a in set.avoids_for(&dut) {
         if !limits.avoid.contains(&a.trigger) {
             limits.avoid.push(a.trigger.clone());

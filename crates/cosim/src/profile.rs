@@ -652,6 +652,12 @@ pub struct Profile {
     /// datasheet fixes ECC until the host has read it once and re-arms the
     /// capture then; what a second read returns it does not say.
     pub ecc_clear_on_read: bool,
+    /// `edge-sampling = "clock"`: the core's bit timing logic sees the bus at
+    /// every CAN clock, so a pulse shorter than a time quantum can be an
+    /// edge to it; the model (and the default `"quantum"`) looks once per
+    /// quantum. Neither CAN 2.0B nor the datasheet says which. The random
+    /// campaign then makes its glitches whole quanta, which both see.
+    pub edges_every_clock: bool,
     /// When a Wishbone access takes effect.
     pub wishbone: AccessTiming,
     /// When an Avalon-MM access takes effect.
@@ -1056,6 +1062,7 @@ impl Profile {
             segment_lag,
             ts_clear_in_suspend: matches!(raw.ts_in_suspend, Some(TsInSuspend::Clear)),
             ecc_clear_on_read: matches!(raw.ecc_after_read, Some(EccAfterRead::Cleared)),
+            edges_every_clock: matches!(raw.edge_sampling, Some(EdgeSampling::Clock)),
             latch: Latch {
                 wishbone: raw.access.wishbone.latch.as_ref().map(|v| *v.get_ref()),
                 avalon: raw.access.avalon.latch.as_ref().map(|v| *v.get_ref()),
@@ -1105,6 +1112,7 @@ impl Profile {
         };
         let lag = if self.ts_clear_in_suspend { format!("{lag}; SR.TS 0 in suspend transmission") } else { lag };
         let lag = if self.ecc_clear_on_read { format!("{lag}; ECC cleared by a read") } else { lag };
+        let lag = if self.edges_every_clock { format!("{lag}; edges seen at every CAN clock") } else { lag };
         format!(
             "profile {}{}{}: bit timing phase from the {origin}{lag}; host access takes effect: wishbone {}{}, avalon {}{}, pio {}{}; ports {}",
             self.name,
@@ -1304,6 +1312,11 @@ struct RawProfile {
     /// the last code) or `"cleared"` (0). The datasheet re-arms the capture at the read
     /// and leaves the value open.
     ecc_after_read: Option<EccAfterRead>,
+    /// How often the core's bit timing logic looks at the bus for edges: `"quantum"` (the
+    /// default, as the model: once per time quantum) or `"clock"` (at every CAN clock, so a
+    /// pulse shorter than a quantum can be an edge). Neither CAN 2.0B nor the datasheet says;
+    /// with `"clock"` the random campaign makes its glitches whole quanta.
+    edge_sampling: Option<EdgeSampling>,
     /// When a host access takes effect in the core, per host bus.
     access: RawAccessSet,
     /// The comparator's tolerances for this core, in CAN clocks (printed in every report).
@@ -1351,6 +1364,14 @@ enum TsInSuspend {
 enum EccAfterRead {
     Kept,
     Cleared,
+}
+
+/// `edge-sampling`: how often the core looks at the bus for edges.
+#[derive(Deserialize, Clone, Copy, schemars::JsonSchema)]
+#[serde(rename_all = "kebab-case")]
+enum EdgeSampling {
+    Quantum,
+    Clock,
 }
 
 /// `[access]`: one table per host bus.
@@ -1840,6 +1861,11 @@ mod tests {
         let p = |v: &str| Profile::parse(&GOOD.replacen("\n[", &format!("\necc-after-read = {v:?}\n["), 1), "p.toml");
         assert!(!p("kept").unwrap().ecc_clear_on_read);
         assert!(p("cleared").unwrap().ecc_clear_on_read);
+        let e = |v: &str| Profile::parse(&GOOD.replacen("\n[", &format!("\nedge-sampling = {v:?}\n["), 1), "p.toml");
+        assert!(!Profile::rtl().edges_every_clock && !e("quantum").unwrap().edges_every_clock);
+        assert!(e("clock").unwrap().edges_every_clock);
+        assert!(e("clock").unwrap().describe().contains("edges seen at every CAN clock"));
+        assert!(e("sometimes").is_err(), "an unknown value is rejected");
         assert!(p("zero").is_err());
     }
 

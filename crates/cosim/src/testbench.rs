@@ -74,6 +74,11 @@ pub struct TbConfig {
     /// `Target::Node`). Their `BusContext` comes from the bench's bit clock
     /// and decoder (frame = SOFs seen, frame_bit = bits since that SOF).
     pub dut_rx_faults: Vec<Box<dyn FaultInjector>>,
+    /// The faults every node receives (a scenario's `target = "bus"`), once
+    /// more for the bench's field decoder (node index `nodes.len() + 1`),
+    /// so the fields it names follow what the nodes see, not the wire
+    /// before the fault. Frames stay counted on the wire.
+    pub bus_faults_seen: Vec<Box<dyn FaultInjector>>,
     /// Bit-level senders on the wire (`agents::raw`), on the bench's bit clock.
     pub raw_nodes: Vec<crate::agents::raw::RawNode>,
     /// Lockstep reference and tolerances.
@@ -126,6 +131,7 @@ impl Default for TbConfig {
             nodes: Vec::new(),
             faults: Vec::new(),
             dut_rx_faults: Vec::new(),
+            bus_faults_seen: Vec::new(),
             raw_nodes: Vec::new(),
             lockstep: None,
             vcd: None,
@@ -324,7 +330,8 @@ impl Testbench {
             cfg.rx,
             cfg.tx_on_bus,
         )
-        .with_raw_nodes(std::mem::take(&mut cfg.raw_nodes));
+        .with_raw_nodes(std::mem::take(&mut cfg.raw_nodes))
+        .with_faults_seen(cfg.bus_faults_seen.drain(..).collect());
         let wave = match &cfg.vcd {
             Some(p) => Some(Wave::create(p)?),
             None => None,
@@ -803,7 +810,7 @@ impl Testbench {
         let view = self.reference.can_edge(self.bus.dut_rx(), pins.tx);
         let bit = self.obs.bits();
         if sample {
-            self.obs.sample_point(t_ps, level, bit, pins, self.bus.dut_rx(), view, !self.checks.stopped());
+            self.obs.sample_point(t_ps, level, self.bus.seen_level(), bit, pins, self.bus.dut_rx(), view, !self.checks.stopped());
         }
         if view.is_some_and(|v| v.events)
             && let Some(r) = &mut self.reference.model

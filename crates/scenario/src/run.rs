@@ -328,6 +328,7 @@ pub fn tb_config(s: &Scenario, dut: &DutKind, opts: &RunOptions) -> Result<TbCon
     let cpb = can_proto::timing::BusTiming::from_btr(btr0, btr1).clocks_per_bit() as u64;
     let mut faults = Vec::new();
     let mut dut_rx_faults = Vec::new();
+    let mut bus_faults_seen = Vec::new();
     for f in &s.faults {
         let target = match f.target.as_str() {
             // Everyone on the bus: each model node, and the DUT through the
@@ -340,6 +341,8 @@ pub fn tb_config(s: &Scenario, dut: &DutKind, opts: &RunOptions) -> Result<TbCon
                     faults.push(injector(f, Target::Node(i), cpb));
                 }
                 dut_rx_faults.push(injector(f, Target::Node(s.nodes.len()), cpb));
+                // And for the bench's field decoder, which names fields as the nodes see them.
+                bus_faults_seen.push(injector(f, Target::Node(s.nodes.len() + 1), cpb));
                 continue;
             }
             // What the DUT (and its shadow model) receive: the bench applies
@@ -379,6 +382,7 @@ pub fn tb_config(s: &Scenario, dut: &DutKind, opts: &RunOptions) -> Result<TbCon
         nodes: s.nodes.iter().map(|n| NodeConfig { name: n.name.clone(), init: node_init(n) }).collect(),
         faults,
         dut_rx_faults,
+        bus_faults_seen,
         raw_nodes: s
             .raw_nodes
             .iter()

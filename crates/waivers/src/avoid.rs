@@ -58,6 +58,10 @@ pub const CAMPAIGN_TRIGGERS: &[(&str, &str)] = &[
         "TSEG1 is at least two time quanta (a run drawn with BTR1.TSEG1 = 0 gets 1; nothing else of it changes)",
     ),
     (
+        "one-quantum-sjw",
+        "SJW is at least two time quanta (a run drawn with BTR0.SJW = 0 gets 1 where TSEG1 and TSEG2 allow it; nothing else of it changes)",
+    ),
+    (
         "early-edge-beyond-sjw",
         "no glitch has an edge in phase segment 2 more than SJW before the end of the bit (a negative phase error beyond SJW); glitches elsewhere in the bit stay",
     ),
@@ -82,7 +86,7 @@ pub(crate) struct RawAvoid {
     /// What the campaign leaves out of its plans: `extended-frames-in-basiccan`,
     /// `software-reset-mode`, `sleep-mode`, `command-right-after-request`, `error-in-received-data`,
     /// `self-reception-retransmitted`, `rx-fifo-overrun`, `stuff-error-in-own-arbitration`, `one-quantum-tseg1`,
-    /// `early-edge-beyond-sjw` or `abort-in-flight`. Required.
+    /// `one-quantum-sjw`, `early-edge-beyond-sjw` or `abort-in-flight`. Required.
     #[schemars(with = "String")]
     pub trigger: Spanned<String>,
     /// The deviation's row in the deviations table (`"D29"`). Required, not empty.

@@ -117,7 +117,7 @@ pub fn run_cmd(a: Args) -> anyhow::Result<i32> {
         first_index: a.first_index,
         frames,
         minutes: a.minutes,
-        limits: DrawLimits { nodes: a.nodes, frames: a.frames_per_run, fault_rate: a.fault_rate, max_brp: a.max_brp, avoid: Vec::new() },
+        limits: DrawLimits { nodes: a.nodes, frames: a.frames_per_run, fault_rate: a.fault_rate, max_brp: a.max_brp, avoid: Vec::new(), whole_quantum_glitches: false },
         dut,
         waivers: a.waivers.waivers.clone(),
         dut_revision: a.waivers.dut_revision.clone(),

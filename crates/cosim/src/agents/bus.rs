@@ -31,6 +31,11 @@ pub struct BusAgent {
     level: bool,
     /// The DUT's `rx_i` from the last CAN edge.
     dut_rx: bool,
+    /// Faults every node receives, applied for an observer (node index
+    /// `bus.len() + 1` to them): what the nodes see of the bus.
+    seen_faults: Vec<Box<dyn FaultInjector>>,
+    /// The bus level through `seen_faults` at the last CAN edge.
+    seen: bool,
     /// Bit-level senders on the wire (wired-AND with the DUT's tx and the
     /// model nodes); they follow the bench's bit clock.
     raw: Vec<RawNode>,
@@ -58,7 +63,31 @@ impl BusAgent {
         for f in faults {
             bus.add_fault_boxed(f);
         }
-        BusAgent { bus, dut_faults, rx_wiring, tx_on_bus, level: RECESSIVE, dut_rx: RECESSIVE, raw: Vec::new() }
+        BusAgent {
+            bus,
+            dut_faults,
+            rx_wiring,
+            tx_on_bus,
+            level: RECESSIVE,
+            dut_rx: RECESSIVE,
+            seen_faults: Vec::new(),
+            seen: RECESSIVE,
+            raw: Vec::new(),
+        }
+    }
+
+    /// The faults every node receives, once more for an observer (node
+    /// index `bus.len() + 1` to them): [`BusAgent::seen_level`].
+    pub fn with_faults_seen(mut self, faults: Vec<Box<dyn FaultInjector>>) -> Self {
+        self.seen_faults = faults;
+        self
+    }
+
+    /// The bus level as the nodes see it at the last CAN edge: the wire
+    /// through the faults every node receives.
+    #[inline]
+    pub fn seen_level(&self) -> bool {
+        self.seen
     }
 
     /// Puts raw nodes on the wire.
@@ -102,7 +131,7 @@ impl BusAgent {
     pub fn can_rise(&mut self, dut_tx: bool, ctx: impl FnOnce() -> BusContext) -> bool {
         let mut dut_tx = if self.tx_on_bus { dut_tx } else { RECESSIVE };
         // Asked once, only when something needs it.
-        let ctx = (!self.dut_faults.is_empty() || !self.raw.is_empty()).then(ctx);
+        let ctx = (!self.dut_faults.is_empty() || !self.raw.is_empty() || !self.seen_faults.is_empty()).then(ctx);
         if let Some(c) = &ctx {
             // The raw nodes drive the wire like another transceiver.
             for r in &mut self.raw {
@@ -111,6 +140,13 @@ impl BusAgent {
         }
         let level = if self.bus.is_empty() { dut_tx } else { self.bus.clock_with(dut_tx) };
         self.level = level;
+        self.seen = level;
+        if let Some(c) = ctx.as_ref().filter(|_| !self.seen_faults.is_empty()) {
+            let me = self.bus.len() + 1;
+            for f in &mut self.seen_faults {
+                self.seen = f.apply(c, me, self.seen);
+            }
+        }
         let rx = match self.rx_wiring {
             RxWiring::Bus => {
                 let mut rx = level;
@@ -133,7 +169,7 @@ impl BusAgent {
     /// (no model nodes, no faults, no raw nodes): `Some(None)` its own tx, looped back;
     /// `Some(Some(level))` tied; `None` when nodes or faults are there.
     pub fn loopback_rx(&self) -> Option<Option<bool>> {
-        if !self.bus.is_empty() || !self.dut_faults.is_empty() || !self.raw.is_empty() {
+        if !self.bus.is_empty() || !self.dut_faults.is_empty() || !self.raw.is_empty() || !self.seen_faults.is_empty() {
             return None;
         }
         Some(match self.rx_wiring {
@@ -157,6 +193,7 @@ impl BusAgent {
     pub fn replay_rise(&mut self, prev_tx: bool, rx: Option<bool>) {
         let level = self.replay_level(prev_tx);
         self.level = level;
+        self.seen = level;
         self.dut_rx = rx.unwrap_or(level);
     }
 }
@@ -187,6 +224,18 @@ mod tests {
         assert_eq!(b.level(), RECESSIVE);
         b.replay_rise(DOMINANT, Some(false));
         assert_eq!((b.level(), b.dut_rx()), (DOMINANT, DOMINANT));
+    }
+
+    #[test]
+    fn a_fault_every_node_sees_reaches_the_seen_level_not_the_wire() {
+        let stuck: Box<dyn FaultInjector> = Box::new(StuckAt::forever(DOMINANT, Target::Node(1)));
+        let mut b = BusAgent::new(&[], Vec::new(), Vec::new(), RxWiring::Bus, true).with_faults_seen(vec![stuck]);
+        assert_eq!(b.can_rise(RECESSIVE, ctx), RECESSIVE);
+        assert_eq!((b.level(), b.seen_level(), b.dut_rx()), (RECESSIVE, DOMINANT, RECESSIVE));
+        assert_eq!(b.loopback_rx(), None, "no batching past a fault");
+        let mut clean = BusAgent::new(&[], Vec::new(), Vec::new(), RxWiring::Bus, true);
+        clean.can_rise(DOMINANT, ctx);
+        assert_eq!(clean.seen_level(), DOMINANT, "without faults the nodes see the wire");
     }
 
     #[test]

@@ -19,8 +19,14 @@ use crate::wave::{Wave, WaveSample};
 /// Bit clock, field decoder, VCD, run record and bus log of one run.
 pub struct Observer {
     bitclock: BitClock,
+    /// Decodes the wire: frames (SOFs) and the bus log.
     decoder: Decoder,
-    /// The decoder's field now.
+    /// Decodes the bus as the nodes see it (the wire through the faults
+    /// every node receives): the fields. After such a fault the wire alone
+    /// would take the nodes' error flags for frame bits and name every
+    /// later field wrong until the bus is idle.
+    seen_decoder: Decoder,
+    /// The field now, of the bus as the nodes see it.
     field: Option<Field>,
     /// Frames seen (SOFs), counted from 1.
     frame: u32,
@@ -50,6 +56,7 @@ impl Observer {
         Observer {
             bitclock: BitClock::new(BusTiming::from_btr(btr0, btr1)),
             decoder: Decoder::new(),
+            seen_decoder: Decoder::new(),
             field: None,
             frame: 0,
             sof_bit: 0,
@@ -163,6 +170,7 @@ impl Observer {
         &mut self,
         t_ps: u64,
         level: bool,
+        seen: bool,
         bit: u64,
         pins: CanPins,
         dut_rx: bool,
@@ -171,15 +179,17 @@ impl Observer {
     ) {
         for e in self.decoder.push(level) {
             match e {
-                DecodeEvent::FieldStart { field, .. } => {
-                    self.field = Some(field);
-                    if field == Field::Sof {
-                        self.frame += 1;
-                        self.sof_bit = bit - 1;
-                    }
+                DecodeEvent::FieldStart { field: Field::Sof, .. } => {
+                    self.frame += 1;
+                    self.sof_bit = bit - 1;
                 }
                 DecodeEvent::Frame(d) => self.bus_log.frame(t_ps, d.frame),
                 _ => {}
+            }
+        }
+        for e in self.seen_decoder.push(seen) {
+            if let DecodeEvent::FieldStart { field, .. } = e {
+                self.field = Some(field);
             }
         }
         if recording {
@@ -286,6 +296,29 @@ mod tests {
     }
 
     #[test]
+    fn fields_follow_the_bus_the_nodes_see_and_frames_the_wire() {
+        // ID 0x000: SOF and ID.10-7 are five dominant bits, wire bit 5 the
+        // recessive stuff bit. The nodes see it dominant (a bus fault): a
+        // stuff error, everyone's error flag from bit 6; the wire alone has
+        // the stuff bit and takes the flags for identifier bits.
+        let mut wire = vec![true; 11];
+        wire.extend([false, false, false, false, false, true]);
+        wire.extend([false; 6]);
+        wire.extend([true; 8]);
+        let mut seen = wire.clone();
+        seen[11 + 5] = false;
+        let (mut with_fault, mut wire_only) = (observer(1000), observer(1000));
+        let pins = CanPins::default();
+        for i in 0..11 + 7 {
+            with_fault.sample_point(0, wire[i], seen[i], i as u64 + 1, pins, seen[i], None, true);
+            wire_only.sample_point(0, wire[i], wire[i], i as u64 + 1, pins, wire[i], None, true);
+        }
+        assert!(matches!(with_fault.field(), Some(Field::ActiveErrorFlag | Field::PassiveErrorFlag)), "{:?}", with_fault.field());
+        assert_eq!(wire_only.field(), Some(Field::BaseId), "the wire alone is still in the identifier");
+        assert_eq!(with_fault.frame(), 1, "frames are counted on the wire");
+    }
+
+    #[test]
     fn sample_points_count_frames_fields_and_record_bits() {
         let mut o = observer(1000);
         let pins = CanPins { tx: true, irq_n: true, bus_on: true, clkout: false };
@@ -294,7 +327,7 @@ mod tests {
         bits.extend(wire_bits(0x123, &[1, 2]));
         bits.extend(wire_bits(0x7FF, &[]));
         for (i, &b) in bits.iter().enumerate() {
-            o.sample_point(i as u64, b, i as u64 + 1, pins, b, None, true);
+            o.sample_point(i as u64, b, b, i as u64 + 1, pins, b, None, true);
         }
         assert_eq!(o.frame(), 2, "two SOFs seen");
         assert_eq!(o.frame_no(), Some(2));
@@ -303,7 +336,7 @@ mod tests {
         assert_eq!(o.record.bus_bits.last().unwrap().frame, Some(2));
         // Not recording (the comparison stopped): the decoder still runs.
         let n = o.record.bus_bits.len();
-        o.sample_point(0, true, 999, pins, true, None, false);
+        o.sample_point(0, true, true, 999, pins, true, None, false);
         assert_eq!(o.record.bus_bits.len(), n);
     }
 
@@ -313,9 +346,9 @@ mod tests {
         assert_eq!(o.stamp(5, 7, None).frame, None, "no frame before the first SOF");
         // Bus idle (11 recessive bits), then a start of frame at bit 12.
         for b in 1..=11 {
-            o.sample_point(0, true, b, CanPins::default(), true, None, true);
+            o.sample_point(0, true, true, b, CanPins::default(), true, None, true);
         }
-        o.sample_point(0, false, 12, CanPins::default(), false, None, true);
+        o.sample_point(0, false, false, 12, CanPins::default(), false, None, true);
         let s = o.stamp(5, 7, Some(Field::AckSlot));
         assert_eq!((s.t_ps, s.bit, s.field, s.frame), (5, 7, Some(Field::AckSlot), Some(1)));
         assert_eq!(o.stamp(5, 7, None).field, Some(Field::Sof));

@@ -523,3 +523,50 @@ fn an_agreeing_read_between_two_hits_ends_a_read_episode() {
     let merged = run(false);
     assert!(merged[..9].iter().all(|w| *w) && !merged[9..].iter().any(|w| *w), "one episode past 10 bits: {merged:?}");
 }
+
+/// D1 at long bit times, the shipped waivers: RMC one less and IR.0 (RI)
+/// missing in EOF for one bit are waived; two less, another IR bit, the same
+/// read in the intermission or a second bit in a row still fail. The pin's
+/// lateness stops at 1 bit + 19 clocks.
+#[test]
+fn d1_reads_at_eof_are_waived_for_one_bit_and_the_pin_for_1_bit_and_19_clocks() {
+    let path = concat!(env!("CARGO_MANIFEST_DIR"), "/../../tb/waivers/opencores-upstream.toml");
+    let read = |reg: &str, bit: u64, field: can_proto::Field, model: u32, seen: u32| Divergence {
+        kind: DivergenceKind::RegisterRead,
+        bit: Some(bit),
+        time_ps: bit * 1_000,
+        field: Some(field),
+        register: Some(reg.into()),
+        expected: model,
+        seen,
+        ..Divergence::default()
+    };
+    let by = |v: Verdict| match v {
+        Verdict::Waived { waiver_id, .. } => Some(waiver_id),
+        Verdict::Failure => None,
+    };
+    let (rmc, ri) = (Some("rmc-late-at-eof".to_string()), Some("ri-late-at-eof".to_string()));
+    let eof = can_proto::Field::Eof;
+    let mut set = WaiverSet::load(path).unwrap();
+    assert_eq!(by(set.check(&read("RMC", 100, eof, 1, 0), &dut())), rmc);
+    assert_eq!(by(set.check(&read("RMC", 200, eof, 3, 2), &dut())), rmc, "a later frame: another episode");
+    assert_eq!(by(set.check(&read("RMC", 300, eof, 2, 0), &dut())), None, "two less");
+    assert_eq!(by(set.check(&read("RMC", 400, eof, 1, 2), &dut())), None, "one more");
+    assert_eq!(by(set.check(&read("RMC", 500, can_proto::Field::Intermission, 1, 0), &dut())), None, "after EOF");
+    assert_eq!(by(set.check(&read("RMC", 600, eof, 1, 0), &dut())), rmc);
+    assert_eq!(by(set.check(&read("RMC", 602, eof, 1, 0), &dut())), None, "two bits later, still one less");
+    assert_eq!(by(set.check(&read("IR", 700, eof, 0x03, 0x02), &dut())), ri);
+    assert_eq!(by(set.check(&read("IR", 800, eof, 0x03, 0x01), &dut())), None, "TI missing instead");
+    assert_eq!(by(set.check(&read("IR", 900, eof, 0x01, 0x00), &dut())), ri);
+    assert_eq!(by(set.check(&read("IR", 1000, eof, 0x02, 0x03), &dut())), None, "RI early on the core");
+    assert_eq!(by(set.check(&read("IR", 1100, can_proto::Field::Data, 0x01, 0x00), &dut())), None, "in a data field");
+    // The pin: 1 bit + 19 clocks late is the bound.
+    let pin = |lag_clocks: u64| {
+        let mut set = WaiverSet::load(path).unwrap();
+        let start = 10 * BIT;
+        let d = Divergence { field: Some(eof), ..irq(start) };
+        set.check_observed(&d, &dut(), &at(start + BIT + lag_clocks * CLK))
+    };
+    assert!(matches!(pin(19), Verdict::Waived { .. }));
+    assert_eq!(pin(20), Verdict::Failure, "one clock more");
+}
