@@ -11,8 +11,9 @@
 //    SYNC_SEG; counting goes on with TSEG1.
 //  - Resync (CAN 2.0B 10.4.2): edge in TSEG1 (phase error e = q > 0):
 //    TSEG1 lengthened by min(e, SJW+1); edge in TSEG2 (e = q - nq < 0):
-//    TSEG2 shortened by min(|e|, SJW+1). Only one sync between two sample
-//    points, only if the previous sampled bit was recessive, and a node
+//    TSEG2 shortened by min(|e|, SJW+1); an edge in SYNC_SEG (e = 0) moves
+//    nothing. Only one sync between two sample points (an edge in SYNC_SEG
+//    is one), only if the previous sampled bit was recessive, and a node
 //    sending a dominant bit does not resync on a positive phase error.
 //  - SAM = 1: the bit is the majority of the levels at the last three ticks.
 // tx_o changes at the start of every bit (SYNC_SEG) to the value tx_next
@@ -45,7 +46,7 @@ module can_btl (
     wire [4:0] t1   = {1'b0, tseg1} + 5'd1;
     wire [4:0] nq   = t1 + {2'b00, tseg2} + 5'd2;      // 1 + t1 + t2
     wire [4:0] sjw1 = {3'b000, sjw} + 5'd1;
-    wire       edge_det = rx_tq && !rx && last_bit && !synced && (q != 5'd0); // none in SYNC_SEG
+    wire       edge_det = rx_tq && !rx && last_bit && !synced;
     wire       in_tseg1 = (q != 5'd0) && (q <= t1);
     wire       in_tseg2 = (q > t1);
     wire [4:0] rem  = nq - q;                          // quanta left incl. q
@@ -90,6 +91,11 @@ module can_btl (
                         q    <= q + 5'd1 + sjw1;
                     end
                 end else begin
+                    // An edge in SYNC_SEG (phase error 0) moves nothing but is
+                    // this bit's one synchronisation: later edges wait for
+                    // the sample point.
+                    if (edge_det && q == 5'd0)
+                        synced <= 1'b1;
                     if (q == t1) begin
                         sample   <= 1'b1;
                         rx_bit   <= sam ? maj : rx;

@@ -7,7 +7,8 @@
 //! of the quantum. An edge is a recessive level at the previous look and a
 //! dominant one now (only recessive-to-dominant edges synchronise); it is
 //! placed in the quantum that just ended. Synchronisation rules (§9.2.4):
-//! 1. at most one synchronisation between two sample points;
+//! 1. at most one synchronisation between two sample points (an edge in the
+//!    sync segment is one, with phase error 0);
 //! 2. an edge counts only if the level sampled at the previous sample point
 //!    was recessive (it differs from the level after the edge);
 //! 3. hard synchronisation on an edge while the bus is idle (the bit stream
@@ -289,8 +290,13 @@ impl Btl {
         let edge = self.prev_rx && !rx;
         self.prev_rx = rx;
         self.hist = ((self.hist << 1) | rx as u8) & 7;
-        if edge && self.last_sample && !self.synced && self.pos != 0 {
-            if hard_sync {
+        if edge && self.last_sample && !self.synced {
+            if self.pos == 0 {
+                // Phase error 0 (§9.2.4): nothing moves, but it is this
+                // bit's synchronisation (rule 1), so a glitch edge later in
+                // the bit, before the sample point, is not used.
+                self.synced = true;
+            } else if hard_sync {
                 // Rule 3: this quantum becomes the sync segment of a new bit.
                 let sampled = self.pos > self.sp;
                 self.new_bit_after_sync();
@@ -440,6 +446,31 @@ mod tests {
             }
         }
         panic!("no sample point or bit start in 64 quanta");
+    }
+
+    /// An edge in the sync segment (phase error 0) is the bit's one
+    /// synchronisation (CAN 2.0B §9.2.5 rule 1): a glitch's second
+    /// recessive-to-dominant edge before the sample point does not lengthen
+    /// phase segment 1, so a dominant bit is sampled where it is, not SJW
+    /// later in the next bit.
+    #[test]
+    fn an_edge_in_the_sync_segment_blocks_a_later_edge_in_the_bit() {
+        // SJW 4 tq; sync + 11 tq TSEG1 + 2 tq TSEG2.
+        let mut b = Btl::new(BusTiming::from_btr(0xC0, 0x1A));
+        // A recessive bit, sampled recessive, to its end.
+        let mut n = 0;
+        while b.tq(true, false, false) != Tq::BitStart {
+            n += 1;
+            assert!(n < 64);
+        }
+        // Bus dominant from the sync segment on, recessive in quanta 3 and 4.
+        let bus = |q: u32| (3..=4).contains(&q);
+        let events: Vec<_> = (0..14).map(|q| (q, b.tq(bus(q), false, false))).filter(|e| e.1 != Tq::Quiet).collect();
+        assert_eq!(
+            events,
+            vec![(11, Tq::Sample(false)), (13, Tq::BitStart)],
+            "sampled once, dominant, at the nominal sample point; the bit keeps its 14 tq"
+        );
     }
 
     #[test]
