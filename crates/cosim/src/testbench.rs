@@ -810,7 +810,12 @@ impl Testbench {
         let view = self.reference.can_edge(self.bus.dut_rx(), pins.tx);
         let bit = self.obs.bits();
         if sample {
+            let frames = self.obs.frame();
             self.obs.sample_point(t_ps, level, self.bus.seen_level(), bit, pins, self.bus.dut_rx(), view, !self.checks.stopped());
+            if self.obs.frame() != frames {
+                // A new frame: a register-read waiver's episode ends with the last one.
+                self.checks.waivers().frame_start(t_ps);
+            }
         }
         if view.is_some_and(|v| v.events)
             && let Some(r) = &mut self.reference.model

@@ -736,7 +736,9 @@ pub(crate) struct RawWaiver {
     pub frames: Option<FrameRange>,
     /// Text the divergence's context must contain. Default: any.
     pub context: Option<String>,
-    /// One deviation lasts at most this many bit times; longer, the rest is not waived. Default: unbounded.
+    /// One deviation lasts at most this many bit times; longer, the rest is not waived. For a
+    /// register read an episode ends at a read of the register that agreed or at a start of frame
+    /// between two hits. Default: unbounded.
     #[schemars(with = "Option<u32>")]
     pub late_bits: Option<Spanned<u32>>,
     /// irq and bus-off: the DUT's pin lags the model's by at most this (`"1 bit"`,

@@ -72,6 +72,11 @@ impl Session {
         self.set.host_read(register, t_ps);
     }
 
+    /// A start of frame on the bus at `t_ps` ([`WaiverSet::frame_start`]).
+    pub fn frame_start(&mut self, t_ps: u64) {
+        self.set.frame_start(t_ps);
+    }
+
     /// A divergence with nothing observed beyond it.
     pub fn divergence(&mut self, d: Divergence) -> Action {
         self.divergence_observed(d, &Observed::default())

@@ -544,6 +544,9 @@ pub struct WaiverSet {
     waivers: Vec<Waiver>,
     expected_failures: Vec<ExpectedFailure>,
     avoids: Vec<crate::avoid::Avoid>,
+    /// Recent starts of frame on the bus (ps): one between two hits of a
+    /// register-read `late-bits` waiver ends its episode.
+    frame_starts: Vec<u64>,
 }
 
 impl WaiverSet {
@@ -598,7 +601,7 @@ impl WaiverSet {
             }
             avoids.push(a);
         }
-        Ok(WaiverSet { name: name.into(), waivers, expected_failures, avoids })
+        Ok(WaiverSet { name: name.into(), waivers, expected_failures, avoids, frame_starts: Vec::new() })
     }
 
     /// Adds the waivers of another file after these (`--waivers a --waivers b`).
@@ -729,7 +732,10 @@ impl WaiverSet {
                 let reach = w.skip().max(late as u64);
                 // A read of the register between two hits that was not one
                 // of them showed the DUT agreeing: the deviation had ended.
-                let read_between = |e: &Episode| w.own_reads.iter().any(|&t| t > e.last_ps && t < d.time_ps);
+                // So did a start of frame: each frame's difference is an episode of its own.
+                let read_between = |e: &Episode| {
+                    w.own_reads.iter().chain(&self.frame_starts).any(|&t| t > e.last_ps && t < d.time_ps)
+                };
                 match w.episode {
                     Some(e) if bit >= e.first_bit && bit <= e.covered_to + 1 && !read_between(&e) => {
                         // Same deviation still going on: it stays one episode
@@ -820,6 +826,17 @@ impl WaiverSet {
             w.own_reads.clear();
             w.outlasted = None;
         }
+        self.frame_starts.clear();
+    }
+
+    /// A start of frame on the bus at `t_ps` (simulated time): between two
+    /// hits of a register-read waiver with `late-bits` it ends the episode
+    /// (a difference of one frame's tail, such as D2's, ends with it).
+    pub fn frame_start(&mut self, t_ps: u64) {
+        if self.frame_starts.len() >= RECENT_READS {
+            self.frame_starts.remove(0);
+        }
+        self.frame_starts.push(t_ps);
     }
 
     /// The host's read of `register` completed at `t_ps` (simulated time):

@@ -570,3 +570,27 @@ fn d1_reads_at_eof_are_waived_for_one_bit_and_the_pin_for_1_bit_and_19_clocks() 
     assert!(matches!(pin(19), Verdict::Waived { .. }));
     assert_eq!(pin(20), Verdict::Failure, "one clock more");
 }
+
+/// A start of frame between two hits of a register-read `late-bits` waiver
+/// ends the episode, as an agreeing read does: D2 at one frame's
+/// intermission and again at the next frame's error flag are two episodes
+/// even with no read of SR between them; without the start of frame they
+/// are one, and its length fails.
+#[test]
+fn a_start_of_frame_between_two_hits_ends_a_read_episode() {
+    let src = TS_FOR_RS.replace("max-hits = 3\n", "late-bits = 30\n");
+    let at = |bit: u64| Divergence { bit: Some(bit), time_ps: bit * 1_000, ..sr(0x1C, 0x2C) };
+    let run = |sof_between: bool| {
+        let mut set = WaiverSet::parse(&src, "p.toml").unwrap();
+        let mut verdicts = Vec::new();
+        for bit in [478, 479, 509, 514, 515, 516] {
+            if sof_between && bit == 509 {
+                set.frame_start(485 * 1_000);
+            }
+            verdicts.push(matches!(set.check(&at(bit), &dut()), Verdict::Waived { .. }));
+        }
+        verdicts
+    };
+    assert_eq!(run(true), vec![true; 6], "two frames, two episodes");
+    assert_eq!(run(false), vec![true, true, false, false, false, false], "one episode: past 30 bits from bit 509 on");
+}
