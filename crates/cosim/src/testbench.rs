@@ -816,6 +816,10 @@ impl Testbench {
                 // A new frame: a register-read waiver's episode ends with the last one.
                 self.checks.waivers().frame_start(t_ps);
             }
+            if !pins.tx && self.bus.dut_rx() {
+                // The DUT drove dominant and read recessive: an error flag it starts is a new one.
+                self.checks.dut_bit_error(bit);
+            }
         }
         if view.is_some_and(|v| v.events)
             && let Some(r) = &mut self.reference.model

@@ -738,7 +738,9 @@ pub(crate) struct RawWaiver {
     pub context: Option<String>,
     /// One deviation lasts at most this many bit times; longer, the rest is not waived. For a
     /// register read an episode ends at a read of the register that agreed or at a start of frame
-    /// between two hits. Default: unbounded.
+    /// between two hits; for a tx bit, at a bit compared equal between two hits, and it counts
+    /// again from the bit after one where the DUT drove dominant and read recessive (a bit error
+    /// of its own: a new error flag). Default: unbounded.
     #[schemars(with = "Option<u32>")]
     pub late_bits: Option<Spanned<u32>>,
     /// irq and bus-off: the DUT's pin lags the model's by at most this (`"1 bit"`,

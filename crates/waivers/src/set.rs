@@ -50,6 +50,15 @@ pub struct Observed {
     /// model's RX FIFO (PeliCAN, operating mode); `None`: not observed. For
     /// `model-rx-frame`.
     pub model_rx_frame_info: Option<u8>,
+    /// The last bit whose tx the comparator compared and found equal on
+    /// both sides; `None`: not observed. It ends a tx-bit `late-bits`
+    /// episode (the deviation had stopped).
+    pub tx_agreed_bit: Option<u64>,
+    /// The last bit at whose sample point the DUT drove dominant and its
+    /// rx read recessive: a bit error the DUT detects itself (CAN 2.0B §7: a
+    /// new error flag starts at the next bit); `None`: not observed. A
+    /// tx-bit `late-bits` episode restarts after it.
+    pub dut_bit_error_bit: Option<u64>,
 }
 
 impl Observed {
@@ -221,6 +230,8 @@ const RECENT_READS: usize = 64;
 #[derive(Clone, Copy, Debug)]
 struct Episode {
     first_bit: u64,
+    /// The last hit's bit.
+    last_bit: u64,
     covered_to: u64,
     /// Time of the last hit (ps).
     last_ps: u64,
@@ -674,8 +685,11 @@ impl WaiverSet {
     /// `late-bits = N` bounds how long one deviation may last: hits of a
     /// waiver at most max(N, its `skip-bits`) + 1 bits apart form one
     /// episode, and a hit that would make the episode span more than N bit
-    /// times is not waived (nor is the rest of that episode). `max-hits`
-    /// bounds the total.
+    /// times is not waived (nor is the rest of that episode). For a tx-bit
+    /// waiver, a bit compared equal between two hits ([`Observed::tx_agreed_bit`])
+    /// ends the episode, and a bit error the DUT detects in it
+    /// ([`Observed::dut_bit_error_bit`]) restarts the count at the next bit.
+    /// `max-hits` bounds the total.
     ///
     /// `until-read = "IR"` bounds a pin difference by the event that ends
     /// it: reports of one lasting difference (the pins did not agree in
@@ -736,16 +750,27 @@ impl WaiverSet {
                 let read_between = |e: &Episode| {
                     w.own_reads.iter().chain(&self.frame_starts).any(|&t| t > e.last_ps && t < d.time_ps)
                 };
+                // A tx bit compared equal between two hits showed the DUT
+                // agreeing: the deviation had ended, as with a read.
+                let tx_agreed_between = |e: &Episode| {
+                    d.kind == DivergenceKind::TxBit && obs.tx_agreed_bit.is_some_and(|b| b > e.last_bit && b < bit)
+                };
                 match w.episode {
-                    Some(e) if bit >= e.first_bit && bit <= e.covered_to + 1 && !read_between(&e) => {
+                    Some(e) if bit >= e.first_bit && bit <= e.covered_to + 1 && !read_between(&e) && !tx_agreed_between(&e) => {
                         // Same deviation still going on: it stays one episode
-                        // (even once rejected), so it cannot restart the count.
-                        w.episode = Some(Episode { first_bit: e.first_bit, covered_to: bit + reach, last_ps: d.time_ps });
-                        if bit - e.first_bit + 1 > late as u64 {
+                        // (even once rejected), so it cannot restart the count,
+                        // unless the DUT detected a bit error of its own in it:
+                        // its new error flag counts from the next bit.
+                        let first_bit = match obs.dut_bit_error_bit {
+                            Some(b) if d.kind == DivergenceKind::TxBit && b >= e.first_bit && b < bit => b + 1,
+                            _ => e.first_bit,
+                        };
+                        w.episode = Some(Episode { first_bit, last_bit: bit, covered_to: bit + reach, last_ps: d.time_ps });
+                        if bit - first_bit + 1 > late as u64 {
                             continue;
                         }
                     }
-                    _ => w.episode = Some(Episode { first_bit: bit, covered_to: bit + reach, last_ps: d.time_ps }),
+                    _ => w.episode = Some(Episode { first_bit: bit, last_bit: bit, covered_to: bit + reach, last_ps: d.time_ps }),
                 }
                 w.own_reads.retain(|&t| t >= d.time_ps);
             }

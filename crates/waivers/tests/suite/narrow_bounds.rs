@@ -499,6 +499,50 @@ fn a_listen_only_error_flag_is_waived_per_flag_of_six_bits() {
     assert_eq!(WaiverSet::load(path).unwrap().check_observed(&flag_bit(100), &dut(), &operating), Verdict::Failure, "not listen-only");
 }
 
+/// D4's episodes follow the flags the core sends: a bit compared equal
+/// between two flags ends one (two flags a few bits apart stay two), and a
+/// bit error the core detects in its own flag restarts the count at the
+/// next bit (its new flag, CAN 2.0B §7). Without either, or with one before
+/// the episode, a seventh dominant bit in a row still fails.
+#[test]
+fn a_listen_only_flag_ends_at_an_agreeing_bit_and_restarts_after_the_cores_bit_error() {
+    let path = concat!(env!("CARGO_MANIFEST_DIR"), "/../../tb/waivers/opencores-upstream.toml");
+    let flag_bit = |bit: u64| Divergence {
+        kind: DivergenceKind::TxBit,
+        bit: Some(bit),
+        field: Some(can_proto::Field::PassiveErrorFlag),
+        expected: 1,
+        seen: 0,
+        ..Divergence::default()
+    };
+    // Hits at `bits`, each checked with what the bench observed by then.
+    let run = |bits: &[u64], agreed: Option<u64>, bit_error: Option<u64>| {
+        let mut set = WaiverSet::load(path).unwrap();
+        bits.iter()
+            .map(|&b| {
+                let obs = Observed {
+                    model_mod: Some(0x02),
+                    tx_agreed_bit: agreed.filter(|&a| a < b),
+                    dut_bit_error_bit: bit_error.filter(|&e| e <= b),
+                    ..Default::default()
+                };
+                matches!(set.check_observed(&flag_bit(b), &dut(), &obs), Verdict::Waived { .. })
+            })
+            .collect::<Vec<bool>>()
+    };
+    let two_flags: Vec<u64> = (100..=105).chain(107..=112).collect();
+    assert!(run(&two_flags, Some(106), None).iter().all(|w| *w), "two flags, an agreeing bit between");
+    let merged = run(&two_flags, None, None);
+    assert!(!merged[6], "without the agreeing bit the second flag continues the first: {merged:?}");
+    assert!(!run(&two_flags, Some(99), None)[6], "an agreement before the episode ends nothing");
+    // A flag of 5 bits, a bit error at its 5th, a new flag of 6: 11 bits.
+    let restarted: Vec<u64> = (100..=111).collect();
+    let v = run(&restarted, None, Some(104));
+    assert!(v[..11].iter().all(|w| *w) && !v[11], "the new flag has six bits, a seventh fails: {v:?}");
+    let v = run(&restarted, None, Some(98));
+    assert!(v[..6].iter().all(|w| *w) && !v[6], "a bit error before the episode restarts nothing: {v:?}");
+}
+
 /// A register read's `late-bits` episode ends at a read of that register
 /// that agreed (no hit) between two hits: two D2 episodes a few bits apart
 /// stay two, each bounded; without the agreeing read they are one, and

@@ -199,6 +199,8 @@ pub struct Comparator {
     found_latch: VecDeque<Latch>,
     /// The irq report found: the pins had not agreed since the last one.
     irq_continues: Option<bool>,
+    /// The last bit whose tx was compared and agreed (for the waivers).
+    tx_agreed_bit: Option<u64>,
     /// Differences listed in collect mode, with their repeats.
     listed: Listed,
     skip_until_bit: u64,
@@ -233,6 +235,7 @@ impl Comparator {
             latch_info: None,
             found_latch: VecDeque::new(),
             irq_continues: None,
+            tx_agreed_bit: None,
             listed: Listed::default(),
             skip_until_bit: 0,
             compared_bits: 0,
@@ -275,6 +278,11 @@ impl Comparator {
     /// the previous irq report (the same difference again), once.
     pub fn take_irq_continues(&mut self) -> Option<bool> {
         self.irq_continues.take()
+    }
+
+    /// The last bit whose tx the comparator compared and found equal.
+    pub fn tx_agreed_bit(&self) -> Option<u64> {
+        self.tx_agreed_bit
     }
 
     /// True while a divergence halts the comparison (until [`Comparator::resume`]).
@@ -500,6 +508,9 @@ impl Comparator {
     /// or counted as a repeat or as its frame's cascade (collect mode).
     fn judge_tx(&mut self, mid: TxSample) {
         self.compared_bits += 1;
+        if mid.dut_tx == mid.ref_tx {
+            self.tx_agreed_bit = Some(mid.stamp.bit);
+        }
         if self.tx.latched
             && mid.dut_tx == mid.ref_tx
             && (self.tx.latch_frame.is_none() || mid.stamp.frame != self.tx.latch_frame)

@@ -24,6 +24,9 @@ pub struct ComparatorAgent {
     /// comparator could not see: taken from the next TXERR/RXERR read.
     adopt_tec_at_read: bool,
     adopt_rec_at_read: bool,
+    /// The last bit at whose sample point the DUT drove dominant and read
+    /// recessive on its rx (a bit error it detects itself).
+    dut_bit_error_bit: Option<u64>,
 }
 
 /// The clocks a waiver's bounds are measured in, at a divergence.
@@ -45,6 +48,7 @@ impl ComparatorAgent {
             waivers,
             stopped: false,
             adopt_tec_at_read: false,
+            dut_bit_error_bit: None,
             adopt_rec_at_read: false,
         }
     }
@@ -63,6 +67,12 @@ impl ComparatorAgent {
     /// The waiver session.
     pub fn waivers(&mut self) -> &mut Session {
         &mut self.waivers
+    }
+
+    /// At the sample point of `bit`, the DUT drove dominant and its rx read
+    /// recessive: a bit error it detects itself (for the waivers' episodes).
+    pub fn dut_bit_error(&mut self, bit: u64) {
+        self.dut_bit_error_bit = Some(bit);
     }
 
     /// The tolerances in words (for reports), if lockstep.
@@ -273,6 +283,9 @@ impl ComparatorAgent {
         {
             observed.model_rx_frame_info = Some(r.peek(16));
         }
+        // What ends or restarts a tx-bit waiver's episode.
+        observed.tx_agreed_bit = c.tx_agreed_bit();
+        observed.dut_bit_error_bit = self.dut_bit_error_bit;
         while let Some(d) = c.take_divergence() {
             let bit = d.bit;
             // An irq report: the same difference again, or a new one

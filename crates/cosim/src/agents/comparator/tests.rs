@@ -71,6 +71,25 @@ fn tx_edges_within_tolerance_are_not_compared_but_sample_points_are() {
     );
 }
 
+/// The last bit compared equal is what ends a tx-bit waiver's episode: a
+/// sample point skipped in the edge window or one that differs is not one.
+#[test]
+fn the_last_tx_bit_compared_equal_is_kept_for_the_waivers() {
+    let cfg = CompareConfig {
+        tx_edge_tolerance: 2,
+        ..CompareConfig::default()
+    };
+    // Equal at 5; the model's edge at 10, the DUT's at 11: the sample at 11
+    // is in the window (not compared); differing from 20 on.
+    let r: Vec<bool> = (0..30).map(|k| k < 10).collect();
+    let d: Vec<bool> = (0..30).map(|k| k < 11 || k >= 20).collect();
+    let c = run(cfg, &r, &d, &[5, 11]);
+    assert_eq!(c.tx_agreed_bit(), Some(5), "the sample in the edge window is not an agreement");
+    let c = run(cfg, &r, &d, &[5, 15, 22]);
+    assert_eq!(c.tx_agreed_bit(), Some(15));
+    assert!(c.divergence().is_some_and(|dv| dv.bit == Some(22)), "22 differs, and is no agreement");
+}
+
 #[test]
 fn a_start_of_frame_from_bus_idle_may_lag_within_the_sof_tolerance() {
     let cfg = CompareConfig {
