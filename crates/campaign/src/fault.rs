@@ -311,9 +311,9 @@ impl SharedInjector {
 impl FaultInjector for SharedInjector {
     fn apply(&mut self, ctx: &BusContext, node: usize, level: bool) -> bool {
         let mut s = self.0.borrow_mut();
-        // The bus clocks its nodes before the test bench computes the DUT's
-        // rx in the same CAN clock: the DUT reuses the bus's frame context,
-        // so frames and bits are counted the same way for every receiver.
+        // The bus applies it to its nodes, then to the DUT's rx (node
+        // `n_nodes`) in the same CAN clock: the DUT reuses the bus's frame
+        // context, so frames and bits are counted the same way for every receiver.
         let ctx = if node < s.n_nodes {
             s.last = *ctx;
             *ctx

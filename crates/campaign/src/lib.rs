@@ -537,9 +537,9 @@ fn build(cfg: &CampaignConfig) -> Result<Segment, TbError> {
         btr0: cfg.btr.0,
         btr1: cfg.btr.1,
         nodes,
-        // One shared injector on the model nodes' receivers and on the DUT's.
+        // One shared injector on the model nodes' receivers; the bus applies
+        // it to the DUT's too (node `nodes`), in the same frame context.
         faults: vec![Box::new(inj.clone())],
-        dut_rx_faults: vec![Box::new(inj.clone())],
         lockstep: Some((ReferenceChoice::Model, cfg.compare.unwrap_or_else(|| CampaignConfig::compare_for(&cfg.dut)))),
         keep_bits: 64,
         vcd: cfg.vcd.clone(),

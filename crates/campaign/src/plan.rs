@@ -516,7 +516,11 @@ pub fn draw(seed: u64, index: u64, lim: &DrawLimits) -> Plan {
             let what = match r.random_range(0..10u32) {
                 0..5 => FaultWhat::Flip,
                 5..6 => FaultWhat::StuckDominant { bits: r.random_range(1..=12u32) },
-                _ => glitch(&mut r, &t, lim.avoids("early-edge-beyond-sjw"), lim.whole_quantum_glitches)?,
+                _ => glitch(&mut r, &t, &GlitchLimits {
+                    no_early_edge: lim.avoids("early-edge-beyond-sjw"),
+                    no_level_resync: lim.avoids("resync-without-edge"),
+                    whole_quanta: lim.whole_quantum_glitches,
+                })?,
             };
             Some(PlanFault {
                 frame: i + 1,
@@ -656,29 +660,59 @@ pub const GLITCH_SAMPLE_MARGIN: u32 = 4;
 
 /// A pulse of whole or part quanta that stays [`GLITCH_SAMPLE_MARGIN`]
 /// clocks from the sample point (and, with SAM, the two quanta before it).
-/// With `no_early_edge`, neither of its edges falls in phase segment 2 more
-/// than SJW before the bit's end (a negative phase error beyond SJW).
-/// With `whole_quanta`, its width is one or two quanta.
-fn glitch(r: &mut StdRng, t: &BusTiming, no_early_edge: bool, whole_quanta: bool) -> Option<FaultWhat> {
+/// Limits on where [`glitch`] puts a pulse (campaign triggers).
+struct GlitchLimits {
+    /// Neither edge in phase segment 2 more than SJW before the bit's end
+    /// (a negative phase error beyond SJW: `early-edge-beyond-sjw`).
+    no_early_edge: bool,
+    /// No leading edge where it leaves a DUT with triple sampling a whole
+    /// TSEG1 early ([`level_resync_zone`]: `resync-without-edge`).
+    no_level_resync: bool,
+    /// Widths of one or two quanta only.
+    whole_quanta: bool,
+}
+
+/// A pulse of whole or part quanta that stays [`GLITCH_SAMPLE_MARGIN`]
+/// clocks from the sample point (and, with SAM, the two quanta before it),
+/// within `lim`.
+fn glitch(r: &mut StdRng, t: &BusTiming, lim: &GlitchLimits) -> Option<FaultWhat> {
     let cptq = t.clocks_per_tq();
     let cpb = t.clocks_per_bit();
     let sample = (2 + t.tseg1 as u32) * cptq;
     let samples: Vec<u32> = if t.sam { vec![sample - 2 * cptq, sample - cptq, sample] } else { vec![sample] };
     let early = early_edge_zone(t);
+    let level = if lim.no_level_resync { level_resync_zone(t) } else { 0..0 };
     for _ in 0..20 {
         let start_tq = r.random_range(0..t.tq_per_bit());
-        let width = if cptq >= 4 && r.random_bool(0.5) && !whole_quanta { r.random_range(1..cptq) } else { cptq * r.random_range(1..=2u32) };
+        let width = if cptq >= 4 && r.random_bool(0.5) && !lim.whole_quanta { r.random_range(1..cptq) } else { cptq * r.random_range(1..=2u32) };
         let offset = start_tq * cptq + if width < cptq { r.random_range(0..cptq - width) } else { 0 };
         if offset + width >= cpb {
             continue;
         }
         let clear = samples.iter().all(|&s| s + GLITCH_SAMPLE_MARGIN <= offset || offset + width + GLITCH_SAMPLE_MARGIN <= s)
-            && !(no_early_edge && (early.contains(&offset) || early.contains(&(offset + width))));
+            && !(lim.no_early_edge && (early.contains(&offset) || early.contains(&(offset + width))))
+            && !level.contains(&offset);
         if clear {
             return Some(FaultWhat::Glitch { offset, width });
         }
     }
     None
+}
+
+/// Clocks from the bit's start where a glitch's leading edge, within SJW
+/// of the bit's end, makes a DUT with triple sampling start its next bits a
+/// whole TSEG1 early (the edge is that bit's one synchronisation, so the
+/// real edge after it is not used): each later bit's edge then falls
+/// between its second and third look, the bit reads recessive (two of three)
+/// with rx dominant. Empty without SAM, or with SJW shorter than TSEG1
+/// (then the zone is part of [`early_edge_zone`]).
+pub fn level_resync_zone(t: &BusTiming) -> std::ops::Range<u32> {
+    if !t.sam || t.sjw < t.tseg1 {
+        return 0..0;
+    }
+    let cptq = t.clocks_per_tq();
+    let at = (t.tq_per_bit() - (t.tseg1 as u32 + 1)) * cptq;
+    at + 1 - cptq..at + cptq
 }
 
 /// Clocks from the bit's start where an edge is a negative phase error
@@ -902,6 +936,35 @@ mod tests {
             }
         }
         assert!(seen > 20);
+    }
+
+    /// `resync-without-edge`: with triple sampling and SJW at least TSEG1,
+    /// no glitch starts in the quantum TSEG1 + 1 before the bit's end (run
+    /// 1311 of seed 8000: quantum 9 of 11); without the trigger some do, and
+    /// with it the other glitches stay where they were.
+    #[test]
+    fn no_glitch_leaves_a_triple_sampling_dut_a_whole_tseg1_early() {
+        let (mut kept_out, mut in_zone, mut same) = (0, 0, 0);
+        for i in 0..3000 {
+            let l = DrawLimits { fault_rate: 1.0, whole_quantum_glitches: true, ..DrawLimits::default() };
+            let p = draw(17, i, &l);
+            let q = draw(17, i, &DrawLimits { avoid: vec!["resync-without-edge".into()], ..l });
+            let t = p.timing();
+            let zone = level_resync_zone(&t);
+            assert!(zone.is_empty() || (t.sam && t.sjw >= t.tseg1), "run {i}: {t:?}");
+            in_zone += p.faults.iter().filter(|f| matches!(f.what, FaultWhat::Glitch { offset, .. } if zone.contains(&offset))).count();
+            for f in &q.faults {
+                if let FaultWhat::Glitch { offset, .. } = f.what {
+                    assert!(!zone.contains(&offset), "run {i}: {f:?} starts in {zone:?}");
+                }
+            }
+            if p.faults.len() == q.faults.len() && p.faults.iter().zip(&q.faults).all(|(a, b)| a == b) {
+                same += 1;
+            } else {
+                kept_out += 1;
+            }
+        }
+        assert!(in_zone >= 5 && kept_out >= 5 && same > 2500, "{in_zone} glitches in the zone without the trigger, {kept_out} plans changed, {same} unchanged");
     }
 
     #[test]

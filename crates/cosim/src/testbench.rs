@@ -73,11 +73,15 @@ pub struct TbConfig {
     /// Faults on what the DUT receives (it is node index `nodes.len()` for
     /// `Target::Node`). Their `BusContext` comes from the bench's bit clock
     /// and decoder (frame = SOFs seen, frame_bit = bits since that SOF).
+    /// A fault every node receives belongs in `faults` instead when there
+    /// are model nodes, targeted at `nodes.len()`: the bus then applies it
+    /// to the DUT in the nodes' own context (the same wire bit).
     pub dut_rx_faults: Vec<Box<dyn FaultInjector>>,
     /// The faults every node receives (a scenario's `target = "bus"`), once
     /// more for the bench's field decoder (node index `nodes.len() + 1`),
     /// so the fields it names follow what the nodes see, not the wire
-    /// before the fault. Frames stay counted on the wire.
+    /// before the fault. Frames stay counted on the wire. With model nodes
+    /// they belong in `faults` instead, targeted at `nodes.len() + 1`.
     pub bus_faults_seen: Vec<Box<dyn FaultInjector>>,
     /// Bit-level senders on the wire (`agents::raw`), on the bench's bit clock.
     pub raw_nodes: Vec<crate::agents::raw::RawNode>,

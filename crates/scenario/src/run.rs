@@ -340,9 +340,18 @@ pub fn tb_config(s: &Scenario, dut: &DutKind, opts: &RunOptions) -> Result<TbCon
                 for i in 0..s.nodes.len() {
                     faults.push(injector(f, Target::Node(i), cpb));
                 }
-                dut_rx_faults.push(injector(f, Target::Node(s.nodes.len()), cpb));
-                // And for the bench's field decoder, which names fields as the nodes see them.
-                bus_faults_seen.push(injector(f, Target::Node(s.nodes.len() + 1), cpb));
+                // The DUT, and the bench's field decoder (which names fields as
+                // the nodes see them): with model nodes, in the bus's own list,
+                // so the fault lands on the wire bit it lands on for the nodes
+                // (the bus counts frames its way); without, on the bench's bit clock.
+                let (dut, seen) = (injector(f, Target::Node(s.nodes.len()), cpb), injector(f, Target::Node(s.nodes.len() + 1), cpb));
+                if s.nodes.is_empty() {
+                    dut_rx_faults.push(dut);
+                    bus_faults_seen.push(seen);
+                } else {
+                    faults.push(dut);
+                    faults.push(seen);
+                }
                 continue;
             }
             // What the DUT (and its shadow model) receive: the bench applies

@@ -745,8 +745,14 @@ impl Bus {
     /// the participant as node index [`Bus::len`] (so `Target::All` and
     /// `Target::Node(bus.len())` reach it).
     pub fn external_rx(&mut self) -> bool {
+        self.external_rx_of(self.nodes.len())
+    }
+
+    /// [`Bus::external_rx`] for a participant that is node index `me` to
+    /// the fault injectors (`me >= len()`: several outside the bus, each
+    /// with faults of its own, in the context the nodes had).
+    pub fn external_rx_of(&mut self, me: usize) -> bool {
         let ctx = self.last_ctx;
-        let me = self.nodes.len();
         let mut rx = self.level;
         for f in &mut self.faults {
             rx = f.apply(&ctx, me, rx);

@@ -66,6 +66,10 @@ pub const CAMPAIGN_TRIGGERS: &[(&str, &str)] = &[
         "no glitch has an edge in phase segment 2 more than SJW before the end of the bit (a negative phase error beyond SJW); glitches elsewhere in the bit stay",
     ),
     (
+        "resync-without-edge",
+        "with triple sampling, no glitch's leading edge falls where it would put the DUT a whole TSEG1 early (the quantum TSEG1 + 1 before the bit's end, within SJW); glitches elsewhere in the bit stay",
+    ),
+    (
         "abort-in-flight",
         "the host writes CMR.AT on its own only in the program's closing abort, 200 bit times after its last operation; single-shot requests (TR with AT) stay",
     ),
@@ -86,7 +90,7 @@ pub(crate) struct RawAvoid {
     /// What the campaign leaves out of its plans: `extended-frames-in-basiccan`,
     /// `software-reset-mode`, `sleep-mode`, `command-right-after-request`, `error-in-received-data`,
     /// `self-reception-retransmitted`, `rx-fifo-overrun`, `stuff-error-in-own-arbitration`, `one-quantum-tseg1`,
-    /// `one-quantum-sjw`, `early-edge-beyond-sjw` or `abort-in-flight`. Required.
+    /// `one-quantum-sjw`, `early-edge-beyond-sjw`, `resync-without-edge` or `abort-in-flight`. Required.
     #[schemars(with = "String")]
     pub trigger: Spanned<String>,
     /// The deviation's row in the deviations table (`"D29"`). Required, not empty.

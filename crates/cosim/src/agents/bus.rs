@@ -140,7 +140,16 @@ impl BusAgent {
         }
         let level = if self.bus.is_empty() { dut_tx } else { self.bus.clock_with(dut_tx) };
         self.level = level;
-        self.seen = level;
+        // With model nodes, the faults every node receives are the bus's own,
+        // also for the DUT (node `len()`) and the field decoder (`len() + 1`):
+        // the same wire bit, counted as the nodes count frames.
+        let (wire_rx, seen) = if self.bus.is_empty() {
+            (level, level)
+        } else {
+            let n = self.bus.len();
+            (self.bus.external_rx_of(n), self.bus.external_rx_of(n + 1))
+        };
+        self.seen = seen;
         if let Some(c) = ctx.as_ref().filter(|_| !self.seen_faults.is_empty()) {
             let me = self.bus.len() + 1;
             for f in &mut self.seen_faults {
@@ -149,7 +158,7 @@ impl BusAgent {
         }
         let rx = match self.rx_wiring {
             RxWiring::Bus => {
-                let mut rx = level;
+                let mut rx = wire_rx;
                 if let Some(ctx) = ctx.filter(|_| !self.dut_faults.is_empty()) {
                     let me = self.bus.len();
                     for f in &mut self.dut_faults {
@@ -250,6 +259,31 @@ mod tests {
         assert_eq!((rx, b.level()), (DOMINANT, RECESSIVE), "the DUT sees the fault, the bus does not");
         assert_eq!(asked, 1, "the fault's context is asked for");
         assert_eq!(b.loopback_rx(), None);
+    }
+
+    /// A fault every node receives, given to the bus for the DUT too (node
+    /// `len()`), reaches the DUT's rx on the wire bit the bus counts for the
+    /// nodes (frames: a dominant level after ten recessive bits), whatever
+    /// the bench's own context says.
+    #[test]
+    fn a_bus_fault_reaches_the_dut_in_the_context_the_nodes_have() {
+        use sja1000::FlipBit;
+        let nodes = vec![NodeConfig { name: "n".into(), init: vec![] }];
+        let flip: Box<dyn FaultInjector> = Box::new(FlipBit { frame: 0, bit: 2, target: Target::Node(1) });
+        let mut b = BusAgent::new(&nodes, vec![flip], Vec::new(), RxWiring::Bus, true);
+        let cpb = b.bus().clocks_per_bit() as usize;
+        let sof = 12 * cpb;
+        let mut flipped = Vec::new();
+        for k in 0..sof + 5 * cpb {
+            let tx = k < sof;
+            // The bench's context never names a frame: not the one used.
+            let rx = b.can_rise(tx, ctx);
+            assert_eq!(b.level(), tx, "clock {k}: the wire is not faulted");
+            if rx != tx {
+                flipped.push(k);
+            }
+        }
+        assert_eq!(flipped, (sof + 2 * cpb..sof + 3 * cpb).collect::<Vec<_>>(), "bit 2 of the first frame, every clock of it");
     }
 
     #[test]
