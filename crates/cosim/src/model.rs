@@ -396,11 +396,6 @@ impl Reference for ModelRef {
         self.stale = true;
         self.m.adopt_register(addr, value)
     }
-    fn keep_ir_flags(&mut self, flags: u8) -> bool {
-        self.stale = true;
-        self.m.keep_ir_flags(flags);
-        true
-    }
     fn skip_sleep(&mut self) -> bool {
         self.stale = true;
         self.m.skip_sleep();

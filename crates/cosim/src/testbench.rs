@@ -1312,7 +1312,6 @@ impl Testbench {
                         if self.checks.read(stamp, addr, r.data, mv, reg.clone()) {
                             self.handle_divergences();
                         }
-                        self.keep_ir_flags(addr, r.data, mv, stamp.t_ps);
                     }
                 }
                 if write && addr == 1 && data & 0x11 != 0 {
@@ -1350,26 +1349,6 @@ impl Testbench {
                 self.obs.record.error = Some(err.to_string());
                 Err(err)
             }
-        }
-    }
-
-    /// After a read of `addr` (the DUT's value `dut`, the model's `model`):
-    /// IR flags the model's read cleared that the DUT raises only after its
-    /// read, accepted through the status window, stay pending in the model
-    /// as in the DUT ([`ComparatorAgent::ir_flags_to_keep`]).
-    fn keep_ir_flags(&mut self, addr: u8, dut: u8, model: u8, t_ps: u64) {
-        let keep = self.checks.ir_flags_to_keep(addr, dut, model);
-        if keep == 0 {
-            return;
-        }
-        if let Some(refm) = &mut self.reference.model
-            && !refm.keep_ir_flags(keep)
-        {
-            // Never hidden: the reference keeps its own IR.
-            let name = refm.name();
-            self.checks.waivers().note(format!(
-                "{name} cannot keep IR flags 0x{keep:02X} its read cleared before the DUT raised them ({t_ps} ps)"
-            ));
         }
     }
 

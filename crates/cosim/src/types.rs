@@ -142,12 +142,6 @@ pub trait Reference {
     fn adopt_register(&mut self, _addr: u8, _value: u8) -> bool {
         false
     }
-    /// Keeps IR flags its last read cleared pending (the DUT's read, taken
-    /// within the status window, came before the DUT raised them); false if
-    /// this reference cannot.
-    fn keep_ir_flags(&mut self, _flags: u8) -> bool {
-        false
-    }
     /// Leaves sleep without a wake-up interrupt, as a DUT without sleep mode
     /// never entered it (`model-skips-sleep`); false if this reference cannot.
     fn skip_sleep(&mut self) -> bool {

@@ -884,18 +884,6 @@ impl Sja1000 {
         self.peek(addr) == value
     }
 
-    /// IR flags a host read cleared that stay pending all the same (RI, a
-    /// level of the FIFO, is not taken): a bench whose DUT raised them only
-    /// after that read (an implementation's later instant) keeps the
-    /// model's pending too, as the DUT's are.
-    pub fn keep_ir_flags(&mut self, flags: u8) {
-        let fields = match self.mode {
-            Mode::PeliCan => !RI,
-            Mode::BasicCan => (TI | EI | DOI | WUI) & !RI,
-        };
-        self.ir |= flags & fields;
-    }
-
     /// What a read would return, without side effects (diagnostics).
     pub fn peek(&self, addr: u8) -> u8 {
         match decoded(self.mode, self.opmode(), Access::Read, addr) {

@@ -25,22 +25,6 @@ fn ti_on_abort_and_read_to_clear() {
     assert!(!n.irq());
 }
 
-/// `keep_ir_flags`: flags a read cleared stay pending again (the bench's
-/// answer to a DUT that raised them only after its read); RI, a level of
-/// the FIFO, is never set by it, and the next read clears them.
-#[test]
-fn kept_ir_flags_stay_pending_until_the_next_read() {
-    let mut n = pelican_operating(peli::ier::TIE);
-    host::transmit(&mut n, &std_frame(0x10, &[]), peli::cmr::TR).unwrap();
-    n.write(peli::CMR, peli::cmr::AT);
-    assert_eq!(n.read(peli::IR), peli::ir::TI);
-    assert!(!n.irq());
-    n.keep_ir_flags(peli::ir::TI | peli::ir::RI);
-    assert!(n.irq(), "TI pending again");
-    assert_eq!(n.read(peli::IR), peli::ir::TI, "RI not set: the FIFO is empty");
-    assert_eq!(n.read(peli::IR), 0);
-}
-
 /// With TIE = 0 the same release raises nothing.
 #[test]
 fn ti_needs_its_enable() {

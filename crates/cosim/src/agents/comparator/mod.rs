@@ -201,8 +201,6 @@ pub struct Comparator {
     irq_continues: Option<bool>,
     /// The last bit whose tx was compared and agreed (for the waivers).
     tx_agreed_bit: Option<u64>,
-    /// The last read was accepted only through the status window.
-    last_read_tolerated: bool,
     /// Differences listed in collect mode, with their repeats.
     listed: Listed,
     skip_until_bit: u64,
@@ -238,7 +236,6 @@ impl Comparator {
             found_latch: VecDeque::new(),
             irq_continues: None,
             tx_agreed_bit: None,
-            last_read_tolerated: false,
             listed: Listed::default(),
             skip_until_bit: 0,
             compared_bits: 0,
@@ -286,12 +283,6 @@ impl Comparator {
     /// The last bit whose tx the comparator compared and found equal.
     pub fn tx_agreed_bit(&self) -> Option<u64> {
         self.tx_agreed_bit
-    }
-
-    /// The last read differed and was accepted only because the model held
-    /// the DUT's value within the status window (the DUT is later).
-    pub fn last_read_tolerated(&self) -> bool {
-        self.last_read_tolerated
     }
 
     /// True while a divergence halts the comparison (until [`Comparator::resume`]).
@@ -591,7 +582,6 @@ impl Comparator {
     /// from the reference at the same edge.
     pub fn read(&mut self, stamp: Stamp, addr: u8, dut: u8, model: u8, name: Option<String>) {
         let taken_at = self.reads.begin_read();
-        self.last_read_tolerated = false;
         if self.halted {
             return;
         }
@@ -602,7 +592,6 @@ impl Comparator {
         match self.reads.judge(stamp, addr, dut, model, taken_at) {
             ReadVerdict::Tolerated => {
                 self.tolerated_reads += 1;
-                self.last_read_tolerated = true;
                 return;
             }
             ReadVerdict::Waiting => return,

@@ -191,18 +191,6 @@ impl ComparatorAgent {
         }
     }
 
-    /// After [`ComparatorAgent::read`] of IR: the flags the model's read
-    /// returned and cleared that the DUT's did not, when the comparator
-    /// accepted the DUT's value through the status window (the DUT raises
-    /// them after its read, so they stay pending there: the model must keep
-    /// them too, or its IR and irq part from the DUT's until the next read).
-    pub fn ir_flags_to_keep(&self, addr: u8, dut: u8, model: u8) -> u8 {
-        match &self.comparator {
-            Some(c) if addr == crate::types::IR_ADDR && c.last_read_tolerated() => model & !dut,
-            _ => 0,
-        }
-    }
-
     /// The reference has just taken the read the DUT completes next.
     pub fn reference_read_taken(&mut self) {
         if let Some(c) = &mut self.comparator {

@@ -152,24 +152,6 @@ fn an_ir_read_is_not_matched_by_the_value_the_reference_read_left_behind() {
     assert!(c.divergence().is_none());
 }
 
-/// An IR read accepted only through the window is known as such (the
-/// bench then keeps the model's flags the DUT's read did not return); an
-/// exact, a differing or a later exact read is not.
-#[test]
-fn a_read_accepted_through_the_window_is_known_as_tolerated() {
-    let mut c = Comparator::new(CompareConfig { status_tolerance: 40, ..CompareConfig::default() });
-    let p = pins(true);
-    for ir in [0x00, 0x00, 0x80, 0x80] {
-        c.can_clock(Stamp::default(), false, &p, &p, 0, ir, None);
-    }
-    c.read(Stamp::default(), IR_ADDR, 0x00, 0x80, None);
-    assert!(c.divergence().is_none() && c.last_read_tolerated(), "BEI raised 2 clocks before the read, the DUT still 0x00");
-    c.read(Stamp::default(), IR_ADDR, 0x80, 0x80, None);
-    assert!(!c.last_read_tolerated(), "an exact read");
-    c.read(Stamp::default(), IR_ADDR, 0x04, 0x80, None);
-    assert!(c.divergence().is_some() && !c.last_read_tolerated(), "a value the model never held");
-}
-
 #[test]
 fn a_tolerated_read_that_misses_an_expectation_the_model_meets_is_a_divergence() {
     // pelican-fifo-overrun step 70: SR 0x0F (DOS, RBS) 20 clocks after
