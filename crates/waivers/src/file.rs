@@ -63,6 +63,14 @@
 //! # must have this pattern, e.g. listen-only mode set (MOD.1). A run in
 //! # BasicCAN, or one that does not give the model's MOD, never matches.
 //! model-mod-bits = "xxxx_xx1x"
+//! # any kind: the model's IR (its pending interrupts, read without
+//! # clearing them) at the divergence must have this pattern, e.g. EPI
+//! # pending (IR.5). A run that does not give the model's IR never matches.
+//! model-ir-bits = "xx1x_xxxx"
+//! # any kind: only for a difference that starts after a divergence the
+//! # named waiver (of the same file) took in the run: a consequence of
+//! # that deviation, such as a pin left parted by a waived read.
+//! after-waiver = "epi-late-not-yet-in-ir-at-the-error"
 //! # any kind: the model's mode (CDR.7) at the divergence must be this:
 //! # "basic" (BasicCAN) or "pelican". For a deviation that exists in one
 //! # mode only. A run that does not give the model's mode never matches.
@@ -768,6 +776,14 @@ pub(crate) struct RawWaiver {
     /// The model's PeliCAN MOD at the divergence matches this pattern (`"xxxx_xx1x"`). Default: any.
     #[schemars(with = "Option<String>")]
     pub model_mod_bits: Option<BitPattern>,
+    /// The model's IR at the divergence (its pending interrupt flags, read without
+    /// clearing them) matches this pattern (`"xx1x_xxxx"`: EPI pending). Default: any.
+    #[schemars(with = "Option<String>")]
+    pub model_ir_bits: Option<BitPattern>,
+    /// Only for a difference that starts after a divergence the waiver with this id took
+    /// in the run (a consequence of that waived deviation). Default: none.
+    #[schemars(with = "Option<String>")]
+    pub after_waiver: Option<Spanned<String>>,
     /// The model's mode at the divergence: `"basic"` or `"pelican"`. Default: either.
     #[schemars(with = "Option<String>")]
     pub model_mode: Option<Spanned<String>>,

@@ -31,6 +31,9 @@ pub struct Observed {
     /// The model's PeliCAN mode register (MOD) at the divergence; `None` in
     /// BasicCAN or when not observed (`model-mod-bits`).
     pub model_mod: Option<u8>,
+    /// The model's IR at the divergence, read without clearing it; `None`:
+    /// not observed (`model-ir-bits`).
+    pub model_ir: Option<u8>,
     /// irq: `Some(true)` when the pins have not agreed since this pin's
     /// previous report (the same difference reported again), `Some(false)`
     /// when they have; `None`: not observed (then reports at most two CAN
@@ -180,6 +183,12 @@ pub struct Waiver {
     pub seen_offset: Option<i64>,
     /// The model's PeliCAN MOD must have this pattern ([`Observed::model_mod`]).
     pub model_mod_bits: Option<BitPattern>,
+    /// The model's IR must have this pattern ([`Observed::model_ir`]).
+    pub model_ir_bits: Option<BitPattern>,
+    /// Only after a divergence this other waiver took, starting no earlier.
+    pub after_waiver: Option<String>,
+    /// When this waiver last took a divergence (its `time_ps`), for `after-waiver`.
+    last_hit_ps: Option<u64>,
     /// Applies only while the model is in this mode: `Some(true)` BasicCAN
     /// (`model-mode = "basic"`), `Some(false)` PeliCAN.
     pub model_basic: Option<bool>,
@@ -347,6 +356,15 @@ impl Waiver {
                     return Some(format!("the model's MOD 0x{m:02X} does not have the pattern {}", String::from(p)));
                 }
                 None => return Some("the model's MOD (PeliCAN) was not observed".into()),
+            }
+        }
+        if let Some(p) = self.model_ir_bits {
+            match obs.model_ir {
+                Some(m) if p.matches(m as u32) => {}
+                Some(m) => {
+                    return Some(format!("the model's IR 0x{m:02X} does not have the pattern {}", String::from(p)));
+                }
+                None => return Some("the model's IR was not observed".into()),
             }
         }
         if let Some(want) = self.model_basic {
@@ -596,6 +614,13 @@ impl WaiverSet {
             }
             waivers.push(validate(name, src, w)?);
         }
+        for w in &waivers {
+            if let Some(a) = &w.after_waiver
+                && (a == &w.id || !ids.contains(a))
+            {
+                return Err(invalid(name, w.line, "after-waiver", format!("`{a}` is not another waiver of this file")));
+            }
+        }
         let mut expected_failures: Vec<ExpectedFailure> = Vec::with_capacity(raw.expected_failure.len());
         for x in raw.expected_failure {
             let e = crate::expected::validate(name, src, x)?;
@@ -703,8 +728,15 @@ impl WaiverSet {
     /// counts episodes.
     pub fn check_observed(&mut self, d: &Divergence, dut: &DutInfo, obs: &Observed) -> Verdict {
         let bit = d.bit.unwrap_or(0);
+        // `after-waiver`: when each waiver last took a divergence.
+        let last_hits: Vec<Option<u64>> = self.waivers.iter().map(|w| w.last_hit_ps).collect();
+        let ids: Vec<String> = self.waivers.iter().map(|w| w.id.clone()).collect();
+        let after_ok = |w: &Waiver| match &w.after_waiver {
+            None => true,
+            Some(id) => ids.iter().position(|i| i == id).and_then(|k| last_hits[k]).is_some_and(|t| d.time_ps >= t),
+        };
         for w in &mut self.waivers {
-            if w.mismatch(d, dut, obs).is_some() {
+            if w.mismatch(d, dut, obs).is_some() || !after_ok(w) {
                 continue;
             }
             if w.until_read.is_some() {
@@ -775,6 +807,7 @@ impl WaiverSet {
                 w.own_reads.retain(|&t| t >= d.time_ps);
             }
             w.hits += 1;
+            w.last_hit_ps = Some(d.time_ps);
             return Verdict::Waived { waiver_id: w.id.clone(), resync: w.resolve(d, obs) };
         }
         Verdict::Failure
@@ -789,6 +822,13 @@ impl WaiverSet {
             .filter(|w| w.kind == d.kind && w.applies_to(dut) && w.same_place(d))
             .map(|w| match w.mismatch(d, dut, obs) {
                 Some(why) => format!("waiver `{}` ({}:{}) does not apply: {why}", w.id, w.file, w.line),
+                None if w.after_waiver.as_ref().is_some_and(|a| !self.get(a).and_then(|o| o.last_hit_ps).is_some_and(|t| d.time_ps >= t)) => format!(
+                    "waiver `{}` ({}:{}) does not apply: the difference does not follow a divergence `{}` took (after-waiver)",
+                    w.id,
+                    w.file,
+                    w.line,
+                    w.after_waiver.as_deref().unwrap_or("")
+                ),
                 None if w.until_read.is_some() => {
                     let reg = w.until_read.as_deref().unwrap_or("");
                     match w.outlasted {
@@ -850,6 +890,7 @@ impl WaiverSet {
             w.reads.clear();
             w.own_reads.clear();
             w.outlasted = None;
+            w.last_hit_ps = None;
         }
         self.frame_starts.clear();
     }
@@ -1158,6 +1199,9 @@ fn validate(name: &str, src: &str, w: RawWaiver) -> Result<Waiver, WaiverError> 
         seen_bits,
         seen_offset,
         model_mod_bits: w.model_mod_bits,
+        model_ir_bits: w.model_ir_bits,
+        after_waiver: w.after_waiver.map(|a| a.into_inner()),
+        last_hit_ps: None,
         model_basic,
         model_rx_extended,
         after_abort: w.after_abort.unwrap_or(false),

@@ -638,3 +638,57 @@ fn a_start_of_frame_between_two_hits_ends_a_read_episode() {
     assert_eq!(run(true), vec![true; 6], "two frames, two episodes");
     assert_eq!(run(false), vec![true, true, false, false, false, false], "one episode: past 30 bits from bit 509 on");
 }
+
+/// `model-ir-bits` binds an irq waiver to the flag it is about (D11: EPI
+/// pending in the model, not yet in the core); `after-waiver` binds one to
+/// the divergence it follows (the core's late EPI after a waived IR read).
+/// An irq difference of another flag, or one before that read, still fails;
+/// an `after-waiver` naming no waiver of the file is an error.
+#[test]
+fn an_irq_waiver_bound_to_the_models_ir_and_to_the_read_it_follows() {
+    let src = r#"
+[[waiver]]
+id = "epi-not-yet"
+kind = "register-read"
+register = "IR"
+expected = [0xA0]
+seen = [0x80]
+dut = ["opencores-can*"]
+explanation = "the core raises EPI later"
+resync = ["none"]
+
+[[waiver]]
+id = "epi-pending-in-the-model"
+kind = "irq"
+expected = [0]
+seen = [1]
+model-ir-bits = "xx1x_xxxx"
+dut = ["opencores-can*"]
+explanation = "the core raises EPI later"
+resync = ["none"]
+
+[[waiver]]
+id = "epi-pending-in-the-core"
+kind = "irq"
+expected = [1]
+seen = [0]
+after-waiver = "epi-not-yet"
+dut = ["opencores-can*"]
+explanation = "the core raises EPI after the read that cleared the model's"
+resync = ["none"]
+"#;
+    let mut set = WaiverSet::parse(src, "w.toml").unwrap();
+    let pin = |t: u64, model: u32| Divergence { kind: DivergenceKind::Irq, time_ps: t, bit: Some(t / 1000), expected: model, seen: 1 - model, ..Divergence::default() };
+    let ir = |v: u8| Observed { model_ir: Some(v), ..Default::default() };
+    assert!(matches!(set.check_observed(&pin(5_000, 0), &dut(), &ir(0x20)), Verdict::Waived { .. }), "EPI pending in the model");
+    assert_eq!(set.check_observed(&pin(6_000, 0), &dut(), &ir(0x80)), Verdict::Failure, "BEI pending: not this waiver's flag");
+    assert_eq!(set.check_observed(&pin(7_000, 0), &dut(), &Observed::default()), Verdict::Failure, "the model's IR not observed");
+    assert_eq!(set.check_observed(&pin(8_000, 1), &dut(), &ir(0x00)), Verdict::Failure, "the core's interrupt before any waived read");
+    let read = Divergence { kind: DivergenceKind::RegisterRead, time_ps: 10_000, register: Some("IR".into()), expected: 0xA0, seen: 0x80, ..Divergence::default() };
+    assert!(matches!(set.check(&read, &dut()), Verdict::Waived { .. }));
+    assert_eq!(set.check_observed(&pin(9_000, 1), &dut(), &ir(0x00)), Verdict::Failure, "a difference that began before that read");
+    assert!(matches!(set.check_observed(&pin(12_000, 1), &dut(), &ir(0x00)), Verdict::Waived { .. }), "after the waived read");
+    let bad = src.replace("after-waiver = \"epi-not-yet\"", "after-waiver = \"no-such-waiver\"");
+    let e = WaiverSet::parse(&bad, "w.toml").unwrap_err().to_string();
+    assert!(e.contains("after-waiver") && e.contains("no-such-waiver"), "{e}");
+}

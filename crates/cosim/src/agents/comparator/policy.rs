@@ -270,6 +270,8 @@ impl ComparatorAgent {
         if let Some((diagnose::CanMode::PeliCan, _)) = r.mode() {
             observed.model_mod = Some(r.peek(0));
         }
+        // The model's pending interrupts (IR read without clearing), for `model-ir-bits`.
+        observed.model_ir = Some(r.peek(crate::types::IR_ADDR));
         // The model's mode, for `model-mode`.
         observed.model_basic = r.mode().map(|(m, _)| m == diagnose::CanMode::BasicCan);
         // Messages the model lost to an overrun, for `after = "data-overrun"`.
