@@ -349,22 +349,18 @@ impl Waiver {
         {
             return Some(format!("DUT value {} is not the model's {} {off:+}", d.seen, d.expected));
         }
-        if let Some(p) = self.model_mod_bits {
-            match obs.model_mod {
-                Some(m) if p.matches(m as u32) => {}
-                Some(m) => {
-                    return Some(format!("the model's MOD 0x{m:02X} does not have the pattern {}", String::from(p)));
+        // `model-mod-bits`, `model-ir-bits`: a register of the model as observed.
+        for (pattern, value, name, unseen) in [
+            (self.model_mod_bits, obs.model_mod, "MOD", "MOD (PeliCAN)"),
+            (self.model_ir_bits, obs.model_ir, "IR", "IR"),
+        ] {
+            match (pattern, value) {
+                (None, _) => {}
+                (Some(p), Some(m)) if p.matches(m as u32) => {}
+                (Some(p), Some(m)) => {
+                    return Some(format!("the model's {name} 0x{m:02X} does not have the pattern {}", String::from(p)));
                 }
-                None => return Some("the model's MOD (PeliCAN) was not observed".into()),
-            }
-        }
-        if let Some(p) = self.model_ir_bits {
-            match obs.model_ir {
-                Some(m) if p.matches(m as u32) => {}
-                Some(m) => {
-                    return Some(format!("the model's IR 0x{m:02X} does not have the pattern {}", String::from(p)));
-                }
-                None => return Some("the model's IR was not observed".into()),
+                (Some(_), None) => return Some(format!("the model's {unseen} was not observed")),
             }
         }
         if let Some(want) = self.model_basic {

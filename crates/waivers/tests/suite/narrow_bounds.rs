@@ -468,20 +468,27 @@ fn the_rtr_bit_of_an_extended_id4_is_waived_only_for_an_extended_frame() {
     assert!(e.contains("model-rx-frame") && e.contains("expected \"extended\" or \"standard\""), "{e}");
 }
 
-/// D4's waiver (`error-flag-in-listen-only`): one flag of six bits per
-/// error, as many errors as the run has; a seventh dominant bit in a row,
-/// or a flag while the model is not listen-only, still fails.
-#[test]
-fn a_listen_only_error_flag_is_waived_per_flag_of_six_bits() {
-    let path = concat!(env!("CARGO_MANIFEST_DIR"), "/../../tb/waivers/opencores-upstream.toml");
-    let flag_bit = |bit: u64| Divergence {
+/// The shipped waivers of the opencores core.
+const UPSTREAM: &str = concat!(env!("CARGO_MANIFEST_DIR"), "/../../tb/waivers/opencores-upstream.toml");
+
+/// A dominant bit of the DUT where the model (listen-only) sends a passive flag.
+fn flag_bit(bit: u64) -> Divergence {
+    Divergence {
         kind: DivergenceKind::TxBit,
         bit: Some(bit),
         field: Some(can_proto::Field::PassiveErrorFlag),
         expected: 1,
         seen: 0,
         ..Divergence::default()
-    };
+    }
+}
+
+/// D4's waiver (`error-flag-in-listen-only`): one flag of six bits per
+/// error, as many errors as the run has; a seventh dominant bit in a row,
+/// or a flag while the model is not listen-only, still fails.
+#[test]
+fn a_listen_only_error_flag_is_waived_per_flag_of_six_bits() {
+    let path = UPSTREAM;
     let lom = Observed { model_mod: Some(0x02), ..Default::default() };
     let mut set = WaiverSet::load(path).unwrap();
     for error in 0..5u64 {
@@ -506,15 +513,7 @@ fn a_listen_only_error_flag_is_waived_per_flag_of_six_bits() {
 /// the episode, a seventh dominant bit in a row still fails.
 #[test]
 fn a_listen_only_flag_ends_at_an_agreeing_bit_and_restarts_after_the_cores_bit_error() {
-    let path = concat!(env!("CARGO_MANIFEST_DIR"), "/../../tb/waivers/opencores-upstream.toml");
-    let flag_bit = |bit: u64| Divergence {
-        kind: DivergenceKind::TxBit,
-        bit: Some(bit),
-        field: Some(can_proto::Field::PassiveErrorFlag),
-        expected: 1,
-        seen: 0,
-        ..Divergence::default()
-    };
+    let path = UPSTREAM;
     // Hits at `bits`, each checked with what the bench observed by then.
     let run = |bits: &[u64], agreed: Option<u64>, bit_error: Option<u64>| {
         let mut set = WaiverSet::load(path).unwrap();
