@@ -67,7 +67,7 @@ pub const CAMPAIGN_TRIGGERS: &[(&str, &str)] = &[
     ),
     (
         "resync-without-edge",
-        "no glitch's leading edge falls where it would put the DUT a whole TSEG1 early (the quantum TSEG1 + 1 before the bit's end, within SJW), so no later edge comes in its sample quantum; glitches elsewhere in the bit stay",
+        "no glitch's leading edge falls where it would put the DUT a whole TSEG1 early (the quantum TSEG1 + 1 before the bit's end, within SJW), so no later edge comes in its sample quantum, nor, with triple sampling, where it would lengthen phase segment 1 by TSEG2 (SJW at least TSEG2), so no third look lands on the next bit's edge; glitches elsewhere in the bit stay",
     ),
     (
         "abort-in-flight",
